@@ -1,0 +1,41 @@
+// sgbench's shared pieces: argument parsing, JSON output, timing and memory readings.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace bench {
+
+struct Args {
+    std::string command;
+    std::map<std::string, std::string> opts;  // --key value, or --flag -> "1"
+    // Throws std::invalid_argument naming the option when a value is missing or not a number.
+    std::string str(const std::string& key, const std::string& def) const;
+    long num(const std::string& key, long def) const;
+    bool flag(const std::string& key) const { return opts.count(key) != 0; }
+};
+Args parseArgs(int argc, char** argv);
+
+// One flat JSON object, keys in insertion order.
+class Json {
+public:
+    Json& add(const std::string& k, double v);
+    Json& add(const std::string& k, const std::string& v);
+    Json& addInt(const std::string& k, long long v);
+    std::string str() const;
+    // Human-readable table of the same fields.
+    std::string table() const;
+
+private:
+    std::vector<std::pair<std::string, std::string>> kv_;
+};
+
+double rssMb();
+double median(std::vector<double> v);
+double percentile(std::vector<double> v, double p);
+
+int runCull(const Args& a);
+int runAccuracy(const Args& a);
+
+}  // namespace bench

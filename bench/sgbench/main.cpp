@@ -1,0 +1,108 @@
+// sgbench: the benchmarks whose figures the README reports. `sgbench <command> [--options] [--json]`.
+#include "sgbench/Bench.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace bench {
+
+Args parseArgs(int argc, char** argv) {
+    Args a;
+    if (argc > 1) a.command = argv[1];
+    for (int i = 2; i < argc; ++i) {
+        std::string k = argv[i];
+        if (k.rfind("--", 0) != 0) throw std::invalid_argument("sgbench: unexpected argument '" + k + "'");
+        k = k.substr(2);
+        if (i + 1 < argc && std::string(argv[i + 1]).rfind("--", 0) != 0)
+            a.opts[k] = argv[++i];
+        else
+            a.opts[k] = "1";
+    }
+    return a;
+}
+
+std::string Args::str(const std::string& k, const std::string& def) const {
+    auto it = opts.find(k);
+    return it == opts.end() ? def : it->second;
+}
+
+long Args::num(const std::string& k, long def) const {
+    auto it = opts.find(k);
+    if (it == opts.end()) return def;
+    char* end = nullptr;
+    const long v = std::strtol(it->second.c_str(), &end, 10);
+    if (!end || *end) throw std::invalid_argument("sgbench: --" + k + " needs a whole number, got '" + it->second + "'");
+    return v;
+}
+
+Json& Json::add(const std::string& k, double v) {
+    char buf[64];
+    if (std::isfinite(v))
+        std::snprintf(buf, sizeof buf, "%.6g", v);
+    else
+        std::snprintf(buf, sizeof buf, "null");
+    kv_.emplace_back(k, buf);
+    return *this;
+}
+Json& Json::add(const std::string& k, const std::string& v) {
+    kv_.emplace_back(k, "\"" + v + "\"");
+    return *this;
+}
+Json& Json::addInt(const std::string& k, long long v) {
+    kv_.emplace_back(k, std::to_string(v));
+    return *this;
+}
+std::string Json::str() const {
+    std::string s = "{";
+    for (size_t i = 0; i < kv_.size(); ++i) s += (i ? ", \"" : "\"") + kv_[i].first + "\": " + kv_[i].second;
+    return s + "}";
+}
+std::string Json::table() const {
+    size_t w = 0;
+    for (auto& p : kv_) w = std::max(w, p.first.size());
+    std::string s;
+    for (auto& p : kv_) s += "  " + p.first + std::string(w - p.first.size() + 2, ' ') + p.second + "\n";
+    return s;
+}
+
+double rssMb() {
+    std::ifstream f("/proc/self/statm");
+    long pages = 0, rss = 0;
+    f >> pages >> rss;
+    return double(rss) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+}
+
+double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t k = std::min(v.size() - 1, size_t(p * double(v.size() - 1) + 0.5));
+    return v[k];
+}
+
+}  // namespace bench
+
+static void usage() {
+    std::fprintf(stderr,
+                 "usage: sgbench cull --scene city --n N [--strategy S] [--path orbit|street] [--json]\n"
+                 "       sgbench accuracy --scene city|random|FILE.gltf --views K --strategy S [--seed X] [--json]\n"
+                 "strategies: none sphere aabb sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
+}
+
+int main(int argc, char** argv) {
+    try {
+        const bench::Args a = bench::parseArgs(argc, argv);
+        if (a.command == "cull") return bench::runCull(a);
+        if (a.command == "accuracy") return bench::runAccuracy(a);
+        usage();
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s\n", e.what());
+        return 1;
+    }
+}

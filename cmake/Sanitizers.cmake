@@ -1,0 +1,7 @@
+# SGKIT_SANITIZE=ON builds everything with AddressSanitizer and UndefinedBehaviorSanitizer (CI runs the
+# suite this way too); UBSan findings abort so that a test fails on them.
+option(SGKIT_SANITIZE "Build with AddressSanitizer + UndefinedBehaviorSanitizer" OFF)
+if(SGKIT_SANITIZE)
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer -g)
+  add_link_options(-fsanitize=address,undefined)
+endif()

@@ -1,0 +1,46 @@
+// LOD: shows the children whose range holds the eye's distance to a centre, or the projected pixel size.
+#pragma once
+#include "nodes/Group.h"
+#include "sg/Math.h"
+
+#include <vector>
+
+namespace sg {
+
+class LOD : public Group {
+public:
+    enum class Mode : uint8_t { Distance, PixelSize };
+    struct Range {
+        float min = 0.0f, max = 0.0f;  // child shown when min <= value < max
+    };
+
+    LOD() : Group(NodeKind::LOD) {}
+
+    // Adds a child with its range. Throws std::invalid_argument when min > max, either is NaN or negative,
+    // or (Distance mode) the range starts before the previous child's range starts (out of order).
+    void addChild(ref_ptr<Node> child, float min, float max);
+    void setRange(size_t i, float min, float max);
+    const Range& range(size_t i) const { return ranges_[i]; }
+
+    void setMode(Mode m) { mode_ = m; }
+    Mode mode() const { return mode_; }
+    // Centre in the LOD's frame. By default the centre of the LOD's bound (computed by the update pass).
+    void setCenter(const dvec3& c);
+    const dvec3& center() const { return center_; }
+    bool userCenter() const { return userCenter_; }
+
+    void accept(NodeVisitor& v) override;
+
+protected:
+    void childInserted(size_t i) override;
+    void childRemoved(size_t i) override;
+
+private:
+    void checkRange(size_t i, float min, float max, const char* fn) const;
+    dvec3 center_{0.0};
+    std::vector<Range> ranges_;
+    Mode mode_ = Mode::Distance;
+    bool userCenter_ = false;
+};
+
+}  // namespace sg

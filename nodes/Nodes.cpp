@@ -1,0 +1,154 @@
+// Small node types: data setters with their argument checks, and accept().
+#include "nodes/Billboard.h"
+#include "nodes/BspGroup.h"
+#include "nodes/Instance.h"
+#include "nodes/Occluder.h"
+#include "nodes/Switch.h"
+#include "sg/NodeVisitor.h"
+
+#include <stdexcept>
+
+namespace sg {
+
+// --- Switch
+void Switch::addChild(ref_ptr<Node> child, bool on) {
+    Group::addChild(std::move(child));
+    on_.back() = on;
+}
+void Switch::setOn(size_t i, bool on) {
+    if (i >= on_.size())
+        throw std::out_of_range("Switch::setOn(): child " + std::to_string(i) + " of " + describe() +
+                                " does not exist (" + std::to_string(on_.size()) + " children)");
+    on_[i] = on;
+}
+void Switch::setAll(bool on) { on_.assign(on_.size(), on); }
+void Switch::setOnly(size_t i) {
+    if (i >= on_.size())
+        throw std::out_of_range("Switch::setOnly(): child " + std::to_string(i) + " of " + describe() +
+                                " does not exist (" + std::to_string(on_.size()) + " children)");
+    setAll(false);
+    on_[i] = true;
+}
+void Switch::childInserted(size_t i) { on_.insert(on_.begin() + std::ptrdiff_t(i), true); }
+void Switch::childRemoved(size_t i) { on_.erase(on_.begin() + std::ptrdiff_t(i)); }
+void Switch::accept(NodeVisitor& v) { v.apply(*this); }
+
+// --- Billboard
+void Billboard::setAxis(const dvec3& a) {
+    if (!isFinite(a) || glm::length(a) == 0.0)
+        throw std::invalid_argument("Billboard::setAxis(): " + describe() + ": axis must be finite and non-zero");
+    axis_ = glm::normalize(a);
+}
+
+dmat4 Billboard::rotationToward(const dvec3& eyeLocal) const {
+    const dvec3 a = axis_;
+    dvec3 toEye = eyeLocal;
+    if (mode_ == Mode::Axial) toEye -= glm::dot(toEye, a) * a;  // turn about the axis only
+    const double len = glm::length(toEye);
+    if (!(len > 1e-12)) return dmat4(1.0);  // eye on the axis: any orientation is right
+    const dvec3 y = -toEye / len;           // the children face -Y: -Y points at the eye
+    dvec3 z = a - glm::dot(a, y) * y;
+    if (glm::length(z) < 1e-9) z = std::abs(y.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+    z = glm::normalize(z - glm::dot(z, y) * y);
+    const dvec3 x = glm::cross(y, z);
+    dmat4 r(1.0);
+    r[0] = dvec4(x, 0.0);
+    r[1] = dvec4(y, 0.0);
+    r[2] = dvec4(z, 0.0);
+    return r;
+}
+void Billboard::accept(NodeVisitor& v) { v.apply(*this); }
+
+// --- Instance
+Instance::~Instance() {
+    if (proto_) proto_->removeParent(this);
+}
+void Instance::setPrototype(ref_ptr<Node> p) {
+    if (!p) throw std::invalid_argument("Instance::setPrototype(): " + describe() + ": prototype is null");
+    if (hasAncestorOrSelf(p.get()))
+        throw std::invalid_argument("Instance::setPrototype(): placing " + p->describe() + " below " + describe() +
+                                    " would make a cycle");
+    if (proto_) proto_->removeParent(this);
+    proto_ = std::move(p);
+    proto_->addParent(this);
+    markDirty(kDirtyStructure | kDirtyBound);
+}
+void Instance::setMatrix(const dmat4& m) {
+    const std::string bad = nonFiniteElement(m);
+    if (!bad.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + bad);
+    if (!(std::abs(glm::determinant(glm::dmat3(m))) > 0.0))
+        throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": matrix is singular " + toString(m));
+    matrix_ = m;
+    markDirty(kDirtyBound);
+}
+void Instance::accept(NodeVisitor& v) { v.apply(*this); }
+
+// --- BspGroup
+void BspGroup::order(const dvec3& eye, std::vector<uint32_t>& out) const {
+    out.clear();
+    if (nodes_.empty()) {  // not built yet: child order
+        for (uint32_t i = 0; i < numChildren(); ++i) out.push_back(i);
+        return;
+    }
+    // Iterative in-order walk: near side, the plane's own items, far side.
+    struct Step {
+        int32_t node;
+        bool emitOnly;
+        int32_t far;
+    };
+    std::vector<Step> stack{{0, false, -1}};
+    while (!stack.empty()) {
+        Step s = stack.back();
+        stack.pop_back();
+        const BspNode& n = nodes_[size_t(s.node)];
+        if (s.emitOnly) {
+            for (uint32_t k = 0; k < n.itemCount; ++k) out.push_back(items_[n.firstItem + k]);
+            if (s.far >= 0) stack.push_back({s.far, false, -1});
+            continue;
+        }
+        const bool eyeFront = n.plane.distance(eye) >= 0.0;
+        const int32_t nearSide = eyeFront ? n.front : n.back, farSide = eyeFront ? n.back : n.front;
+        stack.push_back({s.node, true, farSide});
+        if (nearSide >= 0) stack.push_back({nearSide, false, -1});
+    }
+}
+void BspGroup::accept(NodeVisitor& v) { v.apply(*this); }
+
+// --- Occluder
+void Occluder::setBox(const Box& b) {
+    if (b.empty() || !isFinite(b.min) || !isFinite(b.max))
+        throw std::invalid_argument("Occluder::setBox(): " + describe() + ": box is empty or not finite");
+    box_ = b;
+    polygon_.clear();
+    shape_ = Shape::Box;
+    markDirty(kDirtyBound);
+}
+void Occluder::setPolygon(std::vector<dvec3> v) {
+    const std::string fn = "Occluder::setPolygon(): " + describe() + ": ";
+    if (v.size() < 3) throw std::invalid_argument(fn + "needs at least 3 vertices, got " + std::to_string(v.size()));
+    for (size_t i = 0; i < v.size(); ++i)
+        if (!isFinite(v[i])) throw std::invalid_argument(fn + "vertex " + std::to_string(i) + " is not finite");
+    // Newell normal; then every vertex on the plane and every turn the same way.
+    dvec3 n(0.0);
+    for (size_t i = 0; i < v.size(); ++i) n += glm::cross(v[i], v[(i + 1) % v.size()]);
+    const double area2 = glm::length(n);
+    if (!(area2 > 0.0)) throw std::invalid_argument(fn + "polygon has no area");
+    n /= area2;
+    double size = 0.0;
+    for (size_t i = 1; i < v.size(); ++i) size = std::max(size, glm::length(v[i] - v[0]));
+    for (size_t i = 0; i < v.size(); ++i) {
+        if (std::abs(glm::dot(n, v[i] - v[0])) > 1e-9 * size)
+            throw std::invalid_argument(fn + "vertex " + std::to_string(i) + " is off the polygon's plane");
+        const dvec3 e0 = v[(i + 1) % v.size()] - v[i], e1 = v[(i + 2) % v.size()] - v[(i + 1) % v.size()];
+        if (glm::dot(glm::cross(e0, e1), n) < -1e-12 * size * size)
+            throw std::invalid_argument(fn + "polygon is not convex at vertex " + std::to_string((i + 1) % v.size()));
+    }
+    box_ = Box{};
+    for (const dvec3& p : v) box_.expand(p);
+    polygon_ = std::move(v);
+    shape_ = Shape::Polygon;
+    markDirty(kDirtyBound);
+}
+void Occluder::accept(NodeVisitor& v) { v.apply(*this); }
+
+}  // namespace sg

@@ -1,0 +1,308 @@
+#include "sg/CullTraversal.h"
+
+#include "nodes/Billboard.h"
+#include "nodes/BspGroup.h"
+#include "nodes/Geometry.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
+#include "nodes/Switch.h"
+#include "nodes/Transform.h"
+#include "sg/FrustumKernel.h"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace sg {
+
+namespace {
+constexpr uint32_t kAllPlanes = 0x3f;
+constexpr uint8_t kBySphereSphere = 4;  // batch result bit: culled by the pre-test
+constexpr uint32_t kPrefetch = 4;
+}  // namespace
+
+const char* strategyName(CullStrategy s) {
+    switch (s) {
+        case CullStrategy::None: return "none";
+        case CullStrategy::Sphere: return "sphere";
+        case CullStrategy::Aabb: return "aabb";
+        case CullStrategy::SphereSphere: return "sphere-sphere";
+        case CullStrategy::CenterBox: return "center-box";
+    }
+    return "?";
+}
+
+CullStrategy parseStrategy(const std::string& name) {
+    for (auto s : {CullStrategy::None, CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere,
+                   CullStrategy::CenterBox})
+        if (name == strategyName(s)) return s;
+    throw std::invalid_argument("parseStrategy(): unknown strategy '" + name +
+                                "' (none, sphere, aabb, sphere-sphere, center-box)");
+}
+
+bool isConservative(CullStrategy s) { return s != CullStrategy::CenterBox; }
+
+// Per image: the planes and frames the tests need, in that image's coordinates.
+struct CullTraversal::Ctx {
+    const FlatImage* img = nullptr;
+    dmat4 imgToEye{1.0};  // image coordinates -> eye-relative world
+    dvec3 eyeImg{0.0};    // the eye in image coordinates
+    double scale = 1.0;   // lengths: image units -> world units (at most)
+    std::array<Plane, 6> planes{};
+    kernel::Planes kplanes{};
+    float fbMin[3]{}, fbMax[3]{};  // the frustum's bounding box (centre-box strategy)
+    dvec3 fsCenter{0.0};           // the frustum's bounding sphere (sphere-sphere strategy)
+    double fsRadius = 0.0;
+    size_t clsOffset = 0;  // into cls_, valid when clsBase != kNone
+    uint32_t clsBase = ~0u;
+};
+
+void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
+    c.img = &img;
+    c.imgToEye = t;
+    c.eyeImg = dvec3(glm::inverse(t) * dvec4(0, 0, 0, 1));
+    c.scale = maxScale(t);
+    // A plane (n, d) in eye space becomes t^T (n, d) in image space (exact for affine t), normalized.
+    const dmat4 tt = glm::transpose(t);
+    for (size_t k = 0; k < 6; ++k) {
+        const Plane& e = cam_->eyePlanes()[k];
+        const dvec4 p = tt * dvec4(e.n, e.d);
+        const double len = glm::length(dvec3(p));
+        c.planes[k] = Plane{dvec3(p) / len, p.w / len};
+    }
+    c.kplanes = kernel::Planes::make(c.planes, dvec3(0.0), img.extent, kAllPlanes);
+    if (set_->strategy == CullStrategy::CenterBox || set_->strategy == CullStrategy::SphereSphere) {
+        const dmat4 inv = glm::inverse(t);
+        Box fb;
+        for (const dvec3& p : cam_->eyeCorners()) fb.expand(dvec3(inv * dvec4(p, 1.0)));
+        for (int a = 0; a < 3; ++a) {
+            c.fbMin[a] = std::nextafter(float(fb.min[a]), -HUGE_VALF);
+            c.fbMax[a] = std::nextafter(float(fb.max[a]), HUGE_VALF);
+        }
+        c.fsCenter = fb.center();
+        c.fsRadius = 0.0;
+        for (const dvec3& p : cam_->eyeCorners())
+            c.fsRadius = std::max(c.fsRadius, glm::length(dvec3(inv * dvec4(p, 1.0)) - c.fsCenter));
+        c.fsRadius = c.fsRadius * (1.0 + 1e-6) + eps::kPlaneSlack * img.extent;
+    }
+}
+
+void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettings& set, DrawList& out,
+                         CullStats& stats) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (scene.root()->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))
+        throw std::logic_error("CullTraversal::cull(): the scene changed since its last update(); call Scene::update() first");
+    scene_ = &scene;
+    cam_ = &cam;
+    set_ = &set;
+    out_ = &out;
+    stats_ = &stats;
+    stats = CullStats{};
+    out.clear();
+    cls_.clear();
+    scratch_.clear();
+    const FlatImage& img = scene.image();
+    if (img.size()) {
+        Ctx c;
+        setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
+        const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
+        visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()));
+    }
+    if (set.sort)
+        out.sort();
+    else
+        out.keepEmissionOrder();
+    stats.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Runs the bound tests for entry i; false when it is culled. Clears plane bits the bound is inside of.
+bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
+    const FlatImage& img = *c.img;
+    const CullStrategy strat = set_->strategy;
+    stats_->boundsTested++;
+    if (strat == CullStrategy::CenterBox && img.kind[i] == NodeKind::Geometry) {
+        // PCVR's test: the object's centre against the frustum's box, nothing else.
+        const float x = img.cx[i], y = img.cy[i], z = img.cz[i];
+        if (x < c.fbMin[0] || y < c.fbMin[1] || z < c.fbMin[2] || x > c.fbMax[0] || y > c.fbMax[1] || z > c.fbMax[2]) {
+            stats_->culledCenterBox++;
+            return false;
+        }
+        mask = 0;
+        return true;
+    }
+    if (c.clsBase != ~0u) {  // inside a batch: the kernel already classified this entry
+        const uint8_t r = cls_[c.clsOffset + (i - c.clsBase)];
+        if (r & kernel::kOutside) {
+            (r & kBySphereSphere ? stats_->culledSphereSphere : stats_->culledFrustum)++;
+            return false;
+        }
+        if (r & kernel::kInside) mask = 0;
+        return true;
+    }
+    const uint32_t n = img.end[i] - i;
+    if (n > 1 && n <= kBatch) {
+        // Classify the whole subtree in one flat pass against the planes still in play.
+        const kernel::Planes kp = mask == kAllPlanes ? c.kplanes : kernel::Planes::make(c.planes, dvec3(0.0), img.extent, mask);
+        const size_t off = cls_.size();
+        cls_.resize(off + n);
+        uint8_t* o = cls_.data() + off;
+        if (strat == CullStrategy::Aabb)
+            kernel::classifyBoxes(kp, &img.cx[i], &img.cy[i], &img.cz[i], &img.ex[i], &img.ey[i], &img.ez[i], n, o);
+        else
+            kernel::classifySpheres(kp, &img.cx[i], &img.cy[i], &img.cz[i], &img.r[i], n, o);
+        if (strat == CullStrategy::SphereSphere) {
+            const float fx = float(c.fsCenter.x), fy = float(c.fsCenter.y), fz = float(c.fsCenter.z),
+                        fr = float(c.fsRadius);
+            for (uint32_t k = 0; k < n; ++k) {
+                const float dx = img.cx[i + k] - fx, dy = img.cy[i + k] - fy, dz = img.cz[i + k] - fz;
+                const float reach = fr + img.r[i + k];
+                if (dx * dx + dy * dy + dz * dz > reach * reach) o[k] = kernel::kOutside | kBySphereSphere;
+            }
+        }
+        c.clsOffset = off;
+        c.clsBase = i;
+        stats_->boundsTested--;  // counted again by the lookup
+        return test(c, i, mask);
+    }
+    // One bound, above the batches.
+    const double dx = img.cx[i] - c.eyeImg.x, dy = img.cy[i] - c.eyeImg.y, dz = img.cz[i] - c.eyeImg.z;
+    if (dx * dx + dy * dy + dz * dz <= double(img.r[i]) * img.r[i]) return true;  // eye inside: visible side
+    if (strat == CullStrategy::SphereSphere) {
+        const double d = glm::length(img.center(i) - img.origin - c.fsCenter);
+        if (d > c.fsRadius + img.r[i]) {
+            stats_->culledSphereSphere++;
+            return false;
+        }
+    }
+    const uint32_t r = strat == CullStrategy::Aabb
+                           ? kernel::boxMasked(c.kplanes, mask, img.cx[i], img.cy[i], img.cz[i], img.ex[i], img.ey[i], img.ez[i])
+                           : kernel::sphereMasked(c.kplanes, mask, img.cx[i], img.cy[i], img.cz[i], img.r[i]);
+    if (r == kernel::kCulledMask) {
+        stats_->culledFrustum++;
+        return false;
+    }
+    mask = r;
+    return true;
+}
+
+void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    stats_->nodesVisited++;
+    // The walk mostly moves forward through the entries: fetch the node a few entries ahead now, so that
+    // reading its parameters (matrix, LOD ranges, mesh) does not wait on memory.
+    if (i + kPrefetch < img.size()) __builtin_prefetch(img.node[i + kPrefetch]);
+    const uint8_t fl = img.flags[i];
+    if (fl & FlatImage::kEmpty) return;
+    Node* node = img.node[i];
+    if ((fl & FlatImage::kMasked) && !(node->nodeMask() & set_->traversalMask)) return;
+
+    // A batch started by this entry's test ends with this entry: restore the enclosing one on return.
+    struct BatchScope {
+        CullTraversal& t;
+        Ctx& c;
+        const uint32_t base;
+        const size_t off;
+        ~BatchScope() {
+            if (c.clsBase != base) t.cls_.resize(c.clsOffset);
+            c.clsBase = base;
+            c.clsOffset = off;
+        }
+    } scope{*this, c, c.clsBase, c.clsOffset};
+    if (mask && !(fl & FlatImage::kNoTest) && !(fl & FlatImage::kInvalid)) {
+        if (!test(c, i, mask)) return;
+    }
+    if (set_->smallFeaturePixels > 0.0 && !(fl & FlatImage::kInvalid)) {
+        const double dist = glm::length(img.center(i) - img.origin - c.eyeImg);
+        const double px = 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
+        if (px < set_->smallFeaturePixels) {
+            stats_->culledSmallFeature++;
+            return;
+        }
+    }
+
+    switch (img.kind[i]) {
+        case NodeKind::Geometry: emit(c, i, m); break;
+        case NodeKind::Transform: children(c, i, mask, static_cast<Transform*>(node)->apply(m)); break;
+        case NodeKind::LOD: {
+            const auto* lod = static_cast<LOD*>(node);
+            const dvec3 ce = lod->userCenter() ? dvec3(m * dvec4(lod->center(), 1.0))
+                                               : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
+            const double dist = glm::length(ce);
+            double value = dist;
+            if (lod->mode() == LOD::Mode::PixelSize)
+                value = 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
+            uint32_t j = i + 1;
+            for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j]) {
+                const LOD::Range& rg = lod->range(k);
+                if (value >= rg.min && value < rg.max) visit(c, j, mask, m);
+            }
+            break;
+        }
+        case NodeKind::Switch: {
+            const auto* sw = static_cast<Switch*>(node);
+            uint32_t j = i + 1;
+            for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j])
+                if (sw->isOn(k)) visit(c, j, mask, m);
+            break;
+        }
+        case NodeKind::Billboard: {
+            const auto* bb = static_cast<Billboard*>(node);
+            const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
+            children(c, i, 0u, m * bb->rotationToward(eyeLocal));  // its own test covered the children
+            break;
+        }
+        case NodeKind::Instance: visitInstance(c, i, mask, m); break;
+        case NodeKind::BspGroup: {
+            const auto* g = static_cast<BspGroup*>(node);
+            const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
+            // Child entry indices by child number, then the BSP's front-to-back order over them.
+            const size_t base = scratch_.size();
+            for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) scratch_.push_back(j);
+            const size_t nChildren = scratch_.size() - base;
+            std::vector<uint32_t> ord;
+            g->order(eyeLocal, ord);
+            for (uint32_t k : ord)
+                if (k < nChildren) visit(c, scratch_[base + k], mask, m);
+            scratch_.resize(base);
+            break;
+        }
+        case NodeKind::Occluder: break;  // used by the occlusion passes, never drawn
+        default: children(c, i, mask, m); break;
+    }
+}
+
+void CullTraversal::children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) visit(c, j, mask, m);
+}
+
+void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+    const auto* in = static_cast<Instance*>(c.img->node[i]);
+    const FlatImage* p = in->prototype() ? scene_->prototypeImage(in->prototype()) : nullptr;
+    if (!p || p->size() == 0) return;
+    stats_->instancesVisited++;
+    const dmat4 pm = m * in->matrix();
+    Ctx sub;
+    setupCtx(sub, *p, glm::translate(pm, p->origin));
+    // Same six planes, transformed: planes the placement's bound was inside of stay done.
+    visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm);
+}
+
+void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
+    const auto* g = static_cast<Geometry*>(c.img->node[i]);
+    if (!g->mesh()) return;
+    DrawItem it;
+    it.mesh = g->mesh();
+    it.material = g->material();
+    it.model = mat4(m);
+    const FlatImage& img = *c.img;
+    const dvec3 ce = (img.flags[i] & FlatImage::kInvalid) ? dvec3(m[3])
+                                                          : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
+    it.depth = float(glm::dot(ce, cam_->viewDirection()));
+    it.seq = uint32_t(out_->items.size());
+    out_->add(it);
+    stats_->geometries++;
+    stats_->triangles += it.mesh->triangleCount();
+    if (img.flags[i] & FlatImage::kInvalid) stats_->invalidDrawn++;
+}
+
+}  // namespace sg

@@ -1,0 +1,41 @@
+// CullTraversal: walks a Scene's flat image with a Camera and fills a DrawList (frustum tests with plane
+// masks and subtree skips, LOD, Switch, Billboard, Instance placements, BspGroup order).
+#pragma once
+#include "sg/Camera.h"
+#include "sg/CullSettings.h"
+#include "sg/DrawList.h"
+#include "sg/Scene.h"
+
+#include <vector>
+
+namespace sg {
+
+class CullTraversal {
+public:
+    // Subtrees up to this many entries are classified by one flat kernel call (vectorized) when the walk
+    // reaches them with planes still to test; above that the walk tests one bound at a time.
+    static constexpr uint32_t kBatch = 1024;
+
+    // Throws std::logic_error when the scene changed since its last update() (the image would be stale).
+    void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out,
+              CullStats& stats);
+
+private:
+    struct Ctx;
+    void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    bool test(Ctx& c, uint32_t i, uint32_t& mask);
+    void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    void emit(Ctx& c, uint32_t i, const dmat4& m);
+    void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
+
+    const Scene* scene_ = nullptr;
+    const Camera* cam_ = nullptr;
+    const CullSettings* set_ = nullptr;
+    DrawList* out_ = nullptr;
+    CullStats* stats_ = nullptr;
+    std::vector<uint8_t> cls_;        // batch classifications, used as a stack
+    std::vector<uint32_t> scratch_;   // BspGroup orders, used as a stack
+};
+
+}  // namespace sg

@@ -1,0 +1,63 @@
+#include "sg/DrawList.h"
+
+#include <cstring>
+
+namespace sg {
+
+uint32_t DrawList::makeKey(const Mesh* mesh, const Material* mat, float depth) {
+    // 6 bits of material id and 10 of mesh id, then the top 16 bits of the depth's float bits (monotonic
+    // for depth >= 0; about 1/128 relative precision, plenty for front-to-back). Ids that collide only
+    // share a sort bucket: the renderer compares pointers before it batches.
+    const uint32_t state = ((mat ? mat->id() & 0x3fu : 0u) << 10) | (mesh ? mesh->id() & 0x3ffu : 0u);
+    float d = depth > 0.0f ? depth : 0.0f;  // NaN fails the test too
+    uint32_t bits;
+    std::memcpy(&bits, &d, 4);
+    return (state << 16) | (bits >> 16);
+}
+
+void DrawList::keepEmissionOrder() {
+    order.resize(items.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+}
+
+void DrawList::sort() {
+    const uint32_t n = uint32_t(items.size());
+    if (keys_.size() != n) {  // items pushed directly: make their keys now
+        keys_.resize(n);
+        for (uint32_t i = 0; i < n; ++i) keys_[i] = items[i].key = makeKey(items[i].mesh, items[i].material, items[i].depth);
+    }
+    keysTmp_.resize(n);
+    order.resize(n);
+    tmp_.resize(n);
+    // LSD radix sort, 8 bits a pass; all four histograms in one read, passes with one bucket skipped.
+    work_.resize(n);
+    uint32_t count[4][256] = {};
+    for (uint32_t i = 0; i < n; ++i) {
+        const uint32_t k = keysTmp_[i] = keys_[i];  // sorted in the work arrays: keys_ stays in item order
+        order[i] = i;
+        count[0][k & 0xff]++;
+        count[1][(k >> 8) & 0xff]++;
+        count[2][(k >> 16) & 0xff]++;
+        count[3][k >> 24]++;
+    }
+    for (int pass = 0; pass < 4; ++pass) {
+        uint32_t* c = count[pass];
+        if (n == 0 || c[(keysTmp_[0] >> (8 * pass)) & 0xff] == n) continue;
+        uint32_t pos = 0;
+        for (int b = 0; b < 256; ++b) {
+            const uint32_t v = c[b];
+            c[b] = pos;
+            pos += v;
+        }
+        const int shift = 8 * pass;
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t dst = c[(keysTmp_[i] >> shift) & 0xff]++;
+            work_[dst] = keysTmp_[i];
+            tmp_[dst] = order[i];
+        }
+        keysTmp_.swap(work_);
+        order.swap(tmp_);
+    }
+}
+
+}  // namespace sg

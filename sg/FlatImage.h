@@ -1,0 +1,43 @@
+// FlatImage: the pre-order, structure-of-arrays image of a graph that the cull walks instead of pointers.
+#pragma once
+#include "sg/Math.h"
+#include "sg/Node.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sg {
+
+// One entry per node per path (a shared child appears once under each parent; an Instance's prototype
+// has an image of its own). Bounds are world-space boxes and spheres sharing one centre, stored in float
+// relative to `origin`, each rounded outward by its own rounding error (see sg/Math.h, eps).
+struct FlatImage {
+    enum Flag : uint8_t {
+        kInvalid = 1,  // non-finite bound: never culled, always drawn, counted
+        kEmpty = 2,    // nothing below to draw
+        kMasked = 4,   // node mask is not all ones: the cull reads it
+        kNoTest = 8,   // below a Billboard: orientation changes per frame, the billboard's own test covers it
+    };
+
+    dvec3 origin{0.0};
+    double extent = 0.0;  // max |centre| + radius: scales the float slack of the planes
+
+    // Columns (4 bytes each per entry unless said): centre, sphere radius, box half extents.
+    std::vector<float> cx, cy, cz, r, ex, ey, ez;
+    std::vector<uint32_t> end;   // one past the last entry of this entry's subtree (skip index)
+    std::vector<NodeKind> kind;  // 1 byte
+    std::vector<uint8_t> flags;  // 1 byte
+    std::vector<Node*> node;     // 8 bytes: per-kind parameters stay in the node
+
+    size_t size() const { return end.size(); }
+    void resize(size_t n);
+    size_t bytes() const;
+
+    dvec3 center(size_t i) const { return origin + dvec3(cx[i], cy[i], cz[i]); }
+    Box box(size_t i) const;
+    // Stores a world box and sphere radius at i, rounding outward.
+    void setBound(size_t i, const Box& b, double radius);
+    void setInvalid(size_t i);
+};
+
+}  // namespace sg

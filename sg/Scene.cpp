@@ -1,0 +1,278 @@
+#include "sg/Scene.h"
+
+#include "nodes/Billboard.h"
+#include "nodes/BspGroup.h"
+#include "nodes/Geometry.h"
+#include "nodes/Instance.h"
+#include "nodes/Occluder.h"
+#include "nodes/Transform.h"
+#include "sg/BspBuilder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace sg {
+
+struct Scene::Builder {
+    Scene& scene;
+    FlatImage& img;
+    std::unordered_set<const Node*>& builtProtos;  // prototypes (re)built during this update
+    uint32_t cursor = 0;
+    bool collect = false;  // full builds list the nodes with update callbacks
+
+    static uint32_t count(const Node* n) {
+        if (n->kind() == NodeKind::Instance) return 1;  // the prototype has its own image
+        uint32_t c = 1;
+        for (size_t i = 0, k = n->numChildren(); i < k; ++i) c += count(n->child(i));
+        return c;
+    }
+
+    // A point inside the scene, found by one descent: float offsets from it stay small.
+    static dvec3 pickOrigin(const Node* n) {
+        dmat4 m(1.0);
+        for (int depth = 0; n && depth < 4096; ++depth) {
+            if (n->kind() == NodeKind::Transform) m = static_cast<const Transform*>(n)->apply(m);
+            if (n->kind() == NodeKind::Instance) m = m * static_cast<const Instance*>(n)->matrix();
+            if (n->kind() == NodeKind::Geometry) {
+                const Mesh* mesh = static_cast<const Geometry*>(n)->mesh();
+                if (mesh && mesh->validBound() && !mesh->box().empty()) return dvec3(m * dvec4(mesh->box().center(), 1));
+            }
+            n = n->numChildren() ? n->child(0) : nullptr;
+        }
+        const dvec3 t(m[3]);
+        return isFinite(t) ? t : dvec3(0.0);
+    }
+
+    void full(Node* root) {
+        img.origin = pickOrigin(root);
+        img.resize(count(root));
+        cursor = 0;
+        write(root, dmat4(1.0));
+        updateExtent();
+        scene.stats_.fullRebuilds++;
+    }
+
+    void updateExtent() {
+        img.extent = 0.0;
+        if (img.size() == 0) return;
+        if (img.flags[0] & (FlatImage::kInvalid)) {  // some entry below is invalid: scan the valid ones
+            for (size_t i = 0; i < img.size(); ++i)
+                if (!(img.flags[i] & (FlatImage::kInvalid | FlatImage::kEmpty)))
+                    img.extent = std::max(img.extent, glm::length(img.center(i) - img.origin) + img.r[i]);
+        } else {
+            img.extent = glm::length(img.center(0) - img.origin) + img.r[0];
+        }
+    }
+
+    const FlatImage& proto(Node* p) {
+        auto& slot = scene.protos_[p];
+        if (!slot || (!builtProtos.count(p) && p->dirtyBits())) {
+            if (!slot) slot = std::make_unique<FlatImage>();
+            Builder b{scene, *slot, builtProtos};
+            b.collect = collect;
+            b.full(p);
+            scene.stats_.entriesWritten += slot->size();
+        }
+        builtProtos.insert(p);
+        return *slot;
+    }
+
+    void leafBound(uint32_t i, const Box& local, bool valid, const dmat4& m) {
+        if (!valid) {
+            img.setInvalid(i);
+            return;
+        }
+        img.setBound(i, transformBox(m, local), glm::length(local.halfExtent()) * maxScale(m));
+    }
+
+    void boundFromChildren(uint32_t i) {
+        Box b;
+        bool invalid = false;
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) {
+            if (img.flags[j] & FlatImage::kInvalid) invalid = true;
+            if (img.flags[j] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
+            b.expand(img.box(j));
+        }
+        if (invalid) return img.setInvalid(i);
+        double rad = 0.0;
+        const dvec3 c = b.center();
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j])
+            if (!(img.flags[j] & FlatImage::kEmpty)) rad = std::max(rad, glm::length(img.center(j) - c) + img.r[j]);
+        img.setBound(i, b, rad);
+    }
+
+    // Largest distance of anything below `n` from the origin of the frame `m` maps from.
+    static double localRadius(const Node* n, const dmat4& m, Scene& s) {
+        switch (n->kind()) {
+            case NodeKind::Geometry: {
+                const Mesh* mesh = static_cast<const Geometry*>(n)->mesh();
+                if (!mesh || mesh->box().empty()) return 0.0;
+                if (!mesh->validBound()) return kInf;
+                const Box b = transformBox(m, mesh->box());
+                return glm::length(glm::max(glm::abs(b.min), glm::abs(b.max)));
+            }
+            case NodeKind::Transform: {
+                double r = 0.0;
+                const dmat4 mm = static_cast<const Transform*>(n)->apply(m);
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), mm, s));
+                return r;
+            }
+            case NodeKind::Instance: {
+                const auto* in = static_cast<const Instance*>(n);
+                return in->prototype() ? localRadius(in->prototype(), m * in->matrix(), s) : 0.0;
+            }
+            default: {
+                double r = 0.0;
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), m, s));
+                return r;
+            }
+        }
+    }
+
+    void bsp(uint32_t i, const dmat4& m) {
+        auto* g = static_cast<BspGroup*>(img.node[i]);
+        const dmat4 inv = glm::inverse(m);
+        std::vector<Box> boxes;
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j])
+            boxes.push_back(img.flags[j] & (FlatImage::kEmpty | FlatImage::kInvalid) ? Box{} : transformBox(inv, img.box(j)));
+        buildBsp(*g, boxes);
+    }
+
+    // Writes the subtree of `n` at `cursor`; `m` is the world matrix of n's parent frame.
+    void write(Node* n, const dmat4& m) {
+        const uint32_t i = cursor++;
+        img.node[i] = n;
+        img.kind[i] = n->kind();
+        img.flags[i] = n->nodeMask() != 0xffffffffu ? FlatImage::kMasked : 0;
+        scene.stats_.entriesWritten++;
+        if (collect && n->updateCallback()) scene.callbacks_.push_back(n);
+        switch (n->kind()) {
+            case NodeKind::Geometry: {
+                const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
+                img.end[i] = cursor;
+                if (!mesh) return img.setBound(i, Box{}, 0.0);
+                return leafBound(i, mesh->box(), mesh->validBound(), m);
+            }
+            case NodeKind::Occluder:
+                img.end[i] = cursor;
+                return leafBound(i, static_cast<Occluder*>(n)->box(), true, m);
+            case NodeKind::Instance: {
+                img.end[i] = cursor;
+                auto* in = static_cast<Instance*>(n);
+                if (!in->prototype()) return img.setBound(i, Box{}, 0.0);
+                const FlatImage& p = proto(in->prototype());
+                if (p.size() == 0 || (p.flags[0] & FlatImage::kEmpty)) return img.setBound(i, Box{}, 0.0);
+                const bool valid = !(p.flags[0] & FlatImage::kInvalid);
+                // The prototype's root bound, in the prototype's frame (its image origin added back).
+                const dmat4 pm = m * in->matrix();
+                if (!valid) return img.setInvalid(i);
+                img.setBound(i, transformBox(pm, p.box(0)), double(p.r[0]) * maxScale(pm));
+                return;
+            }
+            default: break;
+        }
+        const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) write(n->child(k), cm);
+        img.end[i] = cursor;
+        boundFromChildren(i);
+        if (n->kind() == NodeKind::Billboard) billboard(i, cm);
+        if (n->kind() == NodeKind::BspGroup) bsp(i, cm);
+    }
+
+    // A billboard turns about its origin: bound it, and everything below it, by a sphere there.
+    void billboard(uint32_t i, const dmat4& m) {
+        if (img.flags[i] & FlatImage::kEmpty) return;
+        const double rl = localRadius(img.node[i], dmat4(1.0), scene);
+        const dvec3 o(m[3]);
+        const double rad = rl * maxScale(m);
+        for (uint32_t j = i; j < img.end[i]; ++j) {
+            if (!std::isfinite(rad)) {
+                img.setInvalid(j);
+            } else {
+                img.setBound(j, Box{o - dvec3(rad), o + dvec3(rad)}, rad);
+            }
+            if (j > i) img.flags[j] |= FlatImage::kNoTest;
+        }
+    }
+
+    // Structure unchanged: rewrite only the dirty paths in place.
+    void refit(uint32_t i, Node* n, const dmat4& m) {
+        if ((n->dirtyBits() & Node::kDirtyBound) || n->kind() == NodeKind::Billboard ||
+            n->kind() == NodeKind::Instance) {
+            cursor = i;
+            write(n, m);
+            return;
+        }
+        const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        uint32_t j = i + 1;
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k, j = img.end[j]) {
+            Node* ch = n->child(k);
+            if (ch->dirtyBits()) refit(j, ch, cm);
+        }
+        boundFromChildren(i);
+        if (n->kind() == NodeKind::BspGroup) bsp(i, cm);
+    }
+
+    static void clear(Node* n) {
+        if (!(n->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))) return;
+        n->clearDirty();
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) clear(n->child(k));
+    }
+};
+
+Scene::Scene(ref_ptr<Node> root) : root_(std::move(root)) {
+    if (!root_) throw std::invalid_argument("Scene::Scene(): root is null");
+}
+
+Scene::~Scene() = default;
+
+const FlatImage* Scene::prototypeImage(const Node* p) const {
+    auto it = protos_.find(p);
+    return it == protos_.end() ? nullptr : it->second.get();
+}
+
+void Scene::update(const FrameInfo& frame) {
+    const auto t0 = std::chrono::steady_clock::now();
+    stats_ = UpdateStats{};
+    // Structure first (it also finds the nodes with callbacks), then the callbacks, then their changes.
+    if ((root_->dirtyBits() & Node::kDirtyStructure) || main_.size() == 0) refresh();
+    for (Node* n : callbacks_) {
+        (*n->updateCallback())(*n, frame);
+        stats_.callbacksRun++;
+    }
+    refresh();
+    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Scene::refresh() {
+    const uint8_t bits = root_->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure);
+    if (bits || main_.size() == 0) {
+        std::unordered_set<const Node*> built;
+        Builder b{*this, main_, built};
+        if ((bits & Node::kDirtyStructure) || main_.size() == 0) {
+            callbacks_.clear();
+            protos_.clear();
+            b.collect = true;
+            b.full(root_.get());
+            // A shared node is met once per path: keep its first place in traversal order.
+            std::unordered_set<const Node*> seen;
+            callbacks_.erase(std::remove_if(callbacks_.begin(), callbacks_.end(),
+                                            [&](const Node* n) { return !seen.insert(n).second; }),
+                             callbacks_.end());
+        } else {
+            b.refit(0, root_.get(), dmat4(1.0));
+            b.updateExtent();
+        }
+        Builder::clear(root_.get());
+    }
+}
+
+size_t Scene::bytes() const {
+    size_t b = main_.bytes();
+    for (auto& p : protos_) b += p.second->bytes();
+    return b;
+}
+
+}  // namespace sg

@@ -1,0 +1,66 @@
+// Helpers shared by the tests: walk the graph as the cull should see it, collect world vertices.
+#pragma once
+#include "nodes/Billboard.h"
+#include "nodes/Geometry.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
+#include "nodes/Switch.h"
+#include "nodes/Transform.h"
+#include "sg/Camera.h"
+
+#include <functional>
+
+namespace testutil {
+
+using namespace sg;
+
+// Calls f(geometry, world matrix) for every geometry the LOD and Switch selection shows from `cam`
+// (no frustum tests): the reference set a cull may only shrink.
+inline void forEachActive(Node* n, const dmat4& m, const Camera& cam, const std::function<void(Geometry*, const dmat4&)>& f) {
+    switch (n->kind()) {
+        case NodeKind::Geometry: f(static_cast<Geometry*>(n), m); return;
+        case NodeKind::Transform: {
+            const dmat4 mm = static_cast<Transform*>(n)->apply(m);
+            for (size_t i = 0; i < n->numChildren(); ++i) forEachActive(n->child(i), mm, cam, f);
+            return;
+        }
+        case NodeKind::Instance: {
+            auto* in = static_cast<Instance*>(n);
+            if (in->prototype()) forEachActive(in->prototype(), m * in->matrix(), cam, f);
+            return;
+        }
+        case NodeKind::Switch:
+            for (size_t i = 0; i < n->numChildren(); ++i)
+                if (static_cast<Switch*>(n)->isOn(i)) forEachActive(n->child(i), m, cam, f);
+            return;
+        case NodeKind::Billboard: {
+            const dvec3 eyeLocal(glm::inverse(m) * dvec4(cam.eye(), 1.0));
+            const dmat4 mm = m * static_cast<Billboard*>(n)->rotationToward(eyeLocal);
+            for (size_t i = 0; i < n->numChildren(); ++i) forEachActive(n->child(i), mm, cam, f);
+            return;
+        }
+        case NodeKind::LOD: {
+            auto* lod = static_cast<LOD*>(n);
+            // Only user centres are compared exactly; tests that use LOD set them.
+            const double d = glm::length(dvec3(m * dvec4(lod->center(), 1.0)) - cam.eye());
+            for (size_t i = 0; i < n->numChildren(); ++i)
+                if (d >= lod->range(i).min && d < lod->range(i).max) forEachActive(n->child(i), m, cam, f);
+            return;
+        }
+        default:
+            for (size_t i = 0; i < n->numChildren(); ++i) forEachActive(n->child(i), m, cam, f);
+    }
+}
+
+// True when some vertex of the geometry lies strictly inside the frustum (by a margin).
+inline bool vertexInside(const Geometry& g, const dmat4& m, const Camera& cam, double margin) {
+    for (const vec3& p : g.mesh()->positions()) {
+        const dvec3 w = dvec3(m * dvec4(dvec3(p), 1.0)) - cam.eye();
+        bool in = true;
+        for (const Plane& pl : cam.eyePlanes()) in &= pl.distance(w) > margin;
+        if (in) return true;
+    }
+    return false;
+}
+
+}  // namespace testutil
