@@ -27,6 +27,7 @@ struct CullSettings {
 struct CullStats {
     uint64_t nodesVisited = 0;
     uint64_t boundsTested = 0;
+    uint64_t kernelEntries = 0;  // bounds classified by the flat kernel (straddling subtrees)
     uint64_t culledFrustum = 0;       // by the plane tests
     uint64_t culledSphereSphere = 0;  // by the frustum-sphere pre-test
     uint64_t culledCenterBox = 0;

@@ -138,42 +138,20 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
         if (r & kernel::kInside) mask = 0;
         return true;
     }
-    const uint32_t n = img.end[i] - i;
-    if (n > 1 && n <= kBatch) {
-        // Classify the whole subtree in one flat pass against the planes still in play.
-        const kernel::Planes kp = mask == kAllPlanes ? c.kplanes : kernel::Planes::make(c.planes, dvec3(0.0), img.extent, mask);
-        const size_t off = cls_.size();
-        cls_.resize(off + n);
-        uint8_t* o = cls_.data() + off;
-        if (strat == CullStrategy::Aabb)
-            kernel::classifyBoxes(kp, &img.cx[i], &img.cy[i], &img.cz[i], &img.ex[i], &img.ey[i], &img.ez[i], n, o);
-        else
-            kernel::classifySpheres(kp, &img.cx[i], &img.cy[i], &img.cz[i], &img.r[i], n, o);
-        if (strat == CullStrategy::SphereSphere) {
-            const float fx = float(c.fsCenter.x), fy = float(c.fsCenter.y), fz = float(c.fsCenter.z),
-                        fr = float(c.fsRadius);
-            for (uint32_t k = 0; k < n; ++k) {
-                const float dx = img.cx[i + k] - fx, dy = img.cy[i + k] - fy, dz = img.cz[i + k] - fz;
-                const float reach = fr + img.r[i + k];
-                if (dx * dx + dy * dy + dz * dz > reach * reach) o[k] = kernel::kOutside | kBySphereSphere;
-            }
-        }
-        c.clsOffset = off;
-        c.clsBase = i;
-        stats_->boundsTested--;  // counted again by the lookup
-        return test(c, i, mask);
-    }
     // One bound, above the batches.
+    // The eye inside the bound: it is seen (or cut by the near plane), skip its test; its children are
+    // still tested.
     const double dx = img.cx[i] - c.eyeImg.x, dy = img.cy[i] - c.eyeImg.y, dz = img.cz[i] - c.eyeImg.z;
-    if (dx * dx + dy * dy + dz * dz <= double(img.r[i]) * img.r[i]) return true;  // eye inside: visible side
-    if (strat == CullStrategy::SphereSphere) {
+    const bool eyeInside = dx * dx + dy * dy + dz * dz <= double(img.r[i]) * img.r[i];
+    if (!eyeInside && strat == CullStrategy::SphereSphere) {
         const double d = glm::length(img.center(i) - img.origin - c.fsCenter);
         if (d > c.fsRadius + img.r[i]) {
             stats_->culledSphereSphere++;
             return false;
         }
     }
-    const uint32_t r = strat == CullStrategy::Aabb
+    const uint32_t r = eyeInside ? mask
+                       : strat == CullStrategy::Aabb
                            ? kernel::boxMasked(c.kplanes, mask, img.cx[i], img.cy[i], img.cz[i], img.ex[i], img.ey[i], img.ez[i])
                            : kernel::sphereMasked(c.kplanes, mask, img.cx[i], img.cy[i], img.cz[i], img.r[i]);
     if (r == kernel::kCulledMask) {
@@ -181,6 +159,31 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
         return false;
     }
     mask = r;
+    const uint32_t n = img.end[i] - i - 1;
+    if (mask && n > 0 && n <= kBatch) {
+        // The bound straddles: classify everything below it in one flat pass against the planes still
+        // in play; the walk below looks its answers up.
+        const kernel::Planes kp = mask == kAllPlanes ? c.kplanes : kernel::Planes::make(c.planes, dvec3(0.0), img.extent, mask);
+        const size_t off = cls_.size();
+        cls_.resize(off + n);
+        uint8_t* o = cls_.data() + off;
+        const uint32_t b = i + 1;
+        if (strat == CullStrategy::Aabb)
+            kernel::classifyBoxes(kp, &img.cx[b], &img.cy[b], &img.cz[b], &img.ex[b], &img.ey[b], &img.ez[b], n, o);
+        else
+            kernel::classifySpheres(kp, &img.cx[b], &img.cy[b], &img.cz[b], &img.r[b], n, o);
+        if (strat == CullStrategy::SphereSphere) {
+            const float fx = float(c.fsCenter.x), fy = float(c.fsCenter.y), fz = float(c.fsCenter.z), fr = float(c.fsRadius);
+            for (uint32_t k = 0; k < n; ++k) {
+                const float dx = img.cx[b + k] - fx, dy = img.cy[b + k] - fy, dz = img.cz[b + k] - fz;
+                const float reach = fr + img.r[b + k];
+                if (dx * dx + dy * dy + dz * dz > reach * reach) o[k] = kernel::kOutside | kBySphereSphere;
+            }
+        }
+        c.clsOffset = off;
+        c.clsBase = b;
+        stats_->kernelEntries += n;
+    }
     return true;
 }
 
@@ -195,7 +198,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
     Node* node = img.node[i];
     if ((fl & FlatImage::kMasked) && !(node->nodeMask() & set_->traversalMask)) return;
 
-    // A batch started by this entry's test ends with this entry: restore the enclosing one on return.
+    // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
     struct BatchScope {
         CullTraversal& t;
         Ctx& c;

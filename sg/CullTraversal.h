@@ -12,8 +12,8 @@ namespace sg {
 
 class CullTraversal {
 public:
-    // Subtrees up to this many entries are classified by one flat kernel call (vectorized) when the walk
-    // reaches them with planes still to test; above that the walk tests one bound at a time.
+    // A bound that straddles the frustum and has at most this many entries below has them classified by
+    // one flat kernel call (vectorized); above that the walk tests one bound at a time.
     static constexpr uint32_t kBatch = 1024;
 
     // Throws std::logic_error when the scene changed since its last update() (the image would be stale).

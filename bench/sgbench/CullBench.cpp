@@ -42,7 +42,7 @@ int runCull(const Args& a) {
     sg::CullStats st;
     for (auto& c : cams) cull.cull(scene, c, set, list, st);  // warm-up pass
     std::vector<double> ms;
-    double geoms = 0, tris = 0, tested = 0, visited = 0;
+    double geoms = 0, tris = 0, tested = 0, visited = 0, kern = 0;
     for (int p = 0; p < passes; ++p)
         for (auto& c : cams) {
             const auto s = Clock::now();
@@ -52,6 +52,7 @@ int runCull(const Args& a) {
             tris += double(st.triangles);
             tested += double(st.boundsTested);
             visited += double(st.nodesVisited);
+            kern += double(st.kernelEntries);
         }
     const double k = double(ms.size());
     Json j;
@@ -59,7 +60,7 @@ int runCull(const Args& a) {
     j.addInt("frames", long(ms.size()));
     j.add("cull_ms_median", median(ms)).add("cull_ms_p95", percentile(ms, 0.95));
     j.add("geometries_mean", geoms / k).add("triangles_mean", tris / k);
-    j.add("bounds_tested_mean", tested / k).add("nodes_visited_mean", visited / k);
+    j.add("bounds_tested_mean", tested / k).add("nodes_visited_mean", visited / k).add("kernel_entries_mean", kern / k);
     j.add("build_s", buildS).add("rss_mb", rss1).addInt("nodes", long(nodes));
     j.add("bytes_per_node", (rss1 - rss0) * 1024.0 * 1024.0 / double(nodes));
     j.add("image_bytes_per_node", double(scene.bytes()) / double(nodes));
