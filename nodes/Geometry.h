@@ -17,7 +17,10 @@ public:
         mesh_ = std::move(m);
         markDirty(kDirtyBound);
     }
-    void setMaterial(ref_ptr<Material> m) { material_ = std::move(m); }
+    void setMaterial(ref_ptr<Material> m) {
+        material_ = std::move(m);
+        markDirty(kDirtyBound);  // the image keeps a copy of the pointer
+    }
     Mesh* mesh() const noexcept { return mesh_.get(); }
     Material* material() const noexcept { return material_.get(); }
 

@@ -26,6 +26,7 @@ void LOD::addChild(ref_ptr<Node> child, float mn, float mx) {
     checkRange(numChildren(), mn, mx, "LOD::addChild()");
     Group::addChild(std::move(child));
     ranges_.back() = Range{mn, mx};
+    markDirty(kDirtyBound);
 }
 
 void LOD::setRange(size_t i, float mn, float mx) {
@@ -33,6 +34,7 @@ void LOD::setRange(size_t i, float mn, float mx) {
         throw std::out_of_range("LOD::setRange(): child " + std::to_string(i) + " of " + describe() + " does not exist");
     checkRange(i, mn, mx, "LOD::setRange()");
     ranges_[i] = Range{mn, mx};
+    markDirty(kDirtyBound);
 }
 
 void LOD::setCenter(const dvec3& c) {

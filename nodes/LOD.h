@@ -22,7 +22,10 @@ public:
     void setRange(size_t i, float min, float max);
     const Range& range(size_t i) const { return ranges_[i]; }
 
-    void setMode(Mode m) { mode_ = m; }
+    void setMode(Mode m) {
+        mode_ = m;
+        markDirty(kDirtyBound);  // the image keeps a copy of the mode and ranges
+    }
     Mode mode() const { return mode_; }
     // Centre in the LOD's frame. By default the centre of the LOD's bound (computed by the update pass).
     void setCenter(const dvec3& c);

@@ -18,6 +18,8 @@ public:
     void setTranslation(const dvec3& t);
     dmat4 matrix() const { return general_ ? *general_ : glm::translate(dmat4(1.0), translation_); }
     bool isTranslation() const noexcept { return !general_; }
+    // The full matrix when it is not a translation, else null (stable until the next set).
+    const dmat4* matrixPtr() const noexcept { return general_.get(); }
     const dvec3& translation() const noexcept { return translation_; }
     // parent * this matrix, with the cheap path for translations.
     dmat4 apply(const dmat4& parent) const { return general_ ? parent * *general_ : mulTranslate(parent, translation_); }

@@ -17,7 +17,6 @@ namespace sg {
 namespace {
 constexpr uint32_t kAllPlanes = 0x3f;
 constexpr uint8_t kBySphereSphere = 4;  // batch result bit: culled by the pre-test
-constexpr uint32_t kPrefetch = 4;
 }  // namespace
 
 const char* strategyName(CullStrategy s) {
@@ -190,13 +189,9 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
 void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
     const FlatImage& img = *c.img;
     stats_->nodesVisited++;
-    // The walk mostly moves forward through the entries: fetch the node a few entries ahead now, so that
-    // reading its parameters (matrix, LOD ranges, mesh) does not wait on memory.
-    if (i + kPrefetch < img.size()) __builtin_prefetch(img.node[i + kPrefetch]);
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
-    Node* node = img.node[i];
-    if ((fl & FlatImage::kMasked) && !(node->nodeMask() & set_->traversalMask)) return;
+    if ((fl & FlatImage::kMasked) && !(img.node[i]->nodeMask() & set_->traversalMask)) return;
 
     // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
     struct BatchScope {
@@ -224,38 +219,40 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
 
     switch (img.kind[i]) {
         case NodeKind::Geometry: emit(c, i, m); break;
-        case NodeKind::Transform: children(c, i, mask, static_cast<Transform*>(node)->apply(m)); break;
+        case NodeKind::Transform: {
+            const FlatImage::Xform& x = img.xforms[img.aux[i]];
+            children(c, i, mask, x.m ? m * *x.m : mulTranslate(m, x.t));
+            break;
+        }
         case NodeKind::LOD: {
-            const auto* lod = static_cast<LOD*>(node);
-            const dvec3 ce = lod->userCenter() ? dvec3(m * dvec4(lod->center(), 1.0))
-                                               : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
+            const FlatImage::Lod& lod = img.lods[img.aux[i]];
+            const dvec3 ce = lod.user ? dvec3(m * dvec4(lod.center, 1.0))
+                                      : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
             const double dist = glm::length(ce);
             double value = dist;
-            if (lod->mode() == LOD::Mode::PixelSize)
+            if (lod.mode == uint8_t(LOD::Mode::PixelSize))
                 value = 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
-            uint32_t j = i + 1;
-            for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j]) {
-                const LOD::Range& rg = lod->range(k);
-                if (value >= rg.min && value < rg.max) visit(c, j, mask, m);
-            }
+            const FlatImage::Range* rg = &img.ranges[lod.firstRange];
+            for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg)
+                if (value >= rg->min && value < rg->max) visit(c, j, mask, m);
             break;
         }
         case NodeKind::Switch: {
-            const auto* sw = static_cast<Switch*>(node);
+            const auto* sw = static_cast<Switch*>(img.node[i]);
             uint32_t j = i + 1;
             for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j])
                 if (sw->isOn(k)) visit(c, j, mask, m);
             break;
         }
         case NodeKind::Billboard: {
-            const auto* bb = static_cast<Billboard*>(node);
+            const auto* bb = static_cast<Billboard*>(img.node[i]);
             const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
             children(c, i, 0u, m * bb->rotationToward(eyeLocal));  // its own test covered the children
             break;
         }
         case NodeKind::Instance: visitInstance(c, i, mask, m); break;
         case NodeKind::BspGroup: {
-            const auto* g = static_cast<BspGroup*>(node);
+            const auto* g = static_cast<BspGroup*>(img.node[i]);
             const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
             // Child entry indices by child number, then the BSP's front-to-back order over them.
             const size_t base = scratch_.size();
@@ -291,13 +288,13 @@ void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4
 }
 
 void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
-    const auto* g = static_cast<Geometry*>(c.img->node[i]);
-    if (!g->mesh()) return;
-    DrawItem it;
-    it.mesh = g->mesh();
-    it.material = g->material();
-    it.model = mat4(m);
     const FlatImage& img = *c.img;
+    const FlatImage::Draw& d = img.draws[img.aux[i]];
+    if (!d.mesh) return;
+    DrawItem it;
+    it.mesh = d.mesh;
+    it.material = d.material;
+    it.model = mat4(m);
     const dvec3 ce = (img.flags[i] & FlatImage::kInvalid) ? dvec3(m[3])
                                                           : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
     it.depth = float(glm::dot(ce, cam_->viewDirection()));

@@ -17,9 +17,14 @@ void FlatImage::resize(size_t n) {
     flags.shrink_to_fit();
     node.resize(n);
     node.shrink_to_fit();
+    aux.resize(n);
+    aux.shrink_to_fit();
 }
 
-size_t FlatImage::bytes() const { return size() * (7 * sizeof(float) + sizeof(uint32_t) + 2 + sizeof(Node*)); }
+size_t FlatImage::bytes() const {
+    return size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2 + sizeof(Node*)) + xforms.capacity() * sizeof(Xform) +
+           lods.capacity() * sizeof(Lod) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw);
+}
 
 Box FlatImage::box(size_t i) const {
     const dvec3 c = center(i), e(ex[i], ey[i], ez[i]);

@@ -1,6 +1,8 @@
 // FlatImage: the pre-order, structure-of-arrays image of a graph that the cull walks instead of pointers.
 #pragma once
+#include "sg/Material.h"
 #include "sg/Math.h"
+#include "sg/Mesh.h"
 #include "sg/Node.h"
 
 #include <cstdint>
@@ -27,7 +29,31 @@ struct FlatImage {
     std::vector<uint32_t> end;   // one past the last entry of this entry's subtree (skip index)
     std::vector<NodeKind> kind;  // 1 byte
     std::vector<uint8_t> flags;  // 1 byte
-    std::vector<Node*> node;     // 8 bytes: per-kind parameters stay in the node
+    std::vector<Node*> node;     // 8 bytes: the node (rare kinds, masks, tools)
+    std::vector<uint32_t> aux;   // index into the table of its kind (Transform, LOD, Geometry)
+
+    // What the cull reads for the common kinds, copied here so that it never waits on a node.
+    struct Xform {
+        dvec3 t;              // the translation...
+        const dmat4* m;       // ...or, when not null, the full matrix (kept by the Transform)
+    };
+    struct Lod {
+        dvec3 center;         // in the LOD's frame, when `user`
+        uint32_t firstRange;  // into ranges, one per child
+        uint8_t mode;         // LOD::Mode
+        uint8_t user;         // centre set by the user; otherwise the bound's centre
+    };
+    struct Range {
+        float min, max;
+    };
+    struct Draw {
+        const Mesh* mesh;
+        const Material* material;
+    };
+    std::vector<Xform> xforms;
+    std::vector<Lod> lods;
+    std::vector<Range> ranges;
+    std::vector<Draw> draws;
 
     size_t size() const { return end.size(); }
     void resize(size_t n);

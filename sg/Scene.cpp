@@ -4,6 +4,7 @@
 #include "nodes/BspGroup.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/BspBuilder.h"
@@ -21,12 +22,21 @@ struct Scene::Builder {
     std::unordered_set<const Node*>& builtProtos;  // prototypes (re)built during this update
     uint32_t cursor = 0;
     bool collect = false;  // full builds list the nodes with update callbacks
+    bool fresh = false;    // full build: tables are appended to; refit: rewritten at their index
 
-    static uint32_t count(const Node* n) {
-        if (n->kind() == NodeKind::Instance) return 1;  // the prototype has its own image
-        uint32_t c = 1;
-        for (size_t i = 0, k = n->numChildren(); i < k; ++i) c += count(n->child(i));
-        return c;
+    struct Counts {
+        uint32_t entries = 0, xforms = 0, lods = 0, ranges = 0, draws = 0;
+    };
+    static void count(const Node* n, Counts& c) {
+        c.entries++;
+        switch (n->kind()) {
+            case NodeKind::Instance: return;  // the prototype has its own image
+            case NodeKind::Transform: c.xforms++; break;
+            case NodeKind::Geometry: c.draws++; break;
+            case NodeKind::LOD: c.lods++, c.ranges += uint32_t(n->numChildren()); break;
+            default: break;
+        }
+        for (size_t i = 0, k = n->numChildren(); i < k; ++i) count(n->child(i), c);
     }
 
     // A point inside the scene, found by one descent: float offsets from it stay small.
@@ -47,7 +57,15 @@ struct Scene::Builder {
 
     void full(Node* root) {
         img.origin = pickOrigin(root);
-        img.resize(count(root));
+        Counts c;
+        count(root, c);
+        img.resize(c.entries);
+        // Exact sizes: the tables are filled in order and rewritten in place by later refits.
+        for (auto* v : {&img.xforms}) v->clear(), v->reserve(c.xforms), v->shrink_to_fit();
+        img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
+        img.ranges.clear(), img.ranges.reserve(c.ranges), img.ranges.shrink_to_fit();
+        img.draws.clear(), img.draws.reserve(c.draws), img.draws.shrink_to_fit();
+        fresh = true;
         cursor = 0;
         write(root, dmat4(1.0));
         updateExtent();
@@ -140,12 +158,52 @@ struct Scene::Builder {
         buildBsp(*g, boxes);
     }
 
+    // Copies the parameters the cull reads into the kind's table (appended on a full build).
+    template <class T>
+    uint32_t slot(std::vector<T>& v, uint32_t i, const T& value) {
+        if (fresh) {
+            v.push_back(value);
+            return uint32_t(v.size() - 1);
+        }
+        v[img.aux[i]] = value;
+        return img.aux[i];
+    }
+    void params(uint32_t i, Node* n) {
+        switch (n->kind()) {
+            case NodeKind::Transform: {
+                const auto* t = static_cast<const Transform*>(n);
+                img.aux[i] = slot(img.xforms, i, FlatImage::Xform{t->translation(), t->matrixPtr()});
+                break;
+            }
+            case NodeKind::Geometry: {
+                const auto* g = static_cast<const Geometry*>(n);
+                img.aux[i] = slot(img.draws, i, FlatImage::Draw{g->mesh(), g->material()});
+                break;
+            }
+            case NodeKind::LOD: {
+                const auto* l = static_cast<const LOD*>(n);
+                const uint32_t first = fresh ? uint32_t(img.ranges.size()) : img.lods[img.aux[i]].firstRange;
+                for (size_t k = 0; k < l->numChildren(); ++k) {
+                    const FlatImage::Range r{l->range(k).min, l->range(k).max};
+                    if (fresh)
+                        img.ranges.push_back(r);
+                    else
+                        img.ranges[first + k] = r;
+                }
+                img.aux[i] = slot(img.lods, i, FlatImage::Lod{l->center(), first, uint8_t(l->mode()), uint8_t(l->userCenter())});
+                break;
+            }
+            default: img.aux[i] = 0; break;
+        }
+    }
+
     // Writes the subtree of `n` at `cursor`; `m` is the world matrix of n's parent frame.
     void write(Node* n, const dmat4& m) {
         const uint32_t i = cursor++;
         img.node[i] = n;
         img.kind[i] = n->kind();
         img.flags[i] = n->nodeMask() != 0xffffffffu ? FlatImage::kMasked : 0;
+        params(i, n);
         scene.stats_.entriesWritten++;
         if (collect && n->updateCallback()) scene.callbacks_.push_back(n);
         switch (n->kind()) {
