@@ -45,6 +45,8 @@ struct CullTraversal::Ctx {
     const FlatImage* img = nullptr;
     dmat4 imgToEye{1.0};  // image coordinates -> eye-relative world
     dvec3 eyeImg{0.0};    // the eye in image coordinates
+    dvec3 depthDir{0.0};  // depth along the view = depthDir . c + depthOffset, c in image coordinates
+    double depthOffset = 0.0;
     double scale = 1.0;   // lengths: image units -> world units (at most)
     std::array<Plane, 6> planes{};
     kernel::Planes kplanes{};
@@ -60,6 +62,9 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
     c.imgToEye = t;
     c.eyeImg = dvec3(glm::inverse(t) * dvec4(0, 0, 0, 1));
     c.scale = maxScale(t);
+    const dvec3 vd = cam_->viewDirection();
+    c.depthDir = dvec3(glm::dot(vd, dvec3(t[0])), glm::dot(vd, dvec3(t[1])), glm::dot(vd, dvec3(t[2])));
+    c.depthOffset = glm::dot(vd, dvec3(t[3]));
     // A plane (n, d) in eye space becomes t^T (n, d) in image space (exact for affine t), normalized.
     const dmat4 tt = glm::transpose(t);
     for (size_t k = 0; k < 6; ++k) {
@@ -104,6 +109,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
+        frames_.clear();
         visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()));
     }
     if (set.sort)
@@ -225,14 +231,8 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
             break;
         }
         case NodeKind::LOD: {
-            const FlatImage::Lod& lod = img.lods[img.aux[i]];
-            const dvec3 ce = lod.user ? dvec3(m * dvec4(lod.center, 1.0))
-                                      : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
-            const double dist = glm::length(ce);
-            double value = dist;
-            if (lod.mode == uint8_t(LOD::Mode::PixelSize))
-                value = 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
-            const FlatImage::Range* rg = &img.ranges[lod.firstRange];
+            const double value = lodValue(c, i, m);
+            const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg)
                 if (value >= rg->min && value < rg->max) visit(c, j, mask, m);
             break;
@@ -272,7 +272,70 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
 
 void CullTraversal::children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
     const FlatImage& img = *c.img;
+    if (mask == 0 && set_->smallFeaturePixels == 0.0) return inside(c, i + 1, img.end[i], m);
     for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) visit(c, j, mask, m);
+}
+
+double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4& m) const {
+    const FlatImage& img = *c.img;
+    const FlatImage::Lod& lod = img.lods[img.aux[i]];
+    const dvec3 ce = lod.user ? dvec3(m * dvec4(lod.center, 1.0)) : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
+    const double dist = glm::length(ce);
+    if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist;
+    return 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
+}
+
+// Entries [begin, end) inside the frustum (no test left): one forward scan over the pre-order entries
+// with a stack of transform frames, instead of a call per entry. Anything unusual goes to visit().
+void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    const size_t base = frames_.size();
+    frames_.push_back({end, m});
+    size_t top = base;
+    uint32_t j = begin;
+    while (j < end) {
+        if (j >= frames_[top].end) {
+            while (j >= frames_[top].end) --top;
+            frames_.resize(top + 1);
+        }
+        const dmat4& cm = frames_[top].m;  // valid until the next push: copied before any call
+        if (img.flags[j]) {  // masked, empty, invalid or below a billboard: the general path
+            const dmat4 vm = cm;
+            visit(c, j, 0u, vm);
+            j = img.end[j];
+            continue;
+        }
+        stats_->nodesVisited++;
+        switch (img.kind[j]) {
+            case NodeKind::Geometry: emit(c, j, cm); ++j; break;
+            case NodeKind::Group: ++j; break;  // its children follow
+            case NodeKind::Transform: {
+                const FlatImage::Xform& x = img.xforms[img.aux[j]];
+                const dmat4 tm = x.m ? cm * *x.m : mulTranslate(cm, x.t);
+                frames_.push_back({img.end[j], tm});
+                ++top;
+                ++j;
+                break;
+            }
+            case NodeKind::LOD: {
+                const double value = lodValue(c, j, cm);
+                const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[j]].firstRange];
+                const dmat4 lm = cm;  // the frames may move while the children are walked
+                for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg)
+                    if (value >= rg->min && value < rg->max) inside(c, k, img.end[k], lm);
+                j = img.end[j];
+                break;
+            }
+            default: {
+                stats_->nodesVisited--;
+                const dmat4 vm = cm;
+                visit(c, j, 0u, vm);
+                j = img.end[j];
+                break;
+            }
+        }
+    }
+    frames_.resize(base);
 }
 
 void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
@@ -291,15 +354,18 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh) return;
-    DrawItem it;
+    DrawItem& it = out_->push();
     it.mesh = d.mesh;
     it.material = d.material;
-    it.model = mat4(m);
-    const dvec3 ce = (img.flags[i] & FlatImage::kInvalid) ? dvec3(m[3])
-                                                          : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
-    it.depth = float(glm::dot(ce, cam_->viewDirection()));
-    it.seq = uint32_t(out_->items.size());
-    out_->add(it);
+    const double* src = &m[0][0];
+    float* dst = &it.model[0][0];
+    for (int k = 0; k < 16; ++k) dst[k] = float(src[k]);
+    // Depth of the bound's centre along the view: an affine function of the image coordinates.
+    it.depth = (img.flags[i] & FlatImage::kInvalid)
+                   ? float(glm::dot(dvec3(m[3]), cam_->viewDirection()))
+                   : float(c.depthDir.x * img.cx[i] + c.depthDir.y * img.cy[i] + c.depthDir.z * img.cz[i] + c.depthOffset);
+    it.seq = uint32_t(out_->items.size() - 1);
+    out_->pushed();
     stats_->geometries++;
     stats_->triangles += it.mesh->triangleCount();
     if (img.flags[i] & FlatImage::kInvalid) stats_->invalidDrawn++;

@@ -24,6 +24,8 @@ private:
     struct Ctx;
     void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
+    double lodValue(const Ctx& c, uint32_t i, const dmat4& m) const;
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void emit(Ctx& c, uint32_t i, const dmat4& m);
@@ -36,6 +38,11 @@ private:
     CullStats* stats_ = nullptr;
     std::vector<uint8_t> cls_;        // batch classifications, used as a stack
     std::vector<uint32_t> scratch_;   // BspGroup orders, used as a stack
+    struct Frame {
+        uint32_t end;  // entries before this index use m
+        dmat4 m;
+    };
+    std::vector<Frame> frames_;       // transform frames of inside(), used as a stack
 };
 
 }  // namespace sg

@@ -4,17 +4,6 @@
 
 namespace sg {
 
-uint32_t DrawList::makeKey(const Mesh* mesh, const Material* mat, float depth) {
-    // 6 bits of material id and 10 of mesh id, then the top 16 bits of the depth's float bits (monotonic
-    // for depth >= 0; about 1/128 relative precision, plenty for front-to-back). Ids that collide only
-    // share a sort bucket: the renderer compares pointers before it batches.
-    const uint32_t state = ((mat ? mat->id() & 0x3fu : 0u) << 10) | (mesh ? mesh->id() & 0x3ffu : 0u);
-    float d = depth > 0.0f ? depth : 0.0f;  // NaN fails the test too
-    uint32_t bits;
-    std::memcpy(&bits, &d, 4);
-    return (state << 16) | (bits >> 16);
-}
-
 void DrawList::keepEmissionOrder() {
     order.resize(items.size());
     for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
