@@ -109,7 +109,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
-        frames_.clear();
+        framesTop_ = 0;
         visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()));
     }
     if (set.sort)
@@ -266,6 +266,13 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
             break;
         }
         case NodeKind::Occluder: break;  // used by the occlusion passes, never drawn
+        case NodeKind::Group:
+            if (mask && img.aux[i] && c.clsBase == ~0u) {
+                wideChildren(c, i, mask, m);
+                break;
+            }
+            children(c, i, mask, m);
+            break;
         default: children(c, i, mask, m); break;
     }
 }
@@ -276,11 +283,37 @@ void CullTraversal::children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) 
     for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) visit(c, j, mask, m);
 }
 
+// Many children over a large subtree: classify their spheres, kept side by side, in one kernel pass.
+void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Wide w = img.wides[img.aux[i] - 1];
+    const kernel::Planes kp = mask == kAllPlanes ? c.kplanes : kernel::Planes::make(c.planes, dvec3(0.0), img.extent, mask);
+    const size_t off = cls_.size();
+    cls_.resize(off + w.count);
+    kernel::classifySpheres(kp, &img.wcx[w.first], &img.wcy[w.first], &img.wcz[w.first], &img.wr[w.first], w.count,
+                            cls_.data() + off);
+    stats_->kernelEntries += w.count;
+    for (uint32_t k = 0; k < w.count; ++k) {
+        const uint8_t r = cls_[off + k];
+        if (r & kernel::kOutside) {
+            stats_->boundsTested++;
+            stats_->culledFrustum++;
+            continue;
+        }
+        // Inside: no test left below. Straddling: the child's own test runs again (and may batch).
+        visit(c, img.wideEntry[w.first + k], (r & kernel::kInside) ? 0u : mask, m);
+    }
+    cls_.resize(off);
+}
+
 double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4& m) const {
     const FlatImage& img = *c.img;
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
-    const dvec3 ce = lod.user ? dvec3(m * dvec4(lod.center, 1.0)) : dvec3(c.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0));
-    const double dist = glm::length(ce);
+    // The centre relative to the eye (affine maps: the last row is never needed).
+    const dvec3 ce = lod.user ? dvec3(m[0]) * lod.center.x + dvec3(m[1]) * lod.center.y + dvec3(m[2]) * lod.center.z + dvec3(m[3])
+                              : dvec3(c.imgToEye[0]) * double(img.cx[i]) + dvec3(c.imgToEye[1]) * double(img.cy[i]) +
+                                    dvec3(c.imgToEye[2]) * double(img.cz[i]) + dvec3(c.imgToEye[3]);
+    const double dist = std::sqrt(ce.x * ce.x + ce.y * ce.y + ce.z * ce.z);
     if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist;
     return 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
 }
@@ -289,53 +322,62 @@ double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4& m) const {
 // with a stack of transform frames, instead of a call per entry. Anything unusual goes to visit().
 void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m) {
     const FlatImage& img = *c.img;
-    const size_t base = frames_.size();
-    frames_.push_back({end, m});
+    // frames_ is a stack addressed by index (no reference into it survives a push).
+    const size_t base = framesTop_;
     size_t top = base;
+    if (top >= frames_.size()) frames_.resize(frames_.size() * 2 + 16);
+    frames_[top] = {end, m};
     uint32_t j = begin;
     while (j < end) {
-        if (j >= frames_[top].end) {
-            while (j >= frames_[top].end) --top;
-            frames_.resize(top + 1);
-        }
-        const dmat4& cm = frames_[top].m;  // valid until the next push: copied before any call
+        while (j >= frames_[top].end) --top;
+        framesTop_ = top + 1;
         if (img.flags[j]) {  // masked, empty, invalid or below a billboard: the general path
-            const dmat4 vm = cm;
+            const dmat4 vm = frames_[top].m;
             visit(c, j, 0u, vm);
             j = img.end[j];
             continue;
         }
         stats_->nodesVisited++;
         switch (img.kind[j]) {
-            case NodeKind::Geometry: emit(c, j, cm); ++j; break;
+            case NodeKind::Geometry: emit(c, j, frames_[top].m); ++j; break;
             case NodeKind::Group: ++j; break;  // its children follow
             case NodeKind::Transform: {
                 const FlatImage::Xform& x = img.xforms[img.aux[j]];
-                const dmat4 tm = x.m ? cm * *x.m : mulTranslate(cm, x.t);
-                frames_.push_back({img.end[j], tm});
+                if (top + 1 >= frames_.size()) frames_.resize(frames_.size() * 2);
+                const dmat4& cm = frames_[top].m;
+                frames_[top + 1].m = x.m ? cm * *x.m : mulTranslate(cm, x.t);
+                frames_[top + 1].end = img.end[j];
                 ++top;
                 ++j;
                 break;
             }
             case NodeKind::LOD: {
-                const double value = lodValue(c, j, cm);
+                const double value = lodValue(c, j, frames_[top].m);
                 const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[j]].firstRange];
-                const dmat4 lm = cm;  // the frames may move while the children are walked
-                for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg)
-                    if (value >= rg->min && value < rg->max) inside(c, k, img.end[k], lm);
+                for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg) {
+                    if (!(value >= rg->min && value < rg->max)) continue;
+                    if (img.kind[k] == NodeKind::Geometry && img.flags[k] == 0) {  // the usual LOD child
+                        stats_->nodesVisited++;
+                        emit(c, k, frames_[top].m);
+                    } else {
+                        const dmat4 lm = frames_[top].m;
+                        framesTop_ = top + 1;
+                        inside(c, k, img.end[k], lm);
+                    }
+                }
                 j = img.end[j];
                 break;
             }
             default: {
                 stats_->nodesVisited--;
-                const dmat4 vm = cm;
+                const dmat4 vm = frames_[top].m;
                 visit(c, j, 0u, vm);
                 j = img.end[j];
                 break;
             }
         }
     }
-    frames_.resize(base);
+    framesTop_ = base;
 }
 
 void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
@@ -357,9 +399,7 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     DrawItem& it = out_->push();
     it.mesh = d.mesh;
     it.material = d.material;
-    const double* src = &m[0][0];
-    float* dst = &it.model[0][0];
-    for (int k = 0; k < 16; ++k) dst[k] = float(src[k]);
+    toFloat(m, it.model);
     // Depth of the bound's centre along the view: an affine function of the image coordinates.
     it.depth = (img.flags[i] & FlatImage::kInvalid)
                    ? float(glm::dot(dvec3(m[3]), cam_->viewDirection()))

@@ -25,6 +25,7 @@ private:
     void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
+    void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     double lodValue(const Ctx& c, uint32_t i, const dmat4& m) const;
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
@@ -42,7 +43,8 @@ private:
         uint32_t end;  // entries before this index use m
         dmat4 m;
     };
-    std::vector<Frame> frames_;       // transform frames of inside(), used as a stack
+    std::vector<Frame> frames_;       // transform frames of inside(), a stack up to framesTop_
+    size_t framesTop_ = 0;
 };
 
 }  // namespace sg

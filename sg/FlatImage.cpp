@@ -23,7 +23,8 @@ void FlatImage::resize(size_t n) {
 
 size_t FlatImage::bytes() const {
     return size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2 + sizeof(Node*)) + xforms.capacity() * sizeof(Xform) +
-           lods.capacity() * sizeof(Lod) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw);
+           lods.capacity() * sizeof(Lod) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
+           wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4;
 }
 
 Box FlatImage::box(size_t i) const {

@@ -50,6 +50,16 @@ struct FlatImage {
         const Mesh* mesh;
         const Material* material;
     };
+    // Groups with many children and a large subtree (a city's root over its tiles) keep their children's
+    // spheres side by side as well, so that the cull classifies them in one flat pass instead of reading
+    // bounds spread over the whole image. A Group entry's aux is its index here plus one (0: none).
+    struct Wide {
+        uint32_t first, count;  // into wideEntry and the wide columns
+    };
+    std::vector<Wide> wides;
+    std::vector<uint32_t> wideEntry;
+    std::vector<float> wcx, wcy, wcz, wr;
+
     std::vector<Xform> xforms;
     std::vector<Lod> lods;
     std::vector<Range> ranges;

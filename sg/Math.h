@@ -5,6 +5,9 @@
 
 #include <array>
 #include <cmath>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include <limits>
 #include <string>
 
@@ -82,6 +85,20 @@ inline dmat4 mulTranslate(const dmat4& m, const dvec3& t) {
     dmat4 r = m;
     r[3] = m[0] * t.x + m[1] * t.y + m[2] * t.z + m[3];
     return r;
+}
+
+// The 16 doubles of a matrix to floats (two at a time where SSE2 is there: every x86-64).
+inline void toFloat(const dmat4& m, mat4& out) {
+    const double* s = &m[0][0];
+    float* d = &out[0][0];
+#if defined(__SSE2__)
+    for (int k = 0; k < 16; k += 4) {
+        const __m128 lo = _mm_cvtpd_ps(_mm_loadu_pd(s + k)), hi = _mm_cvtpd_ps(_mm_loadu_pd(s + k + 2));
+        _mm_storeu_ps(d + k, _mm_movelh_ps(lo, hi));
+    }
+#else
+    for (int k = 0; k < 16; ++k) d[k] = float(s[k]);
+#endif
 }
 
 // Six planes (left, right, bottom, top, near, far), normals inward and unit length, of clip = proj * view.

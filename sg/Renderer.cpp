@@ -60,6 +60,7 @@ void main() {
 
 constexpr GLuint kInstanceLoc = 4;
 
+#ifndef NDEBUG
 const char* errorName(GLenum e) {
     switch (e) {
         case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
@@ -71,7 +72,6 @@ const char* errorName(GLenum e) {
     }
 }
 
-#ifndef NDEBUG
 void checkGl(const char* fn, const char* what) {
     const GLenum e = glGetError();
     if (e == GL_NO_ERROR) return;

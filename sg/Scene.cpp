@@ -65,6 +65,7 @@ struct Scene::Builder {
         img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
         img.ranges.clear(), img.ranges.reserve(c.ranges), img.ranges.shrink_to_fit();
         img.draws.clear(), img.draws.reserve(c.draws), img.draws.shrink_to_fit();
+        img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         fresh = true;
         cursor = 0;
         write(root, dmat4(1.0));
@@ -158,6 +159,28 @@ struct Scene::Builder {
         buildBsp(*g, boxes);
     }
 
+    static constexpr uint32_t kWideChildren = 16, kWideEntries = 1024;
+    // A plain Group with many children over a large subtree: its children's spheres side by side.
+    void wide(uint32_t i, Node* n) {
+        if (n->kind() != NodeKind::Group || n->numChildren() < kWideChildren || img.end[i] - i <= kWideEntries) return;
+        if (fresh) {
+            img.aux[i] = uint32_t(img.wides.size() + 1);
+            img.wides.push_back({uint32_t(img.wideEntry.size()), uint32_t(n->numChildren())});
+            for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) {
+                img.wideEntry.push_back(j);
+                img.wcx.push_back(0), img.wcy.push_back(0), img.wcz.push_back(0), img.wr.push_back(0);
+            }
+        }
+        const FlatImage::Wide& w = img.wides[img.aux[i] - 1];
+        for (uint32_t k = 0; k < w.count; ++k) {
+            const uint32_t j = img.wideEntry[w.first + k];
+            img.wcx[w.first + k] = img.cx[j];
+            img.wcy[w.first + k] = img.cy[j];
+            img.wcz[w.first + k] = img.cz[j];
+            img.wr[w.first + k] = img.r[j];
+        }
+    }
+
     // Copies the parameters the cull reads into the kind's table (appended on a full build).
     template <class T>
     uint32_t slot(std::vector<T>& v, uint32_t i, const T& value) {
@@ -193,7 +216,9 @@ struct Scene::Builder {
                 img.aux[i] = slot(img.lods, i, FlatImage::Lod{l->center(), first, uint8_t(l->mode()), uint8_t(l->userCenter())});
                 break;
             }
-            default: img.aux[i] = 0; break;
+            default:
+                if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
+                break;
         }
     }
 
@@ -235,6 +260,7 @@ struct Scene::Builder {
         for (size_t k = 0, c = n->numChildren(); k < c; ++k) write(n->child(k), cm);
         img.end[i] = cursor;
         boundFromChildren(i);
+        wide(i, n);
         if (n->kind() == NodeKind::Billboard) billboard(i, cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, cm);
     }
@@ -270,6 +296,7 @@ struct Scene::Builder {
             if (ch->dirtyBits()) refit(j, ch, cm);
         }
         boundFromChildren(i);
+        wide(i, n);
         if (n->kind() == NodeKind::BspGroup) bsp(i, cm);
     }
 

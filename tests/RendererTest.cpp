@@ -271,3 +271,24 @@ TEST_F(RendererTest, OrderPastTheItemsThrows) {
     list.order = {0, 5};
     EXPECT_THROW(renderer.draw(list, lookingAt(dvec3(0, 0, 5), dvec3(0.0))), std::out_of_range);
 }
+
+TEST_F(RendererTest, EmptyOrderDrawsTheItemsAndWideIndicesWork) {
+    // A box fine enough to need 32-bit indices, in a list without `order`.
+    auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5), 110);
+    ASSERT_FALSE(mesh->indices32().empty());
+    const vec4 red(0.8f, 0.3f, 0.2f, 1.0f);
+    auto mat = make<Material>(red);
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    DrawItem item;
+    item.mesh = mesh.get();
+    item.material = mat.get();
+    item.model = mat4(glm::translate(dmat4(1.0), -cam.eye()));
+    DrawList list;
+    list.items.push_back(item);
+    renderer.draw(list, cam, kClear);
+    EXPECT_EQ(renderer.lastStats().drawCalls, 1u);
+    EXPECT_EQ(renderer.lastStats().triangles, uint64_t(mesh->triangleCount()));
+    const Image img = renderer.readColor();
+    EXPECT_TRUE(near(pixel(img, kW / 2, kH / 2), red, 2));
+    EXPECT_EQ(pixel(img, 0, 0), kClear8);
+}

@@ -163,3 +163,41 @@ TEST(Scene, PrototypeImageIsBuiltOnceForManyInstances) {
     EXPECT_NEAR(s.image().center(50).x, 490.0, 1e-5);
     EXPECT_NEAR(s.image().r[50], std::sqrt(3.0), 1e-5);
 }
+
+TEST(Scene, RefitGivesTheImageAFullBuildGives) {
+    // Large enough for the root's children to be kept side by side (a wide group).
+    auto root = scenes::buildCity({48, false});
+    Scene s(root);
+    s.update();
+    ASSERT_FALSE(s.image().wides.empty());
+    scenes::Rng rng(3);
+    for (int round = 0; round < 3; ++round) {
+        for (int k = 0; k < 20; ++k) {
+            Node* tile = root->child(size_t(rng.below(int(root->numChildren()))));
+            Node* cell = tile->child(size_t(rng.below(int(tile->numChildren()))));
+            auto* t = static_cast<Transform*>(cell->child(size_t(rng.below(2))));
+            t->setMatrix(glm::rotate(glm::translate(dmat4(1.0), t->translation() + dvec3(rng.uniform(-50, 50), 0, rng.uniform(0, 30))),
+                                     rng.uniform(0, 3), dvec3(0, 0, 1)));
+        }
+        s.update();
+        EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
+        Scene fresh(root);
+        fresh.update();
+        const FlatImage &a = s.image(), &b = fresh.image();
+        ASSERT_EQ(a.size(), b.size());
+        ASSERT_EQ(a.origin, b.origin);
+        for (size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(a.cx[i], b.cx[i]) << i;
+            ASSERT_EQ(a.r[i], b.r[i]) << i;
+            ASSERT_EQ(a.ez[i], b.ez[i]) << i;
+            ASSERT_EQ(a.end[i], b.end[i]) << i;
+        }
+        ASSERT_EQ(a.wr, b.wr);
+        ASSERT_EQ(a.wcx, b.wcx);
+        for (size_t k = 0; k < a.xforms.size(); ++k) {
+            ASSERT_EQ(a.xforms[k].t, b.xforms[k].t);
+            ASSERT_EQ(a.xforms[k].m != nullptr, b.xforms[k].m != nullptr);
+        }
+        expectBoundsEnclose(s);
+    }
+}
