@@ -2,12 +2,18 @@
 
 #include "sg/NodeVisitor.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace sg {
 
 Group::~Group() {
-    for (auto& c : children_) c->removeParent(this);
+    Node* const* d = data();
+    for (uint32_t i = 0; i < size_; ++i) {
+        d[i]->removeParent(this);
+        d[i]->unref();
+    }
+    if (capLog2_) delete[] many_;
 }
 
 void Group::checkChild(const Node* child, const char* fn) const {
@@ -18,42 +24,58 @@ void Group::checkChild(const Node* child, const char* fn) const {
                                     " would make a cycle (the group is the child or one of its descendants)");
 }
 
-void Group::addChild(ref_ptr<Node> child) { insertChild(children_.size(), std::move(child)); }
+void Group::addChild(ref_ptr<Node> child) { insertChild(size_, std::move(child)); }
 
 void Group::insertChild(size_t index, ref_ptr<Node> child) {
     checkChild(child.get(), "Group::addChild()");
-    if (index > children_.size()) index = children_.size();
+    if (index > size_) index = size_;
+    if (size_ == capacity()) {  // grow: 1 (inline) -> 2 -> 4 ... on the heap
+        if (capLog2_ >= 31) throw std::length_error("Group::addChild(): " + describe() + " has too many children");
+        Node** d = new Node*[size_t(capacity()) * 2];
+        std::copy(data(), data() + size_, d);
+        if (capLog2_) delete[] many_;
+        many_ = d;
+        ++capLog2_;
+    }
+    Node** d = capLog2_ == 0 ? &one_ : many_;
+    std::copy_backward(d + index, d + size_, d + size_ + 1);
     child->addParent(this);
-    children_.insert(children_.begin() + static_cast<std::ptrdiff_t>(index), std::move(child));
+    child->ref();
+    d[index] = child.get();
+    ++size_;
     childInserted(index);
     markDirty(kDirtyStructure | kDirtyBound);
 }
 
 void Group::removeChild(size_t index) {
-    if (index >= children_.size())
+    if (index >= size_)
         throw std::out_of_range("Group::removeChild(): index " + std::to_string(index) + " past the " +
-                                std::to_string(children_.size()) + " children of " + describe());
-    children_[index]->removeParent(this);
-    children_.erase(children_.begin() + static_cast<std::ptrdiff_t>(index));
+                                std::to_string(size_) + " children of " + describe());
+    Node** d = capLog2_ == 0 ? &one_ : many_;
+    Node* c = d[index];
+    std::copy(d + index + 1, d + size_, d + index);
+    --size_;
+    c->removeParent(this);
     childRemoved(index);
     markDirty(kDirtyStructure | kDirtyBound);
+    c->unref();  // last: the child may go away here
 }
 
 bool Group::removeChild(const Node* c) {
     const size_t i = indexOf(c);
-    if (i == children_.size()) return false;
+    if (i == size_) return false;
     removeChild(i);
     return true;
 }
 
 void Group::removeAllChildren() {
-    while (!children_.empty()) removeChild(children_.size() - 1);
+    while (size_) removeChild(size_ - 1);
 }
 
 size_t Group::indexOf(const Node* c) const noexcept {
-    for (size_t i = 0; i < children_.size(); ++i)
-        if (children_[i].get() == c) return i;
-    return children_.size();
+    for (size_t i = 0; i < size_; ++i)
+        if (data()[i] == c) return i;
+    return size_;
 }
 
 void Group::accept(NodeVisitor& v) { v.apply(*this); }

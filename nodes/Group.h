@@ -2,13 +2,12 @@
 #pragma once
 #include "sg/Node.h"
 
-#include <vector>
 
 namespace sg {
 
 class Group : public Node {
 public:
-    Group() : Node(NodeKind::Group) {}
+    Group() : Node(NodeKind::Group), one_(nullptr) {}
 
     // Adds `child` last. Throws std::invalid_argument for a null child or one that would make a cycle.
     void addChild(ref_ptr<Node> child);
@@ -18,15 +17,15 @@ public:
     bool removeChild(const Node* child);
     void removeAllChildren();
 
-    size_t numChildren() const noexcept override { return children_.size(); }
-    Node* child(size_t i) const noexcept override { return i < children_.size() ? children_[i].get() : nullptr; }
+    size_t numChildren() const noexcept override { return size_; }
+    Node* child(size_t i) const noexcept override { return i < size_ ? data()[i] : nullptr; }
     // Index of `c` among the children, or numChildren() when absent.
     size_t indexOf(const Node* c) const noexcept;
 
     void accept(NodeVisitor& v) override;
 
 protected:
-    explicit Group(NodeKind k) : Node(k) {}
+    explicit Group(NodeKind k) : Node(k), one_(nullptr) {}
     ~Group() override;
     // Hook for nodes that keep per-child data (LOD ranges, Switch bits).
     virtual void childInserted(size_t) {}
@@ -35,7 +34,16 @@ protected:
 
 private:
     void checkChild(const Node* child, const char* fn) const;
-    std::vector<ref_ptr<Node>> children_;
+    Node* const* data() const noexcept { return capLog2_ == 0 ? &one_ : many_; }
+    uint32_t capacity() const noexcept { return 1u << capLog2_; }
+    // Children hold a reference each. One child is kept inline (most transforms hold exactly one), more
+    // in a heap array. The counts come first so that they fill the tail of Node: a Group is 40 bytes.
+    uint8_t capLog2_ = 0;
+    uint32_t size_ = 0;
+    union {
+        Node* one_;
+        Node** many_;
+    };
 };
 
 }  // namespace sg

@@ -18,22 +18,22 @@ void LOD::checkRange(size_t i, float mn, float mx, const char* fn) const {
     if (std::isnan(mn) || std::isnan(mx)) fail("has a NaN");
     if (mn < 0.0f) fail("starts below 0");
     if (mn > mx) fail("has min > max");
-    if (mode_ == Mode::Distance && i > 0 && i - 1 < ranges_.size() && ranges_[i - 1].min > mn)
+    if (mode_ == Mode::Distance && i > 0 && i - 1 < numChildren() && range(i - 1).min > mn)
         fail("starts before the previous child's range (ranges out of order)");
 }
 
 void LOD::addChild(ref_ptr<Node> child, float mn, float mx) {
     checkRange(numChildren(), mn, mx, "LOD::addChild()");
     Group::addChild(std::move(child));
-    ranges_.back() = Range{mn, mx};
+    rangeRef(numChildren() - 1) = Range{mn, mx};
     markDirty(kDirtyBound);
 }
 
 void LOD::setRange(size_t i, float mn, float mx) {
-    if (i >= ranges_.size())
+    if (i >= numChildren())
         throw std::out_of_range("LOD::setRange(): child " + std::to_string(i) + " of " + describe() + " does not exist");
     checkRange(i, mn, mx, "LOD::setRange()");
-    ranges_[i] = Range{mn, mx};
+    rangeRef(i) = Range{mn, mx};
     markDirty(kDirtyBound);
 }
 
@@ -44,8 +44,21 @@ void LOD::setCenter(const dvec3& c) {
     markDirty(kDirtyBound);
 }
 
-void LOD::childInserted(size_t i) { ranges_.insert(ranges_.begin() + std::ptrdiff_t(i), Range{0.0f, 3.4e38f}); }
-void LOD::childRemoved(size_t i) { ranges_.erase(ranges_.begin() + std::ptrdiff_t(i)); }
+// The children are already inserted or removed when these run: shift the ranges after i.
+void LOD::childInserted(size_t i) {
+    const size_t n = numChildren();
+    if (n > 2) {
+        if (!more_) more_ = std::make_unique<std::vector<Range>>();
+        more_->emplace_back();
+    }
+    for (size_t k = n - 1; k > i; --k) rangeRef(k) = rangeRef(k - 1);
+    rangeRef(i) = Range{0.0f, 3.4e38f};
+}
+void LOD::childRemoved(size_t i) {
+    const size_t n = numChildren();  // after removal
+    for (size_t k = i; k < n; ++k) rangeRef(k) = rangeRef(k + 1);
+    if (n >= 2) more_->pop_back();
+}
 void LOD::accept(NodeVisitor& v) { v.apply(*this); }
 
 }  // namespace sg

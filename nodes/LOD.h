@@ -3,6 +3,7 @@
 #include "nodes/Group.h"
 #include "sg/Math.h"
 
+#include <memory>
 #include <vector>
 
 namespace sg {
@@ -20,7 +21,7 @@ public:
     // or (Distance mode) the range starts before the previous child's range starts (out of order).
     void addChild(ref_ptr<Node> child, float min, float max);
     void setRange(size_t i, float min, float max);
-    const Range& range(size_t i) const { return ranges_[i]; }
+    const Range& range(size_t i) const { return i < 2 ? inline_[i] : (*more_)[i - 2]; }
 
     void setMode(Mode m) {
         mode_ = m;
@@ -40,8 +41,10 @@ protected:
 
 private:
     void checkRange(size_t i, float min, float max, const char* fn) const;
+    Range& rangeRef(size_t i) { return i < 2 ? inline_[i] : (*more_)[i - 2]; }
     dvec3 center_{0.0};
-    std::vector<Range> ranges_;
+    Range inline_[2];                              // most LODs have two levels: no allocation for them
+    std::unique_ptr<std::vector<Range>> more_;     // ranges of children 2 and up
     Mode mode_ = Mode::Distance;
     bool userCenter_ = false;
 };

@@ -16,6 +16,12 @@ namespace sg {
 
 namespace {
 constexpr uint32_t kAllPlanes = 0x3f;
+
+// parent * the transform of entry i.
+inline dmat4 transformed(const FlatImage& img, uint32_t i, const dmat4& parent) {
+    return (img.flags[i] & FlatImage::kGeneral) ? parent * *img.matrices[img.aux[i]]
+                                                : mulTranslate(parent, img.translations[img.aux[i]]);
+}
 constexpr uint8_t kBySphereSphere = 4;  // batch result bit: culled by the pre-test
 }  // namespace
 
@@ -197,7 +203,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
     stats_->nodesVisited++;
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
-    if ((fl & FlatImage::kMasked) && !(img.node[i]->nodeMask() & set_->traversalMask)) return;
+    if ((fl & FlatImage::kMasked) && !(img.maskedNode(i)->nodeMask() & set_->traversalMask)) return;
 
     // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
     struct BatchScope {
@@ -225,11 +231,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
 
     switch (img.kind[i]) {
         case NodeKind::Geometry: emit(c, i, m); break;
-        case NodeKind::Transform: {
-            const FlatImage::Xform& x = img.xforms[img.aux[i]];
-            children(c, i, mask, x.m ? m * *x.m : mulTranslate(m, x.t));
-            break;
-        }
+        case NodeKind::Transform: children(c, i, mask, transformed(img, i, m)); break;
         case NodeKind::LOD: {
             const double value = lodValue(c, i, m);
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
@@ -238,21 +240,21 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
             break;
         }
         case NodeKind::Switch: {
-            const auto* sw = static_cast<Switch*>(img.node[i]);
+            const auto* sw = static_cast<Switch*>(img.nodes[img.aux[i]]);
             uint32_t j = i + 1;
             for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j])
                 if (sw->isOn(k)) visit(c, j, mask, m);
             break;
         }
         case NodeKind::Billboard: {
-            const auto* bb = static_cast<Billboard*>(img.node[i]);
+            const auto* bb = static_cast<Billboard*>(img.nodes[img.aux[i]]);
             const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
             children(c, i, 0u, m * bb->rotationToward(eyeLocal));  // its own test covered the children
             break;
         }
         case NodeKind::Instance: visitInstance(c, i, mask, m); break;
         case NodeKind::BspGroup: {
-            const auto* g = static_cast<BspGroup*>(img.node[i]);
+            const auto* g = static_cast<BspGroup*>(img.nodes[img.aux[i]]);
             const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
             // Child entry indices by child number, then the BSP's front-to-back order over them.
             const size_t base = scratch_.size();
@@ -331,7 +333,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
     while (j < end) {
         while (j >= frames_[top].end) --top;
         framesTop_ = top + 1;
-        if (img.flags[j]) {  // masked, empty, invalid or below a billboard: the general path
+        if (img.flags[j] & FlatImage::kSlowPath) {  // masked, empty, invalid or below a billboard
             const dmat4 vm = frames_[top].m;
             visit(c, j, 0u, vm);
             j = img.end[j];
@@ -342,10 +344,8 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
             case NodeKind::Geometry: emit(c, j, frames_[top].m); ++j; break;
             case NodeKind::Group: ++j; break;  // its children follow
             case NodeKind::Transform: {
-                const FlatImage::Xform& x = img.xforms[img.aux[j]];
                 if (top + 1 >= frames_.size()) frames_.resize(frames_.size() * 2);
-                const dmat4& cm = frames_[top].m;
-                frames_[top + 1].m = x.m ? cm * *x.m : mulTranslate(cm, x.t);
+                frames_[top + 1].m = transformed(img, j, frames_[top].m);
                 frames_[top + 1].end = img.end[j];
                 ++top;
                 ++j;
@@ -356,7 +356,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                 const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[j]].firstRange];
                 for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg) {
                     if (!(value >= rg->min && value < rg->max)) continue;
-                    if (img.kind[k] == NodeKind::Geometry && img.flags[k] == 0) {  // the usual LOD child
+                    if (img.kind[k] == NodeKind::Geometry && !(img.flags[k] & FlatImage::kSlowPath)) {  // the usual child
                         stats_->nodesVisited++;
                         emit(c, k, frames_[top].m);
                     } else {
@@ -381,7 +381,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
 }
 
 void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
-    const auto* in = static_cast<Instance*>(c.img->node[i]);
+    const auto* in = static_cast<Instance*>(c.img->nodes[c.img->aux[i]]);
     const FlatImage* p = in->prototype() ? scene_->prototypeImage(in->prototype()) : nullptr;
     if (!p || p->size() == 0) return;
     stats_->instancesVisited++;

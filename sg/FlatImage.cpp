@@ -1,5 +1,6 @@
 #include "sg/FlatImage.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace sg {
@@ -15,14 +16,13 @@ void FlatImage::resize(size_t n) {
     kind.shrink_to_fit();
     flags.resize(n);
     flags.shrink_to_fit();
-    node.resize(n);
-    node.shrink_to_fit();
     aux.resize(n);
     aux.shrink_to_fit();
 }
 
 size_t FlatImage::bytes() const {
-    return size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2 + sizeof(Node*)) + xforms.capacity() * sizeof(Xform) +
+    return size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(Xform) +
+           matrices.capacity() * sizeof(void*) + nodes.capacity() * sizeof(void*) + masked.capacity() * 16 +
            lods.capacity() * sizeof(Lod) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
            wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4;
 }
@@ -66,6 +66,11 @@ void FlatImage::setBound(size_t i, const Box& b, double radius) {
     ez[i] = roundUp(e.z + err.z);
     r[i] = roundUp(std::min(radius, glm::length(e)) + glm::length(err));
     flags[i] &= ~(kEmpty | kInvalid);
+}
+
+const Node* FlatImage::maskedNode(uint32_t i) const {
+    auto it = std::lower_bound(masked.begin(), masked.end(), std::make_pair(i, static_cast<const Node*>(nullptr)));
+    return it != masked.end() && it->first == i ? it->second : nullptr;
 }
 
 void FlatImage::setInvalid(size_t i) {

@@ -6,6 +6,7 @@
 #include "sg/Node.h"
 
 #include <cstdint>
+#include <map>
 #include <vector>
 
 namespace sg {
@@ -19,6 +20,8 @@ struct FlatImage {
         kEmpty = 2,    // nothing below to draw
         kMasked = 4,   // node mask is not all ones: the cull reads it
         kNoTest = 8,   // below a Billboard: orientation changes per frame, the billboard's own test covers it
+        kGeneral = 16, // a Transform whose matrix is not a translation
+        kSlowPath = kInvalid | kEmpty | kMasked | kNoTest,  // the cull's fast paths skip these entries
     };
 
     dvec3 origin{0.0};
@@ -28,15 +31,12 @@ struct FlatImage {
     std::vector<float> cx, cy, cz, r, ex, ey, ez;
     std::vector<uint32_t> end;   // one past the last entry of this entry's subtree (skip index)
     std::vector<NodeKind> kind;  // 1 byte
-    std::vector<uint8_t> flags;  // 1 byte
-    std::vector<Node*> node;     // 8 bytes: the node (rare kinds, masks, tools)
-    std::vector<uint32_t> aux;   // index into the table of its kind (Transform, LOD, Geometry)
+    std::vector<uint8_t> flags;  // 1 byte (kGeneral is set once, at the transform's write; not a cull flag)
+    std::vector<uint32_t> aux;   // index into the table of its kind (see below)
 
     // What the cull reads for the common kinds, copied here so that it never waits on a node.
-    struct Xform {
-        dvec3 t;              // the translation...
-        const dmat4* m;       // ...or, when not null, the full matrix (kept by the Transform)
-    };
+    // Transform entries: aux indexes `translations`, or with kGeneral set, `matrices` (kept by the node).
+    using Xform = dvec3;
     struct Lod {
         dvec3 center;         // in the LOD's frame, when `user`
         uint32_t firstRange;  // into ranges, one per child
@@ -60,7 +60,18 @@ struct FlatImage {
     std::vector<uint32_t> wideEntry;
     std::vector<float> wcx, wcy, wcz, wr;
 
-    std::vector<Xform> xforms;
+    // Draws and LOD range sets are shared by every entry with the same values (a city has a few dozen
+    // mesh/material pairs and one set of ranges): found through these keys while building.
+    std::map<std::pair<const Mesh*, const Material*>, uint32_t> drawIndex;
+    std::map<std::vector<float>, uint32_t> rangeIndex;
+
+    std::vector<Xform> translations;
+    std::vector<const dmat4*> matrices;
+    // Entries of the kinds the cull meets rarely (Switch, Billboard, Instance, BspGroup, Occluder):
+    // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`.
+    std::vector<Node*> nodes;
+    std::vector<std::pair<uint32_t, const Node*>> masked;
+    const Node* maskedNode(uint32_t i) const;
     std::vector<Lod> lods;
     std::vector<Range> ranges;
     std::vector<Draw> draws;

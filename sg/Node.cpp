@@ -3,8 +3,22 @@
 #include "sg/NodeVisitor.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace sg {
+
+struct Node::Extras {
+    std::string name;
+    UpdateCallback callback;
+    std::vector<Node*> moreParents;  // parents after the first (DAG)
+};
+
+namespace {
+std::unordered_map<const Node*, Node::Extras>& extrasTable() {
+    static std::unordered_map<const Node*, Node::Extras> table;
+    return table;
+}
+}  // namespace
 
 const char* kindName(NodeKind k) {
     switch (k) {
@@ -21,11 +35,19 @@ const char* kindName(NodeKind k) {
     return "Node";
 }
 
-Node::~Node() = default;
+Node::~Node() {
+    if (dirty_ & kHasExtras) extrasTable().erase(this);
+}
 
 Node::Extras& Node::extras() {
-    if (!extras_) extras_ = std::make_unique<Extras>();
-    return *extras_;
+    dirty_ |= kHasExtras;
+    return extrasTable()[this];
+}
+
+const Node::Extras* Node::findExtras() const {
+    if (!(dirty_ & kHasExtras)) return nullptr;
+    auto it = extrasTable().find(this);
+    return it == extrasTable().end() ? nullptr : &it->second;
 }
 
 void Node::setNodeMask(uint32_t m) {
@@ -39,7 +61,8 @@ void Node::setNodeMask(uint32_t m) {
 
 const std::string& Node::name() const {
     static const std::string empty;
-    return extras_ ? extras_->name : empty;
+    const Extras* e = findExtras();
+    return e ? e->name : empty;
 }
 
 void Node::setName(std::string name) { extras().name = std::move(name); }
@@ -56,17 +79,20 @@ void Node::setUpdateCallback(UpdateCallback cb) {
 }
 
 const UpdateCallback* Node::updateCallback() const {
-    return extras_ && extras_->callback ? &extras_->callback : nullptr;
+    const Extras* e = findExtras();
+    return e && e->callback ? &e->callback : nullptr;
 }
 
 size_t Node::numParents() const noexcept {
     if (!firstParent_) return 0;
-    return 1 + (extras_ ? extras_->moreParents.size() : 0);
+    const Extras* e = findExtras();
+    return 1 + (e ? e->moreParents.size() : 0);
 }
 
 Node* Node::parent(size_t i) const noexcept {
     if (i == 0) return firstParent_;
-    return extras_ && i - 1 < extras_->moreParents.size() ? extras_->moreParents[i - 1] : nullptr;
+    const Extras* e = findExtras();
+    return e && i - 1 < e->moreParents.size() ? e->moreParents[i - 1] : nullptr;
 }
 
 void Node::addParent(Node* p) {
@@ -77,17 +103,18 @@ void Node::addParent(Node* p) {
 }
 
 void Node::removeParent(Node* p) {
+    Extras* e = (dirty_ & kHasExtras) ? &extras() : nullptr;
     if (firstParent_ == p) {
-        if (extras_ && !extras_->moreParents.empty()) {
-            firstParent_ = extras_->moreParents.back();
-            extras_->moreParents.pop_back();
+        if (e && !e->moreParents.empty()) {
+            firstParent_ = e->moreParents.back();
+            e->moreParents.pop_back();
         } else {
             firstParent_ = nullptr;
         }
         return;
     }
-    if (!extras_) return;
-    auto& v = extras_->moreParents;
+    if (!e) return;
+    auto& v = e->moreParents;
     auto it = std::find(v.begin(), v.end(), p);
     if (it != v.end()) v.erase(it);
 }

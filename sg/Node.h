@@ -31,6 +31,7 @@ public:
         kDirtyBelow = 2,      // something below changed
         kDirtyStructure = 4,  // children were added or removed here or below
         kHasMask = 8,         // node mask is not all ones (the cull then reads it)
+        kHasExtras = 16,      // name, callback or more parents are kept in the side table
     };
 
     NodeKind kind() const noexcept { return kind_; }
@@ -57,8 +58,10 @@ public:
 
     virtual void accept(NodeVisitor& v);
 
-    uint8_t dirtyBits() const noexcept { return dirty_; }
-    void clearDirty() noexcept { dirty_ &= kHasMask; }
+    struct Extras;  // defined in Node.cpp
+
+    uint8_t dirtyBits() const noexcept { return dirty_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
+    void clearDirty() noexcept { dirty_ &= kHasMask | kHasExtras; }
     // Marks this node and propagates "below" marks to every ancestor.
     void markDirty(uint8_t bits);
 
@@ -74,16 +77,15 @@ protected:
     friend class Instance;
 
 private:
-    struct Extras {
-        std::string name;
-        UpdateCallback callback;
-        std::vector<Node*> moreParents;  // parents after the first (DAG)
-    };
+    // Rare data (a name, an update callback, parents after the first) lives in a side table keyed by
+    // the node: millions of plain nodes then carry no pointer for it.
     Extras& extras();
+    const Extras* findExtras() const;
 
-    Node* firstParent_ = nullptr;
-    std::unique_ptr<Extras> extras_;  // rare data kept out of line: nodes stay small
+    // Order matters for size: the mask fills the tail of Referenced, and derived nodes fill this
+    // class's tail (a Group is 40 bytes, a Transform 72).
     uint32_t mask_ = 0xffffffffu;
+    Node* firstParent_ = nullptr;
     NodeKind kind_;
     uint8_t dirty_ = kDirtyBound | kDirtyStructure;
 };

@@ -61,10 +61,10 @@ struct Scene::Builder {
         count(root, c);
         img.resize(c.entries);
         // Exact sizes: the tables are filled in order and rewritten in place by later refits.
-        for (auto* v : {&img.xforms}) v->clear(), v->reserve(c.xforms), v->shrink_to_fit();
+        img.translations.clear(), img.matrices.clear(), img.nodes.clear(), img.masked.clear();
+        img.translations.reserve(c.xforms), img.translations.shrink_to_fit();
         img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
-        img.ranges.clear(), img.ranges.reserve(c.ranges), img.ranges.shrink_to_fit();
-        img.draws.clear(), img.draws.reserve(c.draws), img.draws.shrink_to_fit();
+        img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         fresh = true;
         cursor = 0;
@@ -150,8 +150,8 @@ struct Scene::Builder {
         }
     }
 
-    void bsp(uint32_t i, const dmat4& m) {
-        auto* g = static_cast<BspGroup*>(img.node[i]);
+    void bsp(uint32_t i, Node* n, const dmat4& m) {
+        auto* g = static_cast<BspGroup*>(n);
         const dmat4 inv = glm::inverse(m);
         std::vector<Box> boxes;
         for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j])
@@ -182,52 +182,81 @@ struct Scene::Builder {
     }
 
     // Copies the parameters the cull reads into the kind's table (appended on a full build).
+    // A refit rewrites the entry's slot in place, unless the slot is in another table now (a transform
+    // that stopped being a translation): then it takes a new one at the end.
     template <class T>
-    uint32_t slot(std::vector<T>& v, uint32_t i, const T& value) {
-        if (fresh) {
+    uint32_t slot(std::vector<T>& v, uint32_t i, const T& value, bool sameTable = true) {
+        if (fresh || !sameTable) {
             v.push_back(value);
             return uint32_t(v.size() - 1);
         }
         v[img.aux[i]] = value;
         return img.aux[i];
     }
+    void setMasked(uint32_t i, const Node* n) {
+        auto& v = img.masked;
+        auto it = std::lower_bound(v.begin(), v.end(), std::make_pair(i, static_cast<const Node*>(nullptr)));
+        const bool present = it != v.end() && it->first == i;
+        if (n->nodeMask() != 0xffffffffu) {
+            img.flags[i] |= FlatImage::kMasked;
+            if (present)
+                it->second = n;
+            else
+                v.insert(it, {i, n});
+        } else if (present) {
+            v.erase(it);
+        }
+    }
     void params(uint32_t i, Node* n) {
         switch (n->kind()) {
             case NodeKind::Transform: {
                 const auto* t = static_cast<const Transform*>(n);
-                img.aux[i] = slot(img.xforms, i, FlatImage::Xform{t->translation(), t->matrixPtr()});
+                const bool wasGeneral = img.flags[i] & FlatImage::kGeneral;
+                if (t->matrixPtr()) {
+                    img.aux[i] = slot(img.matrices, i, t->matrixPtr(), wasGeneral);
+                    img.flags[i] |= FlatImage::kGeneral;
+                } else {
+                    img.aux[i] = slot(img.translations, i, t->translation(), !wasGeneral);
+                    img.flags[i] &= ~FlatImage::kGeneral;
+                }
                 break;
             }
             case NodeKind::Geometry: {
                 const auto* g = static_cast<const Geometry*>(n);
-                img.aux[i] = slot(img.draws, i, FlatImage::Draw{g->mesh(), g->material()});
+                const auto key = std::make_pair<const Mesh*, const Material*>(g->mesh(), g->material());
+                auto it = img.drawIndex.find(key);
+                if (it == img.drawIndex.end()) {
+                    it = img.drawIndex.emplace(key, uint32_t(img.draws.size())).first;
+                    img.draws.push_back(FlatImage::Draw{key.first, key.second});
+                }
+                img.aux[i] = it->second;  // shared, never rewritten: a changed geometry finds or adds its pair
                 break;
             }
             case NodeKind::LOD: {
                 const auto* l = static_cast<const LOD*>(n);
-                const uint32_t first = fresh ? uint32_t(img.ranges.size()) : img.lods[img.aux[i]].firstRange;
-                for (size_t k = 0; k < l->numChildren(); ++k) {
-                    const FlatImage::Range r{l->range(k).min, l->range(k).max};
-                    if (fresh)
-                        img.ranges.push_back(r);
-                    else
-                        img.ranges[first + k] = r;
+                std::vector<float> key;
+                for (size_t k = 0; k < l->numChildren(); ++k) key.insert(key.end(), {l->range(k).min, l->range(k).max});
+                auto it = img.rangeIndex.find(key);
+                if (it == img.rangeIndex.end()) {
+                    it = img.rangeIndex.emplace(key, uint32_t(img.ranges.size())).first;
+                    for (size_t k = 0; k < key.size(); k += 2) img.ranges.push_back({key[k], key[k + 1]});
                 }
-                img.aux[i] = slot(img.lods, i, FlatImage::Lod{l->center(), first, uint8_t(l->mode()), uint8_t(l->userCenter())});
+                img.aux[i] = slot(img.lods, i, FlatImage::Lod{l->center(), it->second, uint8_t(l->mode()), uint8_t(l->userCenter())});
                 break;
             }
-            default:
+            case NodeKind::Group:
                 if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
                 break;
+            default: img.aux[i] = slot(img.nodes, i, n); break;
         }
     }
 
     // Writes the subtree of `n` at `cursor`; `m` is the world matrix of n's parent frame.
     void write(Node* n, const dmat4& m) {
         const uint32_t i = cursor++;
-        img.node[i] = n;
         img.kind[i] = n->kind();
-        img.flags[i] = n->nodeMask() != 0xffffffffu ? FlatImage::kMasked : 0;
+        img.flags[i] &= fresh ? 0 : FlatImage::kGeneral;  // a refit needs to know the transform's old table
+        setMasked(i, n);
         params(i, n);
         scene.stats_.entriesWritten++;
         if (collect && n->updateCallback()) scene.callbacks_.push_back(n);
@@ -261,14 +290,14 @@ struct Scene::Builder {
         img.end[i] = cursor;
         boundFromChildren(i);
         wide(i, n);
-        if (n->kind() == NodeKind::Billboard) billboard(i, cm);
-        if (n->kind() == NodeKind::BspGroup) bsp(i, cm);
+        if (n->kind() == NodeKind::Billboard) billboard(i, n, cm);
+        if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
 
     // A billboard turns about its origin: bound it, and everything below it, by a sphere there.
-    void billboard(uint32_t i, const dmat4& m) {
+    void billboard(uint32_t i, Node* n, const dmat4& m) {
         if (img.flags[i] & FlatImage::kEmpty) return;
-        const double rl = localRadius(img.node[i], dmat4(1.0), scene);
+        const double rl = localRadius(n, dmat4(1.0), scene);
         const dvec3 o(m[3]);
         const double rad = rl * maxScale(m);
         for (uint32_t j = i; j < img.end[i]; ++j) {
@@ -297,7 +326,7 @@ struct Scene::Builder {
         }
         boundFromChildren(i);
         wide(i, n);
-        if (n->kind() == NodeKind::BspGroup) bsp(i, cm);
+        if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
 
     static void clear(Node* n) {

@@ -130,7 +130,7 @@ TEST_F(RendererTest, InstancedRunsGiveTheSameImageWithFewerDrawCalls) {
     Image empty = batched;  // the grid is in view: it covers a good part of the image
     for (size_t i = 0; i < empty.rgba.size(); ++i) empty.rgba[i] = uint8_t(kClear8[i % 4]);
     EXPECT_GT(countDifferingPixels(batched, empty, 0), size_t(kW * kH / 5));
-    if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_grid.png", batched);
+    if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_grid.png", batched);  // to look at by eye
 }
 
 TEST_F(RendererTest, SceneTenThousandKilometresAwayRendersLikeAtTheOrigin) {

@@ -17,7 +17,7 @@ void expectBoundsEnclose(const Scene& s) {
     const FlatImage& img = s.image();
     std::vector<uint32_t> stack;
     std::function<void(Node*, const dmat4&, uint32_t)> walk = [&](Node* n, const dmat4& m, uint32_t i) {
-        ASSERT_EQ(img.node[i], n);
+        ASSERT_EQ(img.kind[i], n->kind());
         if (n->kind() == NodeKind::Geometry && !(img.flags[i] & FlatImage::kNoTest)) {
             for (const vec3& p : static_cast<Geometry*>(n)->mesh()->positions()) {
                 const dvec3 w(m * dvec4(dvec3(p), 1.0));
@@ -194,9 +194,13 @@ TEST(Scene, RefitGivesTheImageAFullBuildGives) {
         }
         ASSERT_EQ(a.wr, b.wr);
         ASSERT_EQ(a.wcx, b.wcx);
-        for (size_t k = 0; k < a.xforms.size(); ++k) {
-            ASSERT_EQ(a.xforms[k].t, b.xforms[k].t);
-            ASSERT_EQ(a.xforms[k].m != nullptr, b.xforms[k].m != nullptr);
+        for (size_t i = 0; i < a.size(); ++i) {
+            if (a.kind[i] != NodeKind::Transform) continue;
+            ASSERT_EQ(a.flags[i], b.flags[i]) << i;
+            if (a.flags[i] & FlatImage::kGeneral)
+                ASSERT_EQ(*a.matrices[a.aux[i]], *b.matrices[b.aux[i]]) << i;
+            else
+                ASSERT_EQ(a.translations[a.aux[i]], b.translations[b.aux[i]]) << i;
         }
         expectBoundsEnclose(s);
     }
