@@ -110,6 +110,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     out.clear();
     cls_.clear();
     scratch_.clear();
+    triangles_ = 0;
     const FlatImage& img = scene.image();
     if (img.size()) {
         Ctx c;
@@ -118,6 +119,8 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         framesTop_ = 0;
         visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()));
     }
+    stats.geometries = out.items.size();
+    stats.triangles = triangles_;
     if (set.sort)
         out.sort();
     else
@@ -324,59 +327,70 @@ double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4& m) const {
 // with a stack of transform frames, instead of a call per entry. Anything unusual goes to visit().
 void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m) {
     const FlatImage& img = *c.img;
-    // frames_ is a stack addressed by index (no reference into it survives a push).
+    // frames_ is a stack addressed by index; `fr` is refreshed after anything that may grow it.
     const size_t base = framesTop_;
     size_t top = base;
-    if (top >= frames_.size()) frames_.resize(frames_.size() * 2 + 16);
-    frames_[top] = {end, m};
+    if (top + 2 >= frames_.size()) frames_.resize(frames_.size() * 2 + 16);
+    Frame* fr = frames_.data();
+    fr[top] = {end, m};
+    uint64_t visited = 0;
     uint32_t j = begin;
     while (j < end) {
-        while (j >= frames_[top].end) --top;
-        framesTop_ = top + 1;
-        if (img.flags[j] & FlatImage::kSlowPath) {  // masked, empty, invalid or below a billboard
-            const dmat4 vm = frames_[top].m;
+        while (j >= fr[top].end) --top;
+        const uint8_t fl = img.flags[j];
+        if (fl & FlatImage::kSlowPath) {  // masked, empty, invalid or below a billboard
+            const dmat4 vm = fr[top].m;
+            framesTop_ = top + 1;
             visit(c, j, 0u, vm);
+            fr = frames_.data();
             j = img.end[j];
             continue;
         }
-        stats_->nodesVisited++;
+        ++visited;
         switch (img.kind[j]) {
-            case NodeKind::Geometry: emit(c, j, frames_[top].m); ++j; break;
+            case NodeKind::Geometry: emit(c, j, fr[top].m); ++j; break;
             case NodeKind::Group: ++j; break;  // its children follow
-            case NodeKind::Transform: {
-                if (top + 1 >= frames_.size()) frames_.resize(frames_.size() * 2);
-                frames_[top + 1].m = transformed(img, j, frames_[top].m);
-                frames_[top + 1].end = img.end[j];
+            case NodeKind::Transform:
+                if (top + 2 >= frames_.size()) {
+                    frames_.resize(frames_.size() * 2);
+                    fr = frames_.data();
+                }
+                fr[top + 1].m = (fl & FlatImage::kGeneral) ? fr[top].m * *img.matrices[img.aux[j]]
+                                                           : mulTranslate(fr[top].m, img.translations[img.aux[j]]);
+                fr[top + 1].end = img.end[j];
                 ++top;
                 ++j;
                 break;
-            }
             case NodeKind::LOD: {
-                const double value = lodValue(c, j, frames_[top].m);
+                const double value = lodValue(c, j, fr[top].m);
                 const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[j]].firstRange];
                 for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg) {
                     if (!(value >= rg->min && value < rg->max)) continue;
                     if (img.kind[k] == NodeKind::Geometry && !(img.flags[k] & FlatImage::kSlowPath)) {  // the usual child
-                        stats_->nodesVisited++;
-                        emit(c, k, frames_[top].m);
+                        ++visited;
+                        emit(c, k, fr[top].m);
                     } else {
-                        const dmat4 lm = frames_[top].m;
+                        const dmat4 lm = fr[top].m;
                         framesTop_ = top + 1;
                         inside(c, k, img.end[k], lm);
+                        fr = frames_.data();
                     }
                 }
                 j = img.end[j];
                 break;
             }
             default: {
-                stats_->nodesVisited--;
-                const dmat4 vm = frames_[top].m;
+                --visited;
+                const dmat4 vm = fr[top].m;
+                framesTop_ = top + 1;
                 visit(c, j, 0u, vm);
+                fr = frames_.data();
                 j = img.end[j];
                 break;
             }
         }
     }
+    stats_->nodesVisited += visited;
     framesTop_ = base;
 }
 
@@ -405,9 +419,8 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
                    ? float(glm::dot(dvec3(m[3]), cam_->viewDirection()))
                    : float(c.depthDir.x * img.cx[i] + c.depthDir.y * img.cy[i] + c.depthDir.z * img.cz[i] + c.depthOffset);
     it.seq = uint32_t(out_->items.size() - 1);
-    out_->pushed();
-    stats_->geometries++;
-    stats_->triangles += it.mesh->triangleCount();
+    out_->pushed(d.state);
+    triangles_ += it.mesh->triangleCount();
     if (img.flags[i] & FlatImage::kInvalid) stats_->invalidDrawn++;
 }
 

@@ -45,6 +45,7 @@ private:
     };
     std::vector<Frame> frames_;       // transform frames of inside(), a stack up to framesTop_
     size_t framesTop_ = 0;
+    uint64_t triangles_ = 0;
 };
 
 }  // namespace sg

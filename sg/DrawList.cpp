@@ -18,30 +18,35 @@ void DrawList::sort() {
     keysTmp_.resize(n);
     order.resize(n);
     tmp_.resize(n);
-    // LSD radix sort, 8 bits a pass; all four histograms in one read, passes with one bucket skipped.
     work_.resize(n);
-    uint32_t count[4][256] = {};
+    // LSD radix sort in three passes of 11, 11 and 10 bits (histograms small enough for L1), all
+    // histograms from one read; a pass where every key falls in one bucket is skipped. Sorted in the
+    // work arrays: keys_ stays in item order.
+    constexpr int kBits[3] = {11, 11, 10}, kShift[3] = {0, 11, 22};
+    std::vector<uint32_t>& count = count_;
+    count.assign(3 * 2048, 0);
     for (uint32_t i = 0; i < n; ++i) {
-        const uint32_t k = keysTmp_[i] = keys_[i];  // sorted in the work arrays: keys_ stays in item order
+        const uint32_t k = keysTmp_[i] = keys_[i];
         order[i] = i;
-        count[0][k & 0xff]++;
-        count[1][(k >> 8) & 0xff]++;
-        count[2][(k >> 16) & 0xff]++;
-        count[3][k >> 24]++;
+        count[k & 0x7ff]++;
+        count[2048 + ((k >> 11) & 0x7ff)]++;
+        count[4096 + (k >> 22)]++;
     }
-    for (int pass = 0; pass < 4; ++pass) {
-        uint32_t* c = count[pass];
-        if (n == 0 || c[(keysTmp_[0] >> (8 * pass)) & 0xff] == n) continue;
+    for (int pass = 0; pass < 3; ++pass) {
+        uint32_t* c = &count[size_t(pass) * 2048];
+        const int shift = kShift[pass];
+        const uint32_t digitMask = (1u << kBits[pass]) - 1;
+        if (n == 0 || c[(keysTmp_[0] >> shift) & digitMask] == n) continue;
         uint32_t pos = 0;
-        for (int b = 0; b < 256; ++b) {
+        for (uint32_t b = 0; b <= digitMask; ++b) {
             const uint32_t v = c[b];
             c[b] = pos;
             pos += v;
         }
-        const int shift = 8 * pass;
         for (uint32_t i = 0; i < n; ++i) {
-            const uint32_t dst = c[(keysTmp_[i] >> shift) & 0xff]++;
-            work_[dst] = keysTmp_[i];
+            const uint32_t k = keysTmp_[i];
+            const uint32_t dst = c[(k >> shift) & digitMask]++;
+            work_[dst] = k;
             tmp_[dst] = order[i];
         }
         keysTmp_.swap(work_);

@@ -42,9 +42,9 @@ public:
         items.emplace_back(Uninitialized{});
         return items.back();
     }
-    void pushed() {
+    void pushed(uint32_t state) {
         DrawItem& it = items.back();
-        keys_.push_back(it.key = makeKey(it.mesh, it.material, it.depth));
+        keys_.push_back(it.key = depthKey(state, it.depth));
     }
     // Sorts `order` by state, then front to back (stable radix sort on the keys made by add()).
     void sort();
@@ -54,16 +54,19 @@ public:
     // 6 bits of material id and 10 of mesh id, then the top 16 bits of the depth's float bits (monotonic
     // for depth >= 0; about 1/128 relative precision, plenty for front-to-back). Ids that collide only
     // share a sort bucket: the renderer compares pointers before it batches.
-    static uint32_t makeKey(const Mesh* mesh, const Material* mat, float depth) {
-        const uint32_t state = ((mat ? mat->id() & 0x3fu : 0u) << 10) | (mesh ? mesh->id() & 0x3ffu : 0u);
+    static uint32_t stateKey(const Mesh* mesh, const Material* mat) {
+        return ((mat ? mat->id() & 0x3fu : 0u) << 10) | (mesh ? mesh->id() & 0x3ffu : 0u);
+    }
+    static uint32_t depthKey(uint32_t state, float depth) {
         const float d = depth > 0.0f ? depth : 0.0f;  // NaN fails the test too
         uint32_t bits;
         std::memcpy(&bits, &d, 4);
         return (state << 16) | (bits >> 16);
     }
+    static uint32_t makeKey(const Mesh* mesh, const Material* mat, float depth) { return depthKey(stateKey(mesh, mat), depth); }
 
 private:
-    std::vector<uint32_t> keys_, keysTmp_, work_;
+    std::vector<uint32_t> keys_, keysTmp_, work_, count_;
     std::vector<uint32_t> tmp_;
 };
 

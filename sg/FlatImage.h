@@ -49,6 +49,7 @@ struct FlatImage {
     struct Draw {
         const Mesh* mesh;
         const Material* material;
+        uint32_t state;  // DrawList::stateKey of the pair
     };
     // Groups with many children and a large subtree (a city's root over its tiles) keep their children's
     // spheres side by side as well, so that the cull classifies them in one flat pass instead of reading

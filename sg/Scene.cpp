@@ -8,6 +8,7 @@
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/BspBuilder.h"
+#include "sg/DrawList.h"
 
 #include <algorithm>
 #include <chrono>
@@ -227,7 +228,7 @@ struct Scene::Builder {
                 auto it = img.drawIndex.find(key);
                 if (it == img.drawIndex.end()) {
                     it = img.drawIndex.emplace(key, uint32_t(img.draws.size())).first;
-                    img.draws.push_back(FlatImage::Draw{key.first, key.second});
+                    img.draws.push_back(FlatImage::Draw{key.first, key.second, DrawList::stateKey(key.first, key.second)});
                 }
                 img.aux[i] = it->second;  // shared, never rewritten: a changed geometry finds or adds its pair
                 break;
