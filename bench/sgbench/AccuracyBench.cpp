@@ -17,7 +17,7 @@ int runAccuracy(const Args& a) {
     const int n = int(a.num("n", 16));
     if (views < 1) throw std::invalid_argument("sgbench accuracy: --views must be at least 1");
     sg::CullSettings set;
-    set.strategy = sg::parseStrategy(a.str("strategy", "sphere"));
+    set.strategy = sg::parseStrategy(a.str("strategy", "aabb"));
     set.smallFeaturePixels = double(a.num("small-feature", 0));
 
     sg::ref_ptr<sg::Node> root;

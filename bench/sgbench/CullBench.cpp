@@ -21,7 +21,7 @@ int runCull(const Args& a) {
     const std::string path = a.str("path", "orbit");
     if (path != "orbit" && path != "street") throw std::invalid_argument("sgbench cull: --path must be orbit or street");
     sg::CullSettings set;
-    set.strategy = sg::parseStrategy(a.str("strategy", "sphere"));
+    set.strategy = sg::parseStrategy(a.str("strategy", "aabb"));
     set.smallFeaturePixels = double(a.num("small-feature", 0));
     const int passes = int(a.num("passes", 1));
 

@@ -91,7 +91,7 @@ static void usage() {
     std::fprintf(stderr,
                  "usage: sgbench cull --scene city --n N [--strategy S] [--path orbit|street] [--json]\n"
                  "       sgbench accuracy --scene city|random|FILE.gltf --views K --strategy S [--seed X] [--json]\n"
-                 "strategies: none sphere aabb sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
+                 "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
 }
 
 int main(int argc, char** argv) {

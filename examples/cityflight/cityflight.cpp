@@ -18,7 +18,7 @@ using namespace sg;
 
 int main(int argc, char** argv) {
     int n = 100, frames = 24, w = 960, h = 540;
-    std::string out = "city.png", strategy = "sphere";
+    std::string out = "city.png", strategy = "aabb";
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string k = argv[i], v = argv[i + 1];
         if (k == "--n") n = std::max(1, std::atoi(v.c_str()));
