@@ -410,18 +410,16 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh) return;
-    DrawItem& it = out_->push();
+    // Depth of the bound's centre along the view: an affine function of the image coordinates.
+    const bool invalid = img.flags[i] & FlatImage::kInvalid;
+    const float depth = invalid ? float(glm::dot(dvec3(m[3]), cam_->viewDirection()))
+                                : float(c.depthDir.x * img.cx[i] + c.depthDir.y * img.cy[i] + c.depthDir.z * img.cz[i] + c.depthOffset);
+    DrawItem& it = out_->push(d.state, depth);
     it.mesh = d.mesh;
     it.material = d.material;
     toFloat(m, it.model);
-    // Depth of the bound's centre along the view: an affine function of the image coordinates.
-    it.depth = (img.flags[i] & FlatImage::kInvalid)
-                   ? float(glm::dot(dvec3(m[3]), cam_->viewDirection()))
-                   : float(c.depthDir.x * img.cx[i] + c.depthDir.y * img.cy[i] + c.depthDir.z * img.cz[i] + c.depthOffset);
-    it.seq = uint32_t(out_->items.size() - 1);
-    out_->pushed(d.state);
-    triangles_ += it.mesh->triangleCount();
-    if (img.flags[i] & FlatImage::kInvalid) stats_->invalidDrawn++;
+    triangles_ += d.mesh->triangleCount();
+    if (invalid) stats_->invalidDrawn++;
 }
 
 }  // namespace sg

@@ -11,10 +11,7 @@ void DrawList::keepEmissionOrder() {
 
 void DrawList::sort() {
     const uint32_t n = uint32_t(items.size());
-    if (keys_.size() != n) {  // items pushed directly: make their keys now
-        keys_.resize(n);
-        for (uint32_t i = 0; i < n; ++i) keys_[i] = items[i].key = makeKey(items[i].mesh, items[i].material, items[i].depth);
-    }
+    for (uint32_t i = uint32_t(keys_.size()); i < n; ++i) keys_.push_back(makeKey(items[i].mesh, items[i].material, 0.0f));
     keysTmp_.resize(n);
     order.resize(n);
     tmp_.resize(n);

@@ -16,14 +16,13 @@ struct DrawItem {
     explicit DrawItem(Uninitialized) {}  // every field is written by the cull right after
     const Mesh* mesh = nullptr;
     const Material* material = nullptr;
-    mat4 model;          // local -> eye-relative world (the eye at the origin): float without jitter
-    float depth = 0.0f;  // distance of the bound's centre along the view direction
-    uint32_t seq = 0;    // emission order: front to back through BspGroups
-    uint32_t key = 0;    // state (material, mesh) then depth
+    mat4 model;  // local -> eye-relative world (the eye at the origin): float without jitter
 };
 
 class DrawList {
 public:
+    // Items in emission order (front to back through BspGroups) and, for each, its sort key: state
+    // (material, mesh) then the depth of its bound's centre along the view.
     std::vector<DrawItem> items;
     std::vector<uint32_t> order;  // indices into items, sorted by key
 
@@ -32,21 +31,20 @@ public:
         order.clear();
         keys_.clear();
     }
-    // Appends an item and its sort key (made here, while the item is hot in cache).
-    void add(const DrawItem& it) {
+    // Appends an item with its depth along the view (its sort key is made here).
+    void add(const DrawItem& it, float depth = 0.0f) {
         items.push_back(it);
-        keys_.push_back(items.back().key = makeKey(it.mesh, it.material, it.depth));
+        keys_.push_back(makeKey(it.mesh, it.material, depth));
     }
-    // The cull's way: the item is filled in place, then its key is made.
-    DrawItem& push() {
+    // The cull's way: the key first, then the item filled in place.
+    DrawItem& push(uint32_t state, float depth) {
+        keys_.push_back(depthKey(state, depth));
         items.emplace_back(Uninitialized{});
         return items.back();
     }
-    void pushed(uint32_t state) {
-        DrawItem& it = items.back();
-        keys_.push_back(it.key = depthKey(state, it.depth));
-    }
-    // Sorts `order` by state, then front to back (stable radix sort on the keys made by add()).
+    uint32_t key(size_t i) const { return keys_[i]; }
+    // Sorts `order` by state, then front to back (stable radix sort on the keys made by add()/push();
+    // items appended to `items` directly sort as depth 0).
     void sort();
     // Order as emitted (no sort).
     void keepEmissionOrder();

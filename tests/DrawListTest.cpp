@@ -13,18 +13,17 @@ TEST(DrawList, SortsByStateThenFrontToBackAndIsStable) {
         DrawItem it;
         it.mesh = k % 2 ? m1.get() : m2.get();
         it.material = mat.get();
-        it.depth = depths[k];
-        it.seq = uint32_t(k);
-        l.add(it);
+        l.add(it, depths[k]);
     }
     l.sort();
     ASSERT_EQ(l.order.size(), 7u);
     for (size_t k = 1; k < l.order.size(); ++k) {
-        const DrawItem& a = l.items[l.order[k - 1]];
-        const DrawItem& b = l.items[l.order[k]];
-        if (a.mesh == b.mesh) {
-            EXPECT_LE(std::max(a.depth, 0.0f), std::max(b.depth, 0.0f));
-            if (a.depth == b.depth) EXPECT_LT(a.seq, b.seq);  // stable
+        const uint32_t ia = l.order[k - 1], ib = l.order[k];
+        if (l.items[ia].mesh == l.items[ib].mesh) {
+            EXPECT_LE(std::max(depths[ia], 0.0f), std::max(depths[ib], 0.0f));
+            if (depths[ia] == depths[ib]) {
+                EXPECT_LT(ia, ib);  // stable
+            }
         }
     }
     // Same-mesh items are contiguous (runs for instancing).

@@ -15,8 +15,7 @@ sg::DrawList makeList(size_t n, std::vector<sg::ref_ptr<sg::Mesh>>& meshes) {
     for (size_t i = 0; i < n; ++i) {
         sg::DrawItem it;
         it.mesh = meshes[g() % meshes.size()].get();
-        it.depth = float(g() % 300000) * 0.01f;
-        l.items.push_back(it);
+        l.add(it, float(g() % 300000) * 0.01f);
     }
     return l;
 }
@@ -39,10 +38,7 @@ void BM_DrawListStdSort(benchmark::State& s) {
     std::vector<uint32_t> order(l.items.size());
     for (auto _ : s) {
         for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-            return sg::DrawList::makeKey(l.items[a].mesh, l.items[a].material, l.items[a].depth) <
-                   sg::DrawList::makeKey(l.items[b].mesh, l.items[b].material, l.items[b].depth);
-        });
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return l.key(a) < l.key(b); });
         benchmark::DoNotOptimize(order.data());
     }
     s.SetItemsProcessed(int64_t(s.iterations()) * s.range(0));
