@@ -7,8 +7,8 @@ build=${1:?build directory}
 shift
 sizes=${*:-316 1000}
 rounds=${ROUNDS:-3}
-for n in $sizes; do
-  for r in $(seq "$rounds"); do
+for r in $(seq "$rounds"); do
+  for n in $sizes; do
     "$build/bench/sgbench" cull --scene city --n "$n" --json
     "$build/bench/osg_peer/sgbench_osg" --n "$n"
   done
@@ -26,4 +26,10 @@ for n in sorted({r["n"] for r in runs}):
     pairs = [o / s for s, o in zip(sg, osg)]
     print(f"n={n}: sgkit {statistics.median(sg):.3f} ms, OpenSceneGraph {statistics.median(osg):.3f} ms, "
           f"OpenSceneGraph/sgkit per pair {[round(p, 1) for p in pairs]}, median {statistics.median(pairs):.1f}x")
+ns = sorted({r["n"] for r in runs})
+if len(ns) > 1:
+    for who in ("sgkit", "openscenegraph"):
+        per = {n: [r["cull_ms_median"] for r in runs if r["n"] == n and r.get("peer", "sgkit") == who] for n in ns}
+        ratios = [b / a for a, b in zip(per[ns[0]], per[ns[-1]])]
+        print(f"{who}: n={ns[-1]} / n={ns[0]} cull time per round {[round(x, 2) for x in ratios]}, median {statistics.median(ratios):.2f}x")
 '

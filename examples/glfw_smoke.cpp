@@ -17,7 +17,7 @@ int main() try {
     DrawItem item;
     item.mesh = mesh.get();
     item.material = material.get();
-    item.model = mat4(glm::translate(dmat4(1.0), -camera.eye()));  // the box at the origin, eye-relative
+    item.model = glm::mat4x3(glm::translate(dmat4(1.0), -camera.eye()));  // the box at the origin, eye-relative
     DrawList list;
     list.items.push_back(item);
     renderer.draw(list, camera);

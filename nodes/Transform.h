@@ -1,4 +1,4 @@
-// Transform: places its children with a double-precision matrix (affine or projective).
+// Transform: places its children with a double-precision affine matrix.
 #pragma once
 #include "nodes/Group.h"
 #include "sg/Math.h"
@@ -12,8 +12,8 @@ public:
     Transform() : Group(NodeKind::Transform) {}
     explicit Transform(const dmat4& m) : Transform() { setMatrix(m); }
 
-    // Throws std::invalid_argument naming the element when the matrix has a NaN or infinity, or when
-    // its upper 3x3 is singular (bounds and picking need an invertible matrix).
+    // Throws std::invalid_argument naming the element when the matrix has a NaN or infinity, when its
+    // upper 3x3 is singular (bounds and picking need an invertible matrix), or when it is projective.
     void setMatrix(const dmat4& m);
     void setTranslation(const dvec3& t);
     dmat4 matrix() const { return general_ ? *general_ : glm::translate(dmat4(1.0), translation_); }

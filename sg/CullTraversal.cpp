@@ -54,6 +54,7 @@ struct CullTraversal::Ctx {
     dvec3 depthDir{0.0};  // depth along the view = depthDir . c + depthOffset, c in image coordinates
     double depthOffset = 0.0;
     double scale = 1.0;   // lengths: image units -> world units (at most)
+    bool rigid = true;    // image -> eye keeps lengths (no scale): distances can be taken in the image
     std::array<Plane, 6> planes{};
     kernel::Planes kplanes{};
     float fbMin[3]{}, fbMax[3]{};  // the frustum's bounding box (centre-box strategy)
@@ -68,6 +69,9 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
     c.imgToEye = t;
     c.eyeImg = dvec3(glm::inverse(t) * dvec4(0, 0, 0, 1));
     c.scale = maxScale(t);
+    const glm::dmat3 a(t);
+    const glm::dmat3 ata = glm::transpose(a) * a;
+    c.rigid = glm::length(ata[0] - dvec3(1, 0, 0)) + glm::length(ata[1] - dvec3(0, 1, 0)) + glm::length(ata[2] - dvec3(0, 0, 1)) < 1e-9;
     const dvec3 vd = cam_->viewDirection();
     c.depthDir = dvec3(glm::dot(vd, dvec3(t[0])), glm::dot(vd, dvec3(t[1])), glm::dot(vd, dvec3(t[2])));
     c.depthOffset = glm::dot(vd, dvec3(t[3]));
@@ -311,14 +315,16 @@ void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4&
     cls_.resize(off);
 }
 
-double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4& m) const {
+double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4&) const {
     const FlatImage& img = *c.img;
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
-    // The centre relative to the eye (affine maps: the last row is never needed).
-    const dvec3 ce = lod.user ? dvec3(m[0]) * lod.center.x + dvec3(m[1]) * lod.center.y + dvec3(m[2]) * lod.center.z + dvec3(m[3])
-                              : dvec3(c.imgToEye[0]) * double(img.cx[i]) + dvec3(c.imgToEye[1]) * double(img.cy[i]) +
-                                    dvec3(c.imgToEye[2]) * double(img.cz[i]) + dvec3(c.imgToEye[3]);
-    const double dist = std::sqrt(ce.x * ce.x + ce.y * ce.y + ce.z * ce.z);
+    double dist;
+    if (c.rigid) {  // image coordinates are the world's, shifted: measure there
+        const double dx = lod.cx - c.eyeImg.x, dy = lod.cy - c.eyeImg.y, dz = lod.cz - c.eyeImg.z;
+        dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+    } else {  // below a scaled Instance: through the frame
+        dist = glm::length(dvec3(c.imgToEye * dvec4(lod.cx, lod.cy, lod.cz, 1.0)));
+    }
     if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist;
     return 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
 }

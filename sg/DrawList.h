@@ -16,7 +16,10 @@ struct DrawItem {
     explicit DrawItem(Uninitialized) {}  // every field is written by the cull right after
     const Mesh* mesh = nullptr;
     const Material* material = nullptr;
-    mat4 model;  // local -> eye-relative world (the eye at the origin): float without jitter
+    // Local -> eye-relative world (the eye at the origin): float without jitter. Affine, so its last row
+    // (0 0 0 1) is left out: 4 columns of 3, and a whole item fits one 64-byte cache line.
+    glm::mat4x3 model;
+    mat4 matrix() const { return mat4(model); }
 };
 
 class DrawList {

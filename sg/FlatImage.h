@@ -38,10 +38,9 @@ struct FlatImage {
     // Transform entries: aux indexes `translations`, or with kGeneral set, `matrices` (kept by the node).
     using Xform = dvec3;
     struct Lod {
-        dvec3 center;         // in the LOD's frame, when `user`
+        float cx, cy, cz;     // the centre (user's, or the bound's), in image coordinates like the bounds
         uint32_t firstRange;  // into ranges, one per child
         uint8_t mode;         // LOD::Mode
-        uint8_t user;         // centre set by the user; otherwise the bound's centre
     };
     struct Range {
         float min, max;

@@ -15,6 +15,14 @@ std::string nonFiniteElement(const dmat4& m) {
     return {};
 }
 
+std::string nonAffineRow(const dmat4& m) {
+    if (m[0][3] == 0.0 && m[1][3] == 0.0 && m[2][3] == 0.0 && m[3][3] == 1.0) return {};
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "last row is (%g %g %g %g), not (0 0 0 1): only affine transforms are drawn", m[0][3],
+                  m[1][3], m[2][3], m[3][3]);
+    return buf;
+}
+
 Box transformBox(const dmat4& m, const Box& b) {
     Box out;
     if (b.empty()) return out;

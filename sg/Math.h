@@ -80,26 +80,33 @@ double maxScale(const dmat4& m);
 // True when m is a pure translation.
 bool isTranslation(const dmat4& m);
 
-// m * translate(t) without a full product (9 multiply-adds).
+// m * translate(t) without a full product (12 multiply-adds). With SSE2 the result is written in
+// 16-byte pieces, the width the cull later reads it with (a store the load can forward from).
 inline dmat4 mulTranslate(const dmat4& m, const dvec3& t) {
     dmat4 r = m;
+#if defined(__SSE2__)
+    const double* a = &m[0][0];
+    double* o = &r[0][0];
+    const __m128d tx = _mm_set1_pd(t.x), ty = _mm_set1_pd(t.y), tz = _mm_set1_pd(t.z);
+    for (int k = 0; k < 4; k += 2) {
+        __m128d v = _mm_add_pd(_mm_mul_pd(_mm_loadu_pd(a + k), tx), _mm_loadu_pd(a + 12 + k));
+        v = _mm_add_pd(v, _mm_mul_pd(_mm_loadu_pd(a + 4 + k), ty));
+        v = _mm_add_pd(v, _mm_mul_pd(_mm_loadu_pd(a + 8 + k), tz));
+        _mm_storeu_pd(o + 12 + k, v);
+    }
+#else
     r[3] = m[0] * t.x + m[1] * t.y + m[2] * t.z + m[3];
+#endif
     return r;
 }
 
-// The 16 doubles of a matrix to floats (two at a time where SSE2 is there: every x86-64).
-inline void toFloat(const dmat4& m, mat4& out) {
-    const double* s = &m[0][0];
-    float* d = &out[0][0];
-#if defined(__SSE2__)
-    for (int k = 0; k < 16; k += 4) {
-        const __m128 lo = _mm_cvtpd_ps(_mm_loadu_pd(s + k)), hi = _mm_cvtpd_ps(_mm_loadu_pd(s + k + 2));
-        _mm_storeu_ps(d + k, _mm_movelh_ps(lo, hi));
-    }
-#else
-    for (int k = 0; k < 16; ++k) d[k] = float(s[k]);
-#endif
+// The affine part of a matrix (its 12 upper-row doubles) to floats.
+inline void toFloat(const dmat4& m, glm::mat4x3& out) {
+    for (int c = 0; c < 4; ++c) out[c] = vec3(m[c]);
 }
+
+// An affine matrix has (0 0 0 1) as its last row; "" when so, else a description of the row.
+std::string nonAffineRow(const dmat4& m);
 
 // Six planes (left, right, bottom, top, near, far), normals inward and unit length, of clip = proj * view.
 std::array<Plane, 6> frustumPlanes(const dmat4& clip);

@@ -277,7 +277,7 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material)
             runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0});
         runs_.back().count++;
-        instances_.push_back(it.model);
+        instances_.push_back(it.matrix());
     }
 
     glViewport(0, 0, camera.width(), camera.height());

@@ -160,6 +160,15 @@ struct Scene::Builder {
         buildBsp(*g, boxes);
     }
 
+    // The LOD's centre in image coordinates: the user's centre through the frame, or the bound's centre.
+    void lodCenter(uint32_t i, const LOD* l, const dmat4& m) {
+        FlatImage::Lod& lod = img.lods[img.aux[i]];
+        const dvec3 c = l->userCenter() ? dvec3(m * dvec4(l->center(), 1.0)) - img.origin : img.center(i) - img.origin;
+        lod.cx = float(c.x);
+        lod.cy = float(c.y);
+        lod.cz = float(c.z);
+    }
+
     static constexpr uint32_t kWideChildren = 16, kWideEntries = 1024;
     // A plain Group with many children over a large subtree: its children's spheres side by side.
     void wide(uint32_t i, Node* n) {
@@ -242,7 +251,8 @@ struct Scene::Builder {
                     it = img.rangeIndex.emplace(key, uint32_t(img.ranges.size())).first;
                     for (size_t k = 0; k < key.size(); k += 2) img.ranges.push_back({key[k], key[k + 1]});
                 }
-                img.aux[i] = slot(img.lods, i, FlatImage::Lod{l->center(), it->second, uint8_t(l->mode()), uint8_t(l->userCenter())});
+                // The centre is filled in by write(), once the bound and the frame are known.
+                img.aux[i] = slot(img.lods, i, FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, uint8_t(l->mode())});
                 break;
             }
             case NodeKind::Group:
@@ -291,6 +301,7 @@ struct Scene::Builder {
         img.end[i] = cursor;
         boundFromChildren(i);
         wide(i, n);
+        if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
         if (n->kind() == NodeKind::Billboard) billboard(i, n, cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
@@ -327,6 +338,7 @@ struct Scene::Builder {
         }
         boundFromChildren(i);
         wide(i, n);
+        if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
 

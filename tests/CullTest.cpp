@@ -190,7 +190,7 @@ TEST(Cull, BillboardTurnsTowardTheEye) {
         const auto c = cullWith(s, cam, CullStrategy::Sphere);
         ASSERT_EQ(c.list.items.size(), 1u);
         // The child's -Y axis, in the world, points at the eye (in the horizontal plane).
-        const dvec3 minusY = -dvec3(dmat4(c.list.items[0].model) * dvec4(0, 1, 0, 0));
+        const dvec3 minusY = -dvec3(dmat4(c.list.items[0].matrix()) * dvec4(0, 1, 0, 0));
         const dvec3 toEye = glm::normalize(dvec3(std::cos(a), std::sin(a), 0));
         EXPECT_NEAR(glm::dot(glm::normalize(minusY), toEye), 1.0, 1e-5) << a;
         EXPECT_NEAR(minusY.z, 0.0, 1e-6);

@@ -169,7 +169,7 @@ TEST_F(RendererTest, SceneTenThousandKilometresAwayRendersLikeAtTheOrigin) {
     const mat4 minusEye = mat4(glm::translate(dmat4(1.0), -camFar.eye()));
     for (DrawItem& it : naive.items) {
         const dvec3 world = dvec3(it.model[3]) + camFar.eye();
-        it.model = minusEye * mat4(glm::translate(dmat4(1.0), world));
+        it.model = glm::mat4x3(minusEye * mat4(glm::translate(dmat4(1.0), world)));
     }
     renderer.draw(naive, camFar, kClear);
     EXPECT_GT(countDifferingPixels(atOrigin, renderer.readColor(), 0), 100u);
@@ -282,7 +282,7 @@ TEST_F(RendererTest, EmptyOrderDrawsTheItemsAndWideIndicesWork) {
     DrawItem item;
     item.mesh = mesh.get();
     item.material = mat.get();
-    item.model = mat4(glm::translate(dmat4(1.0), -cam.eye()));
+    item.model = glm::mat4x3(glm::translate(dmat4(1.0), -cam.eye()));
     DrawList list;
     list.items.push_back(item);
     renderer.draw(list, cam, kClear);

@@ -30,7 +30,9 @@
 //   * Verification of the result (counting RenderLeafs and triangles) is done
 //     outside the timed region.
 //
-// Usage: sgbench_osg [--n N] [--frames-passes K]
+// Usage: sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]
+// --with-sgkit (when built inside the sgkit project) also builds sgkit's city and culls it right after
+// OpenSceneGraph on every frame: the per-frame time ratio is then free of this machine's speed drift.
 //   N: city size (default 316). K: number of timed passes over the path after
 //   the warm-up pass (default 1); statistics are taken over all K*120 frames.
 // Output: one JSON object on stdout; diagnostics go to stderr.
@@ -63,6 +65,13 @@
 #include <vector>
 
 #include <unistd.h>
+
+#ifdef SGBENCH_WITH_SGKIT
+#include "scenes/City.h"
+#include "sg/CullTraversal.h"
+
+#include <memory>
+#endif
 
 namespace {
 
@@ -318,7 +327,7 @@ double percentile95(std::vector<double> v) {
 }
 
 [[noreturn]] void usage(const char* msg) {
-    std::fprintf(stderr, "error: %s\nusage: sgbench_osg [--n N] [--frames-passes K]\n", msg);
+    std::fprintf(stderr, "error: %s\nusage: sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]\n", msg);
     std::exit(2);
 }
 
@@ -334,9 +343,12 @@ long parsePositive(const char* s, const char* what) {
 int main(int argc, char** argv) {
     int n = 316;
     int passes = 1;
+    bool withSgkit = false;
     for (int a = 1; a < argc; ++a) {
         if (!std::strcmp(argv[a], "--n") && a + 1 < argc)
             n = int(parsePositive(argv[++a], "--n"));
+        else if (!std::strcmp(argv[a], "--with-sgkit"))
+            withSgkit = true;
         else if (!std::strcmp(argv[a], "--frames-passes") && a + 1 < argc)
             passes = int(parsePositive(argv[++a], "--frames-passes"));
         else
@@ -352,6 +364,22 @@ int main(int argc, char** argv) {
     const auto buildEnd = std::chrono::steady_clock::now();
     const double rssAfter = rssBytes();
     const double buildSeconds = std::chrono::duration<double>(buildEnd - buildStart).count();
+
+#ifdef SGBENCH_WITH_SGKIT
+    // In-process comparison: sgkit's own city, culled right after OpenSceneGraph's on every frame, so
+    // that both see the same machine speed (this machine's speed drifts for seconds at a time).
+    std::unique_ptr<sg::Scene> sgScene;
+    sg::CullTraversal sgCull;
+    sg::DrawList sgList;
+    std::vector<double> sgMs, ratio;
+    double sgGeometries = 0.0;
+    if (withSgkit) {
+        sgScene = std::make_unique<sg::Scene>(scenes::buildCity({n, false}));
+        sgScene->update();
+    }
+#else
+    if (withSgkit) usage("--with-sgkit: this build has no sgkit (configure it inside the sgkit project)");
+#endif
 
     // --- Cull setup ------------------------------------------------------------
     // SceneView is what osgViewer::Renderer drives per camera; setDefaults()
@@ -406,6 +434,20 @@ int main(int argc, char** argv) {
                 }
             }
 
+#ifdef SGBENCH_WITH_SGKIT
+            if (sgScene) {
+                const sg::Camera cam = scenes::cityOrbitCamera(n, f);
+                sg::CullStats st;
+                const auto s0 = std::chrono::steady_clock::now();
+                sgCull.cull(*sgScene, cam, sg::CullSettings{}, sgList, st);
+                const auto s1 = std::chrono::steady_clock::now();
+                if (timed) {
+                    sgMs.push_back(std::chrono::duration<double, std::milli>(s1 - s0).count());
+                    ratio.push_back(std::chrono::duration<double>(t1 - t0).count() / std::chrono::duration<double>(s1 - s0).count());
+                    sgGeometries += double(st.geometries);
+                }
+            }
+#endif
             if (timed) {
                 frameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
                 const DrawCount dc = countStage(*sceneView->getRenderStage(), scene);
@@ -425,11 +467,17 @@ int main(int argc, char** argv) {
     std::printf("{\"peer\":\"openscenegraph\",\"osg_version\":\"%s\",\"n\":%d,\"path\":\"orbit\","
                 "\"frames\":%d,\"cull_ms_median\":%.4f,\"cull_ms_p95\":%.4f,"
                 "\"geometries_mean\":%.2f,\"triangles_mean\":%.1f,\"build_s\":%.4f,"
-                "\"rss_mb\":%.2f,\"nodes\":%llu,\"bytes_per_node\":%.2f}\n",
+                "\"rss_mb\":%.2f,\"nodes\":%llu,\"bytes_per_node\":%.2f",
                 osgGetVersion(), n, kFrames, median(frameMs), percentile95(frameMs),
                 geometriesMean, trianglesSum / timedFrames, buildSeconds,
                 rssAfter / (1024.0 * 1024.0), (unsigned long long)scene.nodes,
                 (rssAfter - rssBefore) / double(scene.nodes));
+#ifdef SGBENCH_WITH_SGKIT
+    if (sgScene)
+        std::printf(",\"sgkit_cull_ms_median\":%.4f,\"sgkit_geometries_mean\":%.2f,\"osg_over_sgkit_per_frame_median\":%.3f",
+                    median(sgMs), sgGeometries / double(sgMs.size()), median(ratio));
+#endif
+    std::printf("}\n");
     std::fflush(stdout);
 
     // Skip tearing the scene down. Each shared Geometry keeps its parent Geodes
