@@ -51,8 +51,7 @@ struct CullTraversal::Ctx {
     const FlatImage* img = nullptr;
     dmat4 imgToEye{1.0};  // image coordinates -> eye-relative world
     dvec3 eyeImg{0.0};    // the eye in image coordinates
-    dvec3 depthDir{0.0};  // depth along the view = depthDir . c + depthOffset, c in image coordinates
-    double depthOffset = 0.0;
+    dvec3 viewDir{0.0};   // the camera's view direction (eye-relative world)
     double scale = 1.0;   // lengths: image units -> world units (at most)
     bool rigid = true;    // image -> eye keeps lengths (no scale): distances can be taken in the image
     std::array<Plane, 6> planes{};
@@ -72,9 +71,7 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
     const glm::dmat3 a(t);
     const glm::dmat3 ata = glm::transpose(a) * a;
     c.rigid = glm::length(ata[0] - dvec3(1, 0, 0)) + glm::length(ata[1] - dvec3(0, 1, 0)) + glm::length(ata[2] - dvec3(0, 0, 1)) < 1e-9;
-    const dvec3 vd = cam_->viewDirection();
-    c.depthDir = dvec3(glm::dot(vd, dvec3(t[0])), glm::dot(vd, dvec3(t[1])), glm::dot(vd, dvec3(t[2])));
-    c.depthOffset = glm::dot(vd, dvec3(t[3]));
+    c.viewDir = cam_->viewDirection();
     // A plane (n, d) in eye space becomes t^T (n, d) in image space (exact for affine t), normalized.
     const dmat4 tt = glm::transpose(t);
     for (size_t k = 0; k < 6; ++k) {
@@ -416,10 +413,11 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh) return;
-    // Depth of the bound's centre along the view: an affine function of the image coordinates.
+    // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds
+    // stay unread: the order is a drawing heuristic, not a visibility decision).
     const bool invalid = img.flags[i] & FlatImage::kInvalid;
-    const float depth = invalid ? float(glm::dot(dvec3(m[3]), cam_->viewDirection()))
-                                : float(c.depthDir.x * img.cx[i] + c.depthDir.y * img.cy[i] + c.depthDir.z * img.cz[i] + c.depthOffset);
+    const dvec3& vd = c.viewDir;
+    const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
     DrawItem& it = out_->push(d.state, depth);
     it.mesh = d.mesh;
     it.material = d.material;

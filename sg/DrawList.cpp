@@ -16,20 +16,19 @@ void DrawList::sort() {
     order.resize(n);
     tmp_.resize(n);
     work_.resize(n);
-    // LSD radix sort in three passes of 11, 11 and 10 bits (histograms small enough for L1), all
+    // LSD radix sort of the 22-bit keys in two passes of 11 bits (histograms small enough for L1), both
     // histograms from one read; a pass where every key falls in one bucket is skipped. Sorted in the
     // work arrays: keys_ stays in item order.
-    constexpr int kBits[3] = {11, 11, 10}, kShift[3] = {0, 11, 22};
+    constexpr int kBits[2] = {11, 11}, kShift[2] = {0, 11};
     std::vector<uint32_t>& count = count_;
-    count.assign(3 * 2048, 0);
+    count.assign(2 * 2048, 0);
     for (uint32_t i = 0; i < n; ++i) {
         const uint32_t k = keysTmp_[i] = keys_[i];
         order[i] = i;
         count[k & 0x7ff]++;
         count[2048 + ((k >> 11) & 0x7ff)]++;
-        count[4096 + (k >> 22)]++;
     }
-    for (int pass = 0; pass < 3; ++pass) {
+    for (int pass = 0; pass < 2; ++pass) {
         uint32_t* c = &count[size_t(pass) * 2048];
         const int shift = kShift[pass];
         const uint32_t digitMask = (1u << kBits[pass]) - 1;

@@ -52,17 +52,18 @@ public:
     // Order as emitted (no sort).
     void keepEmissionOrder();
 
-    // 6 bits of material id and 10 of mesh id, then the top 16 bits of the depth's float bits (monotonic
-    // for depth >= 0; about 1/128 relative precision, plenty for front-to-back). Ids that collide only
-    // share a sort bucket: the renderer compares pointers before it batches.
+    // A 22-bit key, sorted in two 11-bit passes: 10 bits of state, then the depth's exponent and top
+    // 3 mantissa bits (monotonic for depth >= 0; buckets 12% apart, plenty for front to back). The cull
+    // passes a dense state index per mesh/material pair; states that share 10 bits only share a sort
+    // bucket: the renderer compares pointers before it batches.
     static uint32_t stateKey(const Mesh* mesh, const Material* mat) {
-        return ((mat ? mat->id() & 0x3fu : 0u) << 10) | (mesh ? mesh->id() & 0x3ffu : 0u);
+        return ((mat ? mat->id() * 37u : 0u) + (mesh ? mesh->id() : 0u)) & 0x3ffu;
     }
     static uint32_t depthKey(uint32_t state, float depth) {
         const float d = depth > 0.0f ? depth : 0.0f;  // NaN fails the test too
         uint32_t bits;
         std::memcpy(&bits, &d, 4);
-        return (state << 16) | (bits >> 16);
+        return ((state & 0x3ffu) << 12) | (bits >> 19);
     }
     static uint32_t makeKey(const Mesh* mesh, const Material* mat, float depth) { return depthKey(stateKey(mesh, mat), depth); }
 

@@ -237,7 +237,9 @@ struct Scene::Builder {
                 auto it = img.drawIndex.find(key);
                 if (it == img.drawIndex.end()) {
                     it = img.drawIndex.emplace(key, uint32_t(img.draws.size())).first;
-                    img.draws.push_back(FlatImage::Draw{key.first, key.second, DrawList::stateKey(key.first, key.second)});
+                    // A dense index over the scene's mesh/material pairs (all images): the sort's state.
+                    auto st = scene.states_.emplace(key, uint32_t(scene.states_.size())).first;
+                    img.draws.push_back(FlatImage::Draw{key.first, key.second, st->second});
                 }
                 img.aux[i] = it->second;  // shared, never rewritten: a changed geometry finds or adds its pair
                 break;

@@ -4,6 +4,7 @@
 #include "sg/FlatImage.h"
 #include "sg/Node.h"
 
+#include <map>
 #include <memory>
 #include <unordered_map>
 
@@ -40,6 +41,7 @@ private:
     FlatImage main_;
     std::unordered_map<const Node*, std::unique_ptr<FlatImage>> protos_;
     std::vector<Node*> callbacks_;
+    std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;
 };
 
