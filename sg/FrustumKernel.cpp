@@ -56,19 +56,20 @@ void classifyBoxes(const Planes& p, const float* __restrict cx, const float* __r
         az[i] = std::abs(p.nz[i]);
     }
     // Per plane: nearest vertex at dist + reach, farthest at dist - reach; take the minimum of each.
-    // An infinite extent gives 0 * inf = NaN on axis-aligned planes: any NaN makes the bound "straddles".
+    // Starting from plane 0 (not from a large number) lets a NaN from a NaN centre reach the result.
+    // An infinite extent makes every plane's value infinite or NaN: never outside, never inside.
     for (uint32_t k = 0; k < n; ++k) {
-        float lo = 3.0e38f, hi = 3.0e38f;
-        int nan = 0;
-        for (int i = 0; i < 6; ++i) {
+        const float d0 = p.nx[0] * cx[k] + p.ny[0] * cy[k] + p.nz[0] * cz[k] + p.d[0];
+        const float r0 = ax[0] * ex[k] + ay[0] * ey[k] + az[0] * ez[k];
+        float lo = d0 + r0, hi = d0 - r0;
+        for (int i = 1; i < 6; ++i) {
             const float dist = p.nx[i] * cx[k] + p.ny[i] * cy[k] + p.nz[i] * cz[k] + p.d[i];
             const float reach = ax[i] * ex[k] + ay[i] * ey[k] + az[i] * ez[k];
             const float a = dist + reach, b = dist - reach;
-            nan |= a != a;
             lo = a < lo ? a : lo;
             hi = b < hi ? b : hi;
         }
-        out[k] = uint8_t(((lo < 0.0f) | ((hi > 0.0f) << 1)) & (nan - 1));
+        out[k] = uint8_t((lo < 0.0f) | ((hi > 0.0f) << 1));
     }
 }
 
