@@ -150,7 +150,18 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
             (r & kBySphereSphere ? stats_->culledSphereSphere : stats_->culledFrustum)++;
             return false;
         }
-        if (r & kernel::kInside) mask = 0;
+        if (r & kernel::kInside) {
+            mask = 0;
+        } else if (strat == CullStrategy::Aabb) {
+            // The batch classified spheres (4 columns read, not 7); a sphere that straddles gets the box
+            // test here, for this entry alone.
+            const uint32_t bm = kernel::boxMasked(c.kplanes, mask, img.cx[i], img.cy[i], img.cz[i], img.ex[i], img.ey[i], img.ez[i]);
+            if (bm == kernel::kCulledMask) {
+                stats_->culledFrustum++;
+                return false;
+            }
+            mask = bm;
+        }
         return true;
     }
     // One bound, above the batches.
@@ -183,10 +194,9 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
         cls_.resize(off + n);
         uint8_t* o = cls_.data() + off;
         const uint32_t b = i + 1;
-        if (strat == CullStrategy::Aabb)
-            kernel::classifyBoxes(kp, &img.cx[b], &img.cy[b], &img.cz[b], &img.ex[b], &img.ey[b], &img.ez[b], n, o);
-        else
-            kernel::classifySpheres(kp, &img.cx[b], &img.cy[b], &img.cz[b], &img.r[b], n, o);
+        // Spheres for every strategy: a sphere bounds the content as a box does, so "outside" and "inside"
+        // answers hold for boxes too; the box strategy tests only the straddling ones again (above).
+        kernel::classifySpheres(kp, &img.cx[b], &img.cy[b], &img.cz[b], &img.r[b], n, o);
         if (strat == CullStrategy::SphereSphere) {
             const float fx = float(c.fsCenter.x), fy = float(c.fsCenter.y), fz = float(c.fsCenter.z), fr = float(c.fsRadius);
             for (uint32_t k = 0; k < n; ++k) {
