@@ -247,7 +247,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
         case NodeKind::Geometry: emit(c, i, m); break;
         case NodeKind::Transform: children(c, i, mask, transformed(img, i, m)); break;
         case NodeKind::LOD: {
-            const double value = lodValue(c, i, m);
+            const double value = lodValue(c, i);
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg)
                 if (value >= rg->min && value < rg->max) visit(c, j, mask, m);
@@ -322,7 +322,7 @@ void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4&
     cls_.resize(off);
 }
 
-double CullTraversal::lodValue(const Ctx& c, uint32_t i, const dmat4&) const {
+double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {
     const FlatImage& img = *c.img;
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
     double dist;
@@ -351,7 +351,10 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
     while (j < end) {
         while (j >= fr[top].end) --top;
         const uint8_t fl = img.flags[j];
-        if (fl & FlatImage::kSlowPath) {  // masked, empty, invalid or below a billboard
+        const NodeKind kind = img.kind[j];
+        // Masked, empty, invalid, below a billboard, or a rarer kind: the general path.
+        if ((fl & FlatImage::kSlowPath) || !(kind == NodeKind::Geometry || kind == NodeKind::Group ||
+                                              kind == NodeKind::Transform || kind == NodeKind::LOD)) {
             const dmat4 vm = fr[top].m;
             framesTop_ = top + 1;
             visit(c, j, 0u, vm);
@@ -360,7 +363,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
             continue;
         }
         ++visited;
-        switch (img.kind[j]) {
+        switch (kind) {
             case NodeKind::Geometry: emit(c, j, fr[top].m); ++j; break;
             case NodeKind::Group: ++j; break;  // its children follow
             case NodeKind::Transform:
@@ -368,14 +371,13 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                     frames_.resize(frames_.size() * 2);
                     fr = frames_.data();
                 }
-                fr[top + 1].m = (fl & FlatImage::kGeneral) ? fr[top].m * *img.matrices[img.aux[j]]
-                                                           : mulTranslate(fr[top].m, img.translations[img.aux[j]]);
+                fr[top + 1].m = transformed(img, j, fr[top].m);
                 fr[top + 1].end = img.end[j];
                 ++top;
                 ++j;
                 break;
-            case NodeKind::LOD: {
-                const double value = lodValue(c, j, fr[top].m);
+            default: {  // LOD
+                const double value = lodValue(c, j);
                 const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[j]].firstRange];
                 for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg) {
                     if (!(value >= rg->min && value < rg->max)) continue;
@@ -389,15 +391,6 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                         fr = frames_.data();
                     }
                 }
-                j = img.end[j];
-                break;
-            }
-            default: {
-                --visited;
-                const dmat4 vm = fr[top].m;
-                framesTop_ = top + 1;
-                visit(c, j, 0u, vm);
-                fr = frames_.data();
                 j = img.end[j];
                 break;
             }

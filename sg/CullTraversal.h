@@ -26,7 +26,7 @@ private:
     void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
     void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
-    double lodValue(const Ctx& c, uint32_t i, const dmat4& m) const;
+    double lodValue(const Ctx& c, uint32_t i) const;
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void emit(Ctx& c, uint32_t i, const dmat4& m);
