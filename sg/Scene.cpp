@@ -26,15 +26,14 @@ struct Scene::Builder {
     bool fresh = false;    // full build: tables are appended to; refit: rewritten at their index
 
     struct Counts {
-        uint32_t entries = 0, xforms = 0, lods = 0, ranges = 0, draws = 0;
+        uint32_t entries = 0, xforms = 0, lods = 0;
     };
     static void count(const Node* n, Counts& c) {
         c.entries++;
         switch (n->kind()) {
             case NodeKind::Instance: return;  // the prototype has its own image
             case NodeKind::Transform: c.xforms++; break;
-            case NodeKind::Geometry: c.draws++; break;
-            case NodeKind::LOD: c.lods++, c.ranges += uint32_t(n->numChildren()); break;
+            case NodeKind::LOD: c.lods++; break;
             default: break;
         }
         for (size_t i = 0, k = n->numChildren(); i < k; ++i) count(n->child(i), c);
