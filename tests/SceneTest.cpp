@@ -1,6 +1,7 @@
 #include "TestUtil.h"
 #include "scenes/City.h"
 #include "scenes/RandomScene.h"
+#include "sg/CullTraversal.h"
 #include "sg/Scene.h"
 
 #include <gtest/gtest.h>
@@ -204,4 +205,86 @@ TEST(Scene, RefitGivesTheImageAFullBuildGives) {
         }
         expectBoundsEnclose(s);
     }
+}
+
+// Random edits, good and bad, between updates and culls: bad ones are refused with an error and change
+// nothing; after every update the image equals a fresh build of the same graph, and a cull runs.
+TEST(Scene, RandomEditsKeepTheImageExactAndBadOnesAreRefused) {
+    scenes::Rng rng(12345);
+    auto root = scenes::buildRandomScene(5, {30, 40.0, dvec3(0.0)});
+    Scene s(root);
+    s.update();
+    std::vector<ref_ptr<Node>> all;  // references: a node removed by one edit stays valid for the next
+    std::function<void(Node*)> collect = [&](Node* n) {
+        all.push_back(n);
+        for (size_t k = 0; k < n->numChildren(); ++k) collect(n->child(k));
+    };
+    Camera cam;
+    cam.setViewport(64, 64);
+    cam.setLookAt(dvec3(0, -150, 40), dvec3(0), dvec3(0, 0, 1));
+    CullTraversal cull;
+    DrawList list;
+    CullStats stats;
+    int refused = 0;
+    for (int round = 0; round < 60; ++round) {
+        all.clear();
+        collect(root.get());
+        for (int e = 0; e < 8; ++e) {
+            Node* n = all[size_t(rng.below(int(all.size())))].get();
+            Node* other = all[size_t(rng.below(int(all.size())))].get();
+            try {
+                switch (rng.below(7)) {
+                    case 0:
+                        if (n->kind() == NodeKind::Transform) {
+                            dmat4 m = glm::rotate(glm::translate(dmat4(1.0), dvec3(rng.uniform(-20, 20), 0, 0)), rng.uniform(0, 3), dvec3(0, 0, 1));
+                            if (rng.chance(0.3)) m[1][1] = std::nan("");
+                            if (rng.chance(0.2)) m = glm::translate(dmat4(1.0), dvec3(rng.uniform(-5, 5)));
+                            static_cast<Transform*>(n)->setMatrix(m);
+                        }
+                        break;
+                    case 1:  // may be a cycle: must be refused
+                        if (auto* g = dynamic_cast<Group*>(n); g && n->kind() != NodeKind::LOD) g->addChild(other);
+                        break;
+                    case 2:
+                        if (auto* g = dynamic_cast<Group*>(n); g && g->numChildren() > 1 && n->kind() != NodeKind::LOD)
+                            g->removeChild(size_t(rng.below(int(g->numChildren()))));
+                        break;
+                    case 3: n->setNodeMask(rng.chance(0.5) ? 0x1u : 0xffffffffu); break;
+                    case 4:
+                        if (n->kind() == NodeKind::LOD) static_cast<LOD*>(n)->setRange(0, rng.chance(0.3) ? -1.0f : 0.0f, float(rng.uniform(5, 80)));
+                        break;
+                    case 5:
+                        if (n->kind() == NodeKind::Instance) static_cast<Instance*>(n)->setPrototype(rng.chance(0.5) ? ref_ptr<Node>(other) : ref_ptr<Node>(n));
+                        break;
+                    default:
+                        if (n->kind() == NodeKind::Switch) static_cast<Switch*>(n)->setAll(rng.chance(0.5));
+                        break;
+                }
+            } catch (const std::invalid_argument& err) {
+                ++refused;
+                const std::string what = err.what();
+                ASSERT_NE(what.find("()"), std::string::npos) << what;  // names the function
+            }
+        }
+        s.update();
+        cull.cull(s, cam, CullSettings{}, list, stats);
+        Scene fresh(root);
+        fresh.update();
+        const FlatImage &a = s.image(), &b = fresh.image();
+        ASSERT_EQ(a.size(), b.size()) << "round " << round;
+        for (size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(a.kind[i], b.kind[i]);
+            ASSERT_EQ(a.end[i], b.end[i]);
+            ASSERT_EQ(a.flags[i] & ~FlatImage::kGeneral, b.flags[i] & ~FlatImage::kGeneral) << "round " << round << " entry " << i;
+            if (!(a.flags[i] & FlatImage::kInvalid)) {
+                // The two images may have different origins (a refit keeps the old one): equal up to
+                // the float rounding of the stored offsets.
+                const double tol = 1e-5 * (1.0 + a.extent);
+                ASSERT_LE(glm::length(a.center(i) - b.center(i)), tol) << "round " << round << " entry " << i;
+                ASSERT_NEAR(a.r[i], b.r[i], tol);
+            }
+        }
+        expectBoundsEnclose(s);
+    }
+    EXPECT_GT(refused, 10);
 }
