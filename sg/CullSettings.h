@@ -6,7 +6,7 @@
 namespace sg {
 
 enum class CullStrategy : uint8_t {
-    None,          // no frustum tests (the accuracy reference)
+    None,          // no culling of any kind, occlusion included (the accuracy reference)
     Sphere,        // bounding sphere against the planes
     Aabb,          // box against the planes (nearest/farthest vertex): the default, see below
     SphereSphere,  // the frustum's bounding sphere as a coarse pre-test, then the planes
@@ -17,6 +17,30 @@ const char* strategyName(CullStrategy s);
 CullStrategy parseStrategy(const std::string& name);
 bool isConservative(CullStrategy s);
 
+// The occlusion-tree pass (sg/OcclusionTree.h): major occluders, nearest first, fused into one tree per
+// frame; bounds inside the occluded space are culled.
+enum class OcclusionMode : uint8_t {
+    Off,
+    On,    // every frame that has occluders in view
+    Auto,  // On, but skipped for a while after frames where it culled too little to pay (aerial views)
+};
+enum class OccluderCap : uint8_t {
+    FrontFaces,   // a box occludes behind its front faces: conservative (the default)
+    CentrePlane,  // the paper's plane through the box centre, facing the eye: NOT conservative (grazing rays)
+};
+const char* occlusionModeName(OcclusionMode m);
+// Throws std::invalid_argument listing the valid names ("off", "tree", "auto").
+OcclusionMode parseOcclusionMode(const std::string& name);
+
+struct OcclusionSettings {
+    OcclusionMode mode = OcclusionMode::Auto;
+    OccluderCap cap = OccluderCap::FrontFaces;
+    uint32_t maxOccluders = 16;       // occluders added to the tree per frame (hidden ones do not count)
+    double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used
+    int screenSplits = 0;             // two-level tree: 2^k screen regions above the occluders (0: one level)
+    double autoMinGain = 0.1;         // Auto: a frame "pays" when occlusion removed this share of the entries
+};
+
 struct CullSettings {
     // Boxes: as fast as spheres on `city` (fewer instructions per frame under callgrind, since fewer
     // geometries pass and get sorted; within timing noise otherwise) and tighter, as tight as
@@ -25,6 +49,7 @@ struct CullSettings {
     double smallFeaturePixels = 0.0;  // drop bounds smaller than this many pixels across; 0: off
     uint32_t traversalMask = 0xffffffffu;
     bool sort = true;  // sort the draw list by state, then front to back
+    OcclusionSettings occlusion;
 };
 
 struct CullStats {
@@ -39,6 +64,18 @@ struct CullStats {
     uint64_t geometries = 0;
     uint64_t triangles = 0;
     uint64_t invalidDrawn = 0;  // geometries with a NaN/infinite bound, drawn because never culled
+    // Occlusion pass
+    bool occlusionRan = false;        // the tree was built this frame (occluders in view, not skipped)
+    bool occlusionSkipped = false;    // Auto mode skipped it this frame
+    uint64_t occluderCandidates = 0;  // occluders in view and large enough
+    uint64_t occludersUsed = 0;       // added something to the tree
+    uint64_t occlusionTreeNodes = 0;
+    uint64_t occlusionPolygonSplits = 0;  // occluder polygons split while growing the tree
+    uint64_t occlusionBoxSplits = 0;      // bounds split by a tree plane while tested
+    uint64_t occlusionTests = 0;
+    uint64_t culledOcclusion = 0;     // bounds culled as occluded
+    uint64_t occludedEntries = 0;     // image entries below them (work the walk skipped)
+    double occlusionMs = 0.0;         // growing the tree plus the tests
     double ms = 0.0;
 };
 

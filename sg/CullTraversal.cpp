@@ -46,12 +46,28 @@ CullStrategy parseStrategy(const std::string& name) {
 
 bool isConservative(CullStrategy s) { return s != CullStrategy::CenterBox; }
 
+const char* occlusionModeName(OcclusionMode m) {
+    switch (m) {
+        case OcclusionMode::Off: return "off";
+        case OcclusionMode::On: return "tree";
+        case OcclusionMode::Auto: return "auto";
+    }
+    return "?";
+}
+
+OcclusionMode parseOcclusionMode(const std::string& name) {
+    for (auto m : {OcclusionMode::Off, OcclusionMode::On, OcclusionMode::Auto})
+        if (name == occlusionModeName(m)) return m;
+    throw std::invalid_argument("parseOcclusionMode(): unknown occlusion mode '" + name + "' (off, tree, auto)");
+}
+
 // Per image: the planes and frames the tests need, in that image's coordinates.
 struct CullTraversal::Ctx {
     const FlatImage* img = nullptr;
     dmat4 imgToEye{1.0};  // image coordinates -> eye-relative world
     dvec3 eyeImg{0.0};    // the eye in image coordinates
     dvec3 viewDir{0.0};   // the camera's view direction (eye-relative world)
+    dvec3 originRel{0.0}; // the image origin relative to the eye (occlusion tests, main image only)
     double scale = 1.0;   // lengths: image units -> world units (at most)
     bool rigid = true;    // image -> eye keeps lengths (no scale): distances can be taken in the image
     std::array<Plane, 6> planes{};
@@ -113,12 +129,27 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     scratch_.clear();
     triangles_ = 0;
     const FlatImage& img = scene.image();
+    occlusionTestMs_ = 0.0;
     if (img.size()) {
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
+        c.originRel = img.origin - cam.eye();
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
+        const int32_t occ = buildOcclusion(img);
         framesTop_ = 0;
-        visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()));
+        visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()), occ);
+        stats.occlusionMs += occlusionTestMs_;
+        if (stats.occlusionRan && set.occlusion.mode == OcclusionMode::Auto) {
+            // Did it pay? The share of the walk it removed, against the threshold; if not, skip it for a
+            // while (4, 8, ... 64 frames) and try again.
+            const double gain = double(stats.occludedEntries) / double(stats.occludedEntries + stats.nodesVisited + 1);
+            if (gain < set.occlusion.autoMinGain) {
+                autoBackoff_ = std::min(64, std::max(4, autoBackoff_ * 2));
+                autoWait_ = autoBackoff_;
+            } else {
+                autoBackoff_ = 0;
+            }
+        }
     }
     stats.geometries = out.items.size();
     stats.triangles = triangles_;
@@ -212,7 +243,7 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
     return true;
 }
 
-void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
     const FlatImage& img = *c.img;
     stats_->nodesVisited++;
     const uint8_t fl = img.flags[i];
@@ -243,27 +274,34 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
         }
     }
 
+    // Occlusion: Transform and LOD entries leave it to their children (same bounds, one test fewer).
+    if (occ != OcclusionTree::kVisible && !(fl & FlatImage::kInvalid)) {
+        const NodeKind k = img.kind[i];
+        if (k != NodeKind::Transform && k != NodeKind::LOD && k != NodeKind::Occluder && !occlusionTest(img, c.originRel, i, occ)) return;
+    }
+
     switch (img.kind[i]) {
         case NodeKind::Geometry: emit(c, i, m); break;
-        case NodeKind::Transform: children(c, i, mask, transformed(img, i, m)); break;
+        case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
         case NodeKind::LOD: {
             const double value = lodValue(c, i);
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg)
-                if (value >= rg->min && value < rg->max) visit(c, j, mask, m);
+                if (value >= rg->min && value < rg->max) visit(c, j, mask, m, occ);
             break;
         }
         case NodeKind::Switch: {
             const auto* sw = static_cast<Switch*>(img.nodes[img.aux[i]]);
             uint32_t j = i + 1;
             for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j])
-                if (sw->isOn(k)) visit(c, j, mask, m);
+                if (sw->isOn(k)) visit(c, j, mask, m, occ);
             break;
         }
         case NodeKind::Billboard: {
             const auto* bb = static_cast<Billboard*>(img.nodes[img.aux[i]]);
             const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
-            children(c, i, 0u, m * bb->rotationToward(eyeLocal));  // its own test covered the children
+            // Its own tests covered the children (their bounds are the billboard's).
+            children(c, i, 0u, m * bb->rotationToward(eyeLocal), OcclusionTree::kVisible);
             break;
         }
         case NodeKind::Instance: visitInstance(c, i, mask, m); break;
@@ -277,30 +315,31 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
             std::vector<uint32_t> ord;
             g->order(eyeLocal, ord);
             for (uint32_t k : ord)
-                if (k < nChildren) visit(c, scratch_[base + k], mask, m);
+                if (k < nChildren) visit(c, scratch_[base + k], mask, m, occ);
             scratch_.resize(base);
             break;
         }
         case NodeKind::Occluder: break;  // used by the occlusion passes, never drawn
         case NodeKind::Group:
             if (mask && img.aux[i] && c.clsBase == ~0u) {
-                wideChildren(c, i, mask, m);
+                wideChildren(c, i, mask, m, occ);
                 break;
             }
-            children(c, i, mask, m);
+            children(c, i, mask, m, occ);
             break;
-        default: children(c, i, mask, m); break;
+        default: children(c, i, mask, m, occ); break;
     }
 }
 
-void CullTraversal::children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+void CullTraversal::children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
     const FlatImage& img = *c.img;
-    if (mask == 0 && set_->smallFeaturePixels == 0.0) return inside(c, i + 1, img.end[i], m);
-    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) visit(c, j, mask, m);
+    if (mask == 0 && set_->smallFeaturePixels == 0.0 && occ == OcclusionTree::kVisible)
+        return inside(c, i + 1, img.end[i], m);
+    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) visit(c, j, mask, m, occ);
 }
 
 // Many children over a large subtree: classify their spheres, kept side by side, in one kernel pass.
-void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
     const FlatImage& img = *c.img;
     const FlatImage::Wide w = img.wides[img.aux[i] - 1];
     const kernel::Planes kp = mask == kAllPlanes ? c.kplanes : kernel::Planes::make(c.planes, dvec3(0.0), img.extent, mask);
@@ -317,7 +356,7 @@ void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4&
             continue;
         }
         // Inside: no test left below. Straddling: the child's own test runs again (and may batch).
-        visit(c, img.wideEntry[w.first + k], (r & kernel::kInside) ? 0u : mask, m);
+        visit(c, img.wideEntry[w.first + k], (r & kernel::kInside) ? 0u : mask, m, occ);
     }
     cls_.resize(off);
 }
@@ -357,7 +396,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                                               kind == NodeKind::Transform || kind == NodeKind::LOD)) {
             const dmat4 vm = fr[top].m;
             framesTop_ = top + 1;
-            visit(c, j, 0u, vm);
+            visit(c, j, 0u, vm, OcclusionTree::kVisible);
             fr = frames_.data();
             j = img.end[j];
             continue;
@@ -408,8 +447,9 @@ void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4
     const dmat4 pm = m * in->matrix();
     Ctx sub;
     setupCtx(sub, *p, glm::translate(pm, p->origin));
-    // Same six planes, transformed: planes the placement's bound was inside of stay done.
-    visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm);
+    // Same six planes, transformed: planes the placement's bound was inside of stay done. The placement's
+    // own bound had its occlusion test; its prototype's bounds are not world boxes, so none below.
+    visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
 }
 
 void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {

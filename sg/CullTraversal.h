@@ -4,6 +4,7 @@
 #include "sg/Camera.h"
 #include "sg/CullSettings.h"
 #include "sg/DrawList.h"
+#include "sg/OcclusionTree.h"
 #include "sg/Scene.h"
 
 #include <vector>
@@ -20,14 +21,21 @@ public:
     void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out,
               CullStats& stats);
 
+    // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Auto
+    // mode's state from frame to frame: use one traversal per view.
+    const OcclusionTree& occlusionTree() const { return otree_; }
+
 private:
     struct Ctx;
-    void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
-    void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    // `occ`: the occlusion tree node where this entry's test starts; OcclusionTree::kVisible: no test.
+    void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
-    void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     double lodValue(const Ctx& c, uint32_t i) const;
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
+    int32_t buildOcclusion(const FlatImage& img);
+    bool occlusionTest(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void emit(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
@@ -46,6 +54,16 @@ private:
     std::vector<Frame> frames_;       // transform frames of inside(), a stack up to framesTop_
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
+    OcclusionTree otree_;
+    struct Candidate {
+        double dist;
+        uint32_t index;
+    };
+    std::vector<Candidate> cands_;
+    std::vector<dvec3> polyScratch_;
+    int autoWait_ = 0;     // Auto mode: frames left to skip the pass
+    int autoBackoff_ = 0;  // and how many to skip after the next frame where it does not pay
+    double occlusionTestMs_ = 0.0;
 };
 
 }  // namespace sg

@@ -24,7 +24,8 @@ size_t FlatImage::bytes() const {
     return size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(Xform) +
            matrices.capacity() * sizeof(void*) + nodes.capacity() * sizeof(void*) + masked.capacity() * 16 +
            lods.capacity() * sizeof(Lod) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
-           wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4;
+           wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 + occluders.capacity() * sizeof(OccluderRef) +
+           occluderMatrices.capacity() * sizeof(dmat4) + occluderChunks.capacity() * sizeof(Box);
 }
 
 Box FlatImage::box(size_t i) const {

@@ -76,6 +76,21 @@ struct FlatImage {
     std::vector<Range> ranges;
     std::vector<Draw> draws;
 
+    // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Only occluders that are
+    // drawn whatever the frame are active: not below a Switch, LOD, Billboard or a masked node, not
+    // masked themselves, not inside an Instance's prototype.
+    struct OccluderRef {
+        const Node* node;  // an Occluder
+        uint32_t entry;
+        uint32_t matrix;   // ~0u: the frame is the translation `shift`; else its index in occluderMatrices
+        dvec3 shift;
+        bool active;
+    };
+    static constexpr uint32_t kOccluderChunk = 32;
+    std::vector<OccluderRef> occluders;
+    std::vector<dmat4> occluderMatrices;
+    std::vector<Box> occluderChunks;  // world box of each run of kOccluderChunk active occluders
+
     size_t size() const { return end.size(); }
     void resize(size_t n);
     size_t bytes() const;

@@ -334,6 +334,8 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void Renderer::finish() const { glFinish(); }
+
 Image Renderer::readColor() const {
     GLint vp[4] = {0, 0, 0, 0};
     glGetIntegerv(GL_VIEWPORT, vp);

@@ -38,6 +38,8 @@ public:
     // items; in debug builds std::runtime_error on a GL error.
     void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
     const RenderStats& lastStats() const { return stats_; }
+    // Waits until the GPU has drawn everything (whole-frame timings).
+    void finish() const;
 
     // The current viewport's pixels, rows top to bottom.
     Image readColor() const;

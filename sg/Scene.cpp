@@ -24,6 +24,14 @@ struct Scene::Builder {
     uint32_t cursor = 0;
     bool collect = false;  // full builds list the nodes with update callbacks
     bool fresh = false;    // full build: tables are appended to; refit: rewritten at their index
+    bool prototype = false;  // building an Instance prototype's image: its occluders are not used
+    int conditional = 0;     // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
+    bool occludersWritten = false;
+
+    static bool isConditional(const Node* n) {
+        const NodeKind k = n->kind();
+        return k == NodeKind::Switch || k == NodeKind::LOD || k == NodeKind::Billboard || n->nodeMask() != 0xffffffffu;
+    }
 
     struct Counts {
         uint32_t entries = 0, xforms = 0, lods = 0;
@@ -66,6 +74,7 @@ struct Scene::Builder {
         img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
         img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
+        img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
         fresh = true;
         cursor = 0;
         write(root, dmat4(1.0));
@@ -91,7 +100,9 @@ struct Scene::Builder {
             if (!slot) slot = std::make_unique<FlatImage>();
             Builder b{scene, *slot, builtProtos};
             b.collect = collect;
+            b.prototype = true;
             b.full(p);
+            b.occluderChunks();
             scene.stats_.entriesWritten += slot->size();
         }
         builtProtos.insert(p);
@@ -259,6 +270,7 @@ struct Scene::Builder {
             case NodeKind::Group:
                 if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
                 break;
+            case NodeKind::Occluder: break;  // written with its frame, in write()
             default: img.aux[i] = slot(img.nodes, i, n); break;
         }
     }
@@ -281,6 +293,7 @@ struct Scene::Builder {
             }
             case NodeKind::Occluder:
                 img.end[i] = cursor;
+                occluder(i, n, m);
                 return leafBound(i, static_cast<Occluder*>(n)->box(), true, m);
             case NodeKind::Instance: {
                 img.end[i] = cursor;
@@ -298,13 +311,42 @@ struct Scene::Builder {
             default: break;
         }
         const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        const int cond = isConditional(n);
+        conditional += cond;
         for (size_t k = 0, c = n->numChildren(); k < c; ++k) write(n->child(k), cm);
+        conditional -= cond;
         img.end[i] = cursor;
         boundFromChildren(i);
         wide(i, n);
         if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
         if (n->kind() == NodeKind::Billboard) billboard(i, n, cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
+    }
+
+    // The occluder's frame, and whether the occlusion pass may use it.
+    void occluder(uint32_t i, const Node* n, const dmat4& m) {
+        FlatImage::OccluderRef ref{n, i, ~0u, dvec3(m[3]), !prototype && conditional == 0 && n->nodeMask() == 0xffffffffu};
+        if (glm::dmat3(m) != glm::dmat3(1.0)) {
+            const bool had = !fresh && img.occluders[img.aux[i]].matrix != ~0u;
+            ref.matrix = had ? img.occluders[img.aux[i]].matrix : uint32_t(img.occluderMatrices.size());
+            if (had)
+                img.occluderMatrices[ref.matrix] = m;
+            else
+                img.occluderMatrices.push_back(m);
+        }
+        img.aux[i] = slot(img.occluders, i, ref);
+        occludersWritten = true;
+    }
+
+    // Chunk boxes over the active occluders, tested against the frustum before the occluders themselves.
+    void occluderChunks() {
+        const uint32_t k = FlatImage::kOccluderChunk, n = uint32_t(img.occluders.size());
+        img.occluderChunks.assign((n + k - 1) / k, Box{});
+        for (uint32_t j = 0; j < n; ++j) {
+            const FlatImage::OccluderRef& o = img.occluders[j];
+            if (o.active && !(img.flags[o.entry] & (FlatImage::kEmpty | FlatImage::kInvalid)))
+                img.occluderChunks[j / k].expand(img.box(o.entry));
+        }
     }
 
     // A billboard turns about its origin: bound it, and everything below it, by a sphere there.
@@ -332,11 +374,14 @@ struct Scene::Builder {
             return;
         }
         const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        const int cond = isConditional(n);
+        conditional += cond;
         uint32_t j = i + 1;
         for (size_t k = 0, c = n->numChildren(); k < c; ++k, j = img.end[j]) {
             Node* ch = n->child(k);
             if (ch->dirtyBits()) refit(j, ch, cm);
         }
+        conditional -= cond;
         boundFromChildren(i);
         wide(i, n);
         if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
@@ -393,6 +438,7 @@ void Scene::refresh() {
             b.refit(0, root_.get(), dmat4(1.0));
             b.updateExtent();
         }
+        if (b.occludersWritten) b.occluderChunks();
         Builder::clear(root_.get());
     }
 }

@@ -91,6 +91,8 @@ static void usage() {
     std::fprintf(stderr,
                  "usage: sgbench cull --scene city --n N [--strategy S] [--path orbit|street] [--json]\n"
                  "       sgbench accuracy --scene city|random|FILE.gltf --views K --strategy S [--seed X] [--json]\n"
+                 "       sgbench occlusion --scene city|office [--n N | --r R] [--path street|orbit|walk] [--occlusion tree|auto]\n"
+                 "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] [--no-draw] [--json]\n"
                  "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
 }
 
@@ -99,6 +101,7 @@ int main(int argc, char** argv) {
         const bench::Args a = bench::parseArgs(argc, argv);
         if (a.command == "cull") return bench::runCull(a);
         if (a.command == "accuracy") return bench::runAccuracy(a);
+        if (a.command == "occlusion") return bench::runOcclusion(a);
         usage();
         return 2;
     } catch (const std::exception& e) {

@@ -1,0 +1,157 @@
+// sgbench occlusion: the occlusion-tree pass on city.md's street path or office.md's walk. Per frame, in
+// one run and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion;
+// triangles drawn by each, cull and pass times, and the whole frame drawn headless (1280x720).
+#include "scenes/City.h"
+#include "scenes/Office.h"
+#include "sg/CullTraversal.h"
+#include "sg/OsmesaContext.h"
+#include "sg/Renderer.h"
+#include "sgbench/Bench.h"
+
+#include <chrono>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+
+namespace bench {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+}  // namespace
+
+int runOcclusion(const Args& a) {
+    const std::string sceneName = a.str("scene", "city");
+    const bool city = sceneName == "city";
+    if (!city && sceneName != "office") throw std::invalid_argument("sgbench occlusion: --scene must be city or office (got '" + sceneName + "')");
+    const int n = int(a.num(city ? "n" : "r", city ? 100 : 8));
+    if (n < 1 || n > 1000) throw std::invalid_argument("sgbench occlusion: the scene size " + std::to_string(n) + " is not in 1..1000");
+    const std::string path = a.str("path", city ? "street" : "walk");
+    if (city ? (path != "street" && path != "orbit") : path != "walk")
+        throw std::invalid_argument("sgbench occlusion: --path must be street or orbit for city, walk for office (got '" + path + "')");
+    const bool draw = !a.flag("no-draw");
+    const int every = int(a.num("every", 1));  // every k-th frame of the path
+    if (every < 1) throw std::invalid_argument("sgbench occlusion: --every must be at least 1");
+
+    sg::CullSettings frustum;
+    frustum.occlusion.mode = sg::OcclusionMode::Off;
+    sg::CullSettings occl = frustum;
+    occl.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "tree"));
+    if (occl.occlusion.mode == sg::OcclusionMode::Off) throw std::invalid_argument("sgbench occlusion: --occlusion must be tree or auto");
+    const std::string cap = a.str("cap", "front");
+    if (cap != "front" && cap != "centre") throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
+    occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CentrePlane;
+    occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
+    occl.occlusion.minOccluderPixels = double(a.num("min-pixels", long(occl.occlusion.minOccluderPixels)));
+    occl.occlusion.screenSplits = int(a.num("splits", 0));
+    sg::CullSettings none = frustum;
+    none.strategy = sg::CullStrategy::None;
+
+    sg::Scene scene(city ? scenes::buildCity({n, true}) : scenes::buildOffice(n));
+    scene.update();
+    std::vector<sg::Camera> cams;
+    const int frames = city ? (path == "street" ? scenes::kStreetFrames : scenes::kOrbitFrames) : scenes::kWalkFrames;
+    for (int f = 0; f < frames; f += every)
+        cams.push_back(city ? (path == "street" ? scenes::cityStreetCamera(n, f) : scenes::cityOrbitCamera(n, f))
+                            : scenes::officeWalkCamera(n, f));
+
+    std::unique_ptr<sg::OsmesaContext> ctx;
+    std::unique_ptr<sg::Renderer> renderer;
+    if (draw) {
+        ctx = std::make_unique<sg::OsmesaContext>(1280, 720);
+        renderer = std::make_unique<sg::Renderer>();
+    }
+    sg::CullTraversal cullNone, cullFrustum, cullOccl;  // one per setting: Auto keeps state per view
+    sg::DrawList list;
+    sg::CullStats st;
+    // One frame: cull (+ draw, finished); returns the whole frame's time.
+    auto frame = [&](sg::CullTraversal& t, const sg::Camera& cam, const sg::CullSettings& s) {
+        const auto t0 = Clock::now();
+        t.cull(scene, cam, s, list, st);
+        if (draw) {
+            renderer->draw(list, cam);
+            renderer->finish();
+        }
+        return msSince(t0);
+    };
+    if (draw) frame(cullNone, cams[0], none);  // uploads every mesh before timing
+
+    // --ideal: the exact visible set, for reference. Each geometry the frustum leaves is drawn in a
+    // colour of its own, unlit; the colours in the image name the geometries that show.
+    const bool ideal = draw && a.flag("ideal");
+    std::vector<sg::ref_ptr<sg::Material>> ids;
+    sg::DrawList idList;
+    auto visibleTriangles = [&](const sg::Camera& cam) {
+        cullFrustum.cull(scene, cam, frustum, idList, st);
+        while (ids.size() < idList.items.size()) {
+            const uint32_t k = uint32_t(ids.size()) + 1;
+            auto m = sg::make<sg::Material>(sg::vec4(float(k & 255) / 255.0f, float((k >> 8) & 255) / 255.0f, float((k >> 16) & 255) / 255.0f, 1.0f));
+            m->unlit = true;
+            ids.push_back(m);
+        }
+        for (size_t i = 0; i < idList.items.size(); ++i) idList.items[i].material = ids[i].get();
+        idList.order.clear();
+        renderer->draw(idList, cam, sg::vec4(0, 0, 0, 1));
+        const sg::Image img = renderer->readColor();
+        std::vector<char> seen(idList.items.size() + 1, 0);
+        for (size_t p = 0; p + 3 < img.rgba.size(); p += 4) {
+            const uint32_t k = img.rgba[p] | (img.rgba[p + 1] << 8) | (img.rgba[p + 2] << 16);
+            if (k && k <= idList.items.size()) seen[k] = 1;
+        }
+        double tris = 0;
+        for (size_t i = 0; i < idList.items.size(); ++i)
+            if (seen[i + 1]) tris += double(idList.items[i].mesh->triangleCount());
+        return tris;
+    };
+    double trisIdeal = 0;
+
+    std::vector<double> cullF, cullO, passO, frameF, frameO, speedup;
+    double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0, ran = 0;
+    for (const sg::Camera& cam : cams) {
+        cullNone.cull(scene, cam, none, list, st);
+        total += double(st.triangles);
+        const double fF = frame(cullFrustum, cam, frustum);
+        cullF.push_back(st.ms);
+        trisF += double(st.triangles);
+        const double fO = frame(cullOccl, cam, occl);
+        cullO.push_back(st.ms);
+        passO.push_back(st.occlusionMs);
+        trisO += double(st.triangles);
+        used += double(st.occludersUsed);
+        nodes += double(st.occlusionTreeNodes);
+        psplits += double(st.occlusionPolygonSplits);
+        bsplits += double(st.occlusionBoxSplits);
+        culled += double(st.culledOcclusion);
+        tests += double(st.occlusionTests);
+        ran += st.occlusionRan;
+        if (ideal) trisIdeal += visibleTriangles(cam);
+        frameF.push_back(fF);
+        frameO.push_back(fO);
+        speedup.push_back(fF / fO);
+    }
+    const double k = double(cams.size());
+    Json j;
+    j.add("command", "occlusion").add("scene", sceneName).addInt(city ? "n" : "r", n).add("path", path);
+    j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
+    j.addInt("max_occluders", long(occl.occlusion.maxOccluders)).addInt("splits", occl.occlusion.screenSplits);
+    j.add("triangles_total", total / k).add("triangles_frustum_mean", trisF / k).add("triangles_occlusion_mean", trisO / k);
+    j.add("frustum_percent", 100.0 * trisF / total).add("occlusion_percent", 100.0 * trisO / total);
+    j.add("occlusion_over_frustum", trisO / trisF);
+    if (ideal) j.add("triangles_visible_mean", trisIdeal / k).add("visible_percent", 100.0 * trisIdeal / total);
+    j.add("occlusion_ms_median", median(passO)).add("occlusion_ms_p95", percentile(passO, 0.95));
+    j.add("cull_ms_median_frustum", median(cullF)).add("cull_ms_median_occlusion", median(cullO));
+    if (draw) {
+        j.add("frame_ms_median_frustum", median(frameF)).add("frame_ms_median_occlusion", median(frameO));
+        j.add("frame_speedup_median", median(speedup));
+    }
+    j.add("pass_ran_share", ran / k).add("occluders_used_mean", used / k).add("tree_nodes_mean", nodes / k);
+    j.add("polygon_splits_mean", psplits / k).add("box_splits_mean", bsplits / k);
+    j.add("occlusion_tests_mean", tests / k).add("culled_occlusion_mean", culled / k);
+    if (a.flag("json"))
+        std::cout << j.str() << std::endl;
+    else
+        std::cout << "sgbench occlusion\n" << j.table();
+    return 0;
+}
+
+}  // namespace bench
