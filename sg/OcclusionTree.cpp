@@ -129,19 +129,36 @@ void OcclusionTree::setSlot(int32_t parent, bool inSide, int32_t v) {
 }
 
 void OcclusionTree::split(Poly p, const dvec3& n, double d, Poly& in, Poly& out) {
-    for (int side = 0; side < 2; ++side) {
-        const uint32_t first = uint32_t(pool_.size());
-        for (uint32_t i = 0; i < p.count; ++i) {
-            const Vertex a = pool_[p.first + i], b = pool_[p.first + (i + 1) % p.count];
-            const double sa = glm::dot(n, a.p) + d, sb = glm::dot(n, b.p) + d;
-            const bool keepA = side == 0 ? sa <= 0 : sa >= 0, keepB = side == 0 ? sb <= 0 : sb >= 0;
-            // The edge leaving a kept vertex toward a dropped one ends on the plane; from there the
-            // outline runs along the plane: a cut.
-            if (keepA) pool_.push_back({a.p, a.cut || (!keepB && sa == 0)});
-            if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) pool_.push_back({a.p + (b.p - a.p) * (sa / (sa - sb)), keepA ? true : a.cut});
-        }
-        (side == 0 ? in : out) = Poly{first, uint32_t(pool_.size()) - first};
+    // Both parts in one pass over the edges: the part with s <= 0, then the one with s >= 0.
+    double small[16];
+    std::vector<double> big;
+    double* s = small;
+    if (p.count > 16) {
+        big.resize(p.count);
+        s = big.data();
     }
+    for (uint32_t i = 0; i < p.count; ++i) s[i] = glm::dot(n, pool_[p.first + i].p) + d;
+    const uint32_t first = uint32_t(pool_.size());
+    pool_.resize(first + 2 * (p.count + 1));  // room for both: each gains at most one vertex
+    Vertex* vin = &pool_[first];
+    Vertex* vout = vin + p.count + 1;
+    uint32_t ni = 0, no = 0;
+    for (uint32_t i = 0; i < p.count; ++i) {
+        const uint32_t j = i + 1 == p.count ? 0 : i + 1;
+        const Vertex a = pool_[p.first + i], b = pool_[p.first + j];
+        const double sa = s[i], sb = s[j];
+        // The edge leaving a kept vertex toward a dropped one ends on the plane; from there the outline
+        // runs along the plane: a cut.
+        if (sa <= 0) vin[ni++] = {a.p, a.cut || (sb > 0 && sa == 0)};
+        if (sa >= 0) vout[no++] = {a.p, a.cut || (sb < 0 && sa == 0)};
+        if ((sa < 0 && sb > 0) || (sa > 0 && sb < 0)) {
+            const dvec3 x = a.p + (b.p - a.p) * (sa / (sa - sb));
+            vin[ni++] = {x, sa < 0 ? true : a.cut};
+            vout[no++] = {x, sa > 0 ? true : a.cut};
+        }
+    }
+    in = Poly{first, ni};
+    out = Poly{first + p.count + 1, no};
 }
 
 // Walks the tree from the slot (parent, inSide) down; adds chains where the polygon reaches visible
@@ -365,13 +382,13 @@ bool OcclusionTree::insertPlanar(const dvec3* v, size_t count) {
 // Is every point of the planar polygon p in occluded leaves below `node`? Only "inside" decisions need to
 // be certain: every outside child is a whole chain (or a leaf), whose occluded leaves are real shadows
 // wherever the walk entered them.
-bool OcclusionTree::occluded(int32_t node, Poly p) {
+bool OcclusionTree::occluded(int32_t node, Poly p, double mag) {
     while (node >= 0) {
         const Node& nd = nodes_[node];
+        const double t = kRel * (mag + std::abs(nd.d));
         bool allIn = true, anyIn = false;
         for (uint32_t i = 0; i < p.count; ++i) {
-            const dvec3& v = pool_[p.first + i].p;
-            const double s = glm::dot(nd.n, v) + nd.d, t = kRel * (mag1(v) + std::abs(nd.d));
+            const double s = glm::dot(nd.n, pool_[p.first + i].p) + nd.d;
             allIn &= s < -t;
             anyIn |= s < -t;
         }
@@ -385,7 +402,7 @@ bool OcclusionTree::occluded(int32_t node, Poly p) {
             Poly pin, pout;
             split(p, nd.n, nd.d, pin, pout);
             boxSplits_++;
-            const bool r = (pout.count < 3 || occluded(out, pout)) && (pin.count < 3 || occluded(in, pin));
+            const bool r = (pout.count < 3 || occluded(out, pout, mag)) && (pin.count < 3 || occluded(in, pin, mag));
             pool_.resize(mark);
             return r;
         }
@@ -399,21 +416,18 @@ OcclusionTree::Result OcclusionTree::testRelative(const dvec3& lo, const dvec3& 
     int reg[3];
     for (int k = 0; k < 3; ++k) reg[k] = hi[k] < 0 ? 2 : lo[k] > 0 ? 0 : 1;
     if (reg[0] == 1 && reg[1] == 1 && reg[2] == 1) return Result::Partial;  // the eye inside: seen
-    dvec3 c[8];
-    for (int k = 0; k < 8; ++k) c[k] = cornerOf(lo, hi, k);
-    // Descend while the whole box is on one side: boxes inside it start their tests there.
+    // Descend while the whole box is on one side: boxes inside it start their tests there. A plane's
+    // range over the box is its value at the centre plus or minus the extent's reach along the normal.
+    const dvec3 ctr = 0.5 * (lo + hi), ext = 0.5 * (hi - lo);
+    const double mag = mag1(glm::max(glm::abs(lo), glm::abs(hi)));  // bounds |p|_1 over the box
     int32_t node = resume;
     while (node >= 0) {
         const Node& nd = nodes_[node];
-        bool allIn = true, anyIn = false;
-        for (const dvec3& v : c) {
-            const double s = glm::dot(nd.n, v) + nd.d, t = kRel * (mag1(v) + std::abs(nd.d));
-            allIn &= s < -t;
-            anyIn |= s < -t;
-        }
-        if (allIn)
+        const double sc = glm::dot(nd.n, ctr) + nd.d, reach = glm::dot(glm::abs(nd.n), ext);
+        const double t = kRel * (mag + std::abs(nd.d)) + 1e-15 * reach;
+        if (sc + reach < -t)
             node = nd.in;
-        else if (!anyIn)
+        else if (sc - reach >= -t)
             node = nd.out;
         else
             break;
@@ -421,6 +435,8 @@ OcclusionTree::Result OcclusionTree::testRelative(const dvec3& lo, const dvec3& 
     resume = node;
     if (node == kVisible) return Result::Visible;
     if (node == kOccluded) return Result::Occluded;
+    dvec3 c[8];
+    for (int k = 0; k < 8; ++k) c[k] = cornerOf(lo, hi, k);
     // The box is hidden when its front faces are: each is tested as a polygon, split exactly where a
     // plane crosses it (a face is planar, so its corners bound it on either side of any plane).
     const uint32_t first = uint32_t(pool_.size());
@@ -429,7 +445,7 @@ OcclusionTree::Result OcclusionTree::testRelative(const dvec3& lo, const dvec3& 
         if (reg[a] == 1) continue;
         const int k0 = (reg[a] == 2 ? 1 : 0) << a, b1 = 1 << ((a + 1) % 3), b2 = 1 << ((a + 2) % 3);
         for (int k : {k0, k0 | b1, k0 | b1 | b2, k0 | b2}) pool_.push_back({c[k], false});
-        occ = occluded(node, Poly{first, 4});
+        occ = occluded(node, Poly{first, 4}, mag);
         pool_.resize(first);
     }
     return occ ? Result::Occluded : Result::Partial;

@@ -88,6 +88,8 @@ private:
         uint32_t first, count;
     };
     struct Vertex {
+        Vertex() {}  // left uninitialized: split() makes room first, then writes
+        Vertex(const dvec3& q, bool c) : p(q), cut(c) {}
         dvec3 p;
         bool cut;  // the edge to the next vertex was made by a split (it lies on a plane above in the tree)
     };
@@ -106,7 +108,8 @@ private:
     void setSlot(int32_t parent, bool inSide, int32_t v);
     // Splits p by the plane (n, d) into the parts with s <= 0 and s >= 0 (appended to the pool).
     void split(Poly p, const dvec3& n, double d, Poly& in, Poly& out);
-    bool occluded(int32_t node, Poly p);
+    // mag: a bound on |p|_1 over the polygon (scales the rounding allowance).
+    bool occluded(int32_t node, Poly p, double mag);
     bool insertFaces(const dvec3 corners[8], const int region[3]);
     bool insertPlanar(const dvec3* v, size_t count);
 
