@@ -1,6 +1,7 @@
 // sgbench accuracy: differing pixels between the unculled and the culled render over K random views.
 #include "accuracy/Accuracy.h"
 #include "scenes/City.h"
+#include "scenes/Office.h"
 #include "scenes/RandomScene.h"
 #include "sgbench/Bench.h"
 
@@ -15,33 +16,57 @@ int runAccuracy(const Args& a) {
     const uint64_t seed = uint64_t(a.num("seed", 1));
     const int w = int(a.num("width", 320)), h = int(a.num("height", 180));
     const int n = int(a.num("n", 16));
+    const int r = int(a.num("r", 4));
     if (views < 1) throw std::invalid_argument("sgbench accuracy: --views must be at least 1");
     sg::CullSettings set;
     set.strategy = sg::parseStrategy(a.str("strategy", "aabb"));
     set.smallFeaturePixels = double(a.num("small-feature", 0));
+    // Occlusion is off unless asked for (the settings' own default is Auto).
+    set.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "off"));
+    const std::string cap = a.str("cap", "front");
+    if (cap != "front" && cap != "centre") throw std::invalid_argument("sgbench accuracy: --cap must be front or centre (got '" + cap + "')");
+    set.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CentrePlane;
+    const bool occlusion = set.occlusion.mode != sg::OcclusionMode::Off;
 
     sg::ref_ptr<sg::Node> root;
     std::vector<sg::Camera> cams;
     if (sceneName == "city") {
-        root = scenes::buildCity({n, false});
-        cams = accuracy::cityViews(n, views, seed, w, h);
+        if (n < 1) throw std::invalid_argument("sgbench accuracy: --n must be at least 1");
+        // With occlusion: city.md's occluders, and views where they hide things (streets, low aerial ones).
+        root = scenes::buildCity({n, occlusion});
+        cams = occlusion ? accuracy::cityOcclusionViews(n, views, seed, w, h) : accuracy::cityViews(n, views, seed, w, h);
+    } else if (sceneName == "office") {
+        if (r < 1) throw std::invalid_argument("sgbench accuracy: --r must be at least 1");
+        root = scenes::buildOffice(r);
+        cams = accuracy::officeViews(r, views, seed, w, h);
     } else if (sceneName == "random") {
         root = scenes::buildRandomScene(seed);
         cams = accuracy::boxViews(sg::Box{sg::dvec3(-70), sg::dvec3(70)}, views, seed, w, h);
     } else {
         throw std::invalid_argument("sgbench accuracy: --scene " + sceneName +
-                                    ": only city and random are available (glTF files need the glTF loader)");
+                                    ": only city, office and random are available (glTF files need the glTF loader)");
     }
     sg::Scene scene(root);
     scene.update();
     accuracy::Harness harness(w, h);
-    const accuracy::Result r = harness.run(scene, cams, {set})[0];
+    const accuracy::Result res = harness.run(scene, cams, {set})[0];
+    // Occlusion counts as conservative only with the front-faces cap.
+    const bool conservative = sg::isConservative(set.strategy) && set.smallFeaturePixels == 0 &&
+                              (!occlusion || set.occlusion.cap == sg::OccluderCap::FrontFaces);
     Json j;
-    j.add("command", "accuracy").add("scene", sceneName).add("strategy", r.name).addInt("seed", long(seed));
-    j.addInt("width", w).addInt("height", h).addInt("views", r.views);
-    j.addInt("differing_pixels_total", long(r.differingTotal)).addInt("differing_pixels_max", long(r.differingMax));
-    j.addInt("views_with_error", r.viewsWithError).add("differing_percent_of_frames", r.percentOfFrames());
-    j.add("conservative", sg::isConservative(set.strategy) && set.smallFeaturePixels == 0 ? "yes" : "no");
+    j.add("command", "accuracy").add("scene", sceneName).add("strategy", res.name).addInt("seed", long(seed));
+    j.addInt("width", w).addInt("height", h).addInt("views", res.views);
+    j.addInt("differing_pixels_total", long(res.differingTotal)).addInt("differing_pixels_max", long(res.differingMax));
+    j.addInt("views_with_error", res.viewsWithError).add("differing_percent_of_frames", res.percentOfFrames());
+    j.add("conservative", conservative ? "yes" : "no");
+    // Added with the occlusion pass (after the original keys, whose order is kept).
+    if (sceneName == "city") j.addInt("n", n);
+    if (sceneName == "office") j.addInt("r", r);
+    j.add("occlusion", sg::occlusionModeName(set.occlusion.mode)).add("cap", cap);
+    j.addInt("culled_occlusion_total", long(res.culledOcclusionTotal));
+    j.addInt("views_with_occlusion_culls", res.viewsWithOcclusionCulls);
+    j.addInt("triangles_total", long(res.trianglesTotal)).addInt("reference_triangles_total", long(res.referenceTrianglesTotal));
+    j.addInt("worst_view", res.worstView);
     if (a.flag("json"))
         std::cout << j.str() << std::endl;
     else
