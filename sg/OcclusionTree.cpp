@@ -88,6 +88,9 @@ OcclusionTree::Options OcclusionTree::optionsFor(const Camera& cam, const Occlus
 void OcclusionTree::reset(const dvec3& eye, const Options& o) {
     opt_ = o;
     eye_ = eye;
+    // World coordinates carry rounding of their magnitude (a transform's product, a box 10,000 km out):
+    // eye-relative points are only that exact, and the tests allow for it.
+    worldErr_ = 16.0 * 2.220446049250313e-16 * std::max({std::abs(eye.x), std::abs(eye.y), std::abs(eye.z)});
     nodes_.clear();
     pool_.clear();
     polySplits_ = boxSplits_ = 0;
@@ -224,6 +227,7 @@ bool OcclusionTree::chain(int32_t parent, bool inSide, Poly p, const Occ& o) {
         if (pool_[p.first + i].cut) continue;
         const dvec3 a = pool_[p.first + i].p, b = pool_[p.first + (i + 1) % p.count].p;
         const dvec3 e = b - a;
+        const double la = glm::length(a), lb = glm::length(b);
         dvec3 n = glm::cross(a, e);
         const double len = glm::length(n);
         // An edge seen end-on projects to a point: its neighbours already bound the cone there.
@@ -238,7 +242,8 @@ bool OcclusionTree::chain(int32_t parent, bool inSide, Poly p, const Occ& o) {
         // Narrow the cone by the margin: turn the plane about the line through the eye along the edge.
         const dvec3 ee = e / glm::length(e), mid = 0.5 * (a + b);
         const double sinEdge = glm::length(glm::cross(glm::normalize(mid), ee));
-        const double theta = std::min(opt_.edgeMargin / std::max(sinEdge, 0.05), 20.0 * opt_.edgeMargin);
+        const double theta = std::min(opt_.edgeMargin / std::max(sinEdge, 0.05), 20.0 * opt_.edgeMargin) +
+                             4.0 * worldErr_ / (std::min(la, lb) * std::max(sinEdge, 0.05));
         const dvec3 rot = glm::cross(ee, n);
         const double sgn = glm::dot(rot, mid) >= 0 ? 1.0 : -1.0;
         n = glm::normalize(n * std::cos(theta) + rot * (sgn * std::sin(theta)));
@@ -277,7 +282,7 @@ bool OcclusionTree::insertBox(const Box& box, const dmat4* toWorld) {
     Occ o;
     o.extent = c;
     o.extentCount = 8;
-    const double margin = opt_.depthMargin * zmax * zmax;
+    const double margin = opt_.depthMargin * zmax * zmax + 4.0 * worldErr_;
     if (opt_.cap == OccluderCap::FrontFaces) {
         // Behind every face that faces the eye: behind the box along any ray through its outline.
         for (int a = 0; a < 3; ++a) {
@@ -368,7 +373,7 @@ bool OcclusionTree::insertPlanar(const dvec3* v, size_t count) {
     if (d < 0) n = -n, d = -d;
     if (!(d > 1e-9 * size + kRel * zmax)) return false;  // the eye on its plane: seen edge-on
     Occ o;
-    o.caps[0] = Plane{n, d + opt_.depthMargin * zmax * zmax + kRel * (d + zmax)};
+    o.caps[0] = Plane{n, d + opt_.depthMargin * zmax * zmax + kRel * (d + zmax) + 4.0 * worldErr_};
     o.capCount = 1;
     o.extent = poly.data();
     o.extentCount = int(poly.size());
@@ -385,7 +390,7 @@ bool OcclusionTree::insertPlanar(const dvec3* v, size_t count) {
 bool OcclusionTree::occluded(int32_t node, Poly p, double mag) {
     while (node >= 0) {
         const Node& nd = nodes_[node];
-        const double t = kRel * (mag + std::abs(nd.d));
+        const double t = kRel * (mag + std::abs(nd.d)) + worldErr_;
         bool allIn = true, anyIn = false;
         for (uint32_t i = 0; i < p.count; ++i) {
             const double s = glm::dot(nd.n, pool_[p.first + i].p) + nd.d;
@@ -424,7 +429,7 @@ OcclusionTree::Result OcclusionTree::testRelative(const dvec3& lo, const dvec3& 
     while (node >= 0) {
         const Node& nd = nodes_[node];
         const double sc = glm::dot(nd.n, ctr) + nd.d, reach = glm::dot(glm::abs(nd.n), ext);
-        const double t = kRel * (mag + std::abs(nd.d)) + 1e-15 * reach;
+        const double t = kRel * (mag + std::abs(nd.d)) + 1e-15 * reach + worldErr_;
         if (sc + reach < -t)
             node = nd.in;
         else if (sc - reach >= -t)

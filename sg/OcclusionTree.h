@@ -115,6 +115,7 @@ private:
 
     Options opt_;
     dvec3 eye_{0.0};
+    double worldErr_ = 0.0;  // rounding of world coordinates near the eye, in metres
     int32_t root_ = kVisible;
     int32_t occluderRoot_ = kVisible;  // below the screen splits
     std::vector<Node> nodes_;
