@@ -535,8 +535,11 @@ TEST(OcclusionTree, DegenerateInputNeverCrashesOrOverCulls) {
         for (int i = 0; i < 3000; ++i) {  // boxes of every size down to points, some around the eye
             const dvec3 c = at(r.uni(-12, 12), r.uni(-5, 60), r.uni(-12, 12));
             const dvec3 h(i % 3 ? r.uni(0, 2) : 0.0, i % 5 ? r.uni(0, 2) : 0.0, r.uni(0, 2));
-            const bool occluded = tree.isOccluded(Box{c - h, c + h});
-            culled += occluded, wrong += occluded && ref.visibleSample(Box{c - h, c + h});
+            const Box t{c - h, c + h};
+            dvec3 sample;
+            const bool occluded = tree.isOccluded(t), seen = occluded && ref.visibleSample(t, &sample);
+            culled += occluded, wrong += seen;
+            if (seen && wrong == 1) ADD_FAILURE() << describe(real, t, sample);
         }
         EXPECT_EQ(wrong, 0);
         EXPECT_GT(culled, 100);
