@@ -1,14 +1,28 @@
-// sgbench_osg: OpenSceneGraph 3.6 peer for sgkit's cull benchmark.
+// sgbench_osg: OpenSceneGraph 3.6 peer for sgkit's cull and occlusion benchmarks.
 //
 // What it measures
 //   Wall-clock time of OpenSceneGraph's cull traversal (osgUtil::SceneView::cull)
-//   for the canonical benchmark scene `city` (N x N cells) along the canonical
-//   `orbit` camera path (120 frames). No graphics context exists and nothing is
-//   drawn: only the CPU work a viewer's cull thread performs per frame is timed.
-//   SceneView::cull is the same call osgViewer::Renderer makes each frame: it
-//   resets the CullVisitor, RenderStage and StateGraph, traverses the scene
-//   (frustum tests, LOD selection, matrix stack, RenderLeaf/StateGraph
-//   construction), sorts the render bins and prunes the state graph.
+//   for the canonical benchmark scene `city` (N x N cells). No graphics context
+//   exists and nothing is drawn: only the CPU work a viewer's cull thread
+//   performs per frame is timed. SceneView::cull is the same call
+//   osgViewer::Renderer makes each frame: it collects the occluders in view
+//   (when the scene has any), resets the CullVisitor, RenderStage and
+//   StateGraph, traverses the scene (frustum and occluder tests, LOD selection,
+//   matrix stack, RenderLeaf/StateGraph construction), sorts the render bins
+//   and prunes the state graph.
+//
+//   Two modes:
+//   * cull (default): the `orbit` camera path (120 frames), frustum culling only,
+//     the scene without occluders. Output: one JSON object.
+//   * --occlusion: the `street` camera path (240 frames; or --path orbit) on
+//     the city with occluders (city.md, "for occlusion benchmarks"), OSG's
+//     shadow-volume occlusion culling on, alternating every frame with the same
+//     city without occluders and frustum culling only (and with the occluder
+//     city with SHADOW_OCCLUSION_CULLING cleared, which shows what collecting
+//     the occluders costs on its own). With --with-sgkit, sgkit's cull of its
+//     own occluder city alternates with them: frustum only and frustum +
+//     occlusion tree (settings as `sgbench occlusion`: mode On, the defaults
+//     otherwise). Output: a table, or one JSON object with --json.
 //
 // What makes it fair
 //   * The scene graph follows the shared scene definition exactly: root ->
@@ -19,10 +33,11 @@
 //     FAR_PLANE_CULLING. OSG's default (DEFAULT_CULLING) tests only the four
 //     side planes and additionally enables small-feature, shadow-occlusion and
 //     cluster culling; the peer must reject the same things our toolkit rejects
-//     (all six frustum planes, nothing else).
-//   * Compute-near-far is DO_NOT_COMPUTE_NEAR_FAR: the path uses fixed
-//     near = 1 and far = 3000, so OSG must not spend time computing (or
-//     clamping to) per-drawable depth ranges that our toolkit does not compute.
+//     (all six frustum planes, nothing else). The occlusion mode adds
+//     SHADOW_OCCLUSION_CULLING to exactly these bits.
+//   * Compute-near-far is DO_NOT_COMPUTE_NEAR_FAR: the paths use fixed near and
+//     far planes, so OSG must not spend time computing (or clamping to)
+//     per-drawable depth ranges that our toolkit does not compute.
 //   * Bounding spheres are computed during the build (as part of build_s), so
 //     neither timed pass pays for lazy bound computation; a full untimed
 //     warm-up pass additionally warms caches and OSG's RenderLeaf/StateGraph
@@ -30,13 +45,46 @@
 //   * Verification of the result (counting RenderLeafs and triangles) is done
 //     outside the timed region.
 //
-// Usage: sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]
-// --with-sgkit (when built inside the sgkit project) also builds sgkit's city and culls it right after
-// OpenSceneGraph on every frame: the per-frame time ratio is then free of this machine's speed drift.
-//   N: city size (default 316). K: number of timed passes over the path after
-//   the warm-up pass (default 1); statistics are taken over all K*120 frames.
-// Output: one JSON object on stdout; diagnostics go to stderr.
+// Occluders (--occlusion)
+//   An osg::OccluderNode holds one osg::ConvexPlanarOccluder (one convex
+//   polygon), and OSG tests each occluder's shadow volume on its own: a bound is
+//   culled only when it lies entirely inside the shadow of a single polygon.
+//   Each building's box Occluder becomes OccluderNodes beside the building's LOD
+//   under its MatrixTransform (where sgkit places its Occluder), one per polygon,
+//   the polygons shared per building height like the meshes. --osg-occluders
+//   picks the polygons:
+//     box        the 4 vertical side faces and the roof (5 per building),
+//     sides      the 4 vertical side faces,
+//     diagonals  the 2 vertical diagonal cross-sections of the box (the default).
+//   The diagonals lie inside the box, so they are conservative. They give OSG
+//   its best result: from the street a building shows two faces and OSG cannot
+//   join two polygons' shadows, while the diagonal facing the eye spans most of
+//   the building's outline (12*sqrt(2) m); half the polygons to set up per
+//   frame, too. The roof never helps from the street (the eye is below every
+//   roof, whose shadow lies above it), so box culls exactly what sides culls.
+//   OSG keeps at most --osg-max-occluders active occluders per frame (the
+//   largest shadow volumes, after dropping occluders hidden by a larger one;
+//   OSG's default 10) and ignores occluders whose shadow volume is below
+//   --osg-min-volume of the view frustum's (OSG's default 0.005).
+//   OSG computes the shadow volume of every occluder polygon in the view
+//   frustum each frame, out to the far plane; --osg-occluder-range R puts a
+//   building's OccluderNodes under an osg::LOD active in [0, R) (the
+//   collection honours LOD ranges), so only the polygons of nearby buildings
+//   are computed. Off (0) by default: the scene is then city.md's exactly.
+//
+// Usage
+//   sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]
+//   sgbench_osg --occlusion [--n N] [--path street|orbit] [--frames-passes K] [--with-sgkit] [--json]
+//               [--osg-occluders box|sides|diagonals] [--osg-max-occluders M] [--osg-min-volume V]
+//               [--osg-occluder-range R]
+// --with-sgkit (when built inside the sgkit project) also builds sgkit's city and culls it in the same
+// process on every frame: the per-frame time ratios are then free of this machine's speed drift.
+//   N: city size (default 316; 100 with --occlusion). K: number of timed passes over the path after the
+//   warm-up pass (default 1); statistics are taken over all K*frames frames.
+// Output: JSON on stdout (the cull mode always, the occlusion mode with --json); diagnostics on stderr.
 
+#include <osg/CollectOccludersVisitor>
+#include <osg/ConvexPlanarOccluder>
 #include <osg/FrameStamp>
 #include <osg/Geode>
 #include <osg/Geometry>
@@ -44,6 +92,7 @@
 #include <osg/LOD>
 #include <osg/MatrixTransform>
 #include <osg/Notify>
+#include <osg/OccluderNode>
 #include <osg/PrimitiveSet>
 #include <osg/Version>
 #include <osgUtil/CullVisitor>
@@ -54,14 +103,18 @@
 #include <osgUtil/StateGraph>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <string>
+#include <tuple>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -89,13 +142,15 @@ constexpr float kDetailFar = 250.0f;         // detailed LOD: [0, 250)
 constexpr float kCoarseFar = 2500.0f;        // coarse LOD:   [250, 2500)
 constexpr int kDetailSubdiv = 10;            // 10x10 quads per face -> 1200 triangles
 
-// Orbit path and camera.
-constexpr int kFrames = 120;
+// Camera paths.
+constexpr int kFrames = 120;        // orbit
+constexpr int kStreetFrames = 240;  // street
 constexpr int kViewportW = 1280;
 constexpr int kViewportH = 720;
 constexpr double kFovY = 60.0;
 constexpr double kAspect = 16.0 / 9.0;
-constexpr double kNear = 1.0;
+constexpr double kNear = 1.0;        // orbit
+constexpr double kStreetNear = 0.5;  // street
 constexpr double kFar = 3000.0;
 
 unsigned buildingHeight(uint32_t i, uint32_t j) {
@@ -166,33 +221,88 @@ unsigned triangleCount(const osg::Geometry& geom) {
 }
 
 // ---------------------------------------------------------------------------
+// Occluder polygons for a building of height h, in the building's frame
+// (footprint centred on the origin, z from 0 to h).
+
+enum class OccluderKind { None, Box, Sides, Diagonals };
+
+const char* occluderKindName(OccluderKind k) {
+    switch (k) {
+        case OccluderKind::None: return "none";
+        case OccluderKind::Box: return "box";
+        case OccluderKind::Sides: return "sides";
+        case OccluderKind::Diagonals: return "diagonals";
+    }
+    return "?";
+}
+
+std::vector<std::array<osg::Vec3, 4>> occluderPolygons(OccluderKind kind, float h) {
+    const float s = float(kFootprint / 2);
+    std::vector<std::array<osg::Vec3, 4>> polys;
+    if (kind == OccluderKind::Box || kind == OccluderKind::Sides) {
+        polys.push_back({{{s, -s, 0}, {s, s, 0}, {s, s, h}, {s, -s, h}}});      // +X
+        polys.push_back({{{-s, s, 0}, {-s, -s, 0}, {-s, -s, h}, {-s, s, h}}});  // -X
+        polys.push_back({{{s, s, 0}, {-s, s, 0}, {-s, s, h}, {s, s, h}}});      // +Y
+        polys.push_back({{{-s, -s, 0}, {s, -s, 0}, {s, -s, h}, {-s, -s, h}}});  // -Y
+    }
+    if (kind == OccluderKind::Box)
+        polys.push_back({{{-s, -s, h}, {s, -s, h}, {s, s, h}, {-s, s, h}}});    // roof
+    if (kind == OccluderKind::Diagonals) {
+        polys.push_back({{{-s, -s, 0}, {s, s, 0}, {s, s, h}, {-s, -s, h}}});
+        polys.push_back({{{s, -s, 0}, {-s, s, 0}, {-s, s, h}, {s, -s, h}}});
+    }
+    return polys;
+}
+
+// ---------------------------------------------------------------------------
 // Scene construction.
 
-struct Scene {
-    osg::ref_ptr<osg::Group> root;
-    uint64_t nodes = 0;
+// Shared resources: one detailed and one coarse box per distinct height, one
+// car, and the occluder polygons per height.
+struct Meshes {
+    std::vector<osg::ref_ptr<osg::Geometry>> detailed, coarse;
+    osg::ref_ptr<osg::Geometry> car;
+    std::vector<std::vector<osg::ref_ptr<osg::ConvexPlanarOccluder>>> occluders;  // [height index][polygon]
     // Triangles per shared Geometry, used only to verify cull output.
     std::unordered_map<const osg::Drawable*, unsigned> triangles;
 };
 
-Scene buildCity(int n) {
-    Scene scene;
+Meshes buildMeshes(OccluderKind occluders) {
+    Meshes m;
     const float half = float(kFootprint / 2);
-
-    // Shared geometry: one detailed and one coarse box per distinct height,
-    // one car. Buildings are centred on their transform in x,y, z from 0 to h.
-    std::vector<osg::ref_ptr<osg::Geometry>> detailed(kHeightCount), coarse(kHeightCount);
+    // Buildings are centred on their transform in x,y, z from 0 to h.
+    m.detailed.resize(kHeightCount);
+    m.coarse.resize(kHeightCount);
+    m.occluders.resize(kHeightCount);
     for (unsigned k = 0; k < kHeightCount; ++k) {
         const float h = float(kMinHeight + k);
-        detailed[k] = makeBox({-half, -half, 0}, {half, half, h}, kDetailSubdiv);
-        coarse[k] = makeBox({-half, -half, 0}, {half, half, h}, 1);
-        scene.triangles[detailed[k].get()] = triangleCount(*detailed[k]);
-        scene.triangles[coarse[k].get()] = triangleCount(*coarse[k]);
+        m.detailed[k] = makeBox({-half, -half, 0}, {half, half, h}, kDetailSubdiv);
+        m.coarse[k] = makeBox({-half, -half, 0}, {half, half, h}, 1);
+        m.triangles[m.detailed[k].get()] = triangleCount(*m.detailed[k]);
+        m.triangles[m.coarse[k].get()] = triangleCount(*m.coarse[k]);
+        for (const auto& poly : occluderPolygons(occluders, h)) {
+            osg::ref_ptr<osg::ConvexPlanarOccluder> cpo = new osg::ConvexPlanarOccluder;
+            for (const osg::Vec3& v : poly) cpo->getOccluder().add(v);
+            m.occluders[k].push_back(cpo);
+        }
     }
-    osg::ref_ptr<osg::Geometry> car =
-        makeBox({0, 0, 0}, {float(kCarSize[0]), float(kCarSize[1]), float(kCarSize[2])}, 1);
-    scene.triangles[car.get()] = triangleCount(*car);
+    m.car = makeBox({0, 0, 0}, {float(kCarSize[0]), float(kCarSize[1]), float(kCarSize[2])}, 1);
+    m.triangles[m.car.get()] = triangleCount(*m.car);
+    return m;
+}
 
+struct Scene {
+    osg::ref_ptr<osg::Group> root;
+    uint64_t nodes = 0;
+    const Meshes* meshes = nullptr;
+};
+
+// withOccluders: each building's MatrixTransform also holds one OccluderNode
+// per polygon in meshes.occluders, beside the LOD; with occluderRange > 0 they
+// are the children of a second LOD (same centre) active in [0, occluderRange).
+Scene buildCity(int n, const Meshes& meshes, bool withOccluders, float occluderRange = 0.0f) {
+    Scene scene;
+    scene.meshes = &meshes;
     scene.root = new osg::Group;
     scene.nodes = 1;
     const int tiles = (n + kTileCells - 1) / kTileCells;
@@ -222,18 +332,36 @@ Scene buildCity(int n) {
                     lod->setCenter(osg::Vec3(0.0f, 0.0f, float(h) / 2.0f));
                     lod->setRangeMode(osg::LOD::DISTANCE_FROM_EYE_POINT);
                     osg::ref_ptr<osg::Geode> detailGeode = new osg::Geode;
-                    detailGeode->addDrawable(detailed[k].get());
+                    detailGeode->addDrawable(meshes.detailed[k].get());
                     osg::ref_ptr<osg::Geode> coarseGeode = new osg::Geode;
-                    coarseGeode->addDrawable(coarse[k].get());
+                    coarseGeode->addDrawable(meshes.coarse[k].get());
                     // OSG's LOD selects child c when min <= distance < max.
                     lod->addChild(detailGeode.get(), 0.0f, kDetailFar);
                     lod->addChild(coarseGeode.get(), kDetailFar, kCoarseFar);
                     buildingXf->addChild(lod.get());
+                    if (withOccluders) {
+                        osg::ref_ptr<osg::LOD> occLod;
+                        if (occluderRange > 0.0f) {
+                            occLod = new osg::LOD;
+                            occLod->setCenterMode(osg::LOD::USER_DEFINED_CENTER);
+                            occLod->setCenter(osg::Vec3(0.0f, 0.0f, float(h) / 2.0f));
+                            occLod->setRangeMode(osg::LOD::DISTANCE_FROM_EYE_POINT);
+                            buildingXf->addChild(occLod.get());
+                            ++scene.nodes;
+                        }
+                        for (const auto& cpo : meshes.occluders[k]) {
+                            osg::ref_ptr<osg::OccluderNode> occ = new osg::OccluderNode;
+                            occ->setOccluder(cpo.get());
+                            if (occLod) occLod->addChild(occ.get(), 0.0f, occluderRange);
+                            else buildingXf->addChild(occ.get());
+                            ++scene.nodes;
+                        }
+                    }
 
                     osg::ref_ptr<osg::MatrixTransform> carXf = new osg::MatrixTransform(
                         osg::Matrixd::translate(x0 + kCarOffset, y0 + kCarOffset, 0.0));
                     osg::ref_ptr<osg::Geode> carGeode = new osg::Geode;
-                    carGeode->addDrawable(car.get());
+                    carGeode->addDrawable(meshes.car.get());
                     carXf->addChild(carGeode.get());
 
                     cell->addChild(buildingXf.get());
@@ -252,7 +380,7 @@ Scene buildCity(int n) {
 }
 
 // ---------------------------------------------------------------------------
-// Orbit camera path.
+// Camera paths.
 
 osg::Matrixd orbitView(int n, int frame) {
     const double a = 2.0 * M_PI * frame / kFrames;
@@ -260,6 +388,14 @@ osg::Matrixd orbitView(int n, int frame) {
     const osg::Vec3d eye = c + osg::Vec3d(5.0 * n * std::cos(a), 5.0 * n * std::sin(a), 40.0);
     osg::Vec3d d(-std::sin(a), std::cos(a), -0.15);
     d.normalize();
+    return osg::Matrixd::lookAt(eye, eye + d, osg::Vec3d(0.0, 0.0, 1.0));
+}
+
+// The street between two cell columns, walked end to end, the view swaying left and right.
+osg::Matrixd streetView(int n, int frame) {
+    const osg::Vec3d eye(20.0 * std::floor(n / 2.0), 20.0 * n * frame / double(kStreetFrames - 1), 1.7);
+    const double t = 0.5 * std::sin(2.0 * M_PI * frame / 60.0);
+    const osg::Vec3d d(std::sin(t), std::cos(t), 0.0);
     return osg::Matrixd::lookAt(eye, eye + d, osg::Vec3d(0.0, 0.0, 1.0));
 }
 
@@ -272,27 +408,47 @@ struct DrawCount {
     uint64_t triangles = 0;
 };
 
-void countLeaf(const osgUtil::RenderLeaf* leaf, const Scene& scene, DrawCount& out) {
-    ++out.leaves;
-    auto it = scene.triangles.find(leaf->getDrawable());
-    if (it != scene.triangles.end()) out.triangles += it->second;
-}
-
-void countBin(const osgUtil::RenderBin& bin, const Scene& scene, DrawCount& out) {
+template <class F>
+void forEachLeafInBin(const osgUtil::RenderBin& bin, const F& f) {
     // State-sorted bins keep leaves in their StateGraphs; depth-sorted bins
     // move them to the RenderLeafList. A leaf is in exactly one of the two.
     for (const osgUtil::StateGraph* sg : bin.getStateGraphList())
-        for (const auto& leaf : sg->_leaves) countLeaf(leaf.get(), scene, out);
-    for (const osgUtil::RenderLeaf* leaf : bin.getRenderLeafList()) countLeaf(leaf, scene, out);
-    for (const auto& child : bin.getRenderBinList()) countBin(*child.second, scene, out);
+        for (const auto& leaf : sg->_leaves) f(leaf.get());
+    for (const osgUtil::RenderLeaf* leaf : bin.getRenderLeafList()) f(leaf);
+    for (const auto& child : bin.getRenderBinList()) forEachLeafInBin(*child.second, f);
+}
+
+template <class F>
+void forEachLeaf(const osgUtil::RenderStage& stage, const F& f) {
+    for (const auto& pre : stage.getPreRenderList()) forEachLeafInBin(*pre.second, f);
+    forEachLeafInBin(stage, f);
+    for (const auto& post : stage.getPostRenderList()) forEachLeafInBin(*post.second, f);
 }
 
 DrawCount countStage(const osgUtil::RenderStage& stage, const Scene& scene) {
     DrawCount out;
-    for (const auto& pre : stage.getPreRenderList()) countBin(*pre.second, scene, out);
-    countBin(stage, scene, out);
-    for (const auto& post : stage.getPostRenderList()) countBin(*post.second, scene, out);
+    forEachLeaf(stage, [&](const osgUtil::RenderLeaf* leaf) {
+        ++out.leaves;
+        auto it = scene.meshes->triangles.find(leaf->getDrawable());
+        if (it != scene.meshes->triangles.end()) out.triangles += it->second;
+    });
     return out;
+}
+
+// A draw leaf's identity across two culls of the same frame: the drawable and
+// where it is drawn (the translation of its model-view matrix, which both culls
+// compute the same way from the same view matrix and transforms).
+using LeafKey = std::tuple<const osg::Drawable*, double, double, double>;
+
+std::vector<LeafKey> leafKeys(const osgUtil::RenderStage& stage) {
+    std::vector<LeafKey> keys;
+    forEachLeaf(stage, [&](const osgUtil::RenderLeaf* leaf) {
+        const osg::RefMatrix* mv = leaf->_modelview.get();
+        keys.emplace_back(leaf->getDrawable(), mv ? (*mv)(3, 0) : 0.0, mv ? (*mv)(3, 1) : 0.0,
+                          mv ? (*mv)(3, 2) : 0.0);
+    });
+    std::sort(keys.begin(), keys.end());
+    return keys;
 }
 
 // ---------------------------------------------------------------------------
@@ -307,27 +463,35 @@ double rssBytes() {
     return double(resident) * double(sysconf(_SC_PAGESIZE));
 }
 
-// Route all OSG notifications to stderr so stdout carries only the JSON.
+// Route all OSG notifications to stderr so stdout carries only the results.
 class StderrNotifyHandler : public osg::NotifyHandler {
 public:
     void notify(osg::NotifySeverity, const char* message) override { std::fputs(message, stderr); }
 };
 
 double median(std::vector<double> v) {
+    if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
     const size_t m = v.size() / 2;
     return (v.size() % 2) ? v[m] : 0.5 * (v[m - 1] + v[m]);
 }
 
 double percentile95(std::vector<double> v) {
+    if (v.empty()) return 0.0;
     // Nearest-rank percentile.
     std::sort(v.begin(), v.end());
     size_t rank = size_t(std::ceil(0.95 * double(v.size())));
     return v[std::max<size_t>(rank, 1) - 1];
 }
 
+constexpr const char* kUsage =
+    "usage: sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]\n"
+    "       sgbench_osg --occlusion [--n N] [--path street|orbit] [--frames-passes K] [--with-sgkit] [--json]\n"
+    "                   [--osg-occluders box|sides|diagonals] [--osg-max-occluders M] [--osg-min-volume V]\n"
+    "                   [--osg-occluder-range R]\n";
+
 [[noreturn]] void usage(const char* msg) {
-    std::fprintf(stderr, "error: %s\nusage: sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]\n", msg);
+    std::fprintf(stderr, "error: %s\n%s", msg, kUsage);
     std::exit(2);
 }
 
@@ -338,30 +502,100 @@ long parsePositive(const char* s, const char* what) {
     return v;
 }
 
-}  // namespace
+double parseNonNegative(const char* s, const char* what) {
+    char* end = nullptr;
+    double v = std::strtod(s, &end);
+    if (!end || *end != '\0' || !(v >= 0.0)) usage((std::string("invalid value for ") + what).c_str());
+    return v;
+}
 
-int main(int argc, char** argv) {
-    int n = 316;
-    int passes = 1;
-    bool withSgkit = false;
-    for (int a = 1; a < argc; ++a) {
-        if (!std::strcmp(argv[a], "--n") && a + 1 < argc)
-            n = int(parsePositive(argv[++a], "--n"));
-        else if (!std::strcmp(argv[a], "--with-sgkit"))
-            withSgkit = true;
-        else if (!std::strcmp(argv[a], "--frames-passes") && a + 1 < argc)
-            passes = int(parsePositive(argv[++a], "--frames-passes"));
-        else
-            usage((std::string("unknown or incomplete argument: ") + argv[a]).c_str());
+// One flat JSON object, keys in insertion order, or the same fields as a table.
+class Json {
+public:
+    Json& add(const std::string& k, double v, int decimals = 4) {
+        char buf[64];
+        if (!std::isfinite(v)) std::snprintf(buf, sizeof buf, "null");
+        else std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+        kv_.emplace_back(k, buf);
+        return *this;
     }
+    Json& addInt(const std::string& k, long long v) {
+        kv_.emplace_back(k, std::to_string(v));
+        return *this;
+    }
+    Json& addBool(const std::string& k, bool v) {
+        kv_.emplace_back(k, v ? "true" : "false");
+        return *this;
+    }
+    Json& addStr(const std::string& k, const std::string& v) {
+        kv_.emplace_back(k, "\"" + v + "\"");
+        return *this;
+    }
+    std::string str() const {
+        std::string s = "{";
+        for (size_t i = 0; i < kv_.size(); ++i)
+            s += (i ? ",\"" : "\"") + kv_[i].first + "\":" + kv_[i].second;
+        return s + "}";
+    }
+    const std::vector<std::pair<std::string, std::string>>& fields() const { return kv_; }
 
-    osg::setNotifyHandler(new StderrNotifyHandler);
+private:
+    std::vector<std::pair<std::string, std::string>> kv_;
+};
 
+// SceneView set up as osgViewer::Renderer would drive it for one camera.
+osg::ref_ptr<osgUtil::SceneView> makeSceneView(osg::Node* scene, osg::FrameStamp* frameStamp, double zNear,
+                                               unsigned cullingMode) {
+    // setDefaults() creates the osg::State (no GL context is touched during
+    // cull), the CullVisitor, the StateGraph and the RenderStage, plus the
+    // standard global state set and headlight a viewer would also have.
+    osg::ref_ptr<osgUtil::SceneView> sv = new osgUtil::SceneView;
+    sv->setDefaults();
+    sv->setFrameStamp(frameStamp);
+    sv->setViewport(0, 0, kViewportW, kViewportH);
+    sv->setProjectionMatrix(osg::Matrixd::perspective(kFovY, kAspect, zNear, kFar));
+    sv->setSceneData(scene);
+    // Cull settings must be set after setDefaults() (which resets them). The
+    // SceneView is itself the CullSettings that cull() copies into its
+    // CullVisitor (and CollectOccludersVisitor) every frame
+    // (inheritCullSettings).
+    sv->setCullingMode(cullingMode);
+    sv->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
+    return sv;
+}
+
+// Guard against the settings being silently overridden.
+bool checkInherited(const osgUtil::SceneView& sv, unsigned cullingMode) {
+    const osgUtil::CullVisitor* cv = sv.getCullVisitor();
+    if (unsigned(cv->getCullingMode()) != cullingMode ||
+        cv->getComputeNearFarMode() != osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR) {
+        std::fprintf(stderr, "error: CullVisitor did not inherit the cull settings "
+                             "(mode 0x%x, near/far mode %d)\n",
+                     cv->getCullingMode(), int(cv->getComputeNearFarMode()));
+        return false;
+    }
+    return true;
+}
+
+constexpr unsigned kFrustumCulling = osg::CullSettings::VIEW_FRUSTUM_SIDES_CULLING |
+                                     osg::CullSettings::NEAR_PLANE_CULLING |
+                                     osg::CullSettings::FAR_PLANE_CULLING;
+
+using Clock = std::chrono::steady_clock;
+double msBetween(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// ---------------------------------------------------------------------------
+// Cull mode: the orbit path, frustum culling, the scene without occluders.
+
+int runCull(int n, int passes, bool withSgkit) {
     // --- Build ---------------------------------------------------------------
     const double rssBefore = rssBytes();
-    const auto buildStart = std::chrono::steady_clock::now();
-    Scene scene = buildCity(n);
-    const auto buildEnd = std::chrono::steady_clock::now();
+    const auto buildStart = Clock::now();
+    const Meshes meshes = buildMeshes(OccluderKind::None);
+    Scene scene = buildCity(n, meshes, false);
+    const auto buildEnd = Clock::now();
     const double rssAfter = rssBytes();
     const double buildSeconds = std::chrono::duration<double>(buildEnd - buildStart).count();
 
@@ -382,26 +616,9 @@ int main(int argc, char** argv) {
 #endif
 
     // --- Cull setup ------------------------------------------------------------
-    // SceneView is what osgViewer::Renderer drives per camera; setDefaults()
-    // creates the osg::State (no GL context is touched during cull), the
-    // CullVisitor, the StateGraph and the RenderStage, plus the standard
-    // global state set and headlight a viewer would also have.
-    osg::ref_ptr<osgUtil::SceneView> sceneView = new osgUtil::SceneView;
-    sceneView->setDefaults();
     osg::ref_ptr<osg::FrameStamp> frameStamp = new osg::FrameStamp;
-    sceneView->setFrameStamp(frameStamp.get());
-    sceneView->setViewport(0, 0, kViewportW, kViewportH);
-    sceneView->setProjectionMatrix(osg::Matrixd::perspective(kFovY, kAspect, kNear, kFar));
-    sceneView->setSceneData(scene.root.get());
-
-    // Cull settings must be set after setDefaults() (which resets them). The
-    // SceneView is itself the CullSettings that cull() copies into its
-    // CullVisitor every frame (CullVisitor::inheritCullSettings).
-    const unsigned cullingMode = osg::CullSettings::VIEW_FRUSTUM_SIDES_CULLING |
-                                 osg::CullSettings::NEAR_PLANE_CULLING |
-                                 osg::CullSettings::FAR_PLANE_CULLING;
-    sceneView->setCullingMode(cullingMode);
-    sceneView->setComputeNearFarMode(osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR);
+    osg::ref_ptr<osgUtil::SceneView> sceneView =
+        makeSceneView(scene.root.get(), frameStamp.get(), kNear, kFrustumCulling);
 
     // --- Warm-up + timed passes -----------------------------------------------
     std::vector<double> frameMs;
@@ -418,38 +635,28 @@ int main(int argc, char** argv) {
             frameStamp->setReferenceTime(frameNumber / 60.0);
             frameStamp->setSimulationTime(frameNumber / 60.0);
 
-            const auto t0 = std::chrono::steady_clock::now();
+            const auto t0 = Clock::now();
             sceneView->cull();
-            const auto t1 = std::chrono::steady_clock::now();
+            const auto t1 = Clock::now();
 
-            if (pass == 0 && f == 0) {
-                // Guard against the settings being silently overridden.
-                const osgUtil::CullVisitor* cv = sceneView->getCullVisitor();
-                if (cv->getCullingMode() != cullingMode ||
-                    cv->getComputeNearFarMode() != osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR) {
-                    std::fprintf(stderr, "error: CullVisitor did not inherit the cull settings "
-                                         "(mode 0x%x, near/far mode %d)\n",
-                                 cv->getCullingMode(), int(cv->getComputeNearFarMode()));
-                    return 1;
-                }
-            }
+            if (pass == 0 && f == 0 && !checkInherited(*sceneView, kFrustumCulling)) return 1;
 
 #ifdef SGBENCH_WITH_SGKIT
             if (sgScene) {
                 const sg::Camera cam = scenes::cityOrbitCamera(n, f);
                 sg::CullStats st;
-                const auto s0 = std::chrono::steady_clock::now();
+                const auto s0 = Clock::now();
                 sgCull.cull(*sgScene, cam, sg::CullSettings{}, sgList, st);
-                const auto s1 = std::chrono::steady_clock::now();
+                const auto s1 = Clock::now();
                 if (timed) {
-                    sgMs.push_back(std::chrono::duration<double, std::milli>(s1 - s0).count());
-                    ratio.push_back(std::chrono::duration<double>(t1 - t0).count() / std::chrono::duration<double>(s1 - s0).count());
+                    sgMs.push_back(msBetween(s0, s1));
+                    ratio.push_back(msBetween(t0, t1) / msBetween(s0, s1));
                     sgGeometries += double(st.geometries);
                 }
             }
 #endif
             if (timed) {
-                frameMs.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+                frameMs.push_back(msBetween(t0, t1));
                 const DrawCount dc = countStage(*sceneView->getRenderStage(), scene);
                 geometriesSum += double(dc.leaves);
                 trianglesSum += double(dc.triangles);
@@ -479,11 +686,364 @@ int main(int argc, char** argv) {
 #endif
     std::printf("}\n");
     std::fflush(stdout);
+    return 0;
+}
+
+// ---------------------------------------------------------------------------
+// Occlusion mode.
+
+struct OcclusionOptions {
+    int n = 100;
+    int passes = 1;
+    bool street = true;
+    bool withSgkit = false;
+    bool json = false;
+    OccluderKind occluders = OccluderKind::Diagonals;
+    unsigned maxOccluders = 10;  // OSG's default (CollectOccludersVisitor)
+    double minVolume = 0.005;    // OSG's default (CollectOccludersVisitor)
+    double occluderRange = 0.0;  // > 0: occluders only within this distance (an LOD around them)
+};
+
+// Time stamps that split SceneView::cull: its occluder collection starts with
+// CollectOccludersVisitor::reset() and ends right before CullVisitor::reset()
+// (removeOccludedOccluders and the hand-over to the CullVisitor included).
+struct CullMarks {
+    Clock::time_point collectStart, cullStart;
+    bool collected = false;
+};
+
+class MarkingCollector : public osg::CollectOccludersVisitor {
+public:
+    explicit MarkingCollector(CullMarks* marks) : marks_(marks) {}
+    void reset() override {
+        marks_->collectStart = Clock::now();
+        marks_->collected = true;
+        osg::CollectOccludersVisitor::reset();
+    }
+
+private:
+    CullMarks* marks_;
+};
+
+class MarkingCullVisitor : public osgUtil::CullVisitor {
+public:
+    MarkingCullVisitor(const osgUtil::CullVisitor& cv, CullMarks* marks) : osgUtil::CullVisitor(cv), marks_(marks) {}
+    void reset() override {
+        marks_->cullStart = Clock::now();
+        osgUtil::CullVisitor::reset();
+    }
+
+private:
+    CullMarks* marks_;
+};
+
+// What one cull configuration produced over the timed frames.
+struct Series {
+    std::vector<double> ms;
+    std::vector<double> collectMs;  // OSG: the occluder collection part of ms
+    double geometries = 0.0, triangles = 0.0, occluders = 0.0;
+};
+
+int runOcclusion(const OcclusionOptions& o) {
+    const int n = o.n;
+    const int frames = o.street ? kStreetFrames : kFrames;
+    const double zNear = o.street ? kStreetNear : kNear;
+    auto view = [&](int f) { return o.street ? streetView(n, f) : orbitView(n, f); };
+
+    // --- Build: the city with occluders, and the same city without them (sharing every mesh) -------
+    const auto buildStart = Clock::now();
+    const Meshes meshes = buildMeshes(o.occluders);
+    Scene occScene = buildCity(n, meshes, true, float(o.occluderRange));
+    const auto buildEnd = Clock::now();
+    Scene plainScene = buildCity(n, meshes, false);
+    const double buildSeconds = std::chrono::duration<double>(buildEnd - buildStart).count();
+
+    // --- Cull setup: one SceneView per configuration, each with its own (warm) render graph pools ---
+    osg::ref_ptr<osg::FrameStamp> frameStamp = new osg::FrameStamp;
+    const unsigned occlusionMode = kFrustumCulling | osg::CullSettings::SHADOW_OCCLUSION_CULLING;
+    struct OsgConfig {
+        const char* name;
+        Scene* scene;
+        unsigned mode;
+        osg::ref_ptr<osgUtil::SceneView> sv;
+        Series s;
+        CullMarks marks;
+        std::vector<LeafKey> keys;  // this frame's draw leaves (occlusion and frustum-only configs)
+    };
+    std::vector<OsgConfig> osgConfigs = {
+        {"occlusion", &occScene, occlusionMode, nullptr, {}, {}, {}},
+        {"frustum", &plainScene, kFrustumCulling, nullptr, {}, {}, {}},
+        {"occluders_ignored", &occScene, kFrustumCulling, nullptr, {}, {}, {}},
+    };
+    for (OsgConfig& c : osgConfigs) {
+        c.sv = makeSceneView(c.scene->root.get(), frameStamp.get(), zNear, c.mode);
+        // SceneView::cull collects the occluders in view with this visitor whenever the scene holds
+        // OccluderNodes (whatever the culling mode), then hands them to the CullVisitor.
+        osg::ref_ptr<osg::CollectOccludersVisitor> cov = new MarkingCollector(&c.marks);
+        cov->setMaximumNumberOfActiveOccluders(o.maxOccluders);
+        cov->setMinimumShadowOccluderVolume(float(o.minVolume));
+        c.sv->setCollectOccludersVisitor(cov.get());
+        c.sv->setCullVisitor(new MarkingCullVisitor(*c.sv->getCullVisitor(), &c.marks));
+    }
+    OsgConfig& osgOcc = osgConfigs[0];
+    OsgConfig& osgOff = osgConfigs[1];
+
+#ifdef SGBENCH_WITH_SGKIT
+    std::unique_ptr<sg::Scene> sgScene;
+    sg::CullSettings sgFrustum;
+    sgFrustum.occlusion.mode = sg::OcclusionMode::Off;
+    sg::CullSettings sgOcclusion = sgFrustum;
+    sgOcclusion.occlusion.mode = sg::OcclusionMode::On;
+    sg::CullTraversal sgCullFrustum, sgCullOcclusion;  // one per setting, as each keeps per-view state
+    sg::DrawList sgList;
+    Series sgF, sgO;
+    if (o.withSgkit) {
+        sgScene = std::make_unique<sg::Scene>(scenes::buildCity({n, true}));
+        sgScene->update();
+    }
+#else
+    if (o.withSgkit) usage("--with-sgkit: this build has no sgkit (configure it inside the sgkit project)");
+#endif
+
+    // The configurations culled each frame, in an order that rotates from frame to frame so that none
+    // always runs first (or right after another one) in a frame.
+    std::vector<std::function<void(int, bool)>> steps;
+    for (OsgConfig& c : osgConfigs) {
+        OsgConfig* cp = &c;
+        steps.push_back([cp, &view](int f, bool timed) {
+            cp->sv->setViewMatrix(view(f));
+            cp->marks.collected = false;
+            const auto t0 = Clock::now();
+            cp->sv->cull();
+            const auto t1 = Clock::now();
+            if (!timed) return;
+            cp->s.ms.push_back(msBetween(t0, t1));
+            if (cp->marks.collected) cp->s.collectMs.push_back(msBetween(cp->marks.collectStart, cp->marks.cullStart));
+            const DrawCount dc = countStage(*cp->sv->getRenderStage(), *cp->scene);
+            cp->s.geometries += double(dc.leaves);
+            cp->s.triangles += double(dc.triangles);
+            cp->s.occluders += double(cp->sv->getCullVisitor()->getOccluderList().size());
+            cp->keys = leafKeys(*cp->sv->getRenderStage());
+        });
+    }
+#ifdef SGBENCH_WITH_SGKIT
+    if (sgScene) {
+        const sg::Scene* scene = sgScene.get();
+        sg::DrawList* list = &sgList;
+        const bool street = o.street;
+        auto sgStep = [=](sg::CullTraversal* t, const sg::CullSettings* set, Series* s) {
+            return [=](int f, bool timed) {
+                const sg::Camera cam = street ? scenes::cityStreetCamera(n, f) : scenes::cityOrbitCamera(n, f);
+                sg::CullStats st;
+                const auto t0 = Clock::now();
+                t->cull(*scene, cam, *set, *list, st);
+                const auto t1 = Clock::now();
+                if (!timed) return;
+                s->ms.push_back(msBetween(t0, t1));
+                s->geometries += double(st.geometries);
+                s->triangles += double(st.triangles);
+                s->occluders += double(st.occludersUsed);
+            };
+        };
+        steps.push_back(sgStep(&sgCullFrustum, &sgFrustum, &sgF));
+        steps.push_back(sgStep(&sgCullOcclusion, &sgOcclusion, &sgO));
+    }
+#endif
+
+    // --- Warm-up + timed passes -----------------------------------------------
+    uint64_t notSubset = 0;  // draw leaves of the occlusion cull that the frustum-only cull did not draw
+    unsigned frameNumber = 0;
+    for (int pass = 0; pass <= o.passes; ++pass) {
+        const bool timed = pass > 0;  // pass 0 is the untimed warm-up
+        for (int f = 0; f < frames; ++f) {
+            ++frameNumber;
+            frameStamp->setFrameNumber(frameNumber);
+            frameStamp->setReferenceTime(frameNumber / 60.0);
+            frameStamp->setSimulationTime(frameNumber / 60.0);
+            const size_t first = size_t(frameNumber) % steps.size();
+            for (size_t k = 0; k < steps.size(); ++k) steps[(first + k) % steps.size()](f, timed);
+
+            if (pass == 0 && f == 0)
+                for (const OsgConfig& c : osgConfigs)
+                    if (!checkInherited(*c.sv, c.mode)) return 1;
+            if (timed) {
+                std::vector<LeafKey> extra;
+                std::set_difference(osgOcc.keys.begin(), osgOcc.keys.end(), osgOff.keys.begin(), osgOff.keys.end(),
+                                    std::back_inserter(extra));
+                notSubset += extra.size();
+            }
+        }
+    }
+
+    const double k = double(osgOcc.s.ms.size());
+    if (osgOff.s.geometries <= 0.0) {
+        std::fprintf(stderr, "error: the cull produced no draw leaves on the path\n");
+        return 1;
+    }
+    auto perFrame = [](const Series& a, const Series& b) {  // median over frames of a's time / b's time
+        std::vector<double> r;
+        for (size_t i = 0; i < a.ms.size() && i < b.ms.size(); ++i) r.push_back(a.ms[i] / b.ms[i]);
+        return median(r);
+    };
+
+    const OsgConfig& osgIgn = osgConfigs[2];
+    Json j;
+    j.addStr("peer", "openscenegraph").addStr("osg_version", osgGetVersion()).addInt("n", n);
+    j.addStr("path", o.street ? "street" : "orbit").addBool("occlusion", true);
+    j.addStr("osg_occluders", occluderKindName(o.occluders));
+    j.addInt("occluder_polygons_per_building", long(meshes.occluders[0].size()));
+    j.addInt("osg_max_active_occluders", o.maxOccluders).add("osg_min_occluder_volume", o.minVolume, 5);
+    j.add("osg_occluder_range", o.occluderRange, 1);
+    j.addInt("frames", frames).addInt("passes", o.passes);
+    j.add("cull_ms_median", median(osgOcc.s.ms)).add("cull_ms_p95", percentile95(osgOcc.s.ms));
+    j.add("geometries_mean", osgOcc.s.geometries / k, 2).add("triangles_mean", osgOcc.s.triangles / k, 1);
+    j.add("active_occluders_mean", osgOcc.s.occluders / k, 2);
+    j.add("occluder_collect_ms_median", median(osgOcc.s.collectMs));
+    j.add("occluder_collect_ms_p95", percentile95(osgOcc.s.collectMs));
+    j.add("cull_ms_median_no_occlusion", median(osgOff.s.ms)).add("cull_ms_p95_no_occlusion", percentile95(osgOff.s.ms));
+    j.add("geometries_mean_no_occlusion", osgOff.s.geometries / k, 2);
+    j.add("triangles_mean_no_occlusion", osgOff.s.triangles / k, 1);
+    j.add("cull_ms_median_occluders_ignored", median(osgIgn.s.ms));
+    j.add("cull_ms_p95_occluders_ignored", percentile95(osgIgn.s.ms));
+    j.add("triangles_mean_occluders_ignored", osgIgn.s.triangles / k, 1);
+    j.add("occlusion_over_frustum_triangles", osgOcc.s.triangles / osgOff.s.triangles);
+    j.add("occlusion_over_frustum_cull_per_frame_median", perFrame(osgOcc.s, osgOff.s), 3);
+    j.add("occluders_ignored_over_frustum_cull_per_frame_median", perFrame(osgIgn.s, osgOff.s), 3);
+    j.addInt("occlusion_leaves_not_in_frustum_set", (long long)notSubset);
+    j.add("build_s", buildSeconds).addInt("nodes", (long long)occScene.nodes);
+    j.addInt("nodes_no_occlusion", (long long)plainScene.nodes);
+#ifdef SGBENCH_WITH_SGKIT
+    if (sgScene) {
+        j.add("sgkit_cull_ms_median", median(sgO.ms)).add("sgkit_cull_ms_p95", percentile95(sgO.ms));
+        j.add("sgkit_geometries_mean", sgO.geometries / k, 2).add("sgkit_triangles_mean", sgO.triangles / k, 1);
+        j.add("sgkit_occluders_used_mean", sgO.occluders / k, 2);
+        j.add("sgkit_cull_ms_median_no_occlusion", median(sgF.ms));
+        j.add("sgkit_cull_ms_p95_no_occlusion", percentile95(sgF.ms));
+        j.add("sgkit_geometries_mean_no_occlusion", sgF.geometries / k, 2);
+        j.add("sgkit_triangles_mean_no_occlusion", sgF.triangles / k, 1);
+        j.add("sgkit_occlusion_over_frustum_triangles", sgO.triangles / sgF.triangles);
+        j.add("sgkit_occlusion_over_frustum_cull_per_frame_median", perFrame(sgO, sgF), 3);
+        j.add("osg_over_sgkit_per_frame_median", perFrame(osgOcc.s, sgO), 3);
+        j.add("osg_over_sgkit_per_frame_median_no_occlusion", perFrame(osgOff.s, sgF), 3);
+        j.add("osg_over_sgkit_triangles", osgOcc.s.triangles / sgO.triangles);
+    }
+#endif
+
+    if (o.json) {
+        std::printf("%s\n", j.str().c_str());
+    } else {
+        std::printf("sgbench_osg --occlusion: city N=%d, %s path, %d frames x %d pass(es), OpenSceneGraph %s\n",
+                    n, o.street ? "street" : "orbit", frames, o.passes, osgGetVersion());
+        std::printf("OSG occluders: %s (%zu ConvexPlanarOccluder polygons per building), at most %u active, "
+                    "minimum volume %g, ",
+                    occluderKindName(o.occluders), meshes.occluders[0].size(), o.maxOccluders, o.minVolume);
+        if (o.occluderRange > 0.0) std::printf("within %g m (LOD)\n\n", o.occluderRange);
+        else std::printf("no range limit\n\n");
+        std::printf("%-38s %10s %10s %12s %12s %10s\n", "", "cull ms", "p95 ms", "geometries", "triangles",
+                    "occluders");
+        auto row = [&](const char* name, const Series& s, bool occl) {
+            std::printf("%-38s %10.3f %10.3f %12.1f %12.1f", name, median(s.ms), percentile95(s.ms),
+                        s.geometries / k, s.triangles / k);
+            if (occl) std::printf(" %10.2f", s.occluders / k);
+            std::printf("\n");
+        };
+        row("OSG frustum only (no occluders)", osgOff.s, false);
+        row("OSG + shadow-volume occlusion", osgOcc.s, true);
+        row("OSG occluders, SHADOW_OCCLUSION off", osgIgn.s, false);
+#ifdef SGBENCH_WITH_SGKIT
+        if (sgScene) {
+            row("sgkit frustum only", sgF, false);
+            row("sgkit + occlusion tree", sgO, true);
+        }
+#endif
+        std::printf("\nOSG occluder collection (part of the cull time above): median %.3f ms, p95 %.3f ms\n",
+                    median(osgOcc.s.collectMs), percentile95(osgOcc.s.collectMs));
+        std::printf("\nper-frame medians of time ratios (same frame, same process):\n");
+        std::printf("  OSG occlusion / OSG frustum only            %.3f   (triangles %.3f)\n",
+                    perFrame(osgOcc.s, osgOff.s), osgOcc.s.triangles / osgOff.s.triangles);
+        std::printf("  OSG occluders ignored / OSG frustum only    %.3f\n", perFrame(osgIgn.s, osgOff.s));
+#ifdef SGBENCH_WITH_SGKIT
+        if (sgScene) {
+            std::printf("  sgkit occlusion / sgkit frustum only        %.3f   (triangles %.3f)\n",
+                        perFrame(sgO, sgF), sgO.triangles / sgF.triangles);
+            std::printf("  OSG / sgkit, frustum only                   %.3f\n", perFrame(osgOff.s, sgF));
+            std::printf("  OSG / sgkit, with occlusion                 %.3f   (triangles %.3f)\n",
+                        perFrame(osgOcc.s, sgO), osgOcc.s.triangles / sgO.triangles);
+        }
+#endif
+        std::printf("\nOSG occlusion draw leaves not drawn by OSG frustum only: %llu (expected 0)\n",
+                    (unsigned long long)notSubset);
+    }
+    std::fflush(stdout);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int n = 0;
+    int passes = 1;
+    bool withSgkit = false, occlusion = false, json = false;
+    std::string path;
+    OcclusionOptions occ;
+    bool occOnly = false;  // an occlusion-only option was given
+    for (int a = 1; a < argc; ++a) {
+        const bool hasValue = a + 1 < argc;
+        if (!std::strcmp(argv[a], "--n") && hasValue)
+            n = int(parsePositive(argv[++a], "--n"));
+        else if (!std::strcmp(argv[a], "--with-sgkit"))
+            withSgkit = true;
+        else if (!std::strcmp(argv[a], "--frames-passes") && hasValue)
+            passes = int(parsePositive(argv[++a], "--frames-passes"));
+        else if (!std::strcmp(argv[a], "--occlusion"))
+            occlusion = true;
+        else if (!std::strcmp(argv[a], "--json"))
+            json = true;
+        else if (!std::strcmp(argv[a], "--path") && hasValue)
+            path = argv[++a];
+        else if (!std::strcmp(argv[a], "--osg-occluders") && hasValue) {
+            const std::string k = argv[++a];
+            if (k == "box") occ.occluders = OccluderKind::Box;
+            else if (k == "sides") occ.occluders = OccluderKind::Sides;
+            else if (k == "diagonals") occ.occluders = OccluderKind::Diagonals;
+            else usage("--osg-occluders must be box, sides or diagonals");
+            occOnly = true;
+        } else if (!std::strcmp(argv[a], "--osg-max-occluders") && hasValue) {
+            occ.maxOccluders = unsigned(parsePositive(argv[++a], "--osg-max-occluders"));
+            occOnly = true;
+        } else if (!std::strcmp(argv[a], "--osg-occluder-range") && hasValue) {
+            occ.occluderRange = parseNonNegative(argv[++a], "--osg-occluder-range");
+            occOnly = true;
+        } else if (!std::strcmp(argv[a], "--osg-min-volume") && hasValue) {
+            occ.minVolume = parseNonNegative(argv[++a], "--osg-min-volume");
+            occOnly = true;
+        } else
+            usage((std::string("unknown or incomplete argument: ") + argv[a]).c_str());
+    }
+
+    osg::setNotifyHandler(new StderrNotifyHandler);
+
+    int rc = 0;
+    if (occlusion) {
+        if (!path.empty() && path != "street" && path != "orbit") usage("--path must be street or orbit");
+        occ.n = n ? n : 100;
+        occ.passes = passes;
+        occ.street = path != "orbit";
+        occ.withSgkit = withSgkit;
+        occ.json = json;
+        rc = runOcclusion(occ);
+    } else {
+        // The cull mode always prints JSON (--json is accepted for symmetry).
+        if (!path.empty() && path != "orbit") usage("--path street needs --occlusion");
+        if (occOnly) usage("--osg-occluders, --osg-max-occluders, --osg-min-volume and --osg-occluder-range need --occlusion");
+        rc = runCull(n ? n : 316, passes, withSgkit);
+    }
 
     // Skip tearing the scene down. Each shared Geometry keeps its parent Geodes
     // in a std::vector and osg::Node::removeParent erases from it one entry at a
     // time, so destroying the graph is quadratic in the number of instances
     // (minutes at N=1000, where the car Geometry has a million parents). Nothing
     // is measured after this point, so let the OS reclaim the memory.
-    std::_Exit(0);
+    std::fflush(stdout);
+    std::_Exit(rc);
 }

@@ -90,7 +90,8 @@ double percentile(std::vector<double> v, double p) {
 static void usage() {
     std::fprintf(stderr,
                  "usage: sgbench cull --scene city --n N [--strategy S] [--path orbit|street] [--json]\n"
-                 "       sgbench accuracy --scene city|random|FILE.gltf --views K --strategy S [--seed X] [--json]\n"
+                 "       sgbench accuracy --scene city|random|office|FILE.gltf --views K --strategy S [--seed X] [--n N | --r R]\n"
+                 "                [--occlusion off|tree|auto] [--cap front|centre] [--width W --height H] [--json]\n"
                  "       sgbench occlusion --scene city|office [--n N | --r R] [--path street|orbit|walk] [--occlusion tree|auto]\n"
                  "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] [--no-draw] [--json]\n"
                  "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
