@@ -49,6 +49,11 @@ struct CullSettings {
     double smallFeaturePixels = 0.0;  // drop bounds smaller than this many pixels across; 0: off
     uint32_t traversalMask = 0xffffffffu;
     bool sort = true;  // sort the draw list by state, then front to back
+    // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
+    // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
+    // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs
+    // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
+    double lodHysteresis = 0.0;
     OcclusionSettings occlusion;
 };
 

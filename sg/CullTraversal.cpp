@@ -130,6 +130,15 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     triangles_ = 0;
     const FlatImage& img = scene.image();
     occlusionTestMs_ = 0.0;
+    if (set.lodHysteresis > 0.0) {
+        if (!(set.lodHysteresis < 1.0))
+            throw std::invalid_argument("CullTraversal::cull(): lodHysteresis " + std::to_string(set.lodHysteresis) + " is not in [0, 1)");
+        if (lodImage_ != &img || lodVersion_ != scene.structureVersion() || lodLast_.size() != img.size()) {
+            lodLast_.assign(img.size(), 0xff);
+            lodImage_ = &img;
+            lodVersion_ = scene.structureVersion();
+        }
+    }
     if (img.size()) {
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
@@ -286,6 +295,21 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
         case NodeKind::LOD: {
             const double value = lodValue(c, i);
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
+            if (set_->lodHysteresis > 0.0 && c.img == &scene_->image()) {
+                // The last child stays while the value is within its widened range; else the plain
+                // ranges decide, and the first child they show is remembered.
+                const double h = set_->lodHysteresis;
+                const uint8_t last = lodLast_[i];
+                const bool keep = last != 0xff && value >= rg[last].min * (1.0 - h) && value < rg[last].max * (1.0 + h);
+                uint32_t k = 0, shown = 0xff;
+                for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k) {
+                    if (keep ? k != last : !(value >= rg[k].min && value < rg[k].max)) continue;
+                    if (shown == 0xff && k < 0xff) shown = k;
+                    visit(c, j, mask, m, occ);
+                }
+                lodLast_[i] = uint8_t(shown);
+                break;
+            }
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg)
                 if (value >= rg->min && value < rg->max) visit(c, j, mask, m, occ);
             break;
@@ -393,7 +417,8 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
         const NodeKind kind = img.kind[j];
         // Masked, empty, invalid, below a billboard, or a rarer kind: the general path.
         if ((fl & FlatImage::kSlowPath) || !(kind == NodeKind::Geometry || kind == NodeKind::Group ||
-                                              kind == NodeKind::Transform || kind == NodeKind::LOD)) {
+                                              kind == NodeKind::Transform || kind == NodeKind::LOD) ||
+            (kind == NodeKind::LOD && set_->lodHysteresis > 0.0)) {
             const dmat4 vm = fr[top].m;
             framesTop_ = top + 1;
             visit(c, j, 0u, vm, OcclusionTree::kVisible);

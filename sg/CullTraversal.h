@@ -64,6 +64,10 @@ private:
     int autoWait_ = 0;     // Auto mode: frames left to skip the pass
     int autoBackoff_ = 0;  // and how many to skip after the next frame where it does not pay
     double occlusionTestMs_ = 0.0;
+    // LOD hysteresis: the child each LOD entry of the main image showed last (0xff: none).
+    std::vector<uint8_t> lodLast_;
+    const FlatImage* lodImage_ = nullptr;  // the image lodLast_ is for, and its version
+    uint64_t lodVersion_ = 0;
 };
 
 }  // namespace sg

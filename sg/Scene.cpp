@@ -429,6 +429,7 @@ void Scene::refresh() {
             protos_.clear();
             b.collect = true;
             b.full(root_.get());
+            structureVersion_++;
             // A shared node is met once per path: keep its first place in traversal order.
             std::unordered_set<const Node*> seen;
             callbacks_.erase(std::remove_if(callbacks_.begin(), callbacks_.end(),

@@ -32,6 +32,8 @@ public:
     // The image of an Instance's prototype (built once however often it is placed); null if unknown.
     const FlatImage* prototypeImage(const Node* prototype) const;
     const UpdateStats& lastUpdate() const { return stats_; }
+    // Counts full rebuilds of the image: state kept per image entry (LOD hysteresis) is stale when it moves.
+    uint64_t structureVersion() const { return structureVersion_; }
     size_t bytes() const;
 
 private:
@@ -43,6 +45,7 @@ private:
     std::vector<Node*> callbacks_;
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;
+    uint64_t structureVersion_ = 0;
 };
 
 }  // namespace sg

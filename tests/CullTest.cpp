@@ -287,3 +287,63 @@ TEST(Cull, StaleSceneIsRefused) {
         EXPECT_EQ(std::string(e.what()), "CullTraversal::cull(): the scene changed since its last update(); call Scene::update() first");
     }
 }
+
+TEST(Cull, LodHysteresisHoldsTheLevelAtABoundary) {
+    // Detailed below 100 m, coarse from 100 m; the eye hovers at 100 m +- 1% along x.
+    auto detailed = box(1.0), coarse = box(1.0);
+    auto lod = make<LOD>();
+    lod->addChild(detailed, 0.0f, 100.0f);
+    lod->addChild(coarse, 100.0f, 1000.0f);
+    lod->setCenter(dvec3(0.0));
+    auto root = make<Group>();
+    root->addChild(lod);
+    Scene s(root);
+    s.update();
+    auto cameraAt = [](double x) {
+        Camera cam;
+        cam.setViewport(200, 200);
+        cam.setPerspective(60.0, 1.0, 1.0, 2000.0);
+        cam.setLookAt(dvec3(x, 0, 0), dvec3(0, 0, 0), dvec3(0, 0, 1));
+        return cam;
+    };
+    auto shows = [&](CullTraversal& t, double x, double h) {
+        CullSettings set;
+        set.lodHysteresis = h;
+        DrawList l;
+        CullStats st;
+        t.cull(s, cameraAt(x), set, l, st);
+        EXPECT_EQ(l.items.size(), 1u);
+        return l.items.empty() ? nullptr : l.items[0].mesh;
+    };
+    // Without hysteresis the level flips every frame; with 2% it keeps the first one.
+    CullTraversal plain, held;
+    int flipsPlain = 0, flipsHeld = 0;
+    const Mesh* lastPlain = shows(plain, 99.0, 0.0);
+    const Mesh* lastHeld = shows(held, 99.0, 0.02);
+    EXPECT_EQ(lastHeld, detailed->mesh());
+    for (int f = 1; f < 40; ++f) {
+        const double x = f % 2 ? 101.0 : 99.0;
+        const Mesh* p = shows(plain, x, 0.0);
+        const Mesh* q = shows(held, x, 0.02);
+        flipsPlain += p != lastPlain;
+        flipsHeld += q != lastHeld;
+        lastPlain = p;
+        lastHeld = q;
+    }
+    EXPECT_EQ(flipsPlain, 39);
+    EXPECT_EQ(flipsHeld, 0);
+    // Past the widened boundary it switches, and then holds the new level on the way back.
+    EXPECT_EQ(shows(held, 103.0, 0.02), coarse->mesh());
+    EXPECT_EQ(shows(held, 99.0, 0.02), coarse->mesh());
+    EXPECT_EQ(shows(held, 97.0, 0.02), detailed->mesh());
+    // A rebuilt image forgets what was shown (entries may have moved).
+    root->addChild(make<Group>());
+    s.update();
+    EXPECT_EQ(shows(held, 99.0, 0.02), detailed->mesh());
+    // Out of range: refused by name.
+    CullSettings bad;
+    bad.lodHysteresis = 1.5;
+    DrawList l;
+    CullStats st;
+    EXPECT_THROW(held.cull(s, cameraAt(99.0), bad, l, st), std::invalid_argument);
+}
