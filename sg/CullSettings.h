@@ -54,6 +54,9 @@ struct CullSettings {
     // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs
     // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
     double lodHysteresis = 0.0;
+    // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
+    // and OpenSceneGraph's LOD scale; sg/LodStress.h drives it from the frame time.
+    double lodScale = 1.0;
     OcclusionSettings occlusion;
 };
 

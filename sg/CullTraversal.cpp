@@ -10,6 +10,7 @@
 #include "sg/FrustumKernel.h"
 
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 namespace sg {
@@ -130,6 +131,8 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     triangles_ = 0;
     const FlatImage& img = scene.image();
     occlusionTestMs_ = 0.0;
+    if (!(set.lodScale > 0.0 && std::isfinite(set.lodScale)))
+        throw std::invalid_argument("CullTraversal::cull(): lodScale " + std::to_string(set.lodScale) + " is not a positive number");
     if (set.lodHysteresis > 0.0) {
         if (!(set.lodHysteresis < 1.0))
             throw std::invalid_argument("CullTraversal::cull(): lodHysteresis " + std::to_string(set.lodHysteresis) + " is not in [0, 1)");
@@ -395,8 +398,9 @@ double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {
     } else {  // below a scaled Instance: through the frame
         dist = glm::length(dvec3(c.imgToEye * dvec4(lod.cx, lod.cy, lod.cz, 1.0)));
     }
-    if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist;
-    return 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
+    // The LOD scale makes everything look farther (scale > 1: coarser levels sooner), as Performer's.
+    if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist * set_->lodScale;
+    return 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / ((cam_->perspective() ? dist : 1.0) * set_->lodScale);
 }
 
 // Entries [begin, end) inside the frustum (no test left): one forward scan over the pre-order entries

@@ -347,3 +347,32 @@ TEST(Cull, LodHysteresisHoldsTheLevelAtABoundary) {
     CullStats st;
     EXPECT_THROW(held.cull(s, cameraAt(99.0), bad, l, st), std::invalid_argument);
 }
+
+TEST(Cull, LodScaleMakesEverythingLookFarther) {
+    auto detailed = box(1.0), coarse = box(1.0);
+    auto lod = make<LOD>();
+    lod->addChild(detailed, 0.0f, 100.0f);
+    lod->addChild(coarse, 100.0f, 1000.0f);
+    lod->setCenter(dvec3(0.0));
+    auto root = make<Group>();
+    root->addChild(lod);
+    Scene s(root);
+    s.update();
+    Camera cam;
+    cam.setViewport(200, 200);
+    cam.setPerspective(60.0, 1.0, 1.0, 2000.0);
+    cam.setLookAt(dvec3(60, 0, 0), dvec3(0, 0, 0), dvec3(0, 0, 1));
+    auto shown = [&](double scale) {
+        CullSettings set;
+        set.lodScale = scale;
+        DrawList l;
+        CullStats st;
+        CullTraversal().cull(s, cam, set, l, st);
+        return l.items.size() == 1 ? l.items[0].mesh : nullptr;
+    };
+    EXPECT_EQ(shown(1.0), detailed->mesh());  // 60 m
+    EXPECT_EQ(shown(2.0), coarse->mesh());    // seen as 120 m
+    EXPECT_EQ(shown(0.5), detailed->mesh());
+    EXPECT_THROW(shown(0.0), std::invalid_argument);
+    EXPECT_THROW(shown(std::nan("")), std::invalid_argument);
+}
