@@ -44,20 +44,43 @@ void LOD::setCenter(const dvec3& c) {
     markDirty(kDirtyBound);
 }
 
-// The children are already inserted or removed when these run: shift the ranges after i.
+void LOD::setError(size_t i, float e) {
+    if (i >= numChildren())
+        throw std::out_of_range("LOD::setError(): child " + std::to_string(i) + " of " + describe() + " does not exist");
+    if (!(e >= 0.0f && std::isfinite(e)))
+        throw std::invalid_argument("LOD::setError(): " + describe() + " child " + std::to_string(i) + ": error " +
+                                    std::to_string(e) + " is not finite and non-negative");
+    // No markDirty: the image does not hold errors, so setting one costs no update.
+    if (!more_ || more_->errors.empty()) {
+        if (e == 0.0f) return;  // the default: nothing to store
+        if (!more_) more_ = std::make_unique<More>();
+        more_->errors.assign(numChildren(), 0.0f);
+    }
+    more_->errors[i] = e;
+}
+
+float LOD::error(size_t i) const {
+    if (i >= numChildren())
+        throw std::out_of_range("LOD::error(): child " + std::to_string(i) + " of " + describe() + " does not exist");
+    return more_ && !more_->errors.empty() ? more_->errors[i] : 0.0f;
+}
+
+// The children are already inserted or removed when these run: shift the ranges (and errors) after i.
 void LOD::childInserted(size_t i) {
     const size_t n = numChildren();
     if (n > 2) {
-        if (!more_) more_ = std::make_unique<std::vector<Range>>();
-        more_->emplace_back();
+        if (!more_) more_ = std::make_unique<More>();
+        more_->ranges.emplace_back();
     }
     for (size_t k = n - 1; k > i; --k) rangeRef(k) = rangeRef(k - 1);
     rangeRef(i) = Range{0.0f, 3.4e38f};
+    if (more_ && !more_->errors.empty()) more_->errors.insert(more_->errors.begin() + std::ptrdiff_t(i), 0.0f);
 }
 void LOD::childRemoved(size_t i) {
     const size_t n = numChildren();  // after removal
     for (size_t k = i; k < n; ++k) rangeRef(k) = rangeRef(k + 1);
-    if (n >= 2) more_->pop_back();
+    if (n >= 2) more_->ranges.pop_back();
+    if (more_ && !more_->errors.empty()) more_->errors.erase(more_->errors.begin() + std::ptrdiff_t(i));
 }
 void LOD::accept(NodeVisitor& v) { v.apply(*this); }
 

@@ -21,7 +21,13 @@ public:
     // or (Distance mode) the range starts before the previous child's range starts (out of order).
     void addChild(ref_ptr<Node> child, float min, float max);
     void setRange(size_t i, float min, float max);
-    const Range& range(size_t i) const { return i < 2 ? inline_[i] : (*more_)[i - 2]; }
+    const Range& range(size_t i) const { return i < 2 ? inline_[i] : more_->ranges[i - 2]; }
+    // Geometric error of child i in the LOD's units (the deviation of that level from the full detail one),
+    // 0 unless set; it follows its child when children are inserted or removed, as the range does. Kept for
+    // the application and tools (sg::makeLod stores it); the cull does not read it. setError throws
+    // std::invalid_argument for a negative or non-finite error, both throw std::out_of_range for a bad index.
+    void setError(size_t i, float error);
+    float error(size_t i) const;
 
     void setMode(Mode m) {
         mode_ = m;
@@ -41,10 +47,15 @@ protected:
 
 private:
     void checkRange(size_t i, float min, float max, const char* fn) const;
-    Range& rangeRef(size_t i) { return i < 2 ? inline_[i] : (*more_)[i - 2]; }
+    Range& rangeRef(size_t i) { return i < 2 ? inline_[i] : more_->ranges[i - 2]; }
+    // What does not fit inline shares one allocation, so that a plain two-level LOD stays as small as it was.
+    struct More {
+        std::vector<Range> ranges;  // ranges of children 2 and up
+        std::vector<float> errors;  // one per child once any error is set, empty before
+    };
     dvec3 center_{0.0};
-    Range inline_[2];                              // most LODs have two levels: no allocation for them
-    std::unique_ptr<std::vector<Range>> more_;     // ranges of children 2 and up
+    Range inline_[2];             // most LODs have two levels: no allocation for them
+    std::unique_ptr<More> more_;  // null while there are at most two children and no errors
     Mode mode_ = Mode::Distance;
     bool userCenter_ = false;
 };

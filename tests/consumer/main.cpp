@@ -2,6 +2,7 @@
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
 #include <sg/CullTraversal.h>
+#include <sg/LodGenerator.h>
 
 #include <cstdio>
 
@@ -21,5 +22,8 @@ int main() {
     CullStats stats;
     CullTraversal().cull(scene, cam, CullSettings{}, list, stats);
     std::printf("consumer: %zu of 2 boxes drawn\n", list.items.size());
-    return list.items.size() == 1 ? 0 : 1;
+    // Generated levels: links meshoptimizer through the package's dependencies.
+    const auto lod = makeLod(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>(), {0.5f});
+    std::printf("consumer: LOD with %zu levels\n", lod->numChildren());
+    return list.items.size() == 1 && lod->numChildren() == 2 ? 0 : 1;
 }
