@@ -1,0 +1,43 @@
+// DrawCostModel: predicts the draw time of what a frame draws (triangles, draw items, covered pixels) with
+// a linear model fitted online to measured times, so that a time budget can be planned before drawing.
+// Recursive least squares with a forgetting factor: this machine's speed drifts by tens of percent over
+// seconds, so old frames count less than recent ones.
+#pragma once
+#include <array>
+#include <cstdint>
+
+namespace sg {
+
+class DrawCostModel {
+public:
+    struct Work {
+        double triangles = 0.0;
+        double items = 0.0;   // draw items (instances)
+        double pixels = 0.0;  // covered pixels, estimated (projected bound areas)
+    };
+    // forgetting in (0, 1]: each frame, older frames' weight is multiplied by it (1: remember all).
+    // Throws std::invalid_argument naming the value otherwise.
+    explicit DrawCostModel(double forgetting = 0.98);
+
+    // Predicted milliseconds for this much work (never negative). Before any measurement: a prior of
+    // 1 ms per frame plus 30 ms per 100,000 triangles (llvmpipe at 1280x720 on this kind of machine).
+    double predict(const Work& w) const;
+    // The cost of adding this work to a frame (the fixed per-frame part left out): what one object costs.
+    double marginal(const Work& w) const;
+    // One frame: the work it drew and its measured draw time. Throws std::invalid_argument for a negative
+    // or non-finite value.
+    void update(const Work& w, double measuredMs);
+    uint64_t samples() const { return samples_; }
+    double lastError() const { return lastError_; }  // measured minus predicted, ms, of the last update
+
+private:
+    static constexpr int kN = 4;  // 1, triangles, items, pixels (each scaled to order 1)
+    std::array<double, kN> features(const Work& w) const;
+    double lambda_;
+    std::array<double, kN> w_;
+    std::array<std::array<double, kN>, kN> p_;  // inverse correlation, kept symmetric and bounded
+    uint64_t samples_ = 0;
+    double lastError_ = 0.0;
+};
+
+}  // namespace sg
