@@ -50,13 +50,13 @@ void LOD::setError(size_t i, float e) {
     if (!(e >= 0.0f && std::isfinite(e)))
         throw std::invalid_argument("LOD::setError(): " + describe() + " child " + std::to_string(i) + ": error " +
                                     std::to_string(e) + " is not finite and non-negative");
-    // No markDirty: the image does not hold errors, so setting one costs no update.
     if (!more_ || more_->errors.empty()) {
         if (e == 0.0f) return;  // the default: nothing to store
         if (!more_) more_ = std::make_unique<More>();
         more_->errors.assign(numChildren(), 0.0f);
     }
     more_->errors[i] = e;
+    markDirty(kDirtyBound);  // the image keeps a copy (the LOD budget values levels by it)
 }
 
 float LOD::error(size_t i) const {

@@ -41,6 +41,21 @@ struct OcclusionSettings {
     double autoMinGain = 0.1;         // Auto: a frame "pays" when occlusion removed this share of the entries
 };
 
+class DrawCostModel;
+
+// Time-budgeted LOD selection (Funkhouser and Sequin's adaptive display): every visible LOD of the scene
+// (not inside Instance prototypes) offers its children as options, priced by the draw-cost model and
+// valued by projected size times accuracy; sg/LodSelector.h picks one per LOD, or none, to fit the budget.
+struct LodBudgetSettings {
+    bool enabled = false;
+    double budgetMs = 33.3;                // predicted draw time the frame must fit
+    double hysteresis = 0.1;               // last frame's choice ranks (1 + this) times higher
+    const DrawCostModel* model = nullptr;  // required when enabled; feed it measured frames
+    // Whether a visible LOD may be left out to fit: off, every one is drawn at least at its cheapest level
+    // (a coarse object reads better than a hole), and the budget buys the upgrades.
+    bool mayDrop = false;
+};
+
 struct CullSettings {
     // Boxes: as fast as spheres on `city` (fewer instructions per frame under callgrind, since fewer
     // geometries pass and get sorted; within timing noise otherwise) and tighter, as tight as
@@ -57,6 +72,7 @@ struct CullSettings {
     // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
     // and OpenSceneGraph's LOD scale; sg/LodStress.h drives it from the frame time.
     double lodScale = 1.0;
+    LodBudgetSettings lodBudget;  // when enabled, LOD ranges, scale and hysteresis are not used
     OcclusionSettings occlusion;
 };
 
@@ -84,6 +100,11 @@ struct CullStats {
     uint64_t culledOcclusion = 0;     // bounds culled as occluded
     uint64_t occludedEntries = 0;     // image entries below them (work the walk skipped)
     double occlusionMs = 0.0;         // growing the tree plus the tests
+    // LOD budget
+    uint64_t lodObjects = 0;          // visible LODs planned
+    uint64_t lodDropped = 0;          // left out to fit the budget
+    double lodPredictedMs = 0.0;      // predicted draw time of the whole frame
+    double lodSelectMs = 0.0;
     double ms = 0.0;
 };
 

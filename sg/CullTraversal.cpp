@@ -133,7 +133,11 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     occlusionTestMs_ = 0.0;
     if (!(set.lodScale > 0.0 && std::isfinite(set.lodScale)))
         throw std::invalid_argument("CullTraversal::cull(): lodScale " + std::to_string(set.lodScale) + " is not a positive number");
-    if (set.lodHysteresis > 0.0) {
+    const LodBudgetSettings& lb = set.lodBudget;
+    if (lb.enabled && (!lb.model || !(lb.budgetMs > 0.0 && std::isfinite(lb.budgetMs)) || !(lb.hysteresis >= 0.0 && std::isfinite(lb.hysteresis))))
+        throw std::invalid_argument("CullTraversal::cull(): lodBudget needs a cost model, a positive budget (" + std::to_string(lb.budgetMs) +
+                                    " ms) and a hysteresis >= 0 (" + std::to_string(lb.hysteresis) + ")");
+    if (set.lodHysteresis > 0.0 || lb.enabled) {
         if (!(set.lodHysteresis < 1.0))
             throw std::invalid_argument("CullTraversal::cull(): lodHysteresis " + std::to_string(set.lodHysteresis) + " is not in [0, 1)");
         if (lodImage_ != &img || lodVersion_ != scene.structureVersion() || lodLast_.size() != img.size()) {
@@ -149,7 +153,21 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
         const int32_t occ = buildOcclusion(img);
         framesTop_ = 0;
+        deferred_.clear();
+        planning_ = lb.enabled;
         visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()), occ);
+        planning_ = false;
+        if (!deferred_.empty()) {
+            // The budget's choice for every visible LOD at once; then their chosen children are walked.
+            planLods(img);
+            for (size_t k = 0; k < deferred_.size(); ++k) {
+                if (chosen_[k] < 0) continue;
+                const DeferredLod& d = deferred_[k];
+                uint32_t j = d.entry + 1;
+                for (int n = 0; n < chosen_[k]; ++n) j = img.end[j];
+                visit(c, j, d.mask, d.m, d.occ);
+            }
+        }
         stats.occlusionMs += occlusionTestMs_;
         if (stats.occlusionRan && set.occlusion.mode == OcclusionMode::Auto) {
             // Did it pay? The share of the walk it removed, against the threshold; if not, skip it for a
@@ -296,6 +314,10 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
         case NodeKind::Geometry: emit(c, i, m); break;
         case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
         case NodeKind::LOD: {
+            if (planning_ && c.img == &scene_->image()) {  // the budget decides, once the walk is done
+                deferred_.push_back({i, mask, occ, m});
+                break;
+            }
             const double value = lodValue(c, i);
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
             if (set_->lodHysteresis > 0.0 && c.img == &scene_->image()) {
@@ -422,7 +444,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
         // Masked, empty, invalid, below a billboard, or a rarer kind: the general path.
         if ((fl & FlatImage::kSlowPath) || !(kind == NodeKind::Geometry || kind == NodeKind::Group ||
                                               kind == NodeKind::Transform || kind == NodeKind::LOD) ||
-            (kind == NodeKind::LOD && set_->lodHysteresis > 0.0)) {
+            (kind == NodeKind::LOD && (set_->lodHysteresis > 0.0 || planning_))) {
             const dmat4 vm = fr[top].m;
             framesTop_ = top + 1;
             visit(c, j, 0u, vm, OcclusionTree::kVisible);

@@ -4,6 +4,7 @@
 #include "sg/Camera.h"
 #include "sg/CullSettings.h"
 #include "sg/DrawList.h"
+#include "sg/LodSelector.h"
 #include "sg/OcclusionTree.h"
 #include "sg/Scene.h"
 
@@ -36,6 +37,7 @@ private:
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     int32_t buildOcclusion(const FlatImage& img);
     bool occlusionTest(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ);
+    void planLods(const FlatImage& img);  // LOD budget: fills chosen_ for deferred_
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void emit(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
@@ -68,6 +70,18 @@ private:
     std::vector<uint8_t> lodLast_;
     const FlatImage* lodImage_ = nullptr;  // the image lodLast_ is for, and its version
     uint64_t lodVersion_ = 0;
+    // LOD budget: the visible LODs met by the walk, planned together once it is done.
+    struct DeferredLod {
+        uint32_t entry, mask;
+        int32_t occ;
+        dmat4 m;
+    };
+    bool planning_ = false;
+    std::vector<DeferredLod> deferred_;
+    std::vector<int> chosen_;  // per deferred LOD: the child shown, -1: none
+    std::vector<LodSelector::Option> lodOptions_;
+    std::vector<LodSelector::Object> lodObjects_;
+    LodSelector selector_;
 };
 
 }  // namespace sg

@@ -44,6 +44,7 @@ struct FlatImage {
     };
     struct Range {
         float min, max;
+        float error;  // the child's geometric error (LOD::error), 0 when not given
     };
     struct Draw {
         const Mesh* mesh;

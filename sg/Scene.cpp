@@ -257,11 +257,11 @@ struct Scene::Builder {
             case NodeKind::LOD: {
                 const auto* l = static_cast<const LOD*>(n);
                 std::vector<float> key;
-                for (size_t k = 0; k < l->numChildren(); ++k) key.insert(key.end(), {l->range(k).min, l->range(k).max});
+                for (size_t k = 0; k < l->numChildren(); ++k) key.insert(key.end(), {l->range(k).min, l->range(k).max, l->error(k)});
                 auto it = img.rangeIndex.find(key);
                 if (it == img.rangeIndex.end()) {
                     it = img.rangeIndex.emplace(key, uint32_t(img.ranges.size())).first;
-                    for (size_t k = 0; k < key.size(); k += 2) img.ranges.push_back({key[k], key[k + 1]});
+                    for (size_t k = 0; k < key.size(); k += 3) img.ranges.push_back({key[k], key[k + 1], key[k + 2]});
                 }
                 // The centre is filled in by write(), once the bound and the frame are known.
                 img.aux[i] = slot(img.lods, i, FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, uint8_t(l->mode())});

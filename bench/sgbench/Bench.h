@@ -38,5 +38,6 @@ double percentile(std::vector<double> v, double p);
 int runCull(const Args& a);
 int runAccuracy(const Args& a);
 int runOcclusion(const Args& a);
+int runLod(const Args& a);
 
 }  // namespace bench

@@ -1,0 +1,142 @@
+// sgbench lod: frame time against a budget, and image error against full detail, for three ways of
+// choosing LOD levels: static ranges, Performer's stress (one range scale driven by the load), and the
+// time budget (every visible LOD planned together with a draw-cost model fitted online). Headless,
+// 1280x720, city.md's orbit path; each frame's image is compared with the same view at full detail.
+#include "scenes/City.h"
+#include "sg/CullTraversal.h"
+#include "sg/DrawCostModel.h"
+#include "sg/LodStress.h"
+#include "sg/OsmesaContext.h"
+#include "sg/Renderer.h"
+#include "sgbench/Bench.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <stdexcept>
+
+namespace bench {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Mean absolute difference per channel (0-255) over RGB, and the share of pixels that differ.
+void imageError(const sg::Image& a, const sg::Image& b, double& mae, double& pct) {
+    double sum = 0.0;
+    size_t differ = 0;
+    for (size_t p = 0; p + 3 < a.rgba.size(); p += 4) {
+        int d = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int x = std::abs(int(a.rgba[p + k]) - int(b.rgba[p + k]));
+            sum += x;
+            d |= x;
+        }
+        differ += d != 0;
+    }
+    const double n = double(a.rgba.size() / 4);
+    mae = sum / (3.0 * n);
+    pct = 100.0 * double(differ) / n;
+}
+}  // namespace
+
+int runLod(const Args& a) {
+    const std::string sceneName = a.str("scene", "city");
+    if (sceneName != "city") throw std::invalid_argument("sgbench lod: --scene must be city (got '" + sceneName + "')");
+    const int n = int(a.num("n", 100));
+    if (n < 1 || n > 1000) throw std::invalid_argument("sgbench lod: --n " + std::to_string(n) + " is not in 1..1000");
+    const std::string path = a.str("path", "orbit");
+    if (path != "orbit" && path != "street") throw std::invalid_argument("sgbench lod: --path must be orbit or street");
+    const double budget = double(a.num("budget-ms", 33));
+    if (!(budget > 0)) throw std::invalid_argument("sgbench lod: --budget-ms must be positive");
+    const std::string method = a.str("method", "budget");
+    if (method != "static" && method != "stress" && method != "budget")
+        throw std::invalid_argument("sgbench lod: --method must be static, stress or budget (got '" + method + "')");
+    const int every = int(a.num("every", 1));
+    if (every < 1) throw std::invalid_argument("sgbench lod: --every must be at least 1");
+
+    sg::Scene scene(scenes::buildCity({n, false}));
+    scene.update();
+    std::vector<sg::Camera> cams;
+    const int frames = path == "orbit" ? scenes::kOrbitFrames : scenes::kStreetFrames;
+    for (int f = 0; f < frames; f += every)
+        cams.push_back(path == "orbit" ? scenes::cityOrbitCamera(n, f) : scenes::cityStreetCamera(n, f));
+
+    sg::OsmesaContext ctx(1280, 720);
+    sg::Renderer renderer;
+    sg::CullTraversal cull, refCull;
+    sg::DrawList list;
+    sg::CullStats st;
+    sg::DrawCostModel model;
+    sg::LodStress::Params sp;
+    sp.budgetMs = budget;
+    sg::LodStress stress(sp);
+    sg::CullSettings full;  // the reference: every LOD at its finest level
+    full.lodScale = 1e-9;
+
+    double lastCullMs = 0.0;
+    // One frame of the method: cull, draw, finish; then the method learns from the measured time.
+    auto frame = [&](const sg::Camera& cam, double& cullMs, double& drawMs) {
+        sg::CullSettings set;
+        if (method == "stress") set.lodScale = stress.scale();
+        if (method == "budget") {
+            set.lodBudget.enabled = true;
+            set.lodBudget.model = &model;
+            set.lodBudget.budgetMs = std::max(1.0, budget - lastCullMs);  // the cull's own time comes off
+        }
+        const auto t0 = Clock::now();
+        cull.cull(scene, cam, set, list, st);
+        cullMs = msSince(t0);
+        const auto t1 = Clock::now();
+        renderer.draw(list, cam);
+        renderer.finish();
+        drawMs = msSince(t1);
+        const double total = cullMs + drawMs;
+        lastCullMs = cullMs;
+        if (method == "stress") stress.update(total);
+        model.update({double(st.triangles), double(st.geometries), 0.0}, drawMs);
+        return total;
+    };
+    double cm = 0, dm = 0;
+    renderer.draw(list, cams[0]);  // uploads
+    for (const auto& cam : cams) frame(cam, cm, dm);  // warm-up: stress and the model settle on the path
+
+    std::vector<double> total, dev, select, predErr;
+    double mae = 0, pct = 0, tris = 0, dropped = 0;
+    for (const auto& cam : cams) {
+        const double t = frame(cam, cm, dm);
+        total.push_back(t);
+        dev.push_back(std::abs(t - budget));
+        select.push_back(st.lodSelectMs);
+        if (method == "budget") predErr.push_back(std::abs(dm - st.lodPredictedMs));  // predicted before drawing
+        tris += double(st.triangles);
+        dropped += double(st.lodDropped);
+        const sg::Image got = renderer.readColor();
+        sg::CullStats rs;
+        refCull.cull(scene, cam, full, list, rs);
+        renderer.draw(list, cam);
+        double m = 0, p = 0;
+        imageError(got, renderer.readColor(), m, p);
+        mae += m;
+        pct += p;
+    }
+    const double k = double(cams.size());
+    double mean = 0;
+    for (double t : total) mean += t / k;
+    Json j;
+    j.add("command", "lod").add("scene", "city").addInt("n", n).add("path", path).add("method", method);
+    j.add("budget_ms", budget).addInt("frames", long(cams.size()));
+    j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
+    j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
+    j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
+    j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
+    if (!predErr.empty()) j.add("model_abs_error_ms_median", median(predErr));
+    if (a.flag("json"))
+        std::cout << j.str() << std::endl;
+    else
+        std::cout << "sgbench lod\n" << j.table();
+    return 0;
+}
+
+}  // namespace bench

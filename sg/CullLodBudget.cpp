@@ -1,0 +1,75 @@
+// The LOD budget of CullTraversal: every visible LOD's children priced by the draw-cost model and valued
+// by projected size times accuracy, then one chosen per LOD (or none) by LodSelector to fit the budget.
+#include "sg/CullTraversal.h"
+#include "sg/DrawCostModel.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace sg {
+
+void CullTraversal::planLods(const FlatImage& img) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const LodBudgetSettings& b = set_->lodBudget;
+    const DrawCostModel& model = *b.model;
+    const dvec3 eyeImg = cam_->eye() - img.origin;
+    const double ppu = cam_->pixelsPerUnit(), zNear = std::max(-cam_->eyePlanes()[4].d, 1e-6);
+    const double screen = double(cam_->width()) * cam_->height();
+    lodOptions_.clear();
+    lodObjects_.clear();
+    for (const DeferredLod& d : deferred_) {
+        const uint32_t i = d.entry;
+        // Projected area of the LOD's bound, the value of drawing it at all.
+        const double dist = glm::length(img.center(i) - img.origin - eyeImg);
+        const double size = 2.0 * img.r[i] * ppu / (cam_->perspective() ? std::max(dist, zNear) : 1.0);
+        const double area = std::min(0.785398 * size * size, screen);
+        // Each child's work: the geometries below it (nested LODs and switches counted whole: an upper bound).
+        const size_t first = lodOptions_.size();
+        double trisMax = 0.0;
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) {
+            double tris = 0.0, items = 0.0;
+            for (uint32_t e = j; e < img.end[j]; ++e)
+                if (img.kind[e] == NodeKind::Geometry && !(img.flags[e] & FlatImage::kEmpty) && img.draws[img.aux[e]].mesh) {
+                    tris += double(img.draws[img.aux[e]].mesh->triangleCount());
+                    items += 1.0;
+                }
+            trisMax = std::max(trisMax, tris);
+            lodOptions_.push_back({model.marginal({tris, items, area}), tris});  // benefit finished below
+        }
+        // Accuracy: from the levels' geometric errors when the LOD has them (LOD::setError, makeLod), as
+        // 1 / (1 + the error's projected pixels); else from detail, growing ever more slowly (a tenth of
+        // the triangles keeps ~56% of the value).
+        const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
+        bool hasErrors = false;
+        for (size_t k = first; k < lodOptions_.size(); ++k) hasErrors |= rg[k - first].error > 0.0f;
+        const double pxPerUnit = ppu / (cam_->perspective() ? std::max(dist, zNear) : 1.0);
+        for (size_t k = first; k < lodOptions_.size(); ++k) {
+            const double acc = hasErrors ? 1.0 / (1.0 + rg[k - first].error * pxPerUnit)
+                                         : (trisMax > 0.0 ? std::pow(lodOptions_[k].benefit / trisMax, 0.25) : 1.0);
+            lodOptions_[k].benefit = area * acc;
+        }
+        const uint8_t last = lodLast_[i];
+        const int count = int(lodOptions_.size() - first);
+        lodObjects_.push_back({nullptr, count, last != 0xff && last < count ? int(last) : -1});
+    }
+    size_t at = 0;
+    for (LodSelector::Object& o : lodObjects_) {
+        o.options = lodOptions_.data() + at;
+        at += size_t(o.count);
+    }
+    // What the rest of the frame already costs comes off the budget.
+    const double fixed = model.predict({double(triangles_), double(out_->items.size()), 0.0});
+    const LodSelector::Selection& sel = selector_.select(lodObjects_, std::max(0.0, b.budgetMs - fixed), b.hysteresis,
+                                                         b.mayDrop ? LodSelector::Floor::Nothing : LodSelector::Floor::Cheapest);
+    chosen_ = sel.level;
+    for (size_t k = 0; k < deferred_.size(); ++k) {
+        lodLast_[deferred_[k].entry] = chosen_[k] < 0 ? 0xff : uint8_t(std::min(chosen_[k], 254));
+        stats_->lodDropped += chosen_[k] < 0;
+    }
+    stats_->lodObjects = deferred_.size();
+    stats_->lodPredictedMs = fixed + sel.costMs;
+    stats_->lodSelectMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace sg

@@ -1,0 +1,148 @@
+#include "sg/LodSelector.h"
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace sg {
+
+namespace {
+
+bool amount(double v) { return v >= 0 && std::isfinite(v); }
+
+// `object` and `option` are -1 when the value is not theirs.
+[[noreturn]] void refuse(long object, int option, const char* what, double v, const char* why) {
+    std::string where;
+    if (object >= 0) where += "object " + std::to_string(object) + " ";
+    if (option >= 0) where += "option " + std::to_string(option) + " ";
+    std::ostringstream msg;
+    msg << "LodSelector::select(): " << where << what << " " << v << " " << why;
+    throw std::invalid_argument(msg.str());
+}
+
+// Descending ratio as an ascending integer key. A float keeps the ranking to 7 digits, enough to order
+// benefits that are estimates anyway; the sort below reads its top 24 bits (5 digits).
+std::uint32_t descendingKey(double ratio) {
+    const float f = static_cast<float>(ratio);
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, sizeof bits);
+    return 0x7fffffffu - bits;  // ratio >= 0: the bits of a non-negative float (up to inf) grow with it
+}
+
+// Stable LSD radix sort on bits 7 to 30 of the high word, three passes of 8 bits: linear in the steps,
+// where a comparison sort or a heap over 10,000 objects would cost more than all the rest of select().
+// Stability keeps an object's steps in hull order when their keys are equal.
+void sortByKey(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp) {
+    tmp.resize(v.size());
+    constexpr int kShift0 = 32 + 7;
+    std::uint32_t count[3][257] = {};
+    for (std::uint64_t e : v)
+        for (int pass = 0; pass < 3; ++pass) ++count[pass][((e >> (kShift0 + 8 * pass)) & 0xff) + 1];
+    for (int pass = 0; pass < 3; ++pass) {
+        std::uint32_t* c = count[pass];
+        const int shift = kShift0 + 8 * pass;
+        if (c[((v.front() >> shift) & 0xff) + 1] == v.size()) continue;  // one bucket: nothing moves
+        for (int b = 0; b < 256; ++b) c[b + 1] += c[b];
+        for (std::uint64_t e : v) tmp[c[(e >> shift) & 0xff]++] = e;
+        v.swap(tmp);
+    }
+}
+
+}  // namespace
+
+const LodSelector::Selection& LodSelector::select(const std::vector<Object>& objects, double budgetMs,
+                                                  double hysteresis, Floor floor) {
+    if (!amount(budgetMs)) refuse(-1, -1, "budgetMs", budgetMs, "is negative or not finite");
+    if (!amount(hysteresis)) refuse(-1, -1, "hysteresis", hysteresis, "is negative or not finite");
+    const std::size_t n = objects.size();
+    sel_.level.assign(n, -1);
+    std::size_t total = 0;
+    for (const Object& obj : objects) total += obj.count > 0 ? std::size_t(obj.count) : 0;
+    steps_.resize(total);  // at most one step per option
+    order_.resize(total);
+    std::size_t nSteps = 0;
+    double spent = 0.0;
+
+    for (std::size_t o = 0; o < n; ++o) {
+        const Object& obj = objects[o];
+        const long at = static_cast<long>(o);
+        if (obj.count < 0 || (obj.count > 0 && !obj.options)) refuse(at, -1, "count", obj.count, "is negative or its options are missing");
+        if (obj.last < -1 || obj.last >= obj.count) refuse(at, -1, "last", obj.last, "is not one of its options");
+        if (obj.count == 0) continue;
+        if (cand_.size() < std::size_t(obj.count)) cand_.resize(obj.count);
+        Candidate* cand = cand_.data();
+        const std::size_t m = obj.count;
+        for (int i = 0; i < obj.count; ++i) {
+            const Option& op = obj.options[i];
+            if (!amount(op.costMs)) refuse(at, i, "costMs", op.costMs, "is negative or not finite");
+            if (!amount(op.benefit)) refuse(at, i, "benefit", op.benefit, "is negative or not finite");
+            cand[i] = {op.costMs, i == obj.last ? op.benefit * (1.0 + hysteresis) : op.benefit, i};
+        }
+        // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels.
+        for (std::size_t i = 1; i < m; ++i) {
+            const Candidate c = cand[i];
+            std::size_t j = i;
+            for (; j > 0 && (cand[j - 1].cost > c.cost || (cand[j - 1].cost == c.cost && cand[j - 1].rank < c.rank)); --j)
+                cand[j] = cand[j - 1];
+            cand[j] = c;
+        }
+        Candidate base{0.0, 0.0, -1};
+        std::size_t first = 0;
+        if (floor == Floor::Cheapest) {
+            base = cand[0];
+            first = 1;
+            sel_.level[o] = base.option;
+            spent += base.cost;
+        }
+        // Upper convex hull from the base, kept in place in cand[first, top). A point with no more
+        // benefit than the last kept one is dominated; a kept point under the segment from its predecessor
+        // to the new point is below the hull. Collinear points stay: a smaller step may still fit.
+        std::size_t top = first;
+        for (std::size_t i = first; i < m; ++i) {
+            const Candidate p = cand[i];
+            if (p.rank <= (top > first ? cand[top - 1].rank : base.rank)) continue;
+            while (top > first) {
+                const Candidate& a = top - 1 > first ? cand[top - 2] : base;
+                const Candidate& b = cand[top - 1];
+                if ((b.rank - a.rank) * (p.cost - a.cost) >= (p.rank - a.rank) * (b.cost - a.cost)) break;
+                --top;
+            }
+            cand[top++] = p;
+        }
+        double prevCost = base.cost, prevRank = base.rank;
+        for (std::size_t i = first; i < top; ++i) {
+            const double dCost = cand[i].cost - prevCost;
+            const double ratio = dCost > 0 ? (cand[i].rank - prevRank) / dCost : std::numeric_limits<double>::infinity();
+            order_[nSteps] = std::uint64_t(descendingKey(ratio)) << 32 | nSteps;
+            steps_[nSteps++] = {static_cast<int>(o), cand[i].option, dCost};
+            prevCost = cand[i].cost;
+            prevRank = cand[i].rank;
+        }
+    }
+
+    // The hull makes each object's steps ever less worth their cost, so all steps in one order of ratio
+    // are the priority queue's order, and an object's steps come in hull order.
+    order_.resize(nSteps);
+    if (nSteps > 0) sortByKey(order_, scratch_);
+    stuck_.assign(n, 0);
+    for (std::uint64_t e : order_) {
+        const Step& s = steps_[e & 0xffffffffu];
+        if (stuck_[s.object]) continue;
+        if (spent + s.dCost <= budgetMs) {
+            spent += s.dCost;
+            sel_.level[s.object] = s.option;
+        } else {
+            stuck_[s.object] = 1;  // its later steps cost more still, and the budget left only shrinks
+        }
+    }
+    sel_.costMs = spent;
+    sel_.benefit = 0.0;
+    for (std::size_t o = 0; o < n; ++o)
+        if (sel_.level[o] >= 0) sel_.benefit += objects[o].options[sel_.level[o]].benefit;
+    return sel_;
+}
+
+}  // namespace sg
