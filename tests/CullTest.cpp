@@ -288,15 +288,26 @@ TEST(Cull, StaleSceneIsRefused) {
     }
 }
 
+namespace {
+// One LOD at the origin: a detailed box below 100 m, a coarse one from 100 m to 1000 m.
+struct TwoLevels {
+    ref_ptr<Geometry> detailed = box(1.0), coarse = box(1.0);
+    ref_ptr<Group> root = make<Group>();
+    TwoLevels() {
+        auto lod = make<LOD>();
+        lod->addChild(detailed, 0.0f, 100.0f);
+        lod->addChild(coarse, 100.0f, 1000.0f);
+        lod->setCenter(dvec3(0.0));
+        root->addChild(lod);
+    }
+};
+}  // namespace
+
 TEST(Cull, LodHysteresisHoldsTheLevelAtABoundary) {
     // Detailed below 100 m, coarse from 100 m; the eye hovers at 100 m +- 1% along x.
-    auto detailed = box(1.0), coarse = box(1.0);
-    auto lod = make<LOD>();
-    lod->addChild(detailed, 0.0f, 100.0f);
-    lod->addChild(coarse, 100.0f, 1000.0f);
-    lod->setCenter(dvec3(0.0));
-    auto root = make<Group>();
-    root->addChild(lod);
+    TwoLevels two;
+    auto &detailed = two.detailed, &coarse = two.coarse;
+    auto& root = two.root;
     Scene s(root);
     s.update();
     auto cameraAt = [](double x) {
@@ -349,13 +360,9 @@ TEST(Cull, LodHysteresisHoldsTheLevelAtABoundary) {
 }
 
 TEST(Cull, LodScaleMakesEverythingLookFarther) {
-    auto detailed = box(1.0), coarse = box(1.0);
-    auto lod = make<LOD>();
-    lod->addChild(detailed, 0.0f, 100.0f);
-    lod->addChild(coarse, 100.0f, 1000.0f);
-    lod->setCenter(dvec3(0.0));
-    auto root = make<Group>();
-    root->addChild(lod);
+    TwoLevels two;
+    auto &detailed = two.detailed, &coarse = two.coarse;
+    auto& root = two.root;
     Scene s(root);
     s.update();
     Camera cam;
