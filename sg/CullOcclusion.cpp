@@ -109,7 +109,6 @@ bool CullTraversal::occlusionTest(const FlatImage& img, const dvec3& originRel, 
         return true;
     }
     const auto r = otree_.testRelative(ctr - h, ctr + h, occ);
-    stats_->occlusionBoxSplits = otree_.boxSplits();
     occlusionTestMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     if (r != OcclusionTree::Result::Occluded) return true;
     stats_->culledOcclusion++;

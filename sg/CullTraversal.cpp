@@ -169,6 +169,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
             }
         }
         stats.occlusionMs += occlusionTestMs_;
+        stats.occlusionBoxSplits = otree_.boxSplits();
         if (stats.occlusionRan && set.occlusion.mode == OcclusionMode::Auto) {
             // Did it pay? The share of the walk it removed, against the threshold; if not, skip it for a
             // while (4, 8, ... 64 frames) and try again.

@@ -60,6 +60,13 @@ DrawCostModel trained() {
     }
     return m;
 }
+CullSettings budgeted(const DrawCostModel& model, double ms) {
+    CullSettings set;
+    set.lodBudget.enabled = true;
+    set.lodBudget.model = &model;
+    set.lodBudget.budgetMs = ms;
+    return set;
+}
 struct Frame {
     int fine = 0, coarse = 0;
     std::vector<double> fineY;  // where the fine ones are
@@ -85,11 +92,7 @@ TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
     Scene s(row.root);
     s.update();
     const DrawCostModel model = trained();
-    CullSettings set;
-    set.lodBudget.enabled = true;
-    set.lodBudget.model = &model;
-
-    set.lodBudget.budgetMs = 100.0;  // room for everything: all fine (the ranges would say the same)
+    CullSettings set = budgeted(model, 100.0);  // room for everything: all fine (the ranges would say the same)
     Frame f = cull(s, row, set);
     EXPECT_EQ(f.fine, 20);
     EXPECT_EQ(f.stats.lodObjects, 20u);
@@ -121,11 +124,7 @@ TEST(LodBudget, LevelErrorsTellWhereDetailPays) {
         Scene s(row.root);
         s.update();
         const DrawCostModel model = trained();
-        CullSettings set;
-        set.lodBudget.enabled = true;
-        set.lodBudget.model = &model;
-        set.lodBudget.budgetMs = 2.0;
-        const Frame f = cull(s, row, set);
+        const Frame f = cull(s, row, budgeted(model, 2.0));
         EXPECT_EQ(f.fine + f.coarse, 20);
         EXPECT_GT(f.fine, 0);
         EXPECT_LT(f.fine, 20);

@@ -5,7 +5,6 @@
 #include "scenes/RandomScene.h"
 #include "sgbench/Bench.h"
 
-#include <iostream>
 #include <stdexcept>
 
 namespace bench {
@@ -67,10 +66,7 @@ int runAccuracy(const Args& a) {
     j.addInt("views_with_occlusion_culls", res.viewsWithOcclusionCulls);
     j.addInt("triangles_total", long(res.trianglesTotal)).addInt("reference_triangles_total", long(res.referenceTrianglesTotal));
     j.addInt("worst_view", res.worstView);
-    if (a.flag("json"))
-        std::cout << j.str() << std::endl;
-    else
-        std::cout << "sgbench accuracy\n" << j.table();
+    j.print(a);
     return 0;
 }
 

@@ -26,6 +26,8 @@ public:
     std::string str() const;
     // Human-readable table of the same fields.
     std::string table() const;
+    // To stdout: one JSON line with --json, else "sgbench <command>" and the table.
+    void print(const Args& a) const;
 
 private:
     std::vector<std::pair<std::string, std::string>> kv_;

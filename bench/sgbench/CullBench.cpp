@@ -6,7 +6,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <iostream>
 #include <stdexcept>
 
 namespace bench {
@@ -64,10 +63,7 @@ int runCull(const Args& a) {
     j.add("build_s", buildS).add("rss_mb", rss1).addInt("nodes", long(nodes));
     j.add("bytes_per_node", (rss1 - rss0) * 1024.0 * 1024.0 / double(nodes));
     j.add("image_bytes_per_node", double(scene.bytes()) / double(nodes));
-    if (a.flag("json"))
-        std::cout << j.str() << std::endl;
-    else
-        std::cout << "sgbench cull\n" << j.table();
+    j.print(a);
     return 0;
 }
 

@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <iostream>
 #include <stdexcept>
 
 namespace bench {
@@ -133,10 +132,7 @@ int runLod(const Args& a) {
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
     j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
     if (!predErr.empty()) j.add("model_abs_error_ms_median", median(predErr));
-    if (a.flag("json"))
-        std::cout << j.str() << std::endl;
-    else
-        std::cout << "sgbench lod\n" << j.table();
+    j.print(a);
     return 0;
 }
 

@@ -9,7 +9,6 @@
 #include "sgbench/Bench.h"
 
 #include <chrono>
-#include <iostream>
 #include <memory>
 #include <stdexcept>
 
@@ -147,10 +146,7 @@ int runOcclusion(const Args& a) {
     j.add("pass_ran_share", ran / k).add("occluders_used_mean", used / k).add("tree_nodes_mean", nodes / k);
     j.add("polygon_splits_mean", psplits / k).add("box_splits_mean", bsplits / k);
     j.add("occlusion_tests_mean", tests / k).add("culled_occlusion_mean", culled / k);
-    if (a.flag("json"))
-        std::cout << j.str() << std::endl;
-    else
-        std::cout << "sgbench occlusion\n" << j.table();
+    j.print(a);
     return 0;
 }
 

@@ -70,6 +70,13 @@ std::string Json::table() const {
     return s;
 }
 
+void Json::print(const Args& a) const {
+    if (a.flag("json"))
+        std::cout << str() << std::endl;
+    else
+        std::cout << "sgbench " << a.command << "\n" << table();
+}
+
 double rssMb() {
     std::ifstream f("/proc/self/statm");
     long pages = 0, rss = 0;
