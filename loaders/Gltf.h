@@ -1,0 +1,56 @@
+// glTF 2.0 in and out (.gltf with external or embedded buffers, .glb), through tinygltf, with the
+// validation tinygltf does not do. sgkit's own node kinds travel in glTF `extras`.
+#pragma once
+#include "sg/Math.h"
+#include "sg/Node.h"
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sg {
+
+// A file that cannot be loaded: names the file, the JSON path of the offending element (for example
+// "meshes[2].primitives[0].indices", empty when the file as a whole is bad) and the reason.
+class LoadError : public std::runtime_error {
+public:
+    LoadError(std::string file, std::string jsonPath, std::string reason);
+    const std::string& file() const { return file_; }
+    const std::string& jsonPath() const { return path_; }
+    const std::string& reason() const { return reason_; }
+
+private:
+    std::string file_, path_, reason_;
+};
+
+struct GltfCamera {
+    std::string name;
+    dmat4 world{1.0};          // the camera node's world matrix (the camera looks down its -Z)
+    bool perspective = true;
+    double yfovDegrees = 60.0, aspect = 0.0, znear = 0.1, zfar = 0.0;  // aspect/zfar 0: not given
+    double xmag = 1.0, ymag = 1.0;                                     // orthographic half sizes
+};
+
+struct GltfLoadOptions {
+    // Called now and then during a load that has taken over a second: fraction done in [0, 1] and the stage.
+    std::function<void(double fraction, const std::string& stage)> progress;
+};
+
+struct GltfScene {
+    ref_ptr<Node> root;                 // a Group holding the default scene's root nodes
+    std::vector<GltfCamera> cameras;
+    std::vector<std::string> warnings;  // what was skipped or converted, each naming its JSON path
+};
+
+// Throws LoadError; never crashes, hangs or leaks on any input.
+GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options = {});
+// The same from memory (`name` is used in messages; binary when the data starts with "glTF").
+GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t size,
+                             const GltfLoadOptions& options = {});
+
+// Writes the graph below `root` as .glb or .gltf (embedded buffers), chosen by the extension.
+// Throws std::runtime_error naming the file when it cannot be written.
+void saveGltf(const Node& root, const std::string& path);
+
+}  // namespace sg
