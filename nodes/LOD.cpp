@@ -44,6 +44,14 @@ void LOD::setCenter(const dvec3& c) {
     markDirty(kDirtyBound);
 }
 
+void LOD::setTransition(float width) {
+    if (!(width >= 0.0f && std::isfinite(width)))
+        throw std::invalid_argument("LOD::setTransition(): " + describe() + ": width " + std::to_string(width) +
+                                    " is not finite and non-negative");
+    transition_ = width;
+    markDirty(kDirtyBound);  // the image keeps a copy
+}
+
 void LOD::setError(size_t i, float e) {
     if (i >= numChildren())
         throw std::out_of_range("LOD::setError(): child " + std::to_string(i) + " of " + describe() + " does not exist");

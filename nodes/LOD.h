@@ -29,6 +29,14 @@ public:
     void setError(size_t i, float error);
     float error(size_t i) const;
 
+    // Performer's LOD fade: over a band `width` wide (in the LOD's units: distance, or pixels) centred on each
+    // end of a child's range, the child dissolves in or out with a screen-door pattern instead of popping; two
+    // children that meet at a boundary get complementary patterns there, so each pixel shows exactly one of
+    // them. 0 (the default): no band, the child pops. Throws std::invalid_argument for a negative or
+    // non-finite width. CullSettings::lodFade turns every band off at once.
+    void setTransition(float width);
+    float transition() const { return transition_; }
+
     void setMode(Mode m) {
         mode_ = m;
         markDirty(kDirtyBound);  // the image keeps a copy of the mode and ranges
@@ -58,6 +66,7 @@ private:
     std::unique_ptr<More> more_;  // null while there are at most two children and no errors
     Mode mode_ = Mode::Distance;
     bool userCenter_ = false;
+    float transition_ = 0.0f;
 };
 
 }  // namespace sg

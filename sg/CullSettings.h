@@ -72,6 +72,10 @@ struct CullSettings {
     // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
     // and OpenSceneGraph's LOD scale; sg/LodStress.h drives it from the frame time.
     double lodScale = 1.0;
+    // LOD fade (LOD::setTransition): children dissolve in and out over their LOD's band. Off: every band is
+    // ignored and levels pop at the plain boundaries (as without transitions). Not applied to the LODs the
+    // budget plans (lodBudget), which change level only when the budget does.
+    bool lodFade = true;
     LodBudgetSettings lodBudget;  // when enabled, LOD ranges, scale and hysteresis are not used
     OcclusionSettings occlusion;
 };

@@ -9,7 +9,9 @@
 #include "nodes/Transform.h"
 #include "sg/FrustumKernel.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cmath>
 #include <stdexcept>
 
@@ -129,6 +131,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     cls_.clear();
     scratch_.clear();
     triangles_ = 0;
+    fade_ = 1.0f;
     const FlatImage& img = scene.image();
     occlusionTestMs_ = 0.0;
     if (!(set.lodScale > 0.0 && std::isfinite(set.lodScale)))
@@ -321,6 +324,10 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
             }
             const double value = lodValue(c, i);
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
+            if (set_->lodFade && img.lods[img.aux[i]].fade > 0.0f) {
+                fadedLod(c, i, mask, m, occ, value, img.lods[img.aux[i]].fade);
+                break;
+            }
             if (set_->lodHysteresis > 0.0 && c.img == &scene_->image()) {
                 // The last child stays while the value is within its widened range; else the plain
                 // ranges decide, and the first child they show is remembered.
@@ -411,6 +418,29 @@ void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4&
     cls_.resize(off);
 }
 
+// A child is drawn over its range widened by half the band at each end; within the band it covers the
+// share of pixels that the position in the band gives. Where two children meet, one keeps the pixels whose
+// pattern value is below its share and the other those at or above it: together exactly every pixel.
+void CullTraversal::fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
+    const double w = width, h = 0.5 * w;
+    // Shares in steps of 1/4096: exact in float, so complementary shares add up to exactly 1 on the GPU.
+    auto share = [](double x) { return float(std::round(std::clamp(x, 0.0, 1.0) * 4096.0) / 4096.0); };
+    const float outer = fade_;
+    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg) {
+        if (value < rg->min - h || value >= rg->max + h) continue;
+        const float in = rg->min > 0.0f ? share((value - (rg->min - h)) / w) : 1.0f;  // nothing below 0 to fade from
+        const float out = share((rg->max + h - value) / w);
+        // Fading out: keep pattern < out (DrawList::fades > 0); fading in: keep pattern >= 1 - in (< 0).
+        const float f = (in >= 1.0f && out >= 1.0f) ? 1.0f : (in < out ? -in : out);
+        if (f == 0.0f) continue;
+        fade_ = f;
+        visit(c, j, mask, m, occ);
+        fade_ = outer;
+    }
+}
+
 double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {
     const FlatImage& img = *c.img;
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
@@ -445,7 +475,8 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
         // Masked, empty, invalid, below a billboard, or a rarer kind: the general path.
         if ((fl & FlatImage::kSlowPath) || !(kind == NodeKind::Geometry || kind == NodeKind::Group ||
                                               kind == NodeKind::Transform || kind == NodeKind::LOD) ||
-            (kind == NodeKind::LOD && (set_->lodHysteresis > 0.0 || planning_))) {
+            (kind == NodeKind::LOD &&
+             (set_->lodHysteresis > 0.0 || planning_ || (set_->lodFade && img.lods[img.aux[j]].fade > 0.0f)))) {
             const dmat4 vm = fr[top].m;
             framesTop_ = top + 1;
             visit(c, j, 0u, vm, OcclusionTree::kVisible);
@@ -517,6 +548,7 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     it.mesh = d.mesh;
     it.material = d.material;
     toFloat(m, it.model);
+    if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
     triangles_ += d.mesh->triangleCount();
     if (invalid) stats_->invalidDrawn++;
 }

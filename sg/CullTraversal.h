@@ -34,6 +34,7 @@ private:
     void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
     void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     double lodValue(const Ctx& c, uint32_t i) const;
+    void fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width);
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     int32_t buildOcclusion(const FlatImage& img);
     bool occlusionTest(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ);
@@ -56,6 +57,7 @@ private:
     std::vector<Frame> frames_;       // transform frames of inside(), a stack up to framesTop_
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
+    float fade_ = 1.0f;  // the dissolve of what is emitted now (DrawList::fades), 1: none
     OcclusionTree otree_;
     struct Candidate {
         double dist;

@@ -28,10 +28,14 @@ public:
     // (material, mesh) then the depth of its bound's centre along the view.
     std::vector<DrawItem> items;
     std::vector<uint32_t> order;  // indices into items, sorted by key
+    // Items drawn dissolved (LOD fade), by item index, in emission order: f in (0, 1) keeps the pixels whose
+    // screen-door pattern value is below f, f in (-1, 0) those at or above 1 + f. Items not listed: opaque.
+    std::vector<std::pair<uint32_t, float>> fades;
 
     void clear() {
         items.clear();
         order.clear();
+        fades.clear();
         keys_.clear();
     }
     // Appends an item with its depth along the view (its sort key is made here).

@@ -40,6 +40,7 @@ struct FlatImage {
     struct Lod {
         float cx, cy, cz;     // the centre (user's, or the bound's), in image coordinates like the bounds
         uint32_t firstRange;  // into ranges, one per child
+        float fade;           // LOD::transition(): the width of the dissolve band at range ends, 0 for none
         uint8_t mode;         // LOD::Mode
     };
     struct Range {

@@ -44,8 +44,14 @@ uniform bool uUseTexture;
 uniform bool uUseColor;
 uniform bool uLit;
 uniform sampler2D uTexture;
+uniform float uFade;  // DrawList::fades: 1 opaque; f > 0 keeps pattern < f; f < 0 keeps pattern >= 1 + f
 out vec4 fragColor;
 void main() {
+    if (uFade < 1.0) {
+        // Interleaved gradient noise (Jimenez 2014): a pattern value per pixel, evenly spread, no visible grid.
+        float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
+        if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
+    }
     vec4 c = uBaseColor;
     if (uUseTexture) c *= texture(uTexture, vUv);
     if (uUseColor) c *= vColor;
@@ -147,6 +153,7 @@ Renderer::Renderer() {
     uUseTexture_ = glGetUniformLocation(program_, "uUseTexture");
     uUseColor_ = glGetUniformLocation(program_, "uUseColor");
     uLit_ = glGetUniformLocation(program_, "uLit");
+    uFade_ = glGetUniformLocation(program_, "uFade");
     uTexture_ = glGetUniformLocation(program_, "uTexture");
     glUseProgram(program_);
     glUniform1i(uTexture_, 0);
@@ -267,6 +274,12 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
     instances_.clear();
     runs_.clear();
+    fades_.clear();
+    if (!list.fades.empty()) {  // dissolving items are few: a dense copy only in frames that have them
+        fades_.assign(list.items.size(), 1.0f);
+        for (const auto& [i, f] : list.fades)
+            if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
+    }
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
         if (i >= list.items.size())
@@ -274,8 +287,9 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
                                     " is past the " + std::to_string(list.items.size()) + " items");
         const DrawItem& it = list.items[i];
         if (!it.mesh || it.mesh->indexCount() == 0) continue;
-        if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material)
-            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0});
+        const float fade = fades_.empty() ? 1.0f : fades_[i];
+        if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material || runs_.back().fade != fade)
+            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade});
         runs_.back().count++;
         instances_.push_back(it.matrix());
     }
@@ -322,6 +336,7 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
             glUniform1i(uUseTexture_, tex ? 1 : 0);
             glUniform1i(uUseColor_, g.colors ? 1 : 0);
             glUniform1i(uLit_, (!r.material || !r.material->unlit) && g.normals ? 1 : 0);
+            glUniform1f(uFade_, r.fade);
             glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
             stats_.drawCalls++;
             stats_.instances += r.count;

@@ -72,7 +72,7 @@ private:
     static void destroy(GpuMesh& g);
 
     unsigned program_ = 0, instanceVbo_ = 0;
-    int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1,
+    int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
         uTexture_ = -1;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;
     std::unordered_map<const Texture*, GpuTexture> textures_;
@@ -80,9 +80,11 @@ private:
         const Mesh* mesh;
         const Material* material;
         uint32_t first, count;  // range in instances_
+        float fade;             // DrawList::fades
     };
     std::vector<mat4> instances_;  // the frame's model matrices, in draw order
     std::vector<Run> runs_;
+    std::vector<float> fades_;  // per item, filled only in frames with dissolving items
     uint64_t frame_ = 0;
     RenderStats stats_;
 };

@@ -152,7 +152,9 @@ TEST(BspGroup, OrderIsFrontToBack) {
         for (size_t a = 0; a < 5; ++a)
             for (size_t b = a + 1; b < 5; ++b) {
                 const double da = boxes[ord[a]].center().x - x, db = boxes[ord[b]].center().x - x;
-                if ((da > 0) == (db > 0)) EXPECT_LT(std::abs(da), std::abs(db)) << "eye x " << x;
+                if ((da > 0) == (db > 0)) {
+                    EXPECT_LT(std::abs(da), std::abs(db)) << "eye x " << x;
+                }
             }
     }
 }

@@ -1,6 +1,7 @@
 // Renderer and OsmesaContext: headless renders compared pixel by pixel.
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
+#include "nodes/LOD.h"
 #include "nodes/Transform.h"
 #include "sg/CullTraversal.h"
 #include "sg/ImageIO.h"
@@ -291,4 +292,54 @@ TEST_F(RendererTest, EmptyOrderDrawsTheItemsAndWideIndicesWork) {
     const Image img = renderer.readColor();
     EXPECT_TRUE(near(pixel(img, kW / 2, kH / 2), red, 2));
     EXPECT_EQ(pixel(img, 0, 0), kClear8);
+}
+
+// LOD fade on screen: in the band the two levels share the object's pixels with complementary patterns,
+// so together they cover exactly what one opaque level covers, in the proportion the band position gives.
+TEST_F(RendererTest, LodFadeSharesThePixelsBetweenTheTwoLevels) {
+    const vec4 red(1, 0, 0, 1), green(0, 1, 0, 1);
+    auto matOf = [](const vec4& c) {
+        auto m = make<Material>();
+        m->baseColor = c;
+        m->unlit = true;
+        return m;
+    };
+    auto mesh = makeBoxMesh(dvec3(-2.0), dvec3(2.0));
+    auto lod = make<LOD>();
+    lod->addChild(make<Geometry>(mesh, matOf(red)), 0, 10);
+    lod->addChild(make<Geometry>(mesh, matOf(green)), 10, 100);
+    lod->setCenter(dvec3(0.0));
+    lod->setTransition(2.0f);
+    Scene scene(lod);
+    scene.update();
+    auto render = [&](double dist, bool fade) {
+        const Camera cam = lookingAt(dvec3(0.3, 0.2, dist), dvec3(0.0));
+        CullSettings set;
+        set.lodFade = fade;
+        DrawList list;
+        CullStats stats;
+        CullTraversal().cull(scene, cam, set, list, stats);
+        list.sort();
+        renderer.draw(list, cam, kClear);
+        return renderer.readColor();
+    };
+    for (double dist : {9.5, 10.0, 10.5}) {
+        const Image opaque = render(dist, false), faded = render(dist, true);
+        int covered = 0, r = 0, g = 0, other = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const bool in = pixel(opaque, x, y) != kClear8;
+                const auto p = pixel(faded, x, y);
+                covered += in;
+                if (!in) other += p != kClear8;  // nothing outside the object
+                else if (near(p, red, 0)) ++r;
+                else if (near(p, green, 0)) ++g;
+                else ++other;                   // a hole or a blend: neither level
+            }
+        ASSERT_GT(covered, 1000);
+        EXPECT_EQ(other, 0) << dist;
+        EXPECT_EQ(r + g, covered) << dist;
+        // The detailed (red) share is (11 - dist) / 2: 0.75, 0.5, 0.25, within the pattern's spread.
+        EXPECT_NEAR(double(r) / covered, (11.0 - dist) / 2.0, 0.03) << dist;
+    }
 }
