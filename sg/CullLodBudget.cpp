@@ -16,6 +16,7 @@ void CullTraversal::planLods(const FlatImage& img) {
     const dvec3 eyeImg = cam_->eye() - img.origin;
     const double ppu = cam_->pixelsPerUnit(), zNear = std::max(-cam_->eyePlanes()[4].d, 1e-6);
     const double screen = double(cam_->width()) * cam_->height();
+    const DrawCostModel::Rates rates = model.rates();
     lodOptions_.clear();
     lodObjects_.clear();
     for (const DeferredLod& d : deferred_) {
@@ -35,7 +36,8 @@ void CullTraversal::planLods(const FlatImage& img) {
                     items += 1.0;
                 }
             trisMax = std::max(trisMax, tris);
-            lodOptions_.push_back({model.marginal({tris, items, area}), tris});  // benefit finished below
+            const double cost = rates.perTriangle * tris + rates.perItem * items + rates.perPixel * area;  // model.marginal()
+            lodOptions_.push_back({std::max(0.0, cost), tris});  // benefit finished below
         }
         // Accuracy: from the levels' geometric errors when the LOD has them (LOD::setError, makeLod), as
         // 1 / (1 + the error's projected pixels); else from detail, growing ever more slowly (a tenth of
@@ -46,7 +48,7 @@ void CullTraversal::planLods(const FlatImage& img) {
         const double pxPerUnit = ppu / (cam_->perspective() ? std::max(dist, zNear) : 1.0);
         for (size_t k = first; k < lodOptions_.size(); ++k) {
             const double acc = hasErrors ? 1.0 / (1.0 + rg[k - first].error * pxPerUnit)
-                                         : (trisMax > 0.0 ? std::pow(lodOptions_[k].benefit / trisMax, 0.25) : 1.0);
+                                         : (trisMax > 0.0 ? std::sqrt(std::sqrt(lodOptions_[k].benefit / trisMax)) : 1.0);
             lodOptions_[k].benefit = area * acc;
         }
         const uint8_t last = lodLast_[i];

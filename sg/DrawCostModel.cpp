@@ -41,6 +41,8 @@ double DrawCostModel::marginal(const Work& w) const {
     return std::max(0.0, y);
 }
 
+DrawCostModel::Rates DrawCostModel::rates() const { return {w_[1] * kTri, w_[2] * kItems, w_[3] * kPixels}; }
+
 void DrawCostModel::update(const Work& work, double ms) {
     for (double v : {work.triangles, work.items, work.pixels, ms})
         if (!(v >= 0.0 && std::isfinite(v)))

@@ -24,6 +24,12 @@ public:
     double predict(const Work& w) const;
     // The cost of adding this work to a frame (the fixed per-frame part left out): what one object costs.
     double marginal(const Work& w) const;
+    // marginal() as milliseconds per unit of each kind of work, to price many objects in a loop: the cost
+    // of w is max(0, perTriangle * w.triangles + perItem * w.items + perPixel * w.pixels).
+    struct Rates {
+        double perTriangle, perItem, perPixel;
+    };
+    Rates rates() const;
     // One frame: the work it drew and its measured draw time. Throws std::invalid_argument for a negative
     // or non-finite value.
     void update(const Work& w, double measuredMs);

@@ -32,21 +32,24 @@ std::uint32_t descendingKey(double ratio) {
     return 0x7fffffffu - bits;  // ratio >= 0: the bits of a non-negative float (up to inf) grow with it
 }
 
-// Stable LSD radix sort on bits 7 to 30 of the high word, three passes of 8 bits: linear in the steps,
+// Stable LSD radix sort on bits 7 to 30 of the high word, two passes of 12 bits: linear in the steps,
 // where a comparison sort or a heap over 10,000 objects would cost more than all the rest of select().
 // Stability keeps an object's steps in hull order when their keys are equal.
 void sortByKey(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp) {
     tmp.resize(v.size());
-    constexpr int kShift0 = 32 + 7;
-    std::uint32_t count[3][257] = {};
-    for (std::uint64_t e : v)
-        for (int pass = 0; pass < 3; ++pass) ++count[pass][((e >> (kShift0 + 8 * pass)) & 0xff) + 1];
-    for (int pass = 0; pass < 3; ++pass) {
+    constexpr int kShift0 = 32 + 7, kBits = 12, kBuckets = 1 << kBits;
+    static thread_local std::uint32_t count[2][kBuckets + 1];
+    std::memset(count, 0, sizeof count);
+    for (std::uint64_t e : v) {
+        ++count[0][((e >> kShift0) & (kBuckets - 1)) + 1];
+        ++count[1][((e >> (kShift0 + kBits)) & (kBuckets - 1)) + 1];
+    }
+    for (int pass = 0; pass < 2; ++pass) {
         std::uint32_t* c = count[pass];
-        const int shift = kShift0 + 8 * pass;
-        if (c[((v.front() >> shift) & 0xff) + 1] == v.size()) continue;  // one bucket: nothing moves
-        for (int b = 0; b < 256; ++b) c[b + 1] += c[b];
-        for (std::uint64_t e : v) tmp[c[(e >> shift) & 0xff]++] = e;
+        const int shift = kShift0 + kBits * pass;
+        if (c[((v.front() >> shift) & (kBuckets - 1)) + 1] == v.size()) continue;  // one bucket: nothing moves
+        for (int b = 0; b < kBuckets; ++b) c[b + 1] += c[b];
+        for (std::uint64_t e : v) tmp[c[(e >> shift) & (kBuckets - 1)]++] = e;
         v.swap(tmp);
     }
 }

@@ -46,6 +46,9 @@ TEST(DrawCostModel, LearnsTheMachineFromNoisyFrames) {
     // One object's cost: its own work, without the frame's fixed part.
     const DrawCostModel::Work one{1200, 1, 5000};
     EXPECT_NEAR(m.marginal(one), truth.ms(one) - truth.fixed, 0.1);
+    // The same from the rates, as the LOD budget prices its options.
+    const DrawCostModel::Rates r = m.rates();
+    EXPECT_NEAR(r.perTriangle * one.triangles + r.perItem * one.items + r.perPixel * one.pixels, m.marginal(one), 1e-9);
     EXPECT_EQ(m.samples(), 300u);
 }
 

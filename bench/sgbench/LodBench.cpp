@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 
@@ -106,6 +107,10 @@ int runLod(const Args& a) {
     double mae = 0, pct = 0, tris = 0, dropped = 0;
     for (const auto& cam : cams) {
         const double t = frame(cam, cm, dm);
+        if (a.flag("trace"))
+            std::fprintf(stderr, "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu dropped %5llu\n", t, cm, dm,
+                         st.lodPredictedMs, (unsigned long long)st.triangles, (unsigned long long)st.geometries,
+                         (unsigned long long)st.lodObjects, (unsigned long long)st.lodDropped);
         total.push_back(t);
         dev.push_back(std::abs(t - budget));
         select.push_back(st.lodSelectMs);
