@@ -1,6 +1,7 @@
 #include "sg/LodSelector.h"
 
 #include <cmath>
+#include <utility>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -12,6 +13,7 @@ namespace sg {
 namespace {
 
 bool amount(double v) { return v >= 0 && std::isfinite(v); }
+constexpr double kMax = std::numeric_limits<double>::max();  // NaN fails every comparison
 
 // `object` and `option` are -1 when the value is not theirs.
 [[noreturn]] void refuse(long object, int option, const char* what, double v, const char* why) {
@@ -35,23 +37,24 @@ std::uint32_t descendingKey(double ratio) {
 // Stable LSD radix sort on bits 7 to 30 of the high word, two passes of 12 bits: linear in the steps,
 // where a comparison sort or a heap over 10,000 objects would cost more than all the rest of select().
 // Stability keeps an object's steps in hull order when their keys are equal.
-void sortByKey(std::vector<std::uint64_t>& v, std::vector<std::uint64_t>& tmp) {
-    tmp.resize(v.size());
+// Returns where the sorted keys are: `v` or `tmp` (the passes alternate between them).
+const std::uint64_t* sortByKey(std::uint64_t* v, std::uint64_t* tmp, std::size_t n) {
     constexpr int kShift0 = 32 + 7, kBits = 12, kBuckets = 1 << kBits;
     static thread_local std::uint32_t count[2][kBuckets + 1];
     std::memset(count, 0, sizeof count);
-    for (std::uint64_t e : v) {
-        ++count[0][((e >> kShift0) & (kBuckets - 1)) + 1];
-        ++count[1][((e >> (kShift0 + kBits)) & (kBuckets - 1)) + 1];
+    for (std::size_t k = 0; k < n; ++k) {
+        ++count[0][((v[k] >> kShift0) & (kBuckets - 1)) + 1];
+        ++count[1][((v[k] >> (kShift0 + kBits)) & (kBuckets - 1)) + 1];
     }
     for (int pass = 0; pass < 2; ++pass) {
         std::uint32_t* c = count[pass];
         const int shift = kShift0 + kBits * pass;
-        if (c[((v.front() >> shift) & (kBuckets - 1)) + 1] == v.size()) continue;  // one bucket: nothing moves
+        if (c[((v[0] >> shift) & (kBuckets - 1)) + 1] == n) continue;  // one bucket: nothing moves
         for (int b = 0; b < kBuckets; ++b) c[b + 1] += c[b];
-        for (std::uint64_t e : v) tmp[c[(e >> shift) & (kBuckets - 1)]++] = e;
-        v.swap(tmp);
+        for (std::size_t k = 0; k < n; ++k) tmp[c[(v[k] >> shift) & (kBuckets - 1)]++] = v[k];
+        std::swap(v, tmp);
     }
+    return v;
 }
 
 }  // namespace
@@ -64,8 +67,12 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
     sel_.level.assign(n, -1);
     std::size_t total = 0;
     for (const Object& obj : objects) total += obj.count > 0 ? std::size_t(obj.count) : 0;
-    steps_.resize(total);  // at most one step per option
-    order_.resize(total);
+    // At most one step per option. Grown, never shrunk: no clearing of memory every frame.
+    if (steps_.size() < total) {
+        steps_.resize(total);
+        order_.resize(total);
+        scratch_.resize(total);
+    }
     std::size_t nSteps = 0;
     double spent = 0.0;
 
@@ -78,12 +85,18 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
         if (cand_.size() < std::size_t(obj.count)) cand_.resize(obj.count);
         Candidate* cand = cand_.data();
         const std::size_t m = obj.count;
+        bool ok = true;  // one branch per object; the culprit is looked for only when there is one
         for (int i = 0; i < obj.count; ++i) {
             const Option& op = obj.options[i];
-            if (!amount(op.costMs)) refuse(at, i, "costMs", op.costMs, "is negative or not finite");
-            if (!amount(op.benefit)) refuse(at, i, "benefit", op.benefit, "is negative or not finite");
+            ok &= (op.costMs >= 0.0) & (op.costMs <= kMax) & (op.benefit >= 0.0) & (op.benefit <= kMax);
             cand[i] = {op.costMs, i == obj.last ? op.benefit * (1.0 + hysteresis) : op.benefit, i};
         }
+        if (!ok)
+            for (int i = 0; i < obj.count; ++i) {
+                const Option& op = obj.options[i];
+                if (!amount(op.costMs)) refuse(at, i, "costMs", op.costMs, "is negative or not finite");
+                if (!amount(op.benefit)) refuse(at, i, "benefit", op.benefit, "is negative or not finite");
+            }
         // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels.
         for (std::size_t i = 1; i < m; ++i) {
             const Candidate c = cand[i];
@@ -128,11 +141,10 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
 
     // The hull makes each object's steps ever less worth their cost, so all steps in one order of ratio
     // are the priority queue's order, and an object's steps come in hull order.
-    order_.resize(nSteps);
-    if (nSteps > 0) sortByKey(order_, scratch_);
+    const std::uint64_t* sorted = nSteps > 0 ? sortByKey(order_.data(), scratch_.data(), nSteps) : nullptr;
     stuck_.assign(n, 0);
-    for (std::uint64_t e : order_) {
-        const Step& s = steps_[e & 0xffffffffu];
+    for (std::size_t k = 0; k < nSteps; ++k) {
+        const Step& s = steps_[sorted[k] & 0xffffffffu];
         if (stuck_[s.object]) continue;
         if (spent + s.dCost <= budgetMs) {
             spent += s.dCost;

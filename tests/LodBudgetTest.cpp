@@ -103,6 +103,10 @@ TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
     EXPECT_EQ(f.fine + f.coarse, 20);
     EXPECT_GE(f.coarse, 15);
     EXPECT_LE(f.stats.lodPredictedMs, 1.5 + 0.05);
+    // The stats count the levels the budget chose, and the budget it planned for.
+    EXPECT_EQ(f.stats.lodLevels[0], uint64_t(f.fine));
+    EXPECT_EQ(f.stats.lodLevels[1], uint64_t(f.coarse));
+    EXPECT_EQ(f.stats.lodBudgetMs, 1.5);
     for (double y : f.fineY) EXPECT_LT(y, 60.0);  // the upgrades went to the nearest (largest on screen)
 
     set.lodBudget.mayDrop = true;  // allowed to leave LODs out: a budget below the fixed cost drops all

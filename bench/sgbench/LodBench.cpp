@@ -104,7 +104,7 @@ int runLod(const Args& a) {
     for (const auto& cam : cams) frame(cam, cm, dm);  // warm-up: stress and the model settle on the path
 
     std::vector<double> total, dev, select, predErr;
-    double mae = 0, pct = 0, tris = 0, dropped = 0;
+    double mae = 0, pct = 0, tris = 0, dropped = 0, levels[4] = {};
     for (const auto& cam : cams) {
         const double t = frame(cam, cm, dm);
         if (a.flag("trace"))
@@ -117,6 +117,7 @@ int runLod(const Args& a) {
         if (method == "budget") predErr.push_back(std::abs(dm - st.lodPredictedMs));  // predicted before drawing
         tris += double(st.triangles);
         dropped += double(st.lodDropped);
+        for (int l = 0; l < 4; ++l) levels[l] += double(st.lodLevels[l]);
         const sg::Image got = renderer.readColor();
         sg::CullStats rs;
         refCull.cull(scene, cam, full, list, rs);
@@ -136,7 +137,10 @@ int runLod(const Args& a) {
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
     j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
-    if (!predErr.empty()) j.add("model_abs_error_ms_median", median(predErr));
+    if (!predErr.empty()) {
+        j.add("model_abs_error_ms_median", median(predErr));
+        for (int l = 0; l < 2; ++l) j.add("level" + std::to_string(l) + "_mean", levels[l] / k);  // the city has two
+    }
     j.print(a);
     return 0;
 }
