@@ -132,27 +132,61 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
         for (std::size_t i = first; i < top; ++i) {
             const double dCost = cand[i].cost - prevCost;
             const double ratio = dCost > 0 ? (cand[i].rank - prevRank) / dCost : std::numeric_limits<double>::infinity();
-            order_[nSteps] = std::uint64_t(descendingKey(ratio)) << 32 | nSteps;
-            steps_[nSteps++] = {static_cast<int>(o), cand[i].option, dCost};
+            steps_[nSteps++] = {static_cast<int>(o), cand[i].option, descendingKey(ratio), dCost};
             prevCost = cand[i].cost;
             prevRank = cand[i].rank;
         }
     }
 
     // The hull makes each object's steps ever less worth their cost, so all steps in one order of ratio
-    // are the priority queue's order, and an object's steps come in hull order.
-    const std::uint64_t* sorted = nSteps > 0 ? sortByKey(order_.data(), scratch_.data(), nSteps) : nullptr;
-    stuck_.assign(n, 0);
+    // are the priority queue's order, and an object's steps come in hull order. Sorting every step is not
+    // needed: a histogram of their costs by ratio finds the buckets whose steps all fit together, and only
+    // the steps of the bucket where the budget runs out, and smaller ones after it, go through the greedy.
+    bucketCost_.fill(0.0);
+    for (std::size_t k = 0; k < nSteps; ++k) bucketCost_[steps_[k].key >> kBucketShift] += steps_[k].dCost;
+    // A margin, since these sums are added in another order than the steps are taken below.
+    const double room = (budgetMs - spent) * (1.0 - 1e-12);
+    std::size_t cut = 0;
+    for (double sum = 0.0; cut < kBuckets && sum + bucketCost_[cut] <= room; ++cut) sum += bucketCost_[cut];
+    // Every step in a bucket before the cut is taken (an object's taken steps are a prefix of its hull).
+    std::size_t nRest = 0;
     for (std::size_t k = 0; k < nSteps; ++k) {
-        const Step& s = steps_[sorted[k] & 0xffffffffu];
-        if (stuck_[s.object]) continue;
-        if (spent + s.dCost <= budgetMs) {
-            spent += s.dCost;
-            sel_.level[s.object] = s.option;
-        } else {
-            stuck_[s.object] = 1;  // its later steps cost more still, and the budget left only shrinks
+        const Step& st = steps_[k];
+        const std::size_t b = st.key >> kBucketShift;
+        if (b < cut) {
+            spent += st.dCost;
+            sel_.level[st.object] = st.option;
+        } else if (b == cut) {
+            order_[nRest++] = std::uint64_t(st.key) << 32 | k;
         }
     }
+    stuck_.assign(n, 0);
+    auto greedy = [&](std::size_t count) {
+        const std::uint64_t* sorted = count > 0 ? sortByKey(order_.data(), scratch_.data(), count) : nullptr;
+        for (std::size_t k = 0; k < count; ++k) {
+            const Step& st = steps_[sorted[k] & 0xffffffffu];
+            if (stuck_[st.object]) continue;
+            if (spent + st.dCost <= budgetMs) {
+                spent += st.dCost;
+                sel_.level[st.object] = st.option;
+            } else {
+                stuck_[st.object] = 1;  // its later steps cost more still, and the budget left only shrinks
+            }
+        }
+    };
+    greedy(nRest);
+    // After the cut: only steps that fit what is left can be taken. One that does not fit now never will,
+    // and leaves its object stuck, as the greedy in ratio order would.
+    nRest = 0;
+    for (std::size_t k = 0; k < nSteps; ++k) {
+        const Step& st = steps_[k];
+        if ((st.key >> kBucketShift) <= cut || stuck_[st.object]) continue;
+        if (spent + st.dCost <= budgetMs)
+            order_[nRest++] = std::uint64_t(st.key) << 32 | k;
+        else
+            stuck_[st.object] = 1;
+    }
+    greedy(nRest);
     sel_.costMs = spent;
     sel_.benefit = 0.0;
     for (std::size_t o = 0; o < n; ++o)

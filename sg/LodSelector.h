@@ -7,6 +7,8 @@
 // answer is a search.
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -47,8 +49,11 @@ private:
     struct Step {
         int object;
         int option;
+        std::uint32_t key;  // descending benefit per cost as an ascending integer (31 bits)
         double dCost;
     };
+    static constexpr int kBucketShift = 19;  // histogram buckets: the key's top 12 bits
+    static constexpr std::size_t kBuckets = std::size_t(1) << (31 - kBucketShift);
     struct Candidate {
         double cost, rank;
         int option;
@@ -57,6 +62,7 @@ private:
     std::vector<Candidate> cand_;
     std::vector<Step> steps_;
     std::vector<std::uint64_t> order_, scratch_;  // ratio key (high 32 bits) and step index
+    std::array<double, kBuckets> bucketCost_{};   // summed step costs per ratio bucket
     std::vector<char> stuck_;                     // an upgrade of this object did not fit
 };
 
