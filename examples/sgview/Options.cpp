@@ -27,11 +27,11 @@ int parseInt(const std::string& option, const std::string& v, int lo, int hi) {
 std::vector<double> parseNumbers(const std::string& option, const std::string& v, size_t count, const char* form) {
     std::vector<double> out;
     const char* p = v.c_str();
-    while (true) {
+    while (true) {  // a number, then a comma and another, or the end
         char* end = nullptr;
         errno = 0;
         const double x = std::strtod(p, &end);
-        if (end == p || errno == ERANGE || !std::isfinite(x)) break;
+        if (end == p || errno == ERANGE || !std::isfinite(x)) bad(option, v, std::string("expected ") + form);
         out.push_back(x);
         p = end;
         if (*p != ',') break;

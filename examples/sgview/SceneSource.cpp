@@ -11,8 +11,8 @@
 namespace sgview {
 
 #ifdef SGVIEW_NO_GLTF
-LoadedScene loadSceneFile(const std::string&) {
-    throw UsageError("sgview was built without the glTF loader (sgkit::loaders): only --scene city|office works");
+LoadedScene loadSceneFile(const std::string& path) {
+    throw UsageError("'" + path + "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office works");
 }
 #endif
 
