@@ -68,10 +68,13 @@ Image libraryRender(const Scene& scene, const Camera& cam) {
 
 // Pixels that are not the renderer's default clear colour.
 size_t nonBackground(const Image& img) {
-    const uint8_t bg[3] = {uint8_t(std::lround(0.55 * 255)), uint8_t(std::lround(0.7 * 255)), uint8_t(std::lround(0.9 * 255))};
+    const int bg[3] = {int(std::lround(0.55 * 255)), int(std::lround(0.7 * 255)), int(std::lround(0.9 * 255))};
     size_t n = 0;
-    for (size_t i = 0; i < img.rgba.size(); i += 4)
-        n += std::abs(img.rgba[i] - bg[0]) > 1 || std::abs(img.rgba[i + 1] - bg[1]) > 1 || std::abs(img.rgba[i + 2] - bg[2]) > 1;
+    for (size_t i = 0; i < img.rgba.size(); i += 4) {
+        bool differs = false;
+        for (size_t c = 0; c < 3; ++c) differs |= std::abs(int(img.rgba[i + c]) - bg[c]) > 1;
+        n += differs;
+    }
     return n;
 }
 
@@ -85,7 +88,8 @@ const char* kCamera = "-20,-30,90,80,80,0,0,0,1";
 }  // namespace
 
 TEST(SgviewRun, HeadlessEqualsTheLibrarysRenderFromTheGivenCamera) {
-    const Result r = runSgview(std::string("--headless --scene city --n 8 --frames 2 --out x.png --size 400x300 --camera ") + kCamera);
+    const std::string args = "--headless --scene city --n 8 --frames 2 --out x.png --size 400x300 --camera ";
+    const Result r = runSgview(args + kCamera);
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("wrote x.png (400x300), 2 frames"), std::string::npos) << r.out;
     const Image got = loadPng((scratch() / "x.png").string());
@@ -127,7 +131,8 @@ TEST(SgviewRun, SameCameraSameImageOtherCameraOtherImage) {
     ASSERT_EQ(runSgview(base + "--out b.png --camera " + kCamera).code, 0);
     ASSERT_EQ(runSgview(base + "--out c.png --camera 200,-50,40,80,80,20,0,0,1").code, 0);
     const fs::path d = scratch();
-    const Image a = loadPng((d / "a.png").string()), b = loadPng((d / "b.png").string()), c = loadPng((d / "c.png").string());
+    const Image a = loadPng((d / "a.png").string()), b = loadPng((d / "b.png").string());
+    const Image c = loadPng((d / "c.png").string());
     EXPECT_EQ(countDifferingPixels(a, b), 0u);
     EXPECT_GT(countDifferingPixels(a, c), size_t(320 * 240 / 10));
 }
@@ -171,7 +176,8 @@ TEST(SgviewRun, InfoCountsTheCity) {
     EXPECT_EQ(kinds["LOD"], cells);
     EXPECT_EQ(kinds["Geometry"], 3 * cells);
     EXPECT_EQ(kinds["Occluder"], 0u);
-    EXPECT_NE(r.out.find("nodes: " + std::to_string(scenes::cityNodeCount(8)) + " distinct"), std::string::npos) << r.out;
+    const std::string nodes = "nodes: " + std::to_string(scenes::cityNodeCount(8)) + " distinct";
+    EXPECT_NE(r.out.find(nodes), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("triangles: 77568 at full detail"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("bounds: min ("), std::string::npos);
     EXPECT_NE(r.out.find("memory: "), std::string::npos);
@@ -185,7 +191,8 @@ TEST(SgviewRun, BadInputExitsWithTwoAndSaysWhy) {
     const std::pair<std::string, std::string> cases[] = {
         {"--scene city --bogus", "unknown option '--bogus'"},
         {"--headless --scene city --camera 1,2,3", "--camera '1,2,3': expected eye,center,up"},
-        {"--headless --scene city --camera 0,0,0,0,0,0,0,0,1", "--camera '0,0,0,0,0,0,0,0,1': Camera::setLookAt(): eye equals centre"},
+        {"--headless --scene city --camera 0,0,0,0,0,0,0,0,1",
+         "--camera '0,0,0,0,0,0,0,0,1': Camera::setLookAt(): eye equals centre"},
         {"--headless --scene city --size 640", "--size '640': expected WxH"},
         {"--headless --scene city --size 0x480", "--size '0x480': expected WxH"},
         {"--headless --scene city --frames", "--frames needs a value"},

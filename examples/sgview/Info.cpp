@@ -114,8 +114,15 @@ SceneInfo computeInfo(const Node& root, const Scene& scene) {
     return info;
 }
 
-void printInfo(std::FILE* out, const std::string& title, const SceneInfo& i, const std::vector<std::string>& warnings) {
-    auto mb = [](size_t b) { return double(b) / (1024.0 * 1024.0); };
+void printInfo(std::FILE* out, const std::string& title, const SceneInfo& i,
+               const std::vector<std::string>& warnings) {
+    auto size = [](size_t b) {  // "812 B", "12.5 KB", "3.20 MB"
+        char buf[32];
+        if (b < 1024) std::snprintf(buf, sizeof buf, "%zu B", b);
+        else if (b < 1024 * 1024) std::snprintf(buf, sizeof buf, "%.1f KB", double(b) / 1024.0);
+        else std::snprintf(buf, sizeof buf, "%.2f MB", double(b) / (1024.0 * 1024.0));
+        return std::string(buf);
+    };
     std::fprintf(out, "scene: %s\n", title.c_str());
     std::fprintf(out, "nodes: %llu distinct, %llu counted per path\n", (unsigned long long)i.nodes,
                  (unsigned long long)i.paths);
@@ -126,15 +133,16 @@ void printInfo(std::FILE* out, const std::string& title, const SceneInfo& i, con
                  (unsigned long long)i.materials, (unsigned long long)i.textures);
     if (i.boundValid) {
         const dvec3 c = i.bound.center(), e = i.bound.max - i.bound.min;
+        // From the flat image: float, rounded outward.
         std::fprintf(out, "bounds: min (%g, %g, %g) max (%g, %g, %g), size (%g, %g, %g), centre (%g, %g, %g)\n",
                      i.bound.min.x, i.bound.min.y, i.bound.min.z, i.bound.max.x, i.bound.max.y, i.bound.max.z, e.x, e.y,
                      e.z, c.x, c.y, c.z);
     } else {
         std::fprintf(out, "bounds: none (nothing to draw, or a geometry with non-finite positions)\n");
     }
-    std::fprintf(out, "memory: %.2f MB = meshes %.2f + textures %.2f + nodes %.2f + flat image %.2f\n",
-                 mb(i.meshBytes + i.textureBytes + i.nodeBytes + i.imageBytes), mb(i.meshBytes), mb(i.textureBytes),
-                 mb(i.nodeBytes), mb(i.imageBytes));
+    std::fprintf(out, "memory: %s = meshes %s + textures %s + nodes %s + flat image %s\n",
+                 size(i.meshBytes + i.textureBytes + i.nodeBytes + i.imageBytes).c_str(), size(i.meshBytes).c_str(),
+                 size(i.textureBytes).c_str(), size(i.nodeBytes).c_str(), size(i.imageBytes).c_str());
     std::fprintf(out, "warnings: %zu\n", warnings.size());
     for (const std::string& w : warnings) std::fprintf(out, "  %s\n", w.c_str());
 }

@@ -26,6 +26,7 @@ struct SceneInfo {
 
 // Walks the graph once (iteratively: deep graphs do not exhaust the stack); `scene` must be updated.
 SceneInfo computeInfo(const sg::Node& root, const sg::Scene& scene);
-void printInfo(std::FILE* out, const std::string& title, const SceneInfo& info, const std::vector<std::string>& warnings);
+void printInfo(std::FILE* out, const std::string& title, const SceneInfo& info,
+               const std::vector<std::string>& warnings);
 
 }  // namespace sgview

@@ -80,7 +80,8 @@ Overlay::Overlay() {
     glEnableVertexAttribArray(0);
     glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
     glEnableVertexAttribArray(1);
-    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(2 * sizeof(float)));
+    const auto colorOffset = reinterpret_cast<const void*>(2 * sizeof(float));
+    glVertexAttribPointer(1, 4, GL_FLOAT, GL_FALSE, 6 * sizeof(float), colorOffset);
     glBindVertexArray(0);
 }
 

@@ -12,7 +12,8 @@ namespace sgview {
 
 #ifdef SGVIEW_NO_GLTF
 LoadedScene loadSceneFile(const std::string& path) {
-    throw UsageError("'" + path + "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office works");
+    throw UsageError("'" + path +
+                     "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office works");
 }
 #endif
 
@@ -29,10 +30,9 @@ void checkReadable(const std::string& path) {
 }  // namespace
 
 LoadedScene loadScene(const Options& o) {
-    if (o.scene == "city")
-        return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + std::to_string(o.n) + "x" + std::to_string(o.n)};
-    if (o.scene == "office")
-        return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + std::to_string(o.n) + "x" + std::to_string(o.n)};
+    const std::string size = std::to_string(o.n) + "x" + std::to_string(o.n);
+    if (o.scene == "city") return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + size};
+    if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
     auto load = [](const std::string& f) {
         try {
