@@ -12,7 +12,9 @@ void View::frame(const Camera& camera, bool overlay, const FrameStats& fs) {
     cullStats_ = CullStats{};
     cull_.cull(scene_, camera, settings, list_, cullStats_);
     renderer_.draw(list_, camera);
-    if (overlay) overlay_.draw(statsText(fs), camera.width(), camera.height());
+    // Font pixels doubled where the panel (about 330 x 70 font pixels) leaves room for the scene.
+    const float scale = camera.width() >= 960 && camera.height() >= 480 ? 2.0f : 1.0f;
+    if (overlay) overlay_.draw(statsText(fs), camera.width(), camera.height(), scale);
 }
 
 uint64_t culledCount(const CullStats& s) {
@@ -25,7 +27,7 @@ std::string View::statsText(const FrameStats& fs) const {
     const char* occ = settings.occlusion.mode == OcclusionMode::Off ? ""
                       : c.occlusionRan                              ? " (ran)"
                       : c.occlusionSkipped                          ? " (skipped)"
-                                                                    : " (no occluders in view)";
+                                                                    : " (none in view)";
     char fps[32] = "-";
     if (fs.fps > 0.0) std::snprintf(fps, sizeof fps, "%.1f", fs.fps);
     char buf[512];
