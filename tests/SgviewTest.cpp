@@ -105,7 +105,11 @@ TEST(SgviewOptions, ContradictionsAreRefused) {
     EXPECT_NE(error({}).find("nothing to show"), std::string::npos);
     EXPECT_NE(error({"a.gltf", "--scene", "city"}).find("either FILE... or --scene"), std::string::npos);
     EXPECT_NE(error({"a.gltf", "--n", "4"}).find("--n sizes a built-in scene"), std::string::npos);
-    EXPECT_NE(error({"--scene", "city", "--out", "x.png"}).find("--out needs --headless"), std::string::npos);
+    EXPECT_NE(error({"--scene", "city", "--out", "x.png"}).find("--out in the window needs --frames K"),
+              std::string::npos);
+    EXPECT_EQ(error({"--scene", "city", "--frames", "3", "--out", "x.png"}), "");
+    EXPECT_EQ(parse({"--scene", "city"}).out, "");  // the window writes nothing unless asked
+    EXPECT_EQ(parse({"--scene", "city", "--headless"}).out, "sgview.png");
     EXPECT_EQ(error({"--help"}), "");
 }
 

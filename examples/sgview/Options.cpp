@@ -113,22 +113,25 @@ Options parseOptions(int argc, const char* const* argv) {
     if (o.files.empty() && o.scene.empty()) throw UsageError("nothing to show: give FILE... or --scene city|office");
     if (!o.files.empty() && !o.scene.empty()) throw UsageError("give either FILE... or --scene, not both");
     if (n && o.scene.empty()) throw UsageError("--n sizes a built-in scene: it needs --scene");
-    if (out && !o.headless) throw UsageError("--out needs --headless (the window saves screenshots with P or F12)");
+    if (out && !o.headless && !frames)
+        throw UsageError("--out in the window needs --frames K (the picture is frame K; P or F12 save screenshots)");
     if (o.info && o.headless) throw UsageError("--info prints a summary and renders nothing: drop --headless");
     if (!n) o.n = o.scene == "office" ? 6 : 32;
     if (!frames && o.headless) o.frames = 1;
+    if (!out && o.headless) o.out = "sgview.png";
     return o;
 }
 
 const char* usageText() {
     return "usage: sgview FILE... | --scene city|office [--n N]\n"
-           "              [--headless [--out frame.png] [--overlay]] [--info] [--frames K]\n"
+           "              [--headless [--overlay]] [--frames K [--out frame.png]] [--info]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"
            "  --overlay          headless: draw the stats overlay into the picture\n"
            "  --frames K         headless: frames rendered (default 1); window: quit after K frames\n"
+           "  --out frame.png    headless: the picture (default sgview.png); window: frame K, written at exit\n"
            "  --camera E,C,U     eye, centre and up (default: the whole scene framed from above one corner)\n"
            "  --size WxH         picture or window size (default 1280x720)\n"
            "  --strategy S       culling: none, sphere, aabb (default), sphere-sphere, center-box\n"

@@ -76,6 +76,7 @@ int Viewer::run() {
         fs.mode = navModeName(nav_.mode());
         view_.frame(nav_.camera(w, h), overlay_, fs);
         if (wantShot_) screenshot();
+        if (!o_.out.empty() && shown + 1 == o_.frames) savePng(o_.out, view_.read());  // scripted runs
         window_.swapBuffers();
         ++shown;
         ++counted;
