@@ -8,9 +8,11 @@
 
 #include <GLFW/glfw3.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <thread>
 
 namespace sgview {
 
@@ -71,7 +73,10 @@ int Viewer::run() {
         nav_.move(keys_, now - last);
         last = now;
         const int w = window_.width(), h = window_.height();
-        if (w <= 0 || h <= 0) continue;  // minimized
+        if (w <= 0 || h <= 0) {  // minimized: nothing to draw until it comes back
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            continue;
+        }
         scene_.update({uint64_t(shown), now});
         fs.mode = navModeName(nav_.mode());
         view_.frame(nav_.camera(w, h), overlay_, fs);
