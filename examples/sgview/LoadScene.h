@@ -1,0 +1,26 @@
+// Loading what sgview shows: glTF files (LoadScene.cpp, through loaders/Gltf.h) or a built-in scene.
+#pragma once
+#include "sg/Math.h"
+#include "sg/Node.h"
+#include "sgview/Options.h"
+
+#include <string>
+#include <vector>
+
+namespace sgview {
+
+struct LoadedScene {
+    sg::ref_ptr<sg::Node> root;
+    std::vector<std::string> warnings;  // what the loader skipped or converted
+    sg::dvec3 up{0.0, 0.0, 1.0};        // the scene's up axis: +Z for the built-in scenes, +Y for glTF
+    std::string title;
+};
+
+// One glTF file (LoadScene.cpp). Throws sg::LoadError naming the file, the JSON path and the reason.
+LoadedScene loadSceneFile(const std::string& path);
+
+// The files (under one Group, warnings prefixed with the file name) or the built-in scene of `o`.
+// Throws UsageError for a file that does not exist or cannot be loaded, naming it.
+LoadedScene loadScene(const Options& o);
+
+}  // namespace sgview

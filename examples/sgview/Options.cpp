@@ -1,0 +1,148 @@
+#include "sgview/Options.h"
+
+#include "sg/Camera.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace sgview {
+
+namespace {
+
+[[noreturn]] void bad(const std::string& option, const std::string& value, const std::string& why) {
+    throw UsageError(option + " '" + value + "': " + why);
+}
+
+int parseInt(const std::string& option, const std::string& v, int lo, int hi) {
+    errno = 0;
+    char* end = nullptr;
+    const long x = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || errno == ERANGE || x < lo || x > hi)
+        bad(option, v, "expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
+    return int(x);
+}
+
+// Comma-separated finite numbers, exactly `count` of them.
+std::vector<double> parseNumbers(const std::string& option, const std::string& v, size_t count, const char* form) {
+    std::vector<double> out;
+    const char* p = v.c_str();
+    while (true) {  // a number, then a comma and another, or the end
+        char* end = nullptr;
+        errno = 0;
+        const double x = std::strtod(p, &end);
+        if (end == p || errno == ERANGE || !std::isfinite(x)) bad(option, v, std::string("expected ") + form);
+        out.push_back(x);
+        p = end;
+        if (*p != ',') break;
+        ++p;
+    }
+    if (*p != '\0' || out.size() != count) bad(option, v, std::string("expected ") + form);
+    return out;
+}
+
+CameraSpec parseCamera(const std::string& v) {
+    const char* form = "eye,center,up: 9 comma-separated numbers, e.g. 0,-10,5,0,0,0,0,0,1";
+    const std::vector<double> x = parseNumbers("--camera", v, 9, form);
+    CameraSpec c{{x[0], x[1], x[2]}, {x[3], x[4], x[5]}, {x[6], x[7], x[8]}};
+    try {
+        sg::Camera().setLookAt(c.eye, c.center, c.up);  // eye == centre, a zero up or one along the view
+    } catch (const std::invalid_argument& e) {
+        bad("--camera", v, e.what());
+    }
+    return c;
+}
+
+void parseSize(const std::string& v, int& w, int& h) {
+    const size_t x = v.find('x');
+    const char* form = "expected WxH with each from 1 to 16384, e.g. 1280x720";
+    if (x == std::string::npos) bad("--size", v, form);
+    const std::string a = v.substr(0, x), b = v.substr(x + 1);
+    for (const std::string& s : {a, b})
+        if (s.empty() || s.find_first_not_of("0123456789") != std::string::npos) bad("--size", v, form);
+    try {
+        w = parseInt("--size", a, 1, 16384);
+        h = parseInt("--size", b, 1, 16384);
+    } catch (const UsageError&) {
+        bad("--size", v, form);
+    }
+}
+
+}  // namespace
+
+Options parseOptions(int argc, const char* const* argv) {
+    Options o;
+    bool frames = false, out = false, n = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> std::string {
+            if (i + 1 >= argc) throw UsageError(a + " needs a value");
+            return argv[++i];
+        };
+        if (a == "--help" || a == "-h") o.help = true;
+        else if (a == "--headless") o.headless = true;
+        else if (a == "--info") o.info = true;
+        else if (a == "--overlay") o.overlay = true;
+        else if (a == "--scene") {
+            o.scene = value();
+            if (o.scene != "city" && o.scene != "office") bad(a, o.scene, "the built-in scenes are city and office");
+        } else if (a == "--n") {
+            o.n = parseInt(a, value(), 1, 1000);
+            n = true;
+        } else if (a == "--frames") {
+            o.frames = parseInt(a, value(), 1, 1000000);
+            frames = true;
+        } else if (a == "--out") {
+            o.out = value();
+            if (o.out.empty()) bad(a, o.out, "expected a file name");
+            out = true;
+        } else if (a == "--camera") o.camera = parseCamera(value());
+        else if (a == "--size") parseSize(value(), o.width, o.height);
+        else if (a == "--strategy" || a == "--occlusion") {
+            const std::string v = value();
+            try {
+                if (a == "--strategy") o.strategy = sg::parseStrategy(v);
+                else o.occlusion = sg::parseOcclusionMode(v);
+            } catch (const std::invalid_argument& e) {
+                bad(a, v, e.what());
+            }
+        } else if (a.size() > 1 && a[0] == '-') throw UsageError("unknown option '" + a + "'");
+        else o.files.push_back(a);
+    }
+    if (o.help) return o;
+    if (o.files.empty() && o.scene.empty()) throw UsageError("nothing to show: give FILE... or --scene city|office");
+    if (!o.files.empty() && !o.scene.empty()) throw UsageError("give either FILE... or --scene, not both");
+    if (n && o.scene.empty()) throw UsageError("--n sizes a built-in scene: it needs --scene");
+    if (out && !o.headless && !frames)
+        throw UsageError("--out in the window needs --frames K (the picture is frame K; P or F12 save screenshots)");
+    if (o.info && o.headless) throw UsageError("--info prints a summary and renders nothing: drop --headless");
+    if (!n) o.n = o.scene == "office" ? 6 : 32;
+    if (!frames && o.headless) o.frames = 1;
+    if (!out && o.headless) o.out = "sgview.png";
+    return o;
+}
+
+const char* usageText() {
+    return "usage: sgview FILE... | --scene city|office [--n N]\n"
+           "              [--headless [--overlay]] [--frames K [--out frame.png]] [--info]\n"
+           "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
+           "  FILE...            glTF 2.0 files (.gltf, .glb), shown together\n"
+           "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6)\n"
+           "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"
+           "  --overlay          headless: draw the stats overlay into the picture\n"
+           "  --frames K         headless: frames rendered (default 1); window: quit after K frames\n"
+           "  --out frame.png    headless: the picture (default sgview.png); window: frame K, written at exit\n"
+           "  --camera E,C,U     eye, centre and up (default: the whole scene framed from above one corner)\n"
+           "  --size WxH         picture or window size (default 1280x720)\n"
+           "  --strategy S       culling: none, sphere, aabb (default), sphere-sphere, center-box\n"
+           "  --occlusion M      occlusion culling: off, tree, auto (default)\n"
+           "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
+           "keys in the window:\n"
+           "  1 trackball (left drag orbits, right or middle drag pans, scroll zooms)\n"
+           "  2 fly (WASD moves, Q/E down/up, left drag looks, scroll sets the speed, shift runs)\n"
+           "  3 walk (as fly, on the horizontal plane at the eye's height)\n"
+           "  C culling strategy   O occlusion mode   Tab stats overlay   Home reset view\n"
+           "  P or F12 screenshot (sgview-NNNN.png)   click picks   H this help   Escape quits\n";
+}
+
+}  // namespace sgview

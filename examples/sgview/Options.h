@@ -1,0 +1,40 @@
+// sgview's command line: what to show (files or a built-in scene), how (window, headless, info) and the view.
+#pragma once
+#include "sg/CullSettings.h"
+#include "sg/Math.h"
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sgview {
+
+// A command line that cannot be run: the message names the option and the value. sgview exits with 2.
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct CameraSpec {
+    sg::dvec3 eye, center, up;
+};
+
+struct Options {
+    std::vector<std::string> files;
+    std::string scene;  // "city" or "office" (bench/scenes) when no files are given
+    int n = 0;          // city: N x N cells (default 32); office: R x R rooms (default 6)
+    bool headless = false, info = false, overlay = false, help = false;
+    int frames = 0;  // headless: frames rendered (default 1); window: quit after this many (0: run until closed)
+    std::string out;  // headless: the picture (default sgview.png); window with --frames: frame K, written at exit
+    std::optional<CameraSpec> camera;
+    int width = 1280, height = 720;
+    sg::CullStrategy strategy = sg::CullStrategy::Aabb;
+    sg::OcclusionMode occlusion = sg::OcclusionMode::Auto;
+};
+
+// Throws UsageError for an unknown option, a missing or malformed value, or a contradictory combination.
+Options parseOptions(int argc, const char* const* argv);
+const char* usageText();
+
+}  // namespace sgview

@@ -1,0 +1,60 @@
+// Built-in scenes, and the checks every file passes before the loader sees it.
+#include "nodes/Group.h"
+#include "scenes/City.h"
+#include "scenes/Office.h"
+#include "sgview/LoadScene.h"
+
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+namespace sgview {
+
+#ifdef SGVIEW_NO_GLTF
+LoadedScene loadSceneFile(const std::string& path) {
+    throw UsageError("'" + path +
+                     "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office works");
+}
+#endif
+
+namespace {
+
+void checkReadable(const std::string& path) {
+    std::error_code ec;
+    const auto st = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(st)) throw UsageError("'" + path + "': no such file");
+    if (std::filesystem::is_directory(st)) throw UsageError("'" + path + "': is a directory, not a glTF file");
+    if (!std::ifstream(path, std::ios::binary)) throw UsageError("'" + path + "': cannot be opened for reading");
+}
+
+}  // namespace
+
+LoadedScene loadScene(const Options& o) {
+    const std::string size = std::to_string(o.n) + "x" + std::to_string(o.n);
+    if (o.scene == "city") return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + size};
+    if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
+    for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
+    auto load = [](const std::string& f) {
+        try {
+            return loadSceneFile(f);
+        } catch (const UsageError&) {
+            throw;
+        } catch (const std::exception& e) {  // sg::LoadError names the file, the JSON path and the reason
+            throw UsageError(e.what());
+        }
+    };
+    if (o.files.size() == 1) return load(o.files[0]);
+    LoadedScene all;
+    auto root = sg::make<sg::Group>();
+    for (const std::string& f : o.files) {
+        LoadedScene one = load(f);
+        root->addChild(one.root);
+        for (std::string& w : one.warnings) all.warnings.push_back(f + ": " + w);
+        all.up = one.up;
+    }
+    all.root = root;
+    all.title = std::to_string(o.files.size()) + " files";
+    return all;
+}
+
+}  // namespace sgview

@@ -1,0 +1,39 @@
+// sgview: the scene viewer. A window with trackball, fly and walk navigation and a stats overlay; or
+// --headless, rendering offscreen to a PNG; or --info, a summary of the scene. `sgview --help` lists it all.
+#include "sg/Scene.h"
+#include "sgview/Info.h"
+#include "sgview/LoadScene.h"
+#include "sgview/Modes.h"
+#include "sgview/Options.h"
+
+#include <cstdio>
+#include <exception>
+
+using namespace sgview;
+
+int main(int argc, char** argv) {
+    // Exit codes: 0 done, 1 the run failed (no GL context, a file that cannot be written), 2 bad input (the
+    // command line or a file to load).
+    try {
+        const Options o = parseOptions(argc, argv);
+        if (o.help) {
+            std::fputs(usageText(), stdout);
+            return 0;
+        }
+        const LoadedScene loaded = loadScene(o);
+        sg::Scene scene(loaded.root);
+        scene.update();
+        if (o.info) {
+            printInfo(stdout, loaded.title, computeInfo(*loaded.root, scene), loaded.warnings);
+            return 0;
+        }
+        for (const std::string& w : loaded.warnings) std::fprintf(stderr, "sgview: warning: %s\n", w.c_str());
+        return o.headless ? runHeadless(o, scene, loaded) : runWindow(o, scene, loaded);
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "sgview: %s\n(sgview --help lists the options)\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sgview: %s\n", e.what());
+        return 1;
+    }
+}
