@@ -59,7 +59,6 @@ void LOD::setError(size_t i, float e) {
         throw std::invalid_argument("LOD::setError(): " + describe() + " child " + std::to_string(i) + ": error " +
                                     std::to_string(e) + " is not finite and non-negative");
     if (!more_ || more_->errors.empty()) {
-        if (e == 0.0f) return;  // the default: nothing to store
         if (!more_) more_ = std::make_unique<More>();
         more_->errors.assign(numChildren(), 0.0f);
     }

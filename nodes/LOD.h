@@ -23,11 +23,14 @@ public:
     void setRange(size_t i, float min, float max);
     const Range& range(size_t i) const { return i < 2 ? inline_[i] : more_->ranges[i - 2]; }
     // Geometric error of child i in the LOD's units (the deviation of that level from the full detail one),
-    // 0 unless set; it follows its child when children are inserted or removed, as the range does. Kept for
-    // the application and tools (sg::makeLod stores it); the cull does not read it. setError throws
-    // std::invalid_argument for a negative or non-finite error, both throw std::out_of_range for a bad index.
+    // 0 unless set; it follows its child when children are inserted or removed, as the range does. sg::makeLod
+    // stores them; the LOD budget (CullSettings::lodBudget) values levels by them once any is set, even to 0
+    // (a coarse level of the same shape is as good as the fine one), and guesses from triangle counts
+    // otherwise. setError throws std::invalid_argument for a negative or non-finite error, both throw
+    // std::out_of_range for a bad index.
     void setError(size_t i, float error);
     float error(size_t i) const;
+    bool hasErrors() const { return more_ && !more_->errors.empty(); }
 
     // Performer's LOD fade: over a band `width` wide (in the LOD's units: distance, or pixels) centred on each
     // end of a child's range, the child dissolves in or out with a screen-door pattern instead of popping; two

@@ -42,7 +42,7 @@ struct FlatImage {
         uint32_t firstRange;  // into ranges, one per child
         float fade;           // LOD::transition(): the width of the dissolve band at range ends, 0 for none
         uint8_t mode;         // LOD::Mode
-        bool hasErrors;       // some child has a geometric error (Range::error > 0)
+        bool hasErrors;       // LOD::hasErrors(): the levels' errors are known (Range::error, 0 included)
     };
     struct Range {
         float min, max;

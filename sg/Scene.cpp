@@ -264,9 +264,7 @@ struct Scene::Builder {
                     for (size_t k = 0; k < key.size(); k += 3) img.ranges.push_back({key[k], key[k + 1], key[k + 2]});
                 }
                 // The centre is filled in by write(), once the bound and the frame are known.
-                bool errors = false;
-                for (size_t k = 0; k < l->numChildren(); ++k) errors |= l->error(k) > 0.0f;
-                img.aux[i] = slot(img.lods, i, FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()), errors});
+                img.aux[i] = slot(img.lods, i, FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()), l->hasErrors()});
                 break;
             }
             case NodeKind::Group:

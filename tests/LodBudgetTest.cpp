@@ -135,3 +135,23 @@ TEST(LodBudget, LevelErrorsTellWhereDetailPays) {
         for (double y : f.fineY) EXPECT_LE(y, 20.0 + 10.0 * (f.fine - 1) + 1e-3) << "errors " << errors;
     }
 }
+
+TEST(LodBudget, KnownZeroErrorsMakeTheCoarseLevelAsGoodAsTheFine) {
+    // Errors given as 0 for both levels (the coarse level is the same shape): even an ample budget buys
+    // no detail, since it would add nothing; with no errors given, the guess from triangles buys it all.
+    for (bool known : {false, true}) {
+        Row row(false);
+        if (known)
+            for (auto& lod : row.lods) {
+                lod->setError(0, 0.0f);
+                lod->setError(1, 0.0f);
+                EXPECT_TRUE(lod->hasErrors());
+            }
+        Scene s(row.root);
+        s.update();
+        const DrawCostModel model = trained();
+        const Frame f = cull(s, row, budgeted(model, 100.0));
+        EXPECT_EQ(f.fine + f.coarse, 20);
+        EXPECT_EQ(f.coarse, known ? 20 : 0) << "errors known " << known;
+    }
+}
