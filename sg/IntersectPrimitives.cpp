@@ -104,7 +104,7 @@ bool sweepSphereTriangle(const dvec3& c0, const dvec3& d, double r, const dvec3&
     if (nlen > 0.0) {
         const dvec3 n = nn / nlen;
         const double s0 = glm::dot(n, c0 - a), dn = glm::dot(n, d);
-        if (std::abs(s0) >= r && dn != 0.0) {
+        if (std::abs(s0) >= r && s0 * dn < 0.0) {  // outside its slab and moving toward the plane
             const double side = s0 > 0.0 ? 1.0 : -1.0;
             const double tp = (side * r - s0) / dn;
             if (tp >= 0.0 && tp < best) {

@@ -33,6 +33,7 @@ ViewpointCollider::ViewpointCollider(const ViewpointSettings& s) : set_(s) {
 // ends inside collidable geometry, whatever the speed.
 dvec3 ViewpointCollider::slide(const Scene& scene, dvec3 p, dvec3 motion) {
     const double r = set_.radius + set_.skin;
+    dvec3 prev(0.0);  // the normal of the last contact
     for (int k = 0; k < set_.slides; ++k) {
         const double len = glm::length(motion);
         if (!(len > 1e-12)) break;
@@ -44,10 +45,23 @@ dvec3 ViewpointCollider::slide(const Scene& scene, dvec3 p, dvec3 motion) {
         }
         stats_.contacts++;
         p += motion * h.t;
-        // What is left, without its part into the surface.
+        // Away from the surface by half the skin, itself swept: the sphere then slides clear of the surface
+        // it touched instead of meeting it again, through rounding, at every later sweep.
+        const dvec3 away = h.normal * (0.5 * set_.skin);
+        SweepHit back;
+        stats_.sweeps++;
+        p += isect_.sweepSphere(scene, p, r, away, opt_, back) ? away * back.t : away;
+        // What is left, without its part into the surface; if that would go into the surface met before
+        // (a wedge, a corner), along the crease of the two.
         motion *= 1.0 - h.t;
         const double into = glm::dot(motion, h.normal);
         if (into < 0.0) motion -= h.normal * into;
+        if (k > 0 && glm::dot(motion, prev) < 0.0) {
+            const dvec3 crease = glm::cross(prev, h.normal);
+            const double cl = glm::length(crease);
+            motion = cl > 1e-9 ? crease * (glm::dot(motion, crease) / (cl * cl)) : dvec3(0.0);
+        }
+        prev = h.normal;
     }
     return p;
 }
