@@ -46,6 +46,7 @@ int runPick(const Args& a) {
         }
     }
     sg::IntersectTraversal isect;
+    uint64_t geometriesTested = 0, entriesVisited = 0;
     auto pickAll = [&](std::vector<double>* us, uint64_t* hits) {
         for (size_t r = 0; r < rays.size(); ++r) {
             sg::QueryOptions opt;
@@ -56,6 +57,7 @@ int runPick(const Args& a) {
             const bool hit = isect.intersect(scene, rays[r], opt, h);
             if (us) us->push_back(usSince(t0));
             if (hits && hit) ++*hits;
+            if (us) geometriesTested += isect.lastStats().geometriesTested, entriesVisited += isect.lastStats().entriesVisited;
         }
     };
     const auto w0 = Clock::now();
@@ -90,6 +92,8 @@ int runPick(const Args& a) {
     j.add("command", "pick").add("scene", "city").addInt("n", n);
     j.addInt("rays", long(pickUs.size())).add("hit_fraction", double(hits) / double(pickUs.size()));
     j.add("pick_us_median", median(pickUs)).add("pick_us_p95", percentile(pickUs, 0.95));
+    j.add("geometries_per_pick", double(geometriesTested) / double(pickUs.size()));
+    j.add("entries_per_pick", double(entriesVisited) / double(pickUs.size()));
     j.add("first_pass_ms", firstPassMs).addInt("bvhs", long(isect.bvhCache().size()));
     j.addInt("steps", steps).add("contact_fraction", double(contactSteps) / steps);
     j.add("collide_us_median", median(collideUs)).add("collide_us_p95", percentile(collideUs, 0.95));
