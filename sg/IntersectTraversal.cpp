@@ -259,25 +259,53 @@ int IntersectTraversal::lodChild(const Ctx& c, uint32_t i, Node* n) const {
     return best;
 }
 
+// A child's sphere from a Group's side-by-side columns (FlatImage::Wide) against the query: a cheap first
+// pass over many children read from one place. NaN (invalid) bounds pass.
+bool IntersectTraversal::wideTest(const Ctx& c, uint32_t w) const {
+    const FlatImage& img = *c.img;
+    const dvec3 centre(img.wcx[w], img.wcy[w], img.wcz[w]);
+    const double r = double(img.wr[w]) * (1.0 + 1e-9);
+    dvec3 nearest;
+    if (mode_ == Mode::Nearest || mode_ == Mode::All) {
+        const double tMax = mode_ == Mode::Nearest && found_ ? best_->t : tMax_;
+        const double tc = glm::dot(centre - c.o, c.d) / glm::dot(c.d, c.d);
+        nearest = c.o + c.d * (tc < 0.0 ? 0.0 : (tc > tMax ? tMax : tc));
+    } else {
+        nearest = glm::clamp(centre, c.region.min, c.region.max);
+    }
+    const dvec3 e = centre - nearest;
+    return !(glm::dot(e, e) > r * r);
+}
+
 void IntersectTraversal::children(Ctx& c, uint32_t i, Node* n, const dmat4& m) {
     const FlatImage& img = *c.img;
     const uint32_t end = img.end[i];
-    if (mode_ != Mode::Nearest || end - i <= 3) {
+    const FlatImage::Wide* wide = img.kind[i] == NodeKind::Group && img.aux[i] ? &img.wides[img.aux[i] - 1] : nullptr;
+    if (!wide && (mode_ != Mode::Nearest || end - i <= 3)) {
         size_t k = 0;
         for (uint32_t j = i + 1; j < end; j = img.end[j], ++k) visit(c, j, n->child(k), m, false);
         return;
     }
-    // Nearest hit: children front to back, stopping at the first whose bound starts beyond the best hit.
+    // The children that meet the query (front to back for the nearest hit, stopping at the first whose
+    // bound starts beyond the best hit so far).
     const size_t base = order_.size();
-    uint32_t k = 0;
     double tNear;
-    for (uint32_t j = i + 1; j < end; j = img.end[j], ++k)
-        if (test(c, j, tNear)) order_.push_back({tNear, j, k});
-    std::sort(order_.begin() + long(base), order_.end(), [](const Pending& a, const Pending& b) { return a.tNear < b.tNear; });
+    if (wide) {
+        for (uint32_t k = 0; k < wide->count; ++k) {
+            const uint32_t j = img.wideEntry[wide->first + k];
+            if (wideTest(c, wide->first + k) && test(c, j, tNear)) order_.push_back({tNear, j, k});
+        }
+    } else {
+        uint32_t k = 0;
+        for (uint32_t j = i + 1; j < end; j = img.end[j], ++k)
+            if (test(c, j, tNear)) order_.push_back({tNear, j, k});
+    }
+    if (mode_ == Mode::Nearest)
+        std::sort(order_.begin() + long(base), order_.end(), [](const Pending& a, const Pending& b) { return a.tNear < b.tNear; });
     const size_t count = order_.size() - base;
     for (size_t e = 0; e < count; ++e) {
         const Pending p = order_[base + e];
-        if (found_ && p.tNear > best_->t) break;
+        if (mode_ == Mode::Nearest && found_ && p.tNear > best_->t) break;
         visit(c, p.entry, n->child(p.child), m, true);
     }
     order_.resize(base);

@@ -47,6 +47,7 @@ private:
     void run(const Scene& scene, const QueryOptions& options, const dvec3& queryOrigin, const char* fn);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToRel) const;
     bool test(const Ctx& c, uint32_t i, double& tNear) const;
+    bool wideTest(const Ctx& c, uint32_t w) const;
     void visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool tested);
     void children(Ctx& c, uint32_t i, Node* n, const dmat4& m);
     void geometry(Ctx& c, uint32_t i, Node* n, const dmat4& m);
