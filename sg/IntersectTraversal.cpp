@@ -90,10 +90,8 @@ void IntersectTraversal::run(const Scene& scene, const QueryOptions& opt, const 
     found_ = false;
     const FlatImage& img = scene.image();
     if (img.size() == 0) return;
-    if (mode_ == Mode::Nearest || mode_ == Mode::All) {
-        o_ = o_ - q_;
-    } else {
-        o_ = o_ - q_;
+    o_ -= q_;
+    if (mode_ == Mode::Sphere || mode_ == Mode::Sweep) {
         const dvec3 reach(radius_);
         region_ = Box{glm::min(o_, o_ + d_) - reach, glm::max(o_, o_ + d_) + reach};
     }
@@ -184,7 +182,7 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
     stats_.entriesVisited++;
     path_.push_back(n);
     switch (img.kind[i]) {
-        case NodeKind::Geometry: geometry(c, i, n, m); break;
+        case NodeKind::Geometry: geometry(n, m); break;
         case NodeKind::Transform: children(c, i, n, transformed(img, i, m)); break;
         case NodeKind::LOD: {
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
@@ -311,8 +309,7 @@ void IntersectTraversal::children(Ctx& c, uint32_t i, Node* n, const dmat4& m) {
     order_.resize(base);
 }
 
-void IntersectTraversal::geometry(Ctx& c, uint32_t i, Node* n, const dmat4& m) {
-    (void)c, (void)i;
+void IntersectTraversal::geometry(Node* n, const dmat4& m) {
     const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
     if (!mesh || mesh->triangleCount() == 0) return;
     const MeshBvh& bvh = cache_.get(*mesh);

@@ -50,7 +50,7 @@ private:
     bool wideTest(const Ctx& c, uint32_t w) const;
     void visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool tested);
     void children(Ctx& c, uint32_t i, Node* n, const dmat4& m);
-    void geometry(Ctx& c, uint32_t i, Node* n, const dmat4& m);
+    void geometry(Node* n, const dmat4& m);
     int lodChild(const Ctx& c, uint32_t i, Node* n) const;
 
     // The query, in coordinates relative to `q_` (the camera's eye, or the query's origin): matrices map
