@@ -16,6 +16,12 @@ Ray pixelRay(const Camera& cam, double x, double y) {
     return Ray{cam.eye() + nearRel, farRel - nearRel, 1.0};
 }
 
+std::string pathString(const std::vector<Node*>& path) {
+    std::string s;
+    for (const Node* n : path) s += (s.empty() ? "" : " / ") + n->describe();
+    return s;
+}
+
 void PickSet::add(Node* node) {
     if (!node) throw std::invalid_argument("PickSet::add(): node is null");
     nodes_[node] = node;

@@ -4,6 +4,7 @@
 #include "sg/Camera.h"
 #include "sg/IntersectTraversal.h"
 
+#include <string>
 #include <unordered_map>
 
 namespace sg {
@@ -11,6 +12,10 @@ namespace sg {
 // The segment through window pixel (x, y) (x to the right, y down, pixel centres at +0.5) from the near to
 // the far plane: what is drawn at that pixel lies on it. Throws std::invalid_argument for non-finite x, y.
 Ray pixelRay(const Camera& camera, double x, double y);
+
+// A hit's node path as one line, root first: "Group 'office' / Group 'room 3' / Transform / Geometry" (for
+// viewers that print what was clicked).
+std::string pathString(const std::vector<Node*>& path);
 
 class PickSet {
 public:

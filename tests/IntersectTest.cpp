@@ -261,5 +261,7 @@ TEST(Intersect, PickSetReturnsTheRegisteredAncestor) {
     EXPECT_NEAR(r.nearest.point.z, -9.0, 1e-9);
     ps.add(part.get());
     EXPECT_EQ(ps.pick(it, scene, cam, 50, 50).object, part.get());
+    region->setName("region 7");
+    EXPECT_EQ(pathString(r.nearest.path), "Group / Group 'region 7' / Transform / Geometry");
     EXPECT_FALSE(ps.pick(it, scene, cam, 2, 2).hit);  // the corner pixel sees past the box
 }
