@@ -15,6 +15,7 @@ struct IntersectStats {
     uint64_t trianglesTested = 0;   // sphere and sweep queries: triangles given the exact test
 };
 
+// Keeps its BVH cache and scratch state between queries: one traversal per thread.
 class IntersectTraversal {
 public:
     // What the graph shows is seen as the cull sees it: node masks against options.traversalMask, the

@@ -277,14 +277,9 @@ size_t MeshBvh::bytes() const {
 
 const MeshBvh& MeshBvh::Cache::get(const Mesh& mesh) {
     Entry& e = map_[&mesh];
-    const void* p = mesh.positions().data();
-    const void* ix = mesh.indices16().empty() ? static_cast<const void*>(mesh.indices32().data())
-                                               : static_cast<const void*>(mesh.indices16().data());
-    if (!e.bvh || e.positions != p || e.indices != ix || e.count != mesh.indexCount()) {
+    if (!e.bvh || e.version != mesh.version()) {
         e.mesh = &mesh;
-        e.positions = p;
-        e.indices = ix;
-        e.count = mesh.indexCount();
+        e.version = mesh.version();
         e.bvh = std::make_unique<MeshBvh>(mesh);
     }
     return *e.bvh;

@@ -40,8 +40,8 @@ public:
     // The triangle's vertices (mesh frame).
     void triangle(uint32_t primitive, dvec3& p0, dvec3& p1, dvec3& p2) const;
 
-    // BVHs by mesh, built on first use. An entry is rebuilt when its mesh's arrays were replaced
-    // (Mesh::set) since it was built. Holds a reference to each mesh it has seen.
+    // BVHs by mesh, built on first use. An entry is rebuilt when its mesh was set again (Mesh::version)
+    // since it was built. Holds a reference to each mesh it has seen.
     class Cache {
     public:
         const MeshBvh& get(const Mesh& mesh);
@@ -51,9 +51,7 @@ public:
     private:
         struct Entry {
             ref_ptr<const Mesh> mesh;
-            const void* positions = nullptr;
-            const void* indices = nullptr;
-            uint32_t count = 0;
+            uint64_t version = 0;
             std::unique_ptr<MeshBvh> bvh;
         };
         std::unordered_map<const Mesh*, Entry> map_;

@@ -265,3 +265,22 @@ TEST(Intersect, PickSetReturnsTheRegisteredAncestor) {
     EXPECT_EQ(pathString(r.nearest.path), "Group / Group 'region 7' / Transform / Geometry");
     EXPECT_FALSE(ps.pick(it, scene, cam, 2, 2).hit);  // the corner pixel sees past the box
 }
+
+TEST(Intersect, BvhFollowsAMeshThatWasSetAgain) {
+    auto g = unitBox();
+    auto root = make<Group>();
+    root->addChild(g);
+    Scene scene(root);
+    scene.update();
+    IntersectTraversal it;
+    Hit h;
+    ASSERT_TRUE(it.intersect(scene, Ray{dvec3(0, 0, 10), dvec3(0, 0, -1)}, {}, h));
+    EXPECT_NEAR(h.point.z, 1.0, 1e-12);
+    auto bigger = makeBoxMesh(dvec3(-3), dvec3(3));
+    g->mesh()->set(bigger->positions(), bigger->normals(), std::vector<uint32_t>(bigger->indices16().begin(), bigger->indices16().end()));
+    g->setMesh(g->mesh());  // marks the bound dirty
+    scene.update();
+    ASSERT_TRUE(it.intersect(scene, Ray{dvec3(0, 0, 10), dvec3(0, 0, -1)}, {}, h));
+    EXPECT_NEAR(h.point.z, 3.0, 1e-12);
+    EXPECT_EQ(it.bvhCache().size(), 1u);
+}
