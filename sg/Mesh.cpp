@@ -48,6 +48,7 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
     } else {
         indices32_ = std::move(indices);
     }
+    ++version_;
 }
 
 ref_ptr<Mesh> makeBoxMesh(const dvec3& mn, const dvec3& mx, int div) {

@@ -32,6 +32,8 @@ public:
     const Box& box() const { return box_; }
     bool validBound() const { return valid_; }
     uint32_t id() const { return id_; }
+    // Counts calls to set(): caches built from the arrays (MeshBvh) compare it to see that they are stale.
+    uint64_t version() const { return version_; }
 
 private:
     std::vector<vec3> positions_, normals_;
@@ -42,6 +44,7 @@ private:
     Box box_;
     bool valid_ = true;
     uint32_t id_;
+    uint64_t version_ = 0;
 };
 
 // Builders for the shapes the tests, benchmarks and demos use.

@@ -74,6 +74,7 @@
 //
 // Usage
 //   sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]
+//   sgbench_osg --pick [--n N] [--rays-per-frame K]   (needs a build inside sgkit: the same rays as `sgbench pick`)
 //   sgbench_osg --occlusion [--n N] [--path street|orbit] [--frames-passes K] [--with-sgkit] [--json]
 //               [--osg-occluders box|sides|diagonals] [--osg-max-occluders M] [--osg-min-volume V]
 //               [--osg-occluder-range R]
@@ -89,6 +90,7 @@
 #include <osg/Geode>
 #include <osg/Geometry>
 #include <osg/Group>
+#include <osg/KdTree>
 #include <osg/LOD>
 #include <osg/MatrixTransform>
 #include <osg/Notify>
@@ -96,6 +98,8 @@
 #include <osg/PrimitiveSet>
 #include <osg/Version>
 #include <osgUtil/CullVisitor>
+#include <osgUtil/IntersectionVisitor>
+#include <osgUtil/LineSegmentIntersector>
 #include <osgUtil/RenderBin>
 #include <osgUtil/RenderLeaf>
 #include <osgUtil/RenderStage>
@@ -121,7 +125,10 @@
 
 #ifdef SGBENCH_WITH_SGKIT
 #include "scenes/City.h"
+#include "scenes/RandomScene.h"
 #include "sg/CullTraversal.h"
+#include "sg/IntersectTraversal.h"
+#include "sg/PickSet.h"
 
 #include <memory>
 #endif
@@ -486,6 +493,7 @@ double percentile95(std::vector<double> v) {
 
 constexpr const char* kUsage =
     "usage: sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]\n"
+    "       sgbench_osg --pick [--n N] [--rays-per-frame K]\n"
     "       sgbench_osg --occlusion [--n N] [--path street|orbit] [--frames-passes K] [--with-sgkit] [--json]\n"
     "                   [--osg-occluders box|sides|diagonals] [--osg-max-occluders M] [--osg-min-volume V]\n"
     "                   [--osg-occluder-range R]\n";
@@ -978,12 +986,76 @@ int runOcclusion(const OcclusionOptions& o) {
     return 0;
 }
 
+#ifdef SGBENCH_WITH_SGKIT
+// ---------------------------------------------------------------------------
+// Pick mode: the rays of `sgbench pick` (random pixels of the orbit frames, from the near to the far plane),
+// each picked by OSG (LineSegmentIntersector, nearest, k-d trees built by osg::KdTreeBuilder) and right after
+// by sgkit (IntersectTraversal, nearest), both with the most detailed LOD level (OSG's intersection default).
+
+int runPick(int n, int raysPerFrame) {
+    const Meshes meshes = buildMeshes(OccluderKind::None);
+    Scene scene = buildCity(n, meshes, false);
+    osg::ref_ptr<osg::KdTreeBuilder> kd = new osg::KdTreeBuilder;
+    scene.root->accept(*kd);
+    sg::Scene sgScene(scenes::buildCity({n, false}));
+    sgScene.update();
+
+    scenes::Rng rng(1);
+    std::vector<sg::Ray> rays;
+    for (int f = 0; f < kFrames; ++f) {
+        const sg::Camera cam = scenes::cityOrbitCamera(n, f);
+        for (int k = 0; k < raysPerFrame; ++k) rays.push_back(sg::pixelRay(cam, rng.uniform(0, 1280), rng.uniform(0, 720)));
+    }
+    sg::IntersectTraversal sgPick;
+    sg::QueryOptions opt;
+    opt.lod = sg::LodChoice::Highest;
+    auto osgPick = [&](const sg::Ray& r, double& dist) {
+        const osg::Vec3d a(r.origin.x, r.origin.y, r.origin.z);
+        const sg::dvec3 e = r.origin + r.direction * r.tMax;
+        osg::ref_ptr<osgUtil::LineSegmentIntersector> lsi = new osgUtil::LineSegmentIntersector(a, osg::Vec3d(e.x, e.y, e.z));
+        lsi->setIntersectionLimit(osgUtil::Intersector::LIMIT_NEAREST);
+        osgUtil::IntersectionVisitor iv(lsi.get());
+        iv.setUseKdTreeWhenAvailable(true);
+        scene.root->accept(iv);
+        if (!lsi->containsIntersections()) return false;
+        dist = (lsi->getFirstIntersection().getWorldIntersectPoint() - a).length();
+        return true;
+    };
+    std::vector<double> osgUs, sgUs, ratio;
+    uint64_t same = 0, hits = 0;
+    for (int pass = 0; pass < 2; ++pass) {  // pass 0: warm-up (sgkit builds its BVHs on first use)
+        for (const sg::Ray& r : rays) {
+            double od = 0.0;
+            const auto t0 = Clock::now();
+            const bool oh = osgPick(r, od);
+            const auto t1 = Clock::now();
+            sg::Hit h;
+            const bool sh = sgPick.intersect(sgScene, r, opt, h);
+            const auto t2 = Clock::now();
+            if (pass == 0) continue;
+            osgUs.push_back(msBetween(t0, t1) * 1000.0);
+            sgUs.push_back(msBetween(t1, t2) * 1000.0);
+            ratio.push_back(msBetween(t0, t1) / msBetween(t1, t2));
+            hits += sh;
+            same += oh == sh && (!sh || std::abs(od - h.distance) < 1e-3);
+        }
+    }
+    std::printf("{\"peer\":\"openscenegraph\",\"osg_version\":\"%s\",\"n\":%d,\"rays\":%zu,\"hit_fraction\":%.4f,"
+                "\"osg_pick_us_median\":%.3f,\"osg_pick_us_p95\":%.3f,\"sgkit_pick_us_median\":%.3f,\"sgkit_pick_us_p95\":%.3f,"
+                "\"osg_over_sgkit_per_ray_median\":%.3f,\"same_hit_fraction\":%.5f}\n",
+                osgGetVersion(), n, sgUs.size(), double(hits) / double(sgUs.size()), median(osgUs), percentile95(osgUs),
+                median(sgUs), percentile95(sgUs), median(ratio), double(same) / double(sgUs.size()));
+    return 0;
+}
+#endif
+
 }  // namespace
 
 int main(int argc, char** argv) {
     int n = 0;
     int passes = 1;
-    bool withSgkit = false, occlusion = false, json = false;
+    bool withSgkit = false, occlusion = false, json = false, pick = false;
+    int raysPerFrame = 100;
     std::string path;
     OcclusionOptions occ;
     bool occOnly = false;  // an occlusion-only option was given
@@ -997,6 +1069,10 @@ int main(int argc, char** argv) {
             passes = int(parsePositive(argv[++a], "--frames-passes"));
         else if (!std::strcmp(argv[a], "--occlusion"))
             occlusion = true;
+        else if (!std::strcmp(argv[a], "--pick"))
+            pick = true;
+        else if (!std::strcmp(argv[a], "--rays-per-frame") && hasValue)
+            raysPerFrame = int(parsePositive(argv[++a], "--rays-per-frame"));
         else if (!std::strcmp(argv[a], "--json"))
             json = true;
         else if (!std::strcmp(argv[a], "--path") && hasValue)
@@ -1024,7 +1100,13 @@ int main(int argc, char** argv) {
     osg::setNotifyHandler(new StderrNotifyHandler);
 
     int rc = 0;
-    if (occlusion) {
+    if (pick) {
+#ifdef SGBENCH_WITH_SGKIT
+        rc = runPick(n ? n : 316, raysPerFrame);
+#else
+        usage("--pick: this build has no sgkit (configure it inside the sgkit project)");
+#endif
+    } else if (occlusion) {
         if (!path.empty() && path != "street" && path != "orbit") usage("--path must be street or orbit");
         occ.n = n ? n : 100;
         occ.passes = passes;
