@@ -75,6 +75,18 @@ int GlfwWindow::height() const {
     return h;
 }
 
+int GlfwWindow::windowWidth() const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(win_, &w, &h);
+    return w;
+}
+
+int GlfwWindow::windowHeight() const {
+    int w = 0, h = 0;
+    glfwGetWindowSize(win_, &w, &h);
+    return h;
+}
+
 void GlfwWindow::onKey(GLFWwindow* w, int key, int, int action, int mods) {
     if (auto* s = self(w); s && s->key_) s->key_(key, action, mods);
 }

@@ -30,6 +30,9 @@ public:
     // Framebuffer size in pixels (what glViewport takes; may differ from the window size on HiDPI).
     int width() const;
     int height() const;
+    // Window size in screen coordinates (what cursor positions are in).
+    int windowWidth() const;
+    int windowHeight() const;
     // Seconds since GLFW was initialised.
     double time() const;
 

@@ -5,6 +5,8 @@
 #include "sg/ImageIO.h"
 #include "sg/OsmesaContext.h"
 #include "sg/Renderer.h"
+#include "sg/IntersectTraversal.h"
+#include "sgview/Pick.h"
 #include "sgview/ViewCamera.h"
 
 #include <gtest/gtest.h>
@@ -259,4 +261,30 @@ TEST(SgviewRun, TheWindowShowsWhatHeadlessRenders) {
     EXPECT_LE(rest, size_t(400 * 300 / 1000));
     EXPECT_GT(panel, size_t(250 * 60));
 #endif
+}
+
+// --pick prints the node path of what the picture shows at a pixel: the same line the library's pick gives
+// from the same camera, a path down to a Geometry where the picture shows the city, and "nothing" in the sky.
+TEST(SgviewRun, PickPrintsTheNodePathOfWhatIsAtThePixel) {
+    const Result r = runSgview(std::string("--headless --scene city --n 8 --size 400x300 --out p.png --camera ") +
+                               kCamera + " --pick 200,150 --pick 120,200 --pick 1,1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    City8 city;
+    const Camera cam = sgview::specCamera({dvec3(-20, -30, 90), dvec3(80, 80, 0), dvec3(0, 0, 1)},
+                                          sgview::sceneBound(city.scene), 400, 300);
+    const Image img = loadPng((scratch() / "p.png").string());
+    IntersectTraversal picker;
+    for (auto [x, y] : {std::pair{200, 150}, std::pair{120, 200}, std::pair{1, 1}}) {
+        const std::string want = sgview::pickReport(picker, city.scene, cam, x, y);
+        EXPECT_NE(r.out.find(want + "\n"), std::string::npos) << want << "\nin\n" << r.out;
+        // What the picture shows there decides which answer is right.
+        const auto first = img.rgba.begin() + (std::ptrdiff_t(y) * img.width + x) * 4;
+        const bool city = nonBackground(Image{1, 1, {first, first + 4}}) > 0;
+        EXPECT_EQ(want.find("Geometry") != std::string::npos, city) << want;
+        EXPECT_EQ(want.find("nothing") != std::string::npos, !city) << want;
+    }
+    // Out of the picture: refused by name.
+    const Result bad = runSgview("--headless --scene city --n 8 --size 400x300 --pick 400,10");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--pick"), std::string::npos) << bad.err;
 }

@@ -1,5 +1,6 @@
 #include "sg/ImageIO.h"
 #include "sgview/EglContext.h"
+#include "sgview/Pick.h"
 #include "sgview/Modes.h"
 #include "sgview/View.h"
 #include "sgview/ViewCamera.h"
@@ -31,6 +32,8 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
         fs.fps = (f + 1) / seconds;
     }
     savePng(o.out, view.read());
+    IntersectTraversal picker;
+    for (const auto& [x, y] : o.picks) std::printf("%s\n", pickReport(picker, scene, camera, x, y).c_str());
     const dvec3 e = camera.eye();
     std::printf("sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
                 "eye (%g, %g, %g)\n",

@@ -96,6 +96,10 @@ Options parseOptions(int argc, const char* const* argv) {
             o.out = value();
             if (o.out.empty()) bad(a, o.out, "expected a file name");
             out = true;
+        } else if (a == "--pick") {
+            const std::string v = value();
+            const std::vector<double> xy = parseNumbers(a, v, 2, "X,Y (a pixel, y down)");
+            o.picks.emplace_back(xy[0], xy[1]);
         } else if (a == "--camera") o.camera = parseCamera(value());
         else if (a == "--size") parseSize(value(), o.width, o.height);
         else if (a == "--strategy" || a == "--occlusion") {
@@ -116,6 +120,10 @@ Options parseOptions(int argc, const char* const* argv) {
     if (out && !o.headless && !frames)
         throw UsageError("--out in the window needs --frames K (the picture is frame K; P or F12 save screenshots)");
     if (o.info && o.headless) throw UsageError("--info prints a summary and renders nothing: drop --headless");
+    if (!o.picks.empty() && !o.headless) throw UsageError("--pick is for --headless (in the window, click)");
+    for (const auto& [x, y] : o.picks)
+        if (x < 0 || y < 0 || x >= o.width || y >= o.height)
+            bad("--pick", std::to_string(int(x)) + "," + std::to_string(int(y)), "the pixel is outside the picture");
     if (!n) o.n = o.scene == "office" ? 6 : 32;
     if (!frames && o.headless) o.frames = 1;
     if (!out && o.headless) o.out = "sgview.png";
@@ -124,7 +132,7 @@ Options parseOptions(int argc, const char* const* argv) {
 
 const char* usageText() {
     return "usage: sgview FILE... | --scene city|office [--n N]\n"
-           "              [--headless [--overlay]] [--frames K [--out frame.png]] [--info]\n"
+           "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6)\n"
@@ -136,6 +144,7 @@ const char* usageText() {
            "  --size WxH         picture or window size (default 1280x720)\n"
            "  --strategy S       culling: none, sphere, aabb (default), sphere-sphere, center-box\n"
            "  --occlusion M      occlusion culling: off, tree, auto (default)\n"
+           "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable)\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"
            "  1 trackball (left drag orbits, right or middle drag pans, scroll zooms)\n"

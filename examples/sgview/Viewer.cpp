@@ -3,6 +3,7 @@
 #include "sg/ImageIO.h"
 #include "sgview/Modes.h"
 #include "sgview/Navigator.h"
+#include "sgview/Pick.h"
 #include "sgview/View.h"
 #include "sgview/ViewCamera.h"
 
@@ -61,6 +62,7 @@ private:
     double x_ = 0.0, y_ = 0.0;    // cursor
     double pressX_ = 0.0, pressY_ = 0.0;
     bool dragged_ = false;        // moved since the press: a drag, not a click
+    IntersectTraversal picker_;   // keeps its per-mesh BVHs between clicks
 };
 
 int Viewer::run() {
@@ -168,7 +170,11 @@ void Viewer::screenshot() {
 // To do: cast the ray through (x, y) from nav_.camera(w, h) into scene_ with the intersection traversal and
 // print the path of the nearest hit ("city/Group/Transform/LOD/Geometry").
 void Viewer::onPick(double x, double y) {
-    std::printf("pick at pixel (%.0f, %.0f): picking needs the intersection traversal, not in this build yet\n", x, y);
+    // Cursor positions are in window coordinates; the camera's viewport is the framebuffer (HiDPI differs).
+    const int w = window_.width(), h = window_.height(), ww = window_.windowWidth(), wh = window_.windowHeight();
+    if (w <= 0 || h <= 0 || ww <= 0 || wh <= 0) return;
+    const double fx = x * w / ww, fy = y * h / wh;
+    std::printf("%s\n", pickReport(picker_, scene_, nav_.camera(w, h), fx, fy).c_str());
     std::fflush(stdout);
 }
 
