@@ -8,6 +8,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/FrustumKernel.h"
+#include "sg/LodValue.h"
 
 #include <algorithm>
 #include <chrono>
@@ -442,18 +443,7 @@ void CullTraversal::fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
 }
 
 double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {
-    const FlatImage& img = *c.img;
-    const FlatImage::Lod& lod = img.lods[img.aux[i]];
-    double dist;
-    if (c.rigid) {  // image coordinates are the world's, shifted: measure there
-        const double dx = lod.cx - c.eyeImg.x, dy = lod.cy - c.eyeImg.y, dz = lod.cz - c.eyeImg.z;
-        dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-    } else {  // below a scaled Instance: through the frame
-        dist = glm::length(dvec3(c.imgToEye * dvec4(lod.cx, lod.cy, lod.cz, 1.0)));
-    }
-    // The LOD scale makes everything look farther (scale > 1: coarser levels sooner), as Performer's.
-    if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist * set_->lodScale;
-    return 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / ((cam_->perspective() ? dist : 1.0) * set_->lodScale);
+    return sg::lodValue(*c.img, i, c.rigid, c.eyeImg, c.imgToEye, c.scale, *cam_, set_->lodScale);
 }
 
 // Entries [begin, end) inside the frustum (no test left): one forward scan over the pre-order entries

@@ -8,6 +8,7 @@
 #include "nodes/Transform.h"
 #include "sg/Camera.h"
 #include "sg/IntersectPrimitives.h"
+#include "sg/LodValue.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -188,20 +189,8 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
             const int only = lodChild(c, i, n);
             double value = 0.0;
-            if (only < 0) {  // as drawn: the cull's value (eye at the relative origin)
-                const FlatImage::Lod& lod = img.lods[img.aux[i]];
-                double dist;
-                if (c.rigid) {
-                    const double dx = lod.cx - c.eyeImg.x, dy = lod.cy - c.eyeImg.y, dz = lod.cz - c.eyeImg.z;
-                    dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-                } else {
-                    dist = glm::length(dvec3(c.imgToRel * dvec4(lod.cx, lod.cy, lod.cz, 1.0)));
-                }
-                const Camera* cam = opt_->camera;
-                value = lod.mode != uint8_t(LOD::Mode::PixelSize)
-                            ? dist * opt_->lodScale
-                            : 2.0 * img.r[i] * c.scale * cam->pixelsPerUnit() / ((cam->perspective() ? dist : 1.0) * opt_->lodScale);
-            }
+            if (only < 0)  // as drawn: the cull's value (eye at the relative origin)
+                value = lodValue(img, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, *opt_->camera, opt_->lodScale);
             int k = 0;
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k, ++rg) {
                 const bool shown = only >= 0 ? k == only : (value >= rg->min && value < rg->max);
