@@ -212,6 +212,34 @@ TEST(SgviewNavigator, FlyMovesAlongTheViewWalkOnTheLevel) {
     }
 }
 
+TEST(SgviewNavigator, WalkingStopsAtAWallAndFollowsTheGroundFlyingDoesNot) {
+    // A floor at z = 0 and a wall at x in [10, 11]; the eye starts at x = 0, 1.7 above the floor, facing +x.
+    auto root = make<Group>();
+    auto mat = make<Material>();
+    root->addChild(make<Geometry>(makeBoxMesh(dvec3(-50, -50, -1), dvec3(50, 50, 0)), mat));
+    root->addChild(make<Geometry>(makeBoxMesh(dvec3(10, -50, 0), dvec3(11, 50, 10)), mat));
+    Scene scene(root);
+    scene.update();
+    const Box bound{dvec3(-50, -50, -1), dvec3(50, 50, 10)};
+    ViewpointCollider walker(sgview::walkSettings(bound, dvec3(0, 0, 1)));
+    for (NavMode mode : {NavMode::Walk, NavMode::Fly}) {
+        Navigator nav(bound, dvec3(0, 0, 1));
+        nav.setWalkMover(sgview::collidingWalk(scene, walker));
+        nav.lookAt(dvec3(0, 0, 1.7), dvec3(20, 0, 1.7));
+        nav.setMode(mode);
+        MoveKeys k;
+        k.forward = true;
+        for (int f = 0; f < 200; ++f) nav.move(k, 1.0 / 60.0);  // 200 frames at the default speed: past the wall
+        if (mode == NavMode::Walk) {
+            EXPECT_LE(nav.eye().x, 10.0 - 0.3 + 1e-6);  // stopped a radius short of the wall
+            EXPECT_GT(nav.eye().x, 5.0);                // having walked up to it
+            EXPECT_NEAR(nav.eye().z, 1.7, 0.05);        // the eye's height above the floor
+        } else {
+            EXPECT_GT(nav.eye().x, 11.0);  // flying goes through
+        }
+    }
+}
+
 TEST(SgviewNavigator, PitchStopsShortOfStraightUpAndSpeedScales) {
     Navigator nav(Box{dvec3(-100), dvec3(100)}, dvec3(0, 0, 1));
     nav.setMode(NavMode::Fly);

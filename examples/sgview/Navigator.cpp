@@ -94,7 +94,25 @@ void Navigator::move(const MoveKeys& k, double seconds) {
         const dvec3 level = std::cos(yaw_) * a_ + std::sin(yaw_) * b_;  // the view's heading, horizontal
         v = ahead * level + side * right();
     }
-    if (glm::length(v) > 0.0) eye_ += glm::normalize(v) * step;
+    if (!(glm::length(v) > 0.0)) return;
+    const dvec3 d = glm::normalize(v) * step;
+    eye_ = mode_ == NavMode::Walk && mover_ ? mover_(eye_, d) : eye_ + d;
+}
+
+Navigator::Mover collidingWalk(const Scene& scene, ViewpointCollider& collider) {
+    return [&scene, &collider](const dvec3& from, const dvec3& step) { return collider.move(scene, from, step); };
+}
+
+ViewpointSettings walkSettings(const Box& bound, const dvec3& up) {
+    ViewpointSettings s;
+    const double k = std::min(1.0, glm::length(bound.max - bound.min) / 50.0);
+    s.radius *= k;
+    s.eyeHeight *= k;
+    s.maxClimb *= k;
+    s.maxFall *= k;
+    s.groundFollow = true;
+    s.up = up;
+    return s;
 }
 
 Camera Navigator::camera(int width, int height) const {

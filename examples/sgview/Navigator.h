@@ -1,9 +1,11 @@
 // Navigator: the viewer's eye under trackball, fly and walk navigation (no window or GL: driven by events).
 #pragma once
 #include "sg/Camera.h"
+#include "sg/ViewpointCollider.h"
 #include "sg/Math.h"
 
 #include <cstdint>
+#include <functional>
 
 namespace sgview {
 
@@ -16,8 +18,8 @@ struct MoveKeys {
 
 // One orientation (yaw and pitch about the scene's up axis) shared by the three modes, so that switching
 // mode never moves the view. Trackball: the eye orbits a centre `distance` ahead of it. Fly: the eye moves
-// along its view. Walk: as fly, on the horizontal plane at the eye's height (ground following and collisions
-// need the intersection traversal).
+// along its view. Walk: as fly, on the horizontal plane at the eye's height, each step through the walk
+// mover when one is set (collidingWalk: walls stop the eye and it slides along them; it follows the ground).
 class Navigator {
 public:
     enum Button { kLeft = 0, kRight = 1, kMiddle = 2 };  // GLFW's numbering
@@ -46,6 +48,9 @@ public:
     const sg::dvec3& up() const { return up_; }
     double speed() const { return speed_; }
     double distance() const { return distance_; }
+    // Walk steps go through this when set: the eye moves from `from` to what it returns for the wanted step.
+    using Mover = std::function<sg::dvec3(const sg::dvec3& from, const sg::dvec3& step)>;
+    void setWalkMover(Mover m) { mover_ = std::move(m); }
     // The view as a camera of this viewport, its planes fitted to the bound from the current eye.
     sg::Camera camera(int width, int height) const;
 
@@ -58,6 +63,14 @@ private:
     double distance_ = 1.0;           // trackball: eye to centre
     double speed_ = 1.0;              // fly and walk: units per second
     double size_ = 1.0;               // the bound's radius
+    Mover mover_;
 };
+
+// A walk mover over `scene` through `collider` (kept by the caller): collidable geometry stops the eye and
+// it slides along it; with the collider's ground following, the eye keeps its height above the ground.
+Navigator::Mover collidingWalk(const sg::Scene& scene, sg::ViewpointCollider& collider);
+// Collider settings for walking through a scene of this bound: a person in a scene of metres (eye 1.7 m,
+// radius 0.3 m), scaled down for scenes smaller than 50 units across.
+sg::ViewpointSettings walkSettings(const sg::Box& bound, const sg::dvec3& up);
 
 }  // namespace sgview

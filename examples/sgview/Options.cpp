@@ -149,7 +149,7 @@ const char* usageText() {
            "keys in the window:\n"
            "  1 trackball (left drag orbits, right or middle drag pans, scroll zooms)\n"
            "  2 fly (WASD moves, Q/E down/up, left drag looks, scroll sets the speed, shift runs)\n"
-           "  3 walk (as fly, on the horizontal plane at the eye's height)\n"
+           "  3 walk (as fly, on the level; walls stop you, you keep your height above the ground)\n"
            "  C culling strategy   O occlusion mode   Tab stats overlay   Home reset view\n"
            "  P or F12 screenshot (sgview-NNNN.png)   click picks   H this help   Escape quits\n";
 }

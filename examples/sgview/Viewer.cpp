@@ -29,7 +29,9 @@ public:
           window_(o.width, o.height, "sgview: " + loaded.title),
           view_(scene, loaded.title),
           nav_(sceneBound(scene), o.camera ? o.camera->up : loaded.up),
-          start_(startCamera(o, sceneBound(scene), loaded.up)) {
+          start_(startCamera(o, sceneBound(scene), loaded.up)),
+          walker_(walkSettings(sceneBound(scene), nav_.up())) {
+        nav_.setWalkMover(collidingWalk(scene_, walker_));
         view_.settings.strategy = o.strategy;
         view_.settings.occlusion.mode = o.occlusion;
         home();
@@ -56,6 +58,7 @@ private:
     View view_;
     Navigator nav_;
     Camera start_;
+    ViewpointCollider walker_;  // walk mode: collisions and ground following
     MoveKeys keys_;
     bool overlay_ = true, wantShot_ = false;
     int held_ = -1;               // mouse button held, -1: none
@@ -72,7 +75,7 @@ int Viewer::run() {
     while (!window_.shouldClose() && (o_.frames == 0 || shown < o_.frames)) {
         window_.pollEvents();
         const double now = window_.time();
-        nav_.move(keys_, now - last);
+        const double dt = now - last;
         last = now;
         const int w = window_.width(), h = window_.height();
         if (w <= 0 || h <= 0) {  // minimized: nothing to draw until it comes back
@@ -80,6 +83,7 @@ int Viewer::run() {
             continue;
         }
         scene_.update({uint64_t(shown), now});
+        nav_.move(keys_, dt);  // after the update: walking tests the scene as it is now
         fs.mode = navModeName(nav_.mode());
         view_.frame(nav_.camera(w, h), overlay_, fs);
         if (wantShot_) screenshot();
