@@ -39,6 +39,14 @@ private:
     int32_t buildOcclusion(const FlatImage& img);
     bool occlusionTest(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ);
     void planLods(const FlatImage& img);  // LOD budget: fills chosen_ for deferred_
+    // An LOD's header (count of children) followed by one entry per child.
+    union LodWork {
+        uint32_t count;
+        struct Child {
+            float tris, items, detail;
+        } child;
+    };
+    uint32_t lodWork(const FlatImage& img, uint32_t i);  // its header's index in lodWork_
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void emit(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
@@ -81,6 +89,10 @@ private:
     bool planning_ = false;
     std::vector<DeferredLod> deferred_;
     std::vector<int> chosen_;  // per deferred LOD: the child shown, -1: none
+    std::vector<LodWork> lodWork_;
+    std::vector<uint32_t> lodWorkAt_;  // per image entry: its LodWork header, ~0u: not worked out yet
+    const FlatImage* lodWorkImage_ = nullptr;
+    uint64_t lodWorkVersion_ = 0;
     std::vector<LodSelector::Option> lodOptions_;
     std::vector<LodSelector::Object> lodObjects_;
     LodSelector selector_;

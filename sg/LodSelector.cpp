@@ -1,5 +1,6 @@
 #include "sg/LodSelector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 #include <cstring>
@@ -85,19 +86,27 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
         if (cand_.size() < std::size_t(obj.count)) cand_.resize(obj.count);
         Candidate* cand = cand_.data();
         const std::size_t m = obj.count;
-        bool ok = true;  // one branch per object; the culprit is looked for only when there is one
+        // One test per object: a negative value fails `ok`, a NaN or infinity makes the sum so; the culprit
+        // is looked for only then (a sum that overflows finds none and goes on).
+        bool ok = true;
+        double sum = 0.0;
         for (int i = 0; i < obj.count; ++i) {
             const Option& op = obj.options[i];
-            ok &= (op.costMs >= 0.0) & (op.costMs <= kMax) & (op.benefit >= 0.0) & (op.benefit <= kMax);
+            ok &= (op.costMs >= 0.0) & (op.benefit >= 0.0);
+            sum += op.costMs + op.benefit;
             cand[i] = {op.costMs, i == obj.last ? op.benefit * (1.0 + hysteresis) : op.benefit, i};
         }
-        if (!ok)
+        if (!ok || !(sum <= kMax))
             for (int i = 0; i < obj.count; ++i) {
                 const Option& op = obj.options[i];
                 if (!amount(op.costMs)) refuse(at, i, "costMs", op.costMs, "is negative or not finite");
                 if (!amount(op.benefit)) refuse(at, i, "benefit", op.benefit, "is negative or not finite");
             }
-        // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels.
+        // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels, usually
+        // given finest (dearest) first: reversed first when strictly so.
+        bool descending = true;
+        for (std::size_t i = 1; i < m; ++i) descending &= cand[i - 1].cost > cand[i].cost;
+        if (descending) std::reverse(cand, cand + m);
         for (std::size_t i = 1; i < m; ++i) {
             const Candidate c = cand[i];
             std::size_t j = i;

@@ -422,6 +422,7 @@ void Scene::update(const FrameInfo& frame) {
 void Scene::refresh() {
     const uint8_t bits = root_->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure);
     if (bits || main_.size() == 0) {
+        version_++;
         std::unordered_set<const Node*> built;
         Builder b{*this, main_, built};
         if ((bits & Node::kDirtyStructure) || main_.size() == 0) {

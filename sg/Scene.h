@@ -34,6 +34,9 @@ public:
     const UpdateStats& lastUpdate() const { return stats_; }
     // Counts full rebuilds of the image: state kept per image entry (LOD hysteresis) is stale when it moves.
     uint64_t structureVersion() const { return structureVersion_; }
+    // Counts updates that changed the image at all (bounds, frames, meshes, structure): what is derived from
+    // it stays valid while this stays the same.
+    uint64_t version() const { return version_; }
     size_t bytes() const;
 
 private:
@@ -46,6 +49,7 @@ private:
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;
     uint64_t structureVersion_ = 0;
+    uint64_t version_ = 0;
 };
 
 }  // namespace sg

@@ -155,3 +155,30 @@ TEST(LodBudget, KnownZeroErrorsMakeTheCoarseLevelAsGoodAsTheFine) {
         EXPECT_EQ(f.coarse, known ? 20 : 0) << "errors known " << known;
     }
 }
+
+TEST(LodBudget, AMeshChangedBetweenFramesIsPricedAfresh) {
+    // One traversal over frames keeps what it worked out of the LODs' children while the scene is the
+    // same; a fine level made ten times heavier must then cost ten times more.
+    Row row(false);
+    Scene s(row.root);
+    s.update();
+    const DrawCostModel model = trained();
+    const CullSettings set = budgeted(model, 4.0);  // 20 fine levels (24,000 triangles) fit: 3.4 ms
+    CullTraversal t;
+    auto shown = [&](const Mesh* mesh) {
+        DrawList l;
+        CullStats st;
+        t.cull(s, lookingAlongY(), set, l, st);
+        int n = 0;
+        for (auto& it : l.items) n += it.mesh == mesh;
+        return n;
+    };
+    EXPECT_EQ(shown(row.fine.get()), 20);
+    EXPECT_EQ(shown(row.fine.get()), 20);  // the same frame again, from what was kept
+    auto heavy = makeBoxMesh(dvec3(-1), dvec3(1), 32);  // 12,288 triangles
+    for (auto& lod : row.lods) static_cast<Geometry*>(lod->child(0))->setMesh(heavy);
+    s.update();
+    const int n = shown(heavy.get());
+    EXPECT_GT(n, 0);
+    EXPECT_LT(n, 4);  // (4 - 1) ms buys two at 1.2 ms each
+}
