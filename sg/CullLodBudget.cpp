@@ -65,6 +65,7 @@ void CullTraversal::planLods(const FlatImage& img) {
         total += lodWork_[w].count;
     }
     if (lodOptions_.size() < total) lodOptions_.resize(total);
+    lodArea_.resize(n);
     LodSelector::Option* op = lodOptions_.data();
     const bool persp = cam_->perspective();
     for (size_t k = 0; k < n; ++k) {
@@ -88,6 +89,7 @@ void CullTraversal::planLods(const FlatImage& img) {
         }
         obj.options = op;
         op += obj.count;
+        lodArea_[k] = area;
         const uint8_t last = lodLast_[i];
         obj.last = last != 0xff && last < obj.count ? int(last) : -1;
     }
@@ -99,7 +101,10 @@ void CullTraversal::planLods(const FlatImage& img) {
     for (size_t k = 0; k < deferred_.size(); ++k) {
         lodLast_[deferred_[k].entry] = chosen_[k] < 0 ? 0xff : uint8_t(std::min(chosen_[k], 254));
         stats_->lodDropped += chosen_[k] < 0;
-        if (chosen_[k] >= 0) stats_->lodLevels[std::min(chosen_[k], 3)]++;
+        if (chosen_[k] >= 0) {
+            stats_->lodLevels[std::min(chosen_[k], 3)]++;
+            stats_->lodPixels += lodArea_[k];
+        }
     }
     stats_->lodObjects = deferred_.size();
     stats_->lodBudgetMs = b.budgetMs;

@@ -109,6 +109,7 @@ struct CullStats {
     uint64_t lodDropped = 0;          // left out to fit the budget
     uint64_t lodLevels[4] = {};       // LODs shown at child 0, 1, 2, and 3 or more
     double lodBudgetMs = 0.0;         // the budget planned for (LodBudgetSettings::budgetMs)
+    double lodPixels = 0.0;           // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
     double lodPredictedMs = 0.0;      // predicted draw time of the whole frame
     double lodSelectMs = 0.0;
     double ms = 0.0;

@@ -89,6 +89,7 @@ private:
     bool planning_ = false;
     std::vector<DeferredLod> deferred_;
     std::vector<int> chosen_;  // per deferred LOD: the child shown, -1: none
+    std::vector<double> lodArea_;  // per deferred LOD: its projected area, pixels
     std::vector<LodWork> lodWork_;
     std::vector<uint32_t> lodWorkAt_;  // per image entry: its LodWork header, ~0u: not worked out yet
     const FlatImage* lodWorkImage_ = nullptr;

@@ -107,6 +107,7 @@ TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
     EXPECT_EQ(f.stats.lodLevels[0], uint64_t(f.fine));
     EXPECT_EQ(f.stats.lodLevels[1], uint64_t(f.coarse));
     EXPECT_EQ(f.stats.lodBudgetMs, 1.5);
+    EXPECT_GT(f.stats.lodPixels, 0.0);  // what the drawn LODs cover, for the cost model's pixel term
     for (double y : f.fineY) EXPECT_LT(y, 60.0);  // the upgrades went to the nearest (largest on screen)
 
     set.lodBudget.mayDrop = true;  // allowed to leave LODs out: a budget below the fixed cost drops all
@@ -114,6 +115,7 @@ TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
     f = cull(s, row, set);
     EXPECT_EQ(f.fine + f.coarse, 0);
     EXPECT_EQ(f.stats.lodDropped, 20u);
+    EXPECT_EQ(f.stats.lodPixels, 0.0);
 
     set.lodBudget.model = nullptr;
     EXPECT_THROW(cull(s, row, set), std::invalid_argument);

@@ -74,7 +74,7 @@ int runLod(const Args& a) {
     std::vector<sg::Camera> cams;
     const int frames = path == "orbit" ? scenes::kOrbitFrames : scenes::kStreetFrames;
     for (int f = 0; f < frames; f += every)
-        cams.push_back(path == "orbit" ? scenes::cityOrbitCamera(n, f) : scenes::cityStreetCamera(n, f));
+        cams.push_back(path == "orbit" ? scenes::cityOrbitCamera(n, a.flag("same-view") ? 0 : f) : scenes::cityStreetCamera(n, f));
 
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
@@ -109,7 +109,7 @@ int runLod(const Args& a) {
         const double total = cullMs + drawMs;
         lastCullMs = cullMs;
         if (method == "stress") stress.update(total);
-        model.update({double(st.triangles), double(st.geometries), 0.0}, drawMs);
+        model.update({double(st.triangles), double(st.geometries), st.lodPixels}, drawMs);
         return total;
     };
     double cm = 0, dm = 0;
@@ -146,7 +146,7 @@ int runLod(const Args& a) {
     Json j;
     j.add("command", "lod").add("scene", "city").addInt("n", n).add("path", path).add("method", method);
     j.add("budget_ms", budget).addInt("frames", long(cams.size())).add("may_drop", a.flag("may-drop") ? "yes" : "no");
-    j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known");
+    j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known").add("same_view", a.flag("same-view") ? "yes" : "no");
     j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);

@@ -101,7 +101,7 @@ static void usage() {
                  "                [--occlusion off|tree|auto] [--cap front|centre] [--width W --height H] [--json]\n"
                  "       sgbench occlusion --scene city|office [--n N | --r R] [--path street|orbit|walk] [--occlusion tree|auto]\n"
                  "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] [--no-draw] [--json]\n"
-                 "       sgbench lod --scene city [--n N] [--path orbit|street] --budget-ms B --method static|stress|budget [--may-drop] [--guess-accuracy] [--every K] [--json]\n"
+                 "       sgbench lod --scene city [--n N] [--path orbit|street] --budget-ms B --method static|stress|budget [--may-drop] [--guess-accuracy] [--same-view] [--every K] [--json]\n"
                  "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
                  "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
 }
