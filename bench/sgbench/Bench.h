@@ -41,5 +41,6 @@ int runCull(const Args& a);
 int runAccuracy(const Args& a);
 int runOcclusion(const Args& a);
 int runLod(const Args& a);
+int runLoad(const Args& a);
 
 }  // namespace bench

@@ -102,6 +102,7 @@ static void usage() {
                  "       sgbench occlusion --scene city|office [--n N | --r R] [--path street|orbit|walk] [--occlusion tree|auto]\n"
                  "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] [--no-draw] [--json]\n"
                  "       sgbench lod --scene city [--n N] [--path orbit|street] --budget-ms B --method static|stress|budget [--may-drop] [--every K] [--json]\n"
+                 "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
                  "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
 }
 
@@ -112,6 +113,7 @@ int main(int argc, char** argv) {
         if (a.command == "accuracy") return bench::runAccuracy(a);
         if (a.command == "occlusion") return bench::runOcclusion(a);
         if (a.command == "lod") return bench::runLod(a);
+        if (a.command == "load") return bench::runLoad(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
