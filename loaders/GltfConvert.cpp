@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstring>
 #include <glm/gtc/quaternion.hpp>
+#include <limits>
 #include <map>
 #include <tuple>
 
@@ -139,6 +140,10 @@ struct Converter {
             r.push_back(e.GetNumberAsDouble());
         }
         return r;
+    }
+    float toFloat(double v, const std::string& path) {
+        if (!(std::abs(v) <= double(std::numeric_limits<float>::max()))) bad(path, "is out of float range");
+        return float(v);
     }
     dvec3 vec(const Value& o, const char* key, const std::string& path) {
         const std::vector<double> v = numbers(o.Get(key), path + "." + key, 3);
@@ -394,7 +399,9 @@ struct Converter {
         if (gn.camera >= 0) camera(gn.camera, world, gn.name);
         long long id = -1;
         if (sx && sx->Has("id")) {
-            id = (long long)number(*sx, "id", xp, -1);
+            const double v = number(*sx, "id", xp, -1);
+            if (v < 0 || v > 9007199254740992.0 || v != std::floor(v)) bad(xp + ".id", "must be a non-negative integer");
+            id = (long long)v;
             auto it = byId.find(id);
             if (it != byId.end()) return it->second;
         }
@@ -443,9 +450,12 @@ struct Converter {
         }
         if (kind == "Instance") {
             if (gn.children.size() != 1) bad(path + ".children", "an sgkit Instance needs exactly one child, its prototype");
-            const dmat4 protoWorld = world;
-            ref_ptr<Node> proto = build(gn.children[0], protoWorld);
-            if (proto) static_cast<Instance*>(inner)->setPrototype(proto);
+            ref_ptr<Node> proto = build(gn.children[0], world);
+            try {
+                if (proto) static_cast<Instance*>(inner)->setPrototype(proto);
+            } catch (const std::invalid_argument& e) {
+                bad(path + ".children[0]", e.what());
+            }
             return;
         }
         const Value* ranges = kind == "LOD" && sx->Has("ranges") ? &sx->Get("ranges") : nullptr;
@@ -458,6 +468,7 @@ struct Converter {
             bad(xp + ".errors", "needs one error per child (" + std::to_string(nc) + ")");
         if (on && (!on->IsArray() || on->ArrayLen() != nc))
             bad(xp + ".on", "needs one flag per child (" + std::to_string(nc) + ")");
+        const std::vector<double> errorValues = errors ? numbers(*errors, xp + ".errors", nc) : std::vector<double>{};
         auto* group = static_cast<Group*>(inner);
         for (size_t k = 0; k < nc; ++k) {
             ref_ptr<Node> c = build(gn.children[k], world);
@@ -466,11 +477,9 @@ struct Converter {
                 if (kind == "LOD") {
                     const std::vector<double> r = numbers(ranges->Get(int(k)), at(xp + ".ranges", k), 2);
                     auto* lod = static_cast<LOD*>(inner);
-                    lod->addChild(c, float(r[0]), float(r[1]));
-                    if (errors) {
-                        const std::vector<double> e = numbers(*errors, xp + ".errors", nc);
-                        if (e[k] != 0.0) lod->setError(lod->numChildren() - 1, float(e[k]));
-                    }
+                    lod->addChild(c, toFloat(r[0], at(xp + ".ranges", k)), toFloat(r[1], at(xp + ".ranges", k)));
+                    if (!errorValues.empty() && errorValues[k] != 0.0)
+                        lod->setError(lod->numChildren() - 1, toFloat(errorValues[k], at(xp + ".errors", k)));
                 } else if (kind == "Switch") {
                     const Value& f = on ? on->Get(int(k)) : Value(true);
                     if (!f.IsBool()) bad(at(xp + ".on", k), "must be true or false");

@@ -143,7 +143,11 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
     }
     progress.report(0.5, "validating");
     validate(file, model);
-    return convert(file, model, progress, lines(warn));
+    try {
+        return convert(file, model, progress, lines(warn));
+    } catch (const std::bad_alloc&) {
+        fail(file, "", "out of memory");
+    }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <set>
 
 namespace sg::gltf {
@@ -65,13 +66,17 @@ struct Checker {
             fail(file, path, std::string(what) + " " + std::to_string(i) + " does not exist (" + std::to_string(n) + " " +
                                  what + (n == 1 ? "" : std::strcmp(what, "mesh") == 0 ? "es" : "s") + ")");
     }
-    void finite(const std::string& path, const std::vector<double>& v, size_t wantSize) const {
+    // `limit`: the largest magnitude allowed (values stored as float are held to float's range).
+    void finite(const std::string& path, const std::vector<double>& v, size_t wantSize,
+                double limit = std::numeric_limits<double>::max()) const {
         if (v.empty()) return;
         if (v.size() != wantSize)
             fail(file, path, "has " + std::to_string(v.size()) + " numbers, needs " + std::to_string(wantSize));
-        for (size_t k = 0; k < v.size(); ++k)
+        for (size_t k = 0; k < v.size(); ++k) {
             if (!std::isfinite(v[k]))
                 fail(file, path, "element " + std::to_string(k) + " is not finite (" + std::to_string(v[k]) + ")");
+            if (std::abs(v[k]) > limit) fail(file, path, "element " + std::to_string(k) + " is out of float range");
+        }
     }
 
     void extensions() const {
@@ -108,7 +113,12 @@ struct Checker {
             if (num <= 0) fail(file, path + ".type", "unknown type");
             if (a.count < 1) fail(file, path + ".count", "count " + std::to_string(a.count) + " is below 1");
             if (a.sparse.isSparse) fail(file, path + ".sparse", "sparse accessors are not supported");
-            if (a.bufferView == -1) continue;  // all zeros
+            if (a.bufferView == -1) {  // all zeros: no data in the file holds the count to a sane size
+                if (a.count > kMaxZeroAccessor)
+                    fail(file, path + ".count", "count " + std::to_string(a.count) + " without a bufferView is above " +
+                                                    std::to_string(kMaxZeroAccessor));
+                continue;
+            }
             index(path + ".bufferView", a.bufferView, m.bufferViews.size(), "bufferView");
             const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
             const size_t elem = size_t(comp) * size_t(num);
@@ -191,7 +201,7 @@ struct Checker {
         for (size_t i = 0; i < m.materials.size(); ++i) {
             const auto& pbr = m.materials[i].pbrMetallicRoughness;
             const std::string path = at("materials", i) + ".pbrMetallicRoughness";
-            finite(path + ".baseColorFactor", pbr.baseColorFactor, 4);
+            finite(path + ".baseColorFactor", pbr.baseColorFactor, 4, double(std::numeric_limits<float>::max()));
             index(path + ".baseColorTexture.index", pbr.baseColorTexture.index, m.textures.size(), "texture", true);
         }
         for (size_t i = 0; i < m.textures.size(); ++i) {

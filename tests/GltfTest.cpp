@@ -269,6 +269,16 @@ TEST(Gltf, MalformedFilesNameFilePathAndReason) {
         {"bad sgkit extras", [&](Doc& d) {
              d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"extras": {"sgkit": {"kind": "LOD", "ranges": [[5, 1]]}}, "children": [1]}, {}])"; },
          "nodes[0].children[0]", "has min > max"},
+        {"sgkit extras out of float range", [&](Doc& d) {
+             d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"extras": {"sgkit": {"kind": "LOD", "ranges": [[0, 1e300]]}}, "children": [1]}, {}])"; },
+         "nodes[0].extras.sgkit.ranges[0]", "is out of float range"},
+        {"colour out of float range", [&](Doc& d) {
+             d.json = mesh + R"(, "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [1, 1e300, 1, 1]}}])"; },
+         "materials[0].pbrMetallicRoughness.baseColorFactor", "element 1 is out of float range"},
+        {"huge accessor without data", [&](Doc& d) {
+             d.json = mesh;
+             d.extraAccessors = R"(, {"componentType": 5126, "count": 100000000000, "type": "VEC3"})"; },
+         "accessors[2].count", "without a bufferView is above"},
         {"unknown sgkit kind", [&](Doc& d) {
              d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"extras": {"sgkit": {"kind": "Teapot"}}}])"; },
          "nodes[0].extras.sgkit.kind", "unknown node kind 'Teapot'"},
