@@ -179,6 +179,7 @@ struct Converter {
             warn(ip, std::string("image cannot be decoded (") + stbi_failure_reason() + "), texture skipped");
             return {};
         }
+        // Rows top to bottom: row 0 is glTF's v = 0, which is also the Renderer's first texture row.
         std::vector<uint8_t> rgba(px, px + size_t(w) * size_t(h) * 4);
         stbi_image_free(px);
         textures[size_t(img)] = make<Texture>(w, h, std::move(rgba));
@@ -374,7 +375,11 @@ struct Converter {
             return oc;
         }
         if (kind == "Geometry") {
-            if (gn.mesh < 0) return make<Geometry>();
+            if (gn.mesh < 0) {
+                auto g = make<Geometry>();
+                if (sx->Has("emptyMesh")) g->setMesh(make<Mesh>());
+                return g;
+            }
             const auto& gs = geometries(gn.mesh);
             if (gs.size() != 1 || !gs[0]) bad(path + ".mesh", "an sgkit Geometry needs a mesh of one triangle primitive");
             return make<Geometry>(ref_ptr<Mesh>(gs[0]->mesh()), ref_ptr<Material>(gs[0]->material()));
@@ -539,6 +544,8 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
         for (size_t i = 0; i < model.nodes.size(); ++i)
             if (!child[i]) roots.push_back(int(i));
     }
+    if (!model.animations.empty()) c.warn("animations", "animations are not loaded");
+    if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
     progress.report(0.6, "converting");
     for (int r : roots)
         if (ref_ptr<Node> n = c.build(r, dmat4(1.0))) root->addChild(n);

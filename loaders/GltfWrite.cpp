@@ -166,7 +166,12 @@ struct Writer {
             case NodeKind::Geometry: {
                 x["kind"] = Value(std::string("Geometry"));
                 const auto& g = static_cast<const Geometry&>(n);
-                if (g.mesh()) gn.mesh = mesh(g);
+                // glTF has no empty accessors: a mesh without triangles is written as a flag (its positions
+                // and the geometry's material are not kept).
+                if (g.mesh() && g.mesh()->indexCount() > 0)
+                    gn.mesh = mesh(g);
+                else if (g.mesh())
+                    x["emptyMesh"] = Value(true);
                 break;
             }
             case NodeKind::LOD: {

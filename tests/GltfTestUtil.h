@@ -99,6 +99,8 @@ inline ref_ptr<Group> allKindsScene() {
     pickOnly->setNodeMask(0xfffffff0u);
     masked->addChild(pickOnly);
     root->addChild(masked);
+    root->addChild(make<Geometry>());                     // no mesh
+    root->addChild(make<Geometry>(make<Mesh>(), ref_ptr<Material>()));  // an empty mesh (written as a flag)
     return root;
 }
 
