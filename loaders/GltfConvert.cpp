@@ -46,7 +46,8 @@ struct AccessorReader {
         if (!base) return 0.0f;
         const unsigned char* p = base + i * stride;
         switch (comp) {
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[k] / 255.0f : float(p[k]);
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                return normalized ? p[k] / 255.0f : float(p[k]);
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
                 uint16_t v;
                 std::memcpy(&v, p + 2 * k, 2);
@@ -100,13 +101,25 @@ const Value* sgkitExtras(const Value& extras) {
 }
 
 struct Converter {
+    Converter(const std::string& f, const tinygltf::Model& model, Progress& p)
+        : file(f),
+          m(model),
+          progress(p),
+          materials(model.materials.size()),
+          materialDone(model.materials.size()),
+          textures(model.images.size()),
+          textureDone(model.images.size()),
+          shared(model.meshes.size()),
+          sharedDone(model.meshes.size()) {}
+
     const std::string& file;
     const tinygltf::Model& m;
     Progress& progress;
     GltfScene out;
+    // Made once each, on first use (index: the glTF element).
     std::vector<ref_ptr<Material>> materials;
     std::vector<bool> materialDone;
-    std::vector<ref_ptr<Texture>> textures;
+    std::vector<ref_ptr<Texture>> textures;  // per image
     std::vector<bool> textureDone;
     std::map<std::tuple<int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
     std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
@@ -171,7 +184,8 @@ struct Converter {
             return {};
         }
         if (w <= 0 || h <= 0 || (long long)w * h > kMaxImagePixels) {
-            warn(ip, "image of " + std::to_string(w) + " x " + std::to_string(h) + " pixels is too large, texture skipped");
+            warn(ip,
+                 "image of " + std::to_string(w) + " x " + std::to_string(h) + " pixels is too large, texture skipped");
             return {};
         }
         unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
@@ -197,8 +211,10 @@ struct Converter {
         const std::string path = at("materials", size_t(i)) + ".pbrMetallicRoughness.baseColorTexture";
         ref_ptr<Texture> tex;
         if (pbr.baseColorTexture.index >= 0) {
-            if (pbr.baseColorTexture.texCoord != 0) warn(path, "texCoord other than 0 is not supported, texture skipped");
-            else tex = texture(pbr.baseColorTexture.index, path);
+            if (pbr.baseColorTexture.texCoord != 0)
+                warn(path, "texCoord other than 0 is not supported, texture skipped");
+            else
+                tex = texture(pbr.baseColorTexture.index, path);
         }
         auto mat = make<Material>(c, tex);
         mat->unlit = gm.extensions.count("KHR_materials_unlit") != 0;
@@ -262,8 +278,8 @@ struct Converter {
         if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) toTriangles(p.mode, idx);
         auto mesh = make<Mesh>();
         try {
-            mesh->set(std::move(positions), nrm >= 0 ? readVectors<vec3, 3>(m, nrm) : std::vector<vec3>{}, std::move(idx),
-                      uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
+            mesh->set(std::move(positions), nrm >= 0 ? readVectors<vec3, 3>(m, nrm) : std::vector<vec3>{},
+                      std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
                       col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
         } catch (const std::exception& e) {
             bad(path, e.what());
@@ -272,8 +288,9 @@ struct Converter {
             const auto& ps = mesh->positions();
             size_t i = 0;
             while (std::isfinite(ps[i].x) && std::isfinite(ps[i].y) && std::isfinite(ps[i].z)) ++i;
-            bad(path + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite (" + std::to_string(ps[i].x) +
-                                                   ", " + std::to_string(ps[i].y) + ", " + std::to_string(ps[i].z) + ")");
+            bad(path + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite (" +
+                                                   std::to_string(ps[i].x) + ", " + std::to_string(ps[i].y) + ", " +
+                                                   std::to_string(ps[i].z) + ")");
         }
         meshes[key] = mesh;
         return mesh;
@@ -311,7 +328,8 @@ struct Converter {
             return r;
         }
         dmat4 r(1.0);
-        if (n.translation.size() == 3) r = glm::translate(r, dvec3(n.translation[0], n.translation[1], n.translation[2]));
+        if (n.translation.size() == 3)
+            r = glm::translate(r, dvec3(n.translation[0], n.translation[1], n.translation[2]));
         if (n.rotation.size() == 4) {
             const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // glTF: x y z w
             const double len = glm::length(q);
@@ -381,7 +399,8 @@ struct Converter {
                 return g;
             }
             const auto& gs = geometries(gn.mesh);
-            if (gs.size() != 1 || !gs[0]) bad(path + ".mesh", "an sgkit Geometry needs a mesh of one triangle primitive");
+            if (gs.size() != 1 || !gs[0])
+                bad(path + ".mesh", "an sgkit Geometry needs a mesh of one triangle primitive");
             return make<Geometry>(ref_ptr<Mesh>(gs[0]->mesh()), ref_ptr<Material>(gs[0]->material()));
         }
         bad(xp + ".kind", "unknown node kind '" + kind + "'");
@@ -398,14 +417,18 @@ struct Converter {
         const dmat4 world = parentWorld * local;
         const std::string overflow = nonFiniteElement(world);
         if (!overflow.empty()) {
-            const char* field = gn.matrix.size() ? ".matrix" : gn.scale.size() ? ".scale" : gn.translation.size() ? ".translation" : "";
+            const char* field = gn.matrix.size()        ? ".matrix"
+                                : gn.scale.size()       ? ".scale"
+                                : gn.translation.size() ? ".translation"
+                                                        : "";
             bad(path + field, "world matrix is not finite (" + overflow + ")");
         }
         if (gn.camera >= 0) camera(gn.camera, world, gn.name);
         long long id = -1;
         if (sx && sx->Has("id")) {
             const double v = number(*sx, "id", xp, -1);
-            if (v < 0 || v > 9007199254740992.0 || v != std::floor(v)) bad(xp + ".id", "must be a non-negative integer");
+            if (v < 0 || v > 9007199254740992.0 || v != std::floor(v))
+                bad(xp + ".id", "must be a non-negative integer");
             id = (long long)v;
             auto it = byId.find(id);
             if (it != byId.end()) return it->second;
@@ -432,7 +455,8 @@ struct Converter {
         if (!gn.name.empty()) inner->setName(gn.name);
         if (sx && sx->Has("mask")) {
             const double mask = number(*sx, "mask", xp, 0);
-            if (mask < 0 || mask > 4294967295.0 || mask != std::floor(mask)) bad(xp + ".mask", "must be a 32-bit unsigned integer");
+            if (mask < 0 || mask > 4294967295.0 || mask != std::floor(mask))
+                bad(xp + ".mask", "must be a 32-bit unsigned integer");
             inner->setNodeMask(uint32_t(mask));
         }
         if (gn.mesh >= 0 && kind == "Transform") {
@@ -446,15 +470,16 @@ struct Converter {
         return node;
     }
 
-    void children(const tinygltf::Node& gn, const std::string& kind, const Value* sx, const std::string& xp, Node* inner,
-                  const dmat4& world, const std::string& path) {
+    void children(const tinygltf::Node& gn, const std::string& kind, const Value* sx, const std::string& xp,
+                  Node* inner, const dmat4& world, const std::string& path) {
         if (gn.children.empty()) return;
         if (kind == "Geometry" || kind == "Occluder") {
             warn(path + ".children", "a " + kind + " node has no children, they are ignored");
             return;
         }
         if (kind == "Instance") {
-            if (gn.children.size() != 1) bad(path + ".children", "an sgkit Instance needs exactly one child, its prototype");
+            if (gn.children.size() != 1)
+                bad(path + ".children", "an sgkit Instance needs exactly one child, its prototype");
             ref_ptr<Node> proto = build(gn.children[0], world);
             try {
                 if (proto) static_cast<Instance*>(inner)->setPrototype(proto);
@@ -523,14 +548,8 @@ struct Converter {
 
 GltfScene convert(const std::string& file, const tinygltf::Model& model, Progress& progress,
                   std::vector<std::string> warnings) {
-    Converter c{file, model, progress, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+    Converter c(file, model, progress);
     c.out.warnings = std::move(warnings);
-    c.materials.resize(model.materials.size());
-    c.materialDone.resize(model.materials.size());
-    c.textures.resize(model.images.size());
-    c.textureDone.resize(model.images.size());
-    c.shared.resize(model.meshes.size());
-    c.sharedDone.resize(model.meshes.size());
     auto root = make<Group>();
     std::vector<int> roots;
     const int scene = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);

@@ -74,7 +74,9 @@ bool fileExists(const std::string& path, void* user) {
     struct stat st {};
     return !static_cast<FsContext*>(user)->allowFiles || (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode));
 }
-std::string expandPath(const std::string& path, void*) { return path; }
+std::string expandPath(const std::string& path, void*) {
+    return path;
+}
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
     if (!static_cast<FsContext*>(user)->allowFiles) {
         if (err) *err += "external file '" + path + "' is not read when loading from memory\n";
@@ -133,7 +135,8 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
         if (binary)
             ok = parser.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(size), baseDir);
         else
-            ok = parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), unsigned(size), baseDir);
+            ok = parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), unsigned(size),
+                                            baseDir);
     } catch (const std::exception& e) {  // tinygltf lets some std exceptions through (e.g. vector::at)
         fail(file, "", std::string("tinygltf: ") + e.what());
     }

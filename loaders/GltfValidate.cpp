@@ -9,7 +9,9 @@
 
 namespace sg::gltf {
 
-std::string at(const std::string& array, size_t i) { return array + "[" + std::to_string(i) + "]"; }
+std::string at(const std::string& array, size_t i) {
+    return array + "[" + std::to_string(i) + "]";
+}
 
 void fail(const std::string& file, const std::string& path, const std::string& reason) {
     throw LoadError(file, path, reason);
@@ -17,7 +19,9 @@ void fail(const std::string& file, const std::string& path, const std::string& r
 
 namespace {
 
-uint32_t le32(const unsigned char* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24; }
+uint32_t le32(const unsigned char* p) {
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
 
 // Nesting depth of JSON text, strings skipped; stops counting at the first excess.
 void checkDepth(const std::string& file, const unsigned char* p, size_t n) {
@@ -34,8 +38,9 @@ void checkDepth(const std::string& file, const unsigned char* p, size_t n) {
             inString = true;
         } else if (c == '[' || c == '{') {
             if (++depth > kMaxJsonDepth)
-                fail(file, "", "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels at byte " +
-                                   std::to_string(i));
+                fail(file, "",
+                     "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels at byte " +
+                         std::to_string(i));
         } else if (c == ']' || c == '}') {
             --depth;
         }
@@ -44,14 +49,22 @@ void checkDepth(const std::string& file, const unsigned char* p, size_t n) {
 
 const char* typeName(int type) {
     switch (type) {
-        case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-        case TINYGLTF_TYPE_VEC2: return "VEC2";
-        case TINYGLTF_TYPE_VEC3: return "VEC3";
-        case TINYGLTF_TYPE_VEC4: return "VEC4";
-        case TINYGLTF_TYPE_MAT2: return "MAT2";
-        case TINYGLTF_TYPE_MAT3: return "MAT3";
-        case TINYGLTF_TYPE_MAT4: return "MAT4";
-        default: return "an unknown type";
+        case TINYGLTF_TYPE_SCALAR:
+            return "SCALAR";
+        case TINYGLTF_TYPE_VEC2:
+            return "VEC2";
+        case TINYGLTF_TYPE_VEC3:
+            return "VEC3";
+        case TINYGLTF_TYPE_VEC4:
+            return "VEC4";
+        case TINYGLTF_TYPE_MAT2:
+            return "MAT2";
+        case TINYGLTF_TYPE_MAT3:
+            return "MAT3";
+        case TINYGLTF_TYPE_MAT4:
+            return "MAT4";
+        default:
+            return "an unknown type";
     }
 }
 
@@ -63,8 +76,12 @@ struct Checker {
     void index(const std::string& path, int i, size_t n, const char* what, bool optional = false) const {
         if (optional && i == -1) return;
         if (i < 0 || size_t(i) >= n)
-            fail(file, path, std::string(what) + " " + std::to_string(i) + " does not exist (" + std::to_string(n) + " " +
-                                 what + (n == 1 ? "" : std::strcmp(what, "mesh") == 0 ? "es" : "s") + ")");
+            fail(file, path,
+                 std::string(what) + " " + std::to_string(i) + " does not exist (" + std::to_string(n) + " " + what +
+                     (n == 1                           ? ""
+                      : std::strcmp(what, "mesh") == 0 ? "es"
+                                                       : "s") +
+                     ")");
     }
     // `limit`: the largest magnitude allowed (values stored as float are held to float's range).
     void finite(const std::string& path, const std::vector<double>& v, size_t wantSize,
@@ -96,7 +113,8 @@ struct Checker {
             if (v.byteOffset > have || v.byteLength > have - v.byteOffset)
                 fail(file, path,
                      "byteOffset " + std::to_string(v.byteOffset) + " + byteLength " + std::to_string(v.byteLength) +
-                         " is past the end of buffer " + std::to_string(v.buffer) + " (" + std::to_string(have) + " bytes)");
+                         " is past the end of buffer " + std::to_string(v.buffer) + " (" + std::to_string(have) +
+                         " bytes)");
             if (v.byteStride != 0 && (v.byteStride < 4 || v.byteStride > 252 || v.byteStride % 4 != 0))
                 fail(file, path + ".byteStride",
                      "byteStride " + std::to_string(v.byteStride) + " is not a multiple of 4 in [4, 252]");
@@ -109,14 +127,16 @@ struct Checker {
             const std::string path = at("accessors", i);
             const int comp = tinygltf::GetComponentSizeInBytes(uint32_t(a.componentType));
             const int num = tinygltf::GetNumComponentsInType(uint32_t(a.type));
-            if (comp <= 0) fail(file, path + ".componentType", "unknown componentType " + std::to_string(a.componentType));
+            if (comp <= 0)
+                fail(file, path + ".componentType", "unknown componentType " + std::to_string(a.componentType));
             if (num <= 0) fail(file, path + ".type", "unknown type");
             if (a.count < 1) fail(file, path + ".count", "count " + std::to_string(a.count) + " is below 1");
             if (a.sparse.isSparse) fail(file, path + ".sparse", "sparse accessors are not supported");
             if (a.bufferView == -1) {  // all zeros: no data in the file holds the count to a sane size
                 if (a.count > kMaxZeroAccessor)
-                    fail(file, path + ".count", "count " + std::to_string(a.count) + " without a bufferView is above " +
-                                                    std::to_string(kMaxZeroAccessor));
+                    fail(file, path + ".count",
+                         "count " + std::to_string(a.count) + " without a bufferView is above " +
+                             std::to_string(kMaxZeroAccessor));
                 continue;
             }
             index(path + ".bufferView", a.bufferView, m.bufferViews.size(), "bufferView");
@@ -132,14 +152,14 @@ struct Checker {
             if (a.byteOffset > len || elem > len - a.byteOffset || (a.count - 1) > (len - a.byteOffset - elem) / stride)
                 fail(file, path,
                      "byteOffset " + std::to_string(a.byteOffset) + " + " + std::to_string(a.count) + " elements of " +
-                         std::to_string(elem) + " bytes (stride " + std::to_string(stride) + ") is past the end of bufferViews[" +
-                         std::to_string(a.bufferView) + "] (" + std::to_string(len) + " bytes)");
+                         std::to_string(elem) + " bytes (stride " + std::to_string(stride) +
+                         ") is past the end of bufferViews[" + std::to_string(a.bufferView) + "] (" +
+                         std::to_string(len) + " bytes)");
         }
     }
 
     // `type` and the allowed component types of an attribute.
-    void attribute(const std::string& path, int acc, int type, std::initializer_list<int> comps,
-                   int type2 = -1) const {
+    void attribute(const std::string& path, int acc, int type, std::initializer_list<int> comps, int type2 = -1) const {
         index(path, acc, m.accessors.size(), "accessor");
         const tinygltf::Accessor& a = m.accessors[size_t(acc)];
         bool compOk = false;
@@ -161,7 +181,8 @@ struct Checker {
                 index(path + ".material", p.material, m.materials.size(), "material", true);
                 auto pos = p.attributes.find("POSITION");
                 if (pos == p.attributes.end()) continue;  // skipped with a warning by the conversion
-                attribute(path + ".attributes.POSITION", pos->second, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+                attribute(path + ".attributes.POSITION", pos->second, TINYGLTF_TYPE_VEC3,
+                          {TINYGLTF_COMPONENT_TYPE_FLOAT});
                 const size_t n = m.accessors[size_t(pos->second)].count;
                 for (const auto& [name, acc] : p.attributes) {
                     const std::string ap = path + ".attributes." + name;
@@ -180,8 +201,8 @@ struct Checker {
                         index(ap, acc, m.accessors.size(), "accessor");  // not read
                     if (m.accessors[size_t(acc)].count != n)
                         fail(file, ap,
-                             "count " + std::to_string(m.accessors[size_t(acc)].count) + " differs from POSITION's count " +
-                                 std::to_string(n));
+                             "count " + std::to_string(m.accessors[size_t(acc)].count) +
+                                 " differs from POSITION's count " + std::to_string(n));
                 }
                 size_t count = n;
                 if (p.indices != -1) {
@@ -297,7 +318,8 @@ struct Checker {
             const auto [v, d] = stack.back();
             stack.pop_back();
             if (d > kMaxNodeDepth)
-                fail(file, at("nodes", size_t(v)), "the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) + " levels");
+                fail(file, at("nodes", size_t(v)),
+                     "the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) + " levels");
             for (int c : m.nodes[size_t(v)].children) stack.push_back({c, d + 1});
         }
         for (size_t s = 0; s < m.scenes.size(); ++s) {
@@ -332,13 +354,17 @@ void prevalidate(const std::string& file, const unsigned char* p, size_t size, b
         fail(file, "", "GLB header claims " + std::to_string(length) + " bytes, the file has " + std::to_string(size));
     if (jsonType != 0x4E4F534Au) fail(file, "", "GLB's first chunk is not JSON");
     if (uint64_t(jsonLen) + 20 > length)
-        fail(file, "", "GLB JSON chunk of " + std::to_string(jsonLen) + " bytes runs past the file's length " + std::to_string(length));
+        fail(file, "",
+             "GLB JSON chunk of " + std::to_string(jsonLen) + " bytes runs past the file's length " +
+                 std::to_string(length));
     const uint64_t binAt = 20ull + jsonLen;
     if (binAt < length) {
         if (binAt + 8 > length) fail(file, "", "GLB BIN chunk header is cut off");
         const uint32_t binLen = le32(p + binAt);
         if (binAt + 8 + binLen > length)
-            fail(file, "", "GLB BIN chunk of " + std::to_string(binLen) + " bytes runs past the file's length " + std::to_string(length));
+            fail(file, "",
+                 "GLB BIN chunk of " + std::to_string(binLen) + " bytes runs past the file's length " +
+                     std::to_string(length));
     }
     checkDepth(file, p + 20, jsonLen);
 }

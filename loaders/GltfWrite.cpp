@@ -21,8 +21,12 @@ namespace {
 
 using tinygltf::Value;
 
-Value num(double v) { return Value(v); }
-Value vec3v(const dvec3& v) { return Value(Value::Array{num(v.x), num(v.y), num(v.z)}); }
+Value num(double v) {
+    return Value(v);
+}
+Value vec3v(const dvec3& v) {
+    return Value(Value::Array{num(v.x), num(v.y), num(v.z)});
+}
 
 struct Writer {
     tinygltf::Model m;
@@ -61,16 +65,20 @@ struct Writer {
         auto it = meshAttributes.find(&mesh);
         if (it != meshAttributes.end()) return it->second;
         std::map<std::string, int> a;
-        a["POSITION"] = accessor(mesh.positions(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+        a["POSITION"] =
+            accessor(mesh.positions(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
         tinygltf::Accessor& pa = m.accessors.back();
         pa.minValues = {mesh.box().min.x, mesh.box().min.y, mesh.box().min.z};
         pa.maxValues = {mesh.box().max.x, mesh.box().max.y, mesh.box().max.z};
         if (!mesh.normals().empty())
-            a["NORMAL"] = accessor(mesh.normals(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, TINYGLTF_TARGET_ARRAY_BUFFER);
+            a["NORMAL"] = accessor(mesh.normals(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
+                                   TINYGLTF_TARGET_ARRAY_BUFFER);
         if (!mesh.uvs().empty())
-            a["TEXCOORD_0"] = accessor(mesh.uvs(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+            a["TEXCOORD_0"] =
+                accessor(mesh.uvs(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
         if (!mesh.colors().empty())
-            a["COLOR_0"] = accessor(mesh.colors(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+            a["COLOR_0"] = accessor(mesh.colors(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4,
+                                    TINYGLTF_TARGET_ARRAY_BUFFER);
         if (!mesh.indices16().empty())
             a["indices"] = accessor(mesh.indices16(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
@@ -110,7 +118,8 @@ struct Writer {
         if (mat->texture) pbr.baseColorTexture.index = texture(*mat->texture);
         if (mat->unlit) {
             gm.extensions["KHR_materials_unlit"] = Value(Value::Object{});
-            if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), "KHR_materials_unlit") == m.extensionsUsed.end())
+            if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), "KHR_materials_unlit") ==
+                m.extensionsUsed.end())
                 m.extensionsUsed.push_back("KHR_materials_unlit");
         }
         m.materials.push_back(std::move(gm));
@@ -161,8 +170,12 @@ struct Writer {
         }
         if (n.nodeMask() != 0xffffffffu) x["mask"] = num(n.nodeMask());
         switch (n.kind()) {
-            case NodeKind::Group: x["kind"] = Value(std::string("Group")); break;
-            case NodeKind::Transform: setMatrix(gn, static_cast<const Transform&>(n).matrix()); break;
+            case NodeKind::Group:
+                x["kind"] = Value(std::string("Group"));
+                break;
+            case NodeKind::Transform:
+                setMatrix(gn, static_cast<const Transform&>(n).matrix());
+                break;
             case NodeKind::Geometry: {
                 x["kind"] = Value(std::string("Geometry"));
                 const auto& g = static_cast<const Geometry&>(n);
@@ -209,7 +222,9 @@ struct Writer {
                 x["kind"] = Value(std::string("Instance"));
                 setMatrix(gn, static_cast<const Instance&>(n).matrix());
                 break;
-            case NodeKind::BspGroup: x["kind"] = Value(std::string("BspGroup")); break;
+            case NodeKind::BspGroup:
+                x["kind"] = Value(std::string("BspGroup"));
+                break;
             case NodeKind::Occluder: {
                 const auto& oc = static_cast<const Occluder&>(n);
                 x["kind"] = Value(std::string("Occluder"));
@@ -255,7 +270,8 @@ void saveGltf(const Node& root, const std::string& path) {
     if (w.bytes().empty()) w.m.buffers.clear();
     // Written through our own stream: tinygltf's file writer does not report a file it could not open.
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("saveGltf(): " + path + ": cannot be opened for writing: " + std::strerror(errno));
+    if (!out)
+        throw std::runtime_error("saveGltf(): " + path + ": cannot be opened for writing: " + std::strerror(errno));
     tinygltf::TinyGLTF writer;
     bool ok = false;
     try {

@@ -41,7 +41,8 @@ void expectSamePixels(const ref_ptr<Node>& original, const Box& bounds, uint64_t
         const Image b = render(renderer, loaded.root, cam);
         EXPECT_EQ(countDifferingPixels(a, b, 0), 0u) << "view " << k;
         Image clear = a;  // how much of the view the scene covers: the test must see something
-        for (size_t i = 0; i < clear.rgba.size(); i += 4) std::copy(a.rgba.begin(), a.rgba.begin() + 4, clear.rgba.begin() + long(i));
+        for (size_t i = 0; i < clear.rgba.size(); i += 4)
+            std::copy(a.rgba.begin(), a.rgba.begin() + 4, clear.rgba.begin() + long(i));
         covered += countDifferingPixels(a, clear, 0);
     }
     EXPECT_GT(covered, size_t(kW * kH / 2));  // a few views see much of the scene
@@ -50,9 +51,11 @@ void expectSamePixels(const ref_ptr<Node>& original, const Box& bounds, uint64_t
 }  // namespace
 
 TEST(GltfImage, RandomSceneRendersTheSameAfterARoundTrip) {
-    expectSamePixels(scenes::buildRandomScene(11), Box{dvec3(-70), dvec3(70)}, 5, ::testing::TempDir() + "sgkit_img_random.glb");
+    expectSamePixels(scenes::buildRandomScene(11), Box{dvec3(-70), dvec3(70)}, 5,
+                     ::testing::TempDir() + "sgkit_img_random.glb");
 }
 
 TEST(GltfImage, EveryKindSceneRendersTheSameAfterARoundTrip) {
-    expectSamePixels(gltftest::allKindsScene(), Box{dvec3(-15), dvec3(15)}, 6, ::testing::TempDir() + "sgkit_img_kinds.glb");
+    expectSamePixels(gltftest::allKindsScene(), Box{dvec3(-15), dvec3(15)}, 6,
+                     ::testing::TempDir() + "sgkit_img_kinds.glb");
 }

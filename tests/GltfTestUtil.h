@@ -75,7 +75,8 @@ inline ref_ptr<Group> allKindsScene() {
     proto->setName("prototype");
     proto->addChild(make<Geometry>(slab, red));
     root->addChild(make<Instance>(proto, glm::translate(dmat4(1.0), dvec3(10, 0, 0))));
-    root->addChild(make<Instance>(proto, glm::rotate(glm::translate(dmat4(1.0), dvec3(-10, 0, 0)), 1.0, dvec3(0, 1, 0))));
+    root->addChild(
+        make<Instance>(proto, glm::rotate(glm::translate(dmat4(1.0), dvec3(-10, 0, 0)), 1.0, dvec3(0, 1, 0))));
 
     auto bsp = make<BspGroup>();
     for (int i = 0; i < 4; ++i) {
@@ -99,7 +100,7 @@ inline ref_ptr<Group> allKindsScene() {
     pickOnly->setNodeMask(0xfffffff0u);
     masked->addChild(pickOnly);
     root->addChild(masked);
-    root->addChild(make<Geometry>());                     // no mesh
+    root->addChild(make<Geometry>());                                   // no mesh
     root->addChild(make<Geometry>(make<Mesh>(), ref_ptr<Material>()));  // an empty mesh (written as a flag)
     return root;
 }
@@ -128,17 +129,20 @@ inline bool sameGraph(const Node& a, const Node& b, std::map<const Node*, const 
     if (a.numChildren() != b.numChildren()) return differ("child count");
     switch (a.kind()) {
         case NodeKind::Transform:
-            if (static_cast<const Transform&>(a).matrix() != static_cast<const Transform&>(b).matrix()) return differ("matrix");
+            if (static_cast<const Transform&>(a).matrix() != static_cast<const Transform&>(b).matrix())
+                return differ("matrix");
             break;
         case NodeKind::Instance:
-            if (static_cast<const Instance&>(a).matrix() != static_cast<const Instance&>(b).matrix()) return differ("matrix");
+            if (static_cast<const Instance&>(a).matrix() != static_cast<const Instance&>(b).matrix())
+                return differ("matrix");
             break;
         case NodeKind::LOD: {
             const auto &la = static_cast<const LOD&>(a), &lb = static_cast<const LOD&>(b);
             if (la.mode() != lb.mode() || la.userCenter() != lb.userCenter() || la.center() != lb.center())
                 return differ("mode or centre");
             for (size_t i = 0; i < la.numChildren(); ++i)
-                if (la.range(i).min != lb.range(i).min || la.range(i).max != lb.range(i).max || la.error(i) != lb.error(i))
+                if (la.range(i).min != lb.range(i).min || la.range(i).max != lb.range(i).max ||
+                    la.error(i) != lb.error(i))
                     return differ("range or error " + std::to_string(i));
             break;
         }
@@ -165,7 +169,8 @@ inline bool sameGraph(const Node& a, const Node& b, std::map<const Node*, const 
             const Mesh *ma = ga.mesh(), *mb = gb.mesh();
             if (!ma != !mb) return differ("mesh presence");
             if (ma && (ma->positions() != mb->positions() || ma->normals() != mb->normals() || ma->uvs() != mb->uvs() ||
-                       ma->colors() != mb->colors() || ma->indices16() != mb->indices16() || ma->indices32() != mb->indices32()))
+                       ma->colors() != mb->colors() || ma->indices16() != mb->indices16() ||
+                       ma->indices32() != mb->indices32()))
                 return differ("mesh data");
             const Material *ta = ga.material(), *tb = gb.material();
             if (!ta != !tb) return differ("material presence");
@@ -174,7 +179,8 @@ inline bool sameGraph(const Node& a, const Node& b, std::map<const Node*, const 
                 return differ("material");
             break;
         }
-        default: break;
+        default:
+            break;
     }
     for (size_t i = 0; i < a.numChildren(); ++i)
         if (!sameGraph(*a.child(i), *b.child(i), seen, why)) return false;
@@ -241,7 +247,9 @@ struct Doc {
         const size_t pbytes = positions.size() * sizeof(vec3);
         std::ostringstream o;
         o << R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": )" << bin.size();
-        if (!glb) o << R"(, "uri": ")" << (externalBin.empty() ? "data:application/octet-stream;base64," + base64(bin) : externalBin) << '"';
+        if (!glb)
+            o << R"(, "uri": ")"
+              << (externalBin.empty() ? "data:application/octet-stream;base64," + base64(bin) : externalBin) << '"';
         o << R"(}], "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": )" << pbytes + viewExtra;
         if (positionStride) o << R"(, "byteStride": )" << positionStride;
         o << R"(}, {"buffer": 0, "byteOffset": )" << pbytes << R"(, "byteLength": )" << indices.size() * 2 << "}]";
