@@ -37,7 +37,8 @@ namespace {
 class FileBytes {
 public:
     explicit FileBytes(const std::string& path) {
-        fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+        // Non-blocking: opening a FIFO must not wait for a writer (it is then refused as not regular).
+        fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
         if (fd_ < 0) fail(path, "", std::string("cannot open: ") + std::strerror(errno));
         struct stat st {};
         if (::fstat(fd_, &st) != 0) fail(path, "", std::string("cannot stat: ") + std::strerror(errno));

@@ -16,6 +16,7 @@
 #include <cstring>
 #include <fstream>
 #include <random>
+#include <sys/stat.h>
 
 using namespace sg;
 using namespace gltftest;
@@ -355,6 +356,21 @@ TEST(Gltf, MissingFileNamesItself) {
         EXPECT_EQ(e.file(), tempPath("does-not-exist.glb"));
         EXPECT_NE(e.reason().find("cannot open"), std::string::npos) << e.what();
     }
+}
+
+TEST(Gltf, DirectoriesAndPipesAreRefusedWithoutWaiting) {
+    const std::string fifo = tempPath("pipe.glb");
+    std::remove(fifo.c_str());
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    for (const std::string& path : {fifo, ::testing::TempDir()}) {
+        try {
+            loadGltf(path);
+            ADD_FAILURE() << "loaded " << path;
+        } catch (const LoadError& e) {
+            EXPECT_NE(e.reason().find("not a regular file"), std::string::npos) << e.what();
+        }
+    }
+    std::remove(fifo.c_str());
 }
 
 // Corrupted copies of valid files (bytes flipped, runs overwritten, cut short): each loads or throws
