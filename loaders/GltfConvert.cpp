@@ -19,6 +19,7 @@
 #include <limits>
 #include <map>
 #include <tuple>
+#include <unordered_map>
 
 namespace sg::gltf {
 namespace {
@@ -126,6 +127,7 @@ struct Converter {
     std::vector<bool> sharedDone;
     std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
     size_t nodesDone = 0;
+    std::unordered_map<const Node*, uint64_t> expandedSize;  // nodes below a node, counted per path
 
     void warn(const std::string& path, const std::string& what) { out.warnings.push_back(path + ": " + what); }
 
@@ -466,8 +468,22 @@ struct Converter {
             warn(path + ".mesh", "a " + kind + " node's mesh is ignored");
         }
         children(gn, kind, sx, xp, inner, world, path);
+        // Shared nodes make a DAG whose paths a Scene expands: a small file must not stand for a huge scene.
+        // (An Instance's prototype has an image of its own, counted where it was built.)
+        uint64_t size = 1;
+        if (kind != "Instance")
+            for (size_t k = 0; k < inner->numChildren(); ++k) size += expanded(inner->child(k));
+        if (inner != node.get()) ++size;
+        if (size > kMaxExpandedNodes)
+            bad(path, "the graph below expands to more than " + std::to_string(kMaxExpandedNodes) +
+                          " nodes (shared subgraphs, one entry per path)");
+        expandedSize[node.get()] = size;
         if (id >= 0) byId[id] = node;
         return node;
+    }
+    uint64_t expanded(const Node* n) const {
+        auto it = expandedSize.find(n);
+        return it == expandedSize.end() ? 1 : it->second;  // a Geometry shared per glTF mesh
     }
 
     void children(const tinygltf::Node& gn, const std::string& kind, const Value* sx, const std::string& xp,

@@ -16,6 +16,8 @@ constexpr const char* kExtrasKey = "sgkit";
 constexpr int kMaxJsonDepth = 64;
 // Deeper node hierarchies are rejected (the conversion recurses once per level).
 constexpr int kMaxNodeDepth = 1000;
+// A graph whose paths (shared nodes counted once per path, as a Scene's image holds them) exceed this is refused.
+constexpr uint64_t kMaxExpandedNodes = uint64_t(1) << 26;
 // Accessors without a buffer view (zeros) may not have more elements than this.
 constexpr size_t kMaxZeroAccessor = size_t(1) << 24;
 // Images larger than this are not decoded (a small file may claim a huge image).

@@ -358,6 +358,32 @@ TEST(Gltf, MissingFileNamesItself) {
     }
 }
 
+TEST(Gltf, SharedNodesThatExpandToAHugeSceneAreRefused) {
+    // Group k holds group k-1 twice (once written out, once by its id): 2^(k+1) - 1 nodes per path.
+    auto layered = [](int layers) {
+        std::string nodes = R"({"extras": {"sgkit": {"kind": "Group", "id": 0}}})";
+        for (int k = 1; k <= layers; ++k) {
+            nodes += R"(, {"extras": {"sgkit": {"kind": "Group", "id": )" + std::to_string(k - 1) + "}}}";
+            nodes += R"(, {"extras": {"sgkit": {"kind": "Group", "id": )" + std::to_string(k) +
+                     R"(}}, "children": [)" + std::to_string(2 * k - 2) + ", " + std::to_string(2 * k - 1) + "]}";
+        }
+        return R"("scenes": [{"nodes": [)" + std::to_string(2 * layers) + R"(]}], "nodes": [)" + nodes + "]";
+    };
+    Doc d;
+    d.json = layered(30);
+    try {
+        d.load();
+        FAIL() << "loaded";
+    } catch (const LoadError& e) {
+        EXPECT_EQ(e.jsonPath(), "nodes[52]") << e.what();  // group 26: 2^27 - 1 nodes
+        EXPECT_NE(e.reason().find("expands to more than"), std::string::npos) << e.what();
+    }
+    // Twenty layers (about a million entries) load, sharing their nodes.
+    d.json = layered(20);
+    const GltfScene s = d.load();
+    EXPECT_EQ(s.root->child(0)->child(0)->child(0), s.root->child(0)->child(1)->child(0));
+}
+
 TEST(Gltf, DirectoriesAndPipesAreRefusedWithoutWaiting) {
     const std::string fifo = tempPath("pipe.glb");
     std::remove(fifo.c_str());
