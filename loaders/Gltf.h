@@ -35,6 +35,8 @@ struct GltfCamera {
 struct GltfLoadOptions {
     // Called now and then during a load that has taken over a second: fraction done in [0, 1] and the stage.
     std::function<void(double fraction, const std::string& stage)> progress;
+    // How long a load runs before `progress` is first called (tests set 0 to see every report).
+    double progressAfterSeconds = 1.0;
 };
 
 struct GltfScene {

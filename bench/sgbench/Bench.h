@@ -42,5 +42,6 @@ int runAccuracy(const Args& a);
 int runOcclusion(const Args& a);
 int runLod(const Args& a);
 int runPick(const Args& a);
+int runLoad(const Args& a);
 
 }  // namespace bench

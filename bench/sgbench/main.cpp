@@ -103,6 +103,7 @@ static void usage() {
                  "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] [--no-draw] [--json]\n"
                  "       sgbench lod --scene city [--n N] [--path orbit|street] --budget-ms B --method static|stress|budget [--may-drop] [--guess-accuracy] [--same-view] [--every K] [--json]\n"
                  "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
+                 "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
                  "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
 }
 
@@ -114,6 +115,7 @@ int main(int argc, char** argv) {
         if (a.command == "occlusion") return bench::runOcclusion(a);
         if (a.command == "lod") return bench::runLod(a);
         if (a.command == "pick") return bench::runPick(a);
+        if (a.command == "load") return bench::runLoad(a);
         usage();
         return 2;
     } catch (const std::exception& e) {

@@ -1,10 +1,12 @@
 // Builds a graph with the installed library and culls it: exits 0 when one of two boxes is drawn.
+#include <loaders/Gltf.h>
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
 #include <sg/CullTraversal.h>
 #include <sg/LodGenerator.h>
 
 #include <cstdio>
+#include <filesystem>
 
 int main() {
     using namespace sg;
@@ -25,5 +27,10 @@ int main() {
     // Generated levels: links meshoptimizer through the package's dependencies.
     const auto lod = makeLod(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>(), {0.5f});
     std::printf("consumer: LOD with %zu levels\n", lod->numChildren());
-    return list.items.size() == 1 && lod->numChildren() == 2 ? 0 : 1;
+    // glTF through the package: sgkit::loaders and its tinygltf dependency.
+    const std::string file = (std::filesystem::temp_directory_path() / "sgkit_consumer.glb").string();
+    saveGltf(*root, file);
+    const GltfScene loaded = loadGltf(file);
+    std::printf("consumer: glTF round trip with %zu of 2 nodes\n", loaded.root->numChildren());
+    return list.items.size() == 1 && lod->numChildren() == 2 && loaded.root->numChildren() == 2 ? 0 : 1;
 }

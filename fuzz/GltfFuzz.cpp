@@ -1,0 +1,15 @@
+// libFuzzer target for the glTF loader: any bytes either load or throw sg::LoadError. Anything else (a
+// crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding.
+// The seed corpus in fuzz/corpus/ holds small valid files written by sg::saveGltf (.glb and .gltf).
+#include "loaders/Gltf.h"
+
+#include <cstddef>
+#include <cstdint>
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    try {
+        sg::loadGltfFromMemory(size >= 4 && data[0] == 'g' ? "fuzz.glb" : "fuzz.gltf", data, size);
+    } catch (const sg::LoadError&) {
+    }
+    return 0;
+}

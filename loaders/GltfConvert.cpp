@@ -1,0 +1,592 @@
+// A validated tinygltf model to an sgkit graph: nodes to Transforms (or sgkit's own kinds from `extras`),
+// mesh primitives to shared Meshes and Geometries, materials with their base colour texture, cameras.
+#include "loaders/GltfDetail.h"
+
+#include "nodes/Billboard.h"
+#include "nodes/BspGroup.h"
+#include "nodes/Geometry.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
+#include "nodes/Occluder.h"
+#include "nodes/Switch.h"
+#include "nodes/Transform.h"
+
+#include <stb_image.h>
+
+#include <cmath>
+#include <cstring>
+#include <glm/gtc/quaternion.hpp>
+#include <limits>
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+namespace sg::gltf {
+namespace {
+
+using tinygltf::Value;
+
+// Element i of an accessor as `n` floats (normalized integers mapped to [0, 1]).
+struct AccessorReader {
+    const unsigned char* base = nullptr;  // null: an accessor without a buffer view reads as zeros
+    size_t stride = 0;
+    int comp = 0;
+    bool normalized = false;
+
+    AccessorReader(const tinygltf::Model& m, const tinygltf::Accessor& a) {
+        comp = a.componentType;
+        normalized = a.normalized;
+        const size_t elem = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(comp))) *
+                            size_t(tinygltf::GetNumComponentsInType(uint32_t(a.type)));
+        if (a.bufferView == -1) return;
+        const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
+        base = m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
+        stride = v.byteStride ? v.byteStride : elem;
+    }
+    float component(size_t i, int k) const {
+        if (!base) return 0.0f;
+        const unsigned char* p = base + i * stride;
+        switch (comp) {
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+                return normalized ? p[k] / 255.0f : float(p[k]);
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                uint16_t v;
+                std::memcpy(&v, p + 2 * k, 2);
+                return normalized ? v / 65535.0f : float(v);
+            }
+            default: {
+                float v;
+                std::memcpy(&v, p + 4 * k, 4);
+                return v;
+            }
+        }
+    }
+    uint32_t index(size_t i) const {
+        if (!base) return 0;
+        const unsigned char* p = base + i * stride;
+        if (comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return *p;
+        if (comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+            uint16_t v;
+            std::memcpy(&v, p, 2);
+            return v;
+        }
+        uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+    }
+};
+
+// Float vectors of N components; tightly packed float data is copied in one go.
+template <class V, int N>
+std::vector<V> readVectors(const tinygltf::Model& m, int acc) {
+    const tinygltf::Accessor& a = m.accessors[size_t(acc)];
+    const AccessorReader r(m, a);
+    const int have = tinygltf::GetNumComponentsInType(uint32_t(a.type));
+    std::vector<V> out(a.count);
+    if (r.base && r.comp == TINYGLTF_COMPONENT_TYPE_FLOAT && have == N && r.stride == sizeof(V)) {
+        std::memcpy(out.data(), r.base, a.count * sizeof(V));
+        return out;
+    }
+    for (size_t i = 0; i < a.count; ++i) {
+        V v(1.0f);
+        for (int k = 0; k < std::min(N, have); ++k) v[k] = r.component(i, k);
+        out[i] = v;
+    }
+    return out;
+}
+
+const Value* sgkitExtras(const Value& extras) {
+    if (!extras.IsObject() || !extras.Has(kExtrasKey)) return nullptr;
+    const Value& v = extras.Get(kExtrasKey);
+    return v.IsObject() ? &v : nullptr;
+}
+
+struct Converter {
+    Converter(const std::string& f, const tinygltf::Model& model, Progress& p)
+        : file(f),
+          m(model),
+          progress(p),
+          materials(model.materials.size()),
+          materialDone(model.materials.size()),
+          textures(model.images.size()),
+          textureDone(model.images.size()),
+          shared(model.meshes.size()),
+          sharedDone(model.meshes.size()) {}
+
+    const std::string& file;
+    const tinygltf::Model& m;
+    Progress& progress;
+    GltfScene out;
+    // Made once each, on first use (index: the glTF element).
+    std::vector<ref_ptr<Material>> materials;
+    std::vector<bool> materialDone;
+    std::vector<ref_ptr<Texture>> textures;  // per image
+    std::vector<bool> textureDone;
+    std::map<std::tuple<int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
+    std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
+    std::vector<bool> sharedDone;
+    std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
+    size_t nodesDone = 0;
+    std::unordered_map<const Node*, uint64_t> expandedSize;  // nodes below a node, counted per path
+
+    void warn(const std::string& path, const std::string& what) { out.warnings.push_back(path + ": " + what); }
+
+    // --- extras
+    [[noreturn]] void bad(const std::string& path, const std::string& why) { fail(file, path, why); }
+    double number(const Value& o, const char* key, const std::string& path, double def) {
+        if (!o.Has(key)) return def;
+        const Value& v = o.Get(key);
+        if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble())) bad(path + "." + key, "must be a finite number");
+        return v.GetNumberAsDouble();
+    }
+    std::string string(const Value& o, const char* key, const std::string& path, const std::string& def) {
+        if (!o.Has(key)) return def;
+        const Value& v = o.Get(key);
+        if (!v.IsString()) bad(path + "." + key, "must be a string");
+        return v.Get<std::string>();
+    }
+    std::vector<double> numbers(const Value& v, const std::string& path, size_t n) {
+        if (!v.IsArray() || (n && v.ArrayLen() != n))
+            bad(path, n ? "must be an array of " + std::to_string(n) + " numbers" : "must be an array of numbers");
+        std::vector<double> r;
+        for (size_t i = 0; i < v.ArrayLen(); ++i) {
+            const Value& e = v.Get(int(i));
+            if (!e.IsNumber() || !std::isfinite(e.GetNumberAsDouble())) bad(at(path, i), "must be a finite number");
+            r.push_back(e.GetNumberAsDouble());
+        }
+        return r;
+    }
+    float toFloat(double v, const std::string& path) {
+        if (!(std::abs(v) <= double(std::numeric_limits<float>::max()))) bad(path, "is out of float range");
+        return float(v);
+    }
+    dvec3 vec(const Value& o, const char* key, const std::string& path) {
+        const std::vector<double> v = numbers(o.Get(key), path + "." + key, 3);
+        return dvec3(v[0], v[1], v[2]);
+    }
+
+    // --- materials and textures
+    ref_ptr<Texture> texture(int t, const std::string& path) {
+        const int img = m.textures[size_t(t)].source;
+        if (img < 0) return {};
+        if (textureDone[size_t(img)]) return textures[size_t(img)];
+        textureDone[size_t(img)] = true;
+        const tinygltf::Image& im = m.images[size_t(img)];
+        const unsigned char* bytes = im.image.data();
+        size_t size = im.image.size();
+        if (im.bufferView != -1) {
+            const tinygltf::BufferView& v = m.bufferViews[size_t(im.bufferView)];
+            bytes = m.buffers[size_t(v.buffer)].data.data() + v.byteOffset;
+            size = v.byteLength;
+        }
+        const std::string ip = at("images", size_t(img));
+        int w = 0, h = 0, n = 0;
+        if (!bytes || size == 0 || size > 0x7fffffff || !stbi_info_from_memory(bytes, int(size), &w, &h, &n)) {
+            warn(ip, "image cannot be decoded, texture skipped (used by " + path + ")");
+            return {};
+        }
+        if (w <= 0 || h <= 0 || (long long)w * h > kMaxImagePixels) {
+            warn(ip,
+                 "image of " + std::to_string(w) + " x " + std::to_string(h) + " pixels is too large, texture skipped");
+            return {};
+        }
+        unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &n, 4);
+        if (!px) {
+            warn(ip, std::string("image cannot be decoded (") + stbi_failure_reason() + "), texture skipped");
+            return {};
+        }
+        // Rows top to bottom: row 0 is glTF's v = 0, which is also the Renderer's first texture row.
+        std::vector<uint8_t> rgba(px, px + size_t(w) * size_t(h) * 4);
+        stbi_image_free(px);
+        textures[size_t(img)] = make<Texture>(w, h, std::move(rgba));
+        return textures[size_t(img)];
+    }
+
+    ref_ptr<Material> material(int i) {
+        if (i < 0) return {};
+        if (materialDone[size_t(i)]) return materials[size_t(i)];
+        materialDone[size_t(i)] = true;
+        const tinygltf::Material& gm = m.materials[size_t(i)];
+        const auto& pbr = gm.pbrMetallicRoughness;
+        vec4 c(1.0f);
+        for (size_t k = 0; k < 4 && k < pbr.baseColorFactor.size(); ++k) c[int(k)] = float(pbr.baseColorFactor[k]);
+        const std::string path = at("materials", size_t(i)) + ".pbrMetallicRoughness.baseColorTexture";
+        ref_ptr<Texture> tex;
+        if (pbr.baseColorTexture.index >= 0) {
+            if (pbr.baseColorTexture.texCoord != 0)
+                warn(path, "texCoord other than 0 is not supported, texture skipped");
+            else
+                tex = texture(pbr.baseColorTexture.index, path);
+        }
+        auto mat = make<Material>(c, tex);
+        mat->unlit = gm.extensions.count("KHR_materials_unlit") != 0;
+        materials[size_t(i)] = mat;
+        return mat;
+    }
+
+    // --- meshes
+    static void toTriangles(int mode, std::vector<uint32_t>& idx) {
+        std::vector<uint32_t> t;
+        for (size_t i = 2; i < idx.size(); ++i) {
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                const bool odd = (i % 2) == 1;  // keep the winding of the first triangle
+                t.insert(t.end(), {idx[i - 2 + (odd ? 1 : 0)], idx[i - 1 - (odd ? 1 : 0)], idx[i]});
+            } else {
+                t.insert(t.end(), {idx[0], idx[i - 1], idx[i]});
+            }
+        }
+        idx = std::move(t);
+    }
+
+    ref_ptr<Mesh> mesh(const tinygltf::Primitive& p, const std::string& path) {
+        auto attr = [&](const char* name) {
+            auto it = p.attributes.find(name);
+            return it == p.attributes.end() ? -1 : it->second;
+        };
+        const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0");
+        const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col);
+        auto found = meshes.find(key);
+        if (found != meshes.end()) return found->second;
+
+        std::vector<vec3> positions = readVectors<vec3, 3>(m, pos);
+        const size_t n = positions.size();
+        std::vector<uint32_t> idx;
+        if (p.indices >= 0) {
+            const tinygltf::Accessor& a = m.accessors[size_t(p.indices)];
+            const AccessorReader r(m, a);
+            idx.resize(a.count);
+            uint32_t mx = 0;
+            if (r.base && r.comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && r.stride == 2) {
+                const unsigned char* b = r.base;
+                for (size_t i = 0; i < a.count; ++i) {
+                    uint16_t v;
+                    std::memcpy(&v, b + 2 * i, 2);
+                    idx[i] = v;
+                    mx = std::max<uint32_t>(mx, v);
+                }
+            } else {
+                for (size_t i = 0; i < a.count; ++i) mx = std::max(mx, idx[i] = r.index(i));
+            }
+            if (mx >= n) {
+                size_t i = 0;
+                while (idx[i] < n) ++i;
+                bad(path + ".indices", "index " + std::to_string(idx[i]) + " at element " + std::to_string(i) +
+                                           " is out of range (" + std::to_string(n) + " vertices)");
+            }
+        } else {
+            idx.resize(n);
+            for (size_t i = 0; i < n; ++i) idx[i] = uint32_t(i);
+        }
+        if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) toTriangles(p.mode, idx);
+        auto mesh = make<Mesh>();
+        try {
+            mesh->set(std::move(positions), nrm >= 0 ? readVectors<vec3, 3>(m, nrm) : std::vector<vec3>{},
+                      std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
+                      col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
+        } catch (const std::exception& e) {
+            bad(path, e.what());
+        }
+        if (!mesh->validBound()) {
+            const auto& ps = mesh->positions();
+            size_t i = 0;
+            while (std::isfinite(ps[i].x) && std::isfinite(ps[i].y) && std::isfinite(ps[i].z)) ++i;
+            bad(path + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite (" +
+                                                   std::to_string(ps[i].x) + ", " + std::to_string(ps[i].y) + ", " +
+                                                   std::to_string(ps[i].z) + ")");
+        }
+        meshes[key] = mesh;
+        return mesh;
+    }
+
+    // One Geometry per drawable primitive of glTF mesh `i`, made once (null for skipped primitives).
+    const std::vector<ref_ptr<Geometry>>& geometries(int i) {
+        if (sharedDone[size_t(i)]) return shared[size_t(i)];
+        sharedDone[size_t(i)] = true;
+        auto& gs = shared[size_t(i)];
+        const auto& prims = m.meshes[size_t(i)].primitives;
+        for (size_t k = 0; k < prims.size(); ++k) {
+            const tinygltf::Primitive& p = prims[k];
+            const std::string path = at(at("meshes", size_t(i)) + ".primitives", k);
+            if (p.mode < TINYGLTF_MODE_TRIANGLES) {
+                warn(path, "points and lines are not drawn, primitive skipped");
+                gs.push_back({});
+            } else if (!p.attributes.count("POSITION")) {
+                warn(path, "no POSITION attribute, primitive skipped");
+                gs.push_back({});
+            } else {
+                gs.push_back(make<Geometry>(mesh(p, path), material(p.material)));
+            }
+        }
+        progress.report(0.6 + 0.4 * double(nodesDone) / double(std::max<size_t>(1, m.nodes.size())), "converting");
+        return gs;
+    }
+
+    // --- nodes
+    static dmat4 localMatrix(const tinygltf::Node& n) {
+        if (n.matrix.size() == 16) {
+            dmat4 r;
+            for (int c = 0; c < 4; ++c)
+                for (int k = 0; k < 4; ++k) r[c][k] = n.matrix[size_t(c * 4 + k)];
+            return r;
+        }
+        dmat4 r(1.0);
+        if (n.translation.size() == 3)
+            r = glm::translate(r, dvec3(n.translation[0], n.translation[1], n.translation[2]));
+        if (n.rotation.size() == 4) {
+            const glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // glTF: x y z w
+            const double len = glm::length(q);
+            if (len > 0.0) r = r * glm::mat4_cast(q / len);
+        }
+        if (n.scale.size() == 3) r = glm::scale(r, dvec3(n.scale[0], n.scale[1], n.scale[2]));
+        return r;
+    }
+
+    ref_ptr<Node> makeKind(const std::string& kind, const Value* sx, const std::string& xp, const tinygltf::Node& gn,
+                           const dmat4& local, const std::string& path) {
+        if (kind == "Transform") {
+            auto t = make<Transform>();
+            if (isTranslation(local))
+                t->setTranslation(dvec3(local[3]));
+            else
+                t->setMatrix(local);
+            return t;
+        }
+        if (kind == "Group") return make<Group>();
+        if (kind == "LOD") {
+            auto lod = make<LOD>();
+            const std::string mode = string(*sx, "mode", xp, "distance");
+            if (mode != "distance" && mode != "pixelSize") bad(xp + ".mode", "unknown LOD mode '" + mode + "'");
+            lod->setMode(mode == "distance" ? LOD::Mode::Distance : LOD::Mode::PixelSize);
+            if (sx->Has("center")) lod->setCenter(vec(*sx, "center", xp));
+            return lod;
+        }
+        if (kind == "Switch") return make<Switch>();
+        if (kind == "Billboard") {
+            auto bb = make<Billboard>();
+            const std::string mode = string(*sx, "mode", xp, "axial");
+            if (mode != "axial" && mode != "pointEye") bad(xp + ".mode", "unknown Billboard mode '" + mode + "'");
+            bb->setMode(mode == "axial" ? Billboard::Mode::Axial : Billboard::Mode::PointEye);
+            if (sx->Has("axis")) bb->setAxis(vec(*sx, "axis", xp));
+            return bb;
+        }
+        if (kind == "BspGroup") return make<BspGroup>();
+        if (kind == "Instance") {
+            auto in = make<Instance>();
+            in->setMatrix(local);
+            return in;
+        }
+        if (kind == "Occluder") {
+            auto oc = make<Occluder>();
+            if (sx->Has("polygon")) {
+                const Value& pv = sx->Get("polygon");
+                if (!pv.IsArray()) bad(xp + ".polygon", "must be an array of points");
+                std::vector<dvec3> pts;
+                for (size_t i = 0; i < pv.ArrayLen(); ++i) {
+                    const std::vector<double> c = numbers(pv.Get(int(i)), at(xp + ".polygon", i), 3);
+                    pts.push_back(dvec3(c[0], c[1], c[2]));
+                }
+                oc->setPolygon(std::move(pts));
+            } else {
+                Box b;
+                b.min = vec(*sx, "min", xp);
+                b.max = vec(*sx, "max", xp);
+                oc->setBox(b);
+            }
+            return oc;
+        }
+        if (kind == "Geometry") {
+            if (gn.mesh < 0) {
+                auto g = make<Geometry>();
+                if (sx->Has("emptyMesh")) g->setMesh(make<Mesh>());
+                return g;
+            }
+            const auto& gs = geometries(gn.mesh);
+            if (gs.size() != 1 || !gs[0])
+                bad(path + ".mesh", "an sgkit Geometry needs a mesh of one triangle primitive");
+            return make<Geometry>(ref_ptr<Mesh>(gs[0]->mesh()), ref_ptr<Material>(gs[0]->material()));
+        }
+        bad(xp + ".kind", "unknown node kind '" + kind + "'");
+    }
+
+    // Builds node i and its subtree; null when the node is skipped (with a warning).
+    ref_ptr<Node> build(int i, const dmat4& parentWorld) {
+        const tinygltf::Node& gn = m.nodes[size_t(i)];
+        const std::string path = at("nodes", size_t(i));
+        ++nodesDone;
+        const Value* sx = sgkitExtras(gn.extras);
+        const std::string xp = path + ".extras." + kExtrasKey;
+        const dmat4 local = localMatrix(gn);
+        const dmat4 world = parentWorld * local;
+        const std::string overflow = nonFiniteElement(world);
+        if (!overflow.empty()) {
+            const char* field = gn.matrix.size()        ? ".matrix"
+                                : gn.scale.size()       ? ".scale"
+                                : gn.translation.size() ? ".translation"
+                                                        : "";
+            bad(path + field, "world matrix is not finite (" + overflow + ")");
+        }
+        if (gn.camera >= 0) camera(gn.camera, world, gn.name);
+        long long id = -1;
+        if (sx && sx->Has("id")) {
+            const double v = number(*sx, "id", xp, -1);
+            if (v < 0 || v > 9007199254740992.0 || v != std::floor(v))
+                bad(xp + ".id", "must be a non-negative integer");
+            id = (long long)v;
+            auto it = byId.find(id);
+            if (it != byId.end()) return it->second;
+        }
+        const std::string kind = sx ? string(*sx, "kind", xp, "Transform") : "Transform";
+        ref_ptr<Node> node;
+        try {
+            node = makeKind(kind, sx, xp, gn, local, path);
+        } catch (const std::invalid_argument& e) {
+            if (kind == "Transform") {  // e.g. a zero scale (animations use it to hide things)
+                warn(path, std::string("matrix cannot be used (") + e.what() + "), node skipped");
+                return {};
+            }
+            bad(xp, e.what());
+        }
+        if (kind != "Transform" && kind != "Instance" && local != dmat4(1.0)) {
+            // sgkit writes its kinds without a matrix; one given by hand places the node in a Transform.
+            auto t = make<Transform>();
+            t->setMatrix(local);
+            t->addChild(node);
+            node = t;  // the extras below still apply to the inner node: keep a handle on it
+        }
+        Node* inner = node->kind() == NodeKind::Transform && kind != "Transform" ? node->child(0) : node.get();
+        if (!gn.name.empty()) inner->setName(gn.name);
+        if (sx && sx->Has("mask")) {
+            const double mask = number(*sx, "mask", xp, 0);
+            if (mask < 0 || mask > 4294967295.0 || mask != std::floor(mask))
+                bad(xp + ".mask", "must be a 32-bit unsigned integer");
+            inner->setNodeMask(uint32_t(mask));
+        }
+        if (gn.mesh >= 0 && kind == "Transform") {
+            for (const auto& g : geometries(gn.mesh))
+                if (g) static_cast<Group*>(inner)->addChild(g);
+        } else if (gn.mesh >= 0 && kind != "Geometry") {
+            warn(path + ".mesh", "a " + kind + " node's mesh is ignored");
+        }
+        children(gn, kind, sx, xp, inner, world, path);
+        // Shared nodes make a DAG whose paths a Scene expands: a small file must not stand for a huge scene.
+        // (An Instance's prototype has an image of its own, counted where it was built.)
+        uint64_t size = 1;
+        if (kind != "Instance")
+            for (size_t k = 0; k < inner->numChildren(); ++k) size += expanded(inner->child(k));
+        if (inner != node.get()) ++size;
+        if (size > kMaxExpandedNodes)
+            bad(path, "the graph below expands to more than " + std::to_string(kMaxExpandedNodes) +
+                          " nodes (shared subgraphs, one entry per path)");
+        expandedSize[node.get()] = size;
+        if (id >= 0) byId[id] = node;
+        return node;
+    }
+    uint64_t expanded(const Node* n) const {
+        auto it = expandedSize.find(n);
+        return it == expandedSize.end() ? 1 : it->second;  // a Geometry shared per glTF mesh
+    }
+
+    void children(const tinygltf::Node& gn, const std::string& kind, const Value* sx, const std::string& xp,
+                  Node* inner, const dmat4& world, const std::string& path) {
+        if (gn.children.empty()) return;
+        if (kind == "Geometry" || kind == "Occluder") {
+            warn(path + ".children", "a " + kind + " node has no children, they are ignored");
+            return;
+        }
+        if (kind == "Instance") {
+            if (gn.children.size() != 1)
+                bad(path + ".children", "an sgkit Instance needs exactly one child, its prototype");
+            ref_ptr<Node> proto = build(gn.children[0], world);
+            try {
+                if (proto) static_cast<Instance*>(inner)->setPrototype(proto);
+            } catch (const std::invalid_argument& e) {
+                bad(path + ".children[0]", e.what());
+            }
+            return;
+        }
+        const Value* ranges = kind == "LOD" && sx->Has("ranges") ? &sx->Get("ranges") : nullptr;
+        const Value* errors = kind == "LOD" && sx->Has("errors") ? &sx->Get("errors") : nullptr;
+        const Value* on = kind == "Switch" && sx->Has("on") ? &sx->Get("on") : nullptr;
+        const size_t nc = gn.children.size();
+        if (kind == "LOD" && (!ranges || !ranges->IsArray() || ranges->ArrayLen() != nc))
+            bad(xp + ".ranges", "needs one [min, max] range per child (" + std::to_string(nc) + ")");
+        if (errors && (!errors->IsArray() || errors->ArrayLen() != nc))
+            bad(xp + ".errors", "needs one error per child (" + std::to_string(nc) + ")");
+        if (on && (!on->IsArray() || on->ArrayLen() != nc))
+            bad(xp + ".on", "needs one flag per child (" + std::to_string(nc) + ")");
+        const std::vector<double> errorValues = errors ? numbers(*errors, xp + ".errors", nc) : std::vector<double>{};
+        auto* group = static_cast<Group*>(inner);
+        for (size_t k = 0; k < nc; ++k) {
+            ref_ptr<Node> c = build(gn.children[k], world);
+            if (!c) continue;
+            try {
+                if (kind == "LOD") {
+                    const std::vector<double> r = numbers(ranges->Get(int(k)), at(xp + ".ranges", k), 2);
+                    auto* lod = static_cast<LOD*>(inner);
+                    lod->addChild(c, toFloat(r[0], at(xp + ".ranges", k)), toFloat(r[1], at(xp + ".ranges", k)));
+                    if (!errorValues.empty() && errorValues[k] != 0.0)
+                        lod->setError(lod->numChildren() - 1, toFloat(errorValues[k], at(xp + ".errors", k)));
+                } else if (kind == "Switch") {
+                    const Value& f = on ? on->Get(int(k)) : Value(true);
+                    if (!f.IsBool()) bad(at(xp + ".on", k), "must be true or false");
+                    static_cast<Switch*>(inner)->addChild(c, f.Get<bool>());
+                } else {
+                    group->addChild(c);
+                }
+            } catch (const std::invalid_argument& e) {
+                bad(at(path + ".children", k), e.what());
+            }
+        }
+    }
+
+    void camera(int c, const dmat4& world, const std::string& nodeName) {
+        const tinygltf::Camera& gc = m.cameras[size_t(c)];
+        GltfCamera cam;
+        cam.name = gc.name.empty() ? nodeName : gc.name;
+        cam.world = world;
+        cam.perspective = gc.type == "perspective";
+        if (cam.perspective) {
+            cam.yfovDegrees = glm::degrees(gc.perspective.yfov);
+            cam.aspect = gc.perspective.aspectRatio;
+            cam.znear = gc.perspective.znear;
+            cam.zfar = gc.perspective.zfar;
+        } else {
+            cam.xmag = gc.orthographic.xmag;
+            cam.ymag = gc.orthographic.ymag;
+            cam.znear = gc.orthographic.znear;
+            cam.zfar = gc.orthographic.zfar;
+        }
+        out.cameras.push_back(cam);
+    }
+};
+
+}  // namespace
+
+GltfScene convert(const std::string& file, const tinygltf::Model& model, Progress& progress,
+                  std::vector<std::string> warnings) {
+    Converter c(file, model, progress);
+    c.out.warnings = std::move(warnings);
+    auto root = make<Group>();
+    std::vector<int> roots;
+    const int scene = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
+    if (scene >= 0) {
+        roots = model.scenes[size_t(scene)].nodes;
+        root->setName(model.scenes[size_t(scene)].name);
+    } else {  // no scene: every root node
+        std::vector<bool> child(model.nodes.size());
+        for (const auto& n : model.nodes)
+            for (int k : n.children) child[size_t(k)] = true;
+        for (size_t i = 0; i < model.nodes.size(); ++i)
+            if (!child[i]) roots.push_back(int(i));
+    }
+    if (!model.animations.empty()) c.warn("animations", "animations are not loaded");
+    if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
+    progress.report(0.6, "converting");
+    for (int r : roots)
+        if (ref_ptr<Node> n = c.build(r, dmat4(1.0))) root->addChild(n);
+    c.out.root = root;
+    progress.report(1.0, "done");
+    return std::move(c.out);
+}
+
+}  // namespace sg::gltf
