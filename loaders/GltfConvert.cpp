@@ -358,6 +358,13 @@ struct Converter {
             if (mode != "distance" && mode != "pixelSize") bad(xp + ".mode", "unknown LOD mode '" + mode + "'");
             lod->setMode(mode == "distance" ? LOD::Mode::Distance : LOD::Mode::PixelSize);
             if (sx->Has("center")) lod->setCenter(vec(*sx, "center", xp));
+            if (sx->Has("transition")) {
+                try {
+                    lod->setTransition(toFloat(number(*sx, "transition", xp, 0.0), xp + ".transition"));
+                } catch (const std::invalid_argument& e) {
+                    bad(xp + ".transition", e.what());
+                }
+            }
             return lod;
         }
         if (kind == "Switch") return make<Switch>();
@@ -524,7 +531,7 @@ struct Converter {
                     const std::vector<double> r = numbers(ranges->Get(int(k)), at(xp + ".ranges", k), 2);
                     auto* lod = static_cast<LOD*>(inner);
                     lod->addChild(c, toFloat(r[0], at(xp + ".ranges", k)), toFloat(r[1], at(xp + ".ranges", k)));
-                    if (!errorValues.empty() && errorValues[k] != 0.0)
+                    if (!errorValues.empty())  // given, 0 included (LOD::hasErrors)
                         lod->setError(lod->numChildren() - 1, toFloat(errorValues[k], at(xp + ".errors", k)));
                 } else if (kind == "Switch") {
                     const Value& f = on ? on->Get(int(k)) : Value(true);

@@ -192,15 +192,14 @@ struct Writer {
                 x["kind"] = Value(std::string("LOD"));
                 x["mode"] = Value(std::string(lod.mode() == LOD::Mode::Distance ? "distance" : "pixelSize"));
                 if (lod.userCenter()) x["center"] = vec3v(lod.center());
+                if (lod.transition() > 0.0f) x["transition"] = num(lod.transition());
                 Value::Array ranges, errors;
-                bool anyError = false;
                 for (size_t i = 0; i < lod.numChildren(); ++i) {
                     ranges.push_back(Value(Value::Array{num(lod.range(i).min), num(lod.range(i).max)}));
                     errors.push_back(num(lod.error(i)));
-                    anyError |= lod.error(i) != 0.0f;
                 }
                 x["ranges"] = Value(std::move(ranges));
-                if (anyError) x["errors"] = Value(std::move(errors));
+                if (lod.hasErrors()) x["errors"] = Value(std::move(errors));
                 break;
             }
             case NodeKind::Switch: {

@@ -53,6 +53,8 @@ inline ref_ptr<Group> allKindsScene() {
     auto plod = make<LOD>();
     plod->setMode(LOD::Mode::PixelSize);
     plod->addChild(make<Geometry>(slab, green), 40.0f, 1e9f);
+    plod->setError(0, 0.0f);       // given, as 0: the budget reads it as exact
+    plod->setTransition(6.5f);     // a fade band of 6.5 px
     root->addChild(plod);
 
     auto sw = make<Switch>();
@@ -140,6 +142,8 @@ inline bool sameGraph(const Node& a, const Node& b, std::map<const Node*, const 
             const auto &la = static_cast<const LOD&>(a), &lb = static_cast<const LOD&>(b);
             if (la.mode() != lb.mode() || la.userCenter() != lb.userCenter() || la.center() != lb.center())
                 return differ("mode or centre");
+            if (la.transition() != lb.transition() || la.hasErrors() != lb.hasErrors())
+                return differ("transition or whether errors are given");
             for (size_t i = 0; i < la.numChildren(); ++i)
                 if (la.range(i).min != lb.range(i).min || la.range(i).max != lb.range(i).max ||
                     la.error(i) != lb.error(i))
