@@ -1,6 +1,9 @@
 // The sgview program itself: its headless pictures against the library's own render (OSMesa, in this process),
 // the overlay's pixels, --info's counts, and bad input (exit code 2 and a message naming the option).
 #include "scenes/City.h"
+#ifdef SGVIEW_TEST_GLTF
+#include "loaders/Gltf.h"
+#endif
 #include "sg/CullTraversal.h"
 #include "sg/ImageIO.h"
 #include "sg/OsmesaContext.h"
@@ -288,3 +291,29 @@ TEST(SgviewRun, PickPrintsTheNodePathOfWhatIsAtThePixel) {
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--pick"), std::string::npos) << bad.err;
 }
+
+#ifdef SGVIEW_TEST_GLTF
+// A glTF file in, a picture out: sgview --save writes the city as .glb (turned to glTF's +Y up), and
+// --headless renders the file as the library renders what the loader makes of it.
+TEST(SgviewRun, HeadlessRendersAGltfFile) {
+    ASSERT_EQ(runSgview("--scene city --n 8 --save city8.glb").code, 0);
+    const std::string file = (scratch() / "city8.glb").string();
+    const Result r = runSgview("--headless city8.glb --out g.png --size 400x300 --camera -20,90,20,80,0,-80,0,1,0");
+    ASSERT_EQ(r.code, 0) << r.err;
+    Scene scene(loadGltf(file).root);
+    scene.update();
+    const Camera cam = sgview::specCamera({dvec3(-20, 90, 20), dvec3(80, 0, -80), dvec3(0, 1, 0)},
+                                          sgview::sceneBound(scene), 400, 300);
+    const Image want = libraryRender(scene, cam);
+    EXPECT_GT(nonBackground(want), size_t(400 * 300 / 10));
+    EXPECT_EQ(countDifferingPixels(loadPng((scratch() / "g.png").string()), want), 0u);
+    // The quarter turn: the city's heights (its +Z) are the file's +Y.
+    const Box b = sgview::sceneBound(scene);
+    EXPECT_GT(b.max.y - b.min.y, 10.0);
+    EXPECT_LT(b.max.z, 1.0);
+    // A file name sgview cannot write as glTF is refused by name.
+    const Result bad = runSgview("--scene city --n 8 --save city8.obj");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--save"), std::string::npos) << bad.err;
+}
+#endif

@@ -1,5 +1,6 @@
 // sgbench accuracy: differing pixels between the unculled and the culled render over K random views.
 #include "accuracy/Accuracy.h"
+#include "loaders/Gltf.h"
 #include "scenes/City.h"
 #include "scenes/Office.h"
 #include "scenes/RandomScene.h"
@@ -41,12 +42,20 @@ int runAccuracy(const Args& a) {
     } else if (sceneName == "random") {
         root = scenes::buildRandomScene(seed);
         cams = accuracy::boxViews(sg::Box{sg::dvec3(-70), sg::dvec3(70)}, views, seed, w, h);
+    } else if (sceneName.size() > 4 && (sceneName.rfind(".gltf") == sceneName.size() - 5 ||
+                                        sceneName.rfind(".glb") == sceneName.size() - 4)) {
+        root = sg::loadGltf(sceneName).root;  // a sg::LoadError names the file, the JSON path and why
     } else {
         throw std::invalid_argument("sgbench accuracy: --scene " + sceneName +
-                                    ": only city, office and random are available (glTF files need the glTF loader)");
+                                    ": expected city, office, random or a .gltf/.glb file");
     }
     sg::Scene scene(root);
     scene.update();
+    if (cams.empty()) {  // a file: views of every kind around its bound
+        const sg::Box b = scene.image().size() ? scene.image().box(0) : sg::Box{};
+        if (b.empty()) throw std::invalid_argument("sgbench accuracy: " + sceneName + " has nothing to draw");
+        cams = accuracy::boxViews(b, views, seed, w, h);
+    }
     accuracy::Harness harness(w, h);
     const accuracy::Result res = harness.run(scene, cams, {set})[0];
     // Occlusion counts as conservative only with the front-faces cap.

@@ -19,6 +19,9 @@ struct LoadedScene {
 // One glTF file (LoadScene.cpp). Throws sg::LoadError naming the file, the JSON path and the reason.
 LoadedScene loadSceneFile(const std::string& path);
 
+// Writes the scene as glTF (.glb or .gltf), turned to glTF's +Y up when its up axis is +Z.
+void saveSceneFile(const LoadedScene& scene, const std::string& path);
+
 // The files (under one Group, warnings prefixed with the file name) or the built-in scene of `o`.
 // Throws UsageError for a file that does not exist or cannot be loaded, naming it.
 LoadedScene loadScene(const Options& o);

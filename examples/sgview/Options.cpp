@@ -96,6 +96,11 @@ Options parseOptions(int argc, const char* const* argv) {
             o.out = value();
             if (o.out.empty()) bad(a, o.out, "expected a file name");
             out = true;
+        } else if (a == "--save") {
+            o.save = value();
+            const size_t dot = o.save.rfind('.');
+            const std::string ext = dot == std::string::npos ? "" : o.save.substr(dot);
+            if (ext != ".glb" && ext != ".gltf") bad(a, o.save, "expected a .glb or .gltf file name");
         } else if (a == "--pick") {
             const std::string v = value();
             const std::vector<double> xy = parseNumbers(a, v, 2, "X,Y (a pixel, y down)");
@@ -120,6 +125,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (out && !o.headless && !frames)
         throw UsageError("--out in the window needs --frames K (the picture is frame K; P or F12 save screenshots)");
     if (o.info && o.headless) throw UsageError("--info prints a summary and renders nothing: drop --headless");
+    if (!o.save.empty() && (o.headless || o.info)) throw UsageError("--save writes the scene and exits: drop --headless and --info");
     if (!o.picks.empty() && !o.headless) throw UsageError("--pick is for --headless (in the window, click)");
     for (const auto& [x, y] : o.picks)
         if (x < 0 || y < 0 || x >= o.width || y >= o.height)
@@ -145,6 +151,7 @@ const char* usageText() {
            "  --strategy S       culling: none, sphere, aabb (default), sphere-sphere, center-box\n"
            "  --occlusion M      occlusion culling: off, tree, auto (default)\n"
            "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable)\n"
+           "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"
            "  1 trackball (left drag orbits, right or middle drag pans, scroll zooms)\n"

@@ -15,6 +15,9 @@ LoadedScene loadSceneFile(const std::string& path) {
     throw UsageError("'" + path +
                      "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office works");
 }
+void saveSceneFile(const LoadedScene&, const std::string& path) {
+    throw UsageError("--save '" + path + "': sgview was built without the glTF loader (sgkit::loaders)");
+}
 #endif
 
 namespace {

@@ -28,6 +28,11 @@ int main(int argc, char** argv) {
             return 0;
         }
         for (const std::string& w : loaded.warnings) std::fprintf(stderr, "sgview: warning: %s\n", w.c_str());
+        if (!o.save.empty()) {
+            saveSceneFile(loaded, o.save);
+            std::printf("sgview: wrote %s\n", o.save.c_str());
+            return 0;
+        }
         return o.headless ? runHeadless(o, scene, loaded) : runWindow(o, scene, loaded);
     } catch (const UsageError& e) {
         std::fprintf(stderr, "sgview: %s\n(sgview --help lists the options)\n", e.what());
