@@ -41,12 +41,22 @@ TEST(FrustumKernel, AgreesWithItsNaiveTwin) {
             const uint8_t ref = kernel::classifySphereNaive(world, c, r[i]);
             const uint8_t loose = kernel::classifySphereNaive(world, c, r[i] + 1e-3);
             const uint8_t tight = kernel::classifySphereNaive(world, c, std::max(0.0, r[i] - 1e-3));
-            if (s[i] & kernel::kOutside) EXPECT_EQ(ref, kernel::kOutside) << i;
-            if (ref == kernel::kOutside && tight == kernel::kOutside) EXPECT_EQ(s[i], kernel::kOutside) << i;
-            if (loose == kernel::kInside) EXPECT_EQ(s[i], kernel::kInside) << i;
-            if (s[i] == kernel::kInside) EXPECT_NE(tight & kernel::kOutside, kernel::kOutside);
+            if (s[i] & kernel::kOutside) {
+                EXPECT_EQ(ref, kernel::kOutside) << i;
+            }
+            if (ref == kernel::kOutside && tight == kernel::kOutside) {
+                EXPECT_EQ(s[i], kernel::kOutside) << i;
+            }
+            if (loose == kernel::kInside) {
+                EXPECT_EQ(s[i], kernel::kInside) << i;
+            }
+            if (s[i] == kernel::kInside) {
+                EXPECT_NE(tight & kernel::kOutside, kernel::kOutside);
+            }
             // A box inside its sphere: the box test may only cull more, never less.
-            if (s[i] & kernel::kOutside) EXPECT_TRUE(b[i] & kernel::kOutside) << i;
+            if (s[i] & kernel::kOutside) {
+                EXPECT_TRUE(b[i] & kernel::kOutside) << i;
+            }
             outside += ref == kernel::kOutside;
             inside += ref == kernel::kInside;
             // Masked scalar test agrees with the batch.
