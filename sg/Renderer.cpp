@@ -1,5 +1,7 @@
 #include "sg/Renderer.h"
 
+#include "sg/GlProgram.h"
+
 #include <GL/gl.h>
 #include <GL/glext.h>
 
@@ -95,24 +97,6 @@ inline void checkGl(const char*, const char*) {}
 inline void drainGl() {}
 #endif
 
-GLuint compile(GLenum type, const char* src, const char* name) {
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, nullptr);
-    glCompileShader(s);
-    GLint ok = GL_FALSE;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        GLint len = 0;
-        glGetShaderiv(s, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(len > 0 ? len : 1), '\0');
-        glGetShaderInfoLog(s, GLsizei(log.size()), nullptr, log.data());
-        glDeleteShader(s);
-        throw std::runtime_error(std::string("Renderer::Renderer(): the ") + name + " shader does not compile: " +
-                                 log.c_str());
-    }
-    return s;
-}
-
 }  // namespace
 
 Renderer::Renderer() {
@@ -123,30 +107,7 @@ Renderer::Renderer() {
         throw std::runtime_error(std::string("Renderer::Renderer(): OpenGL 3.3 is needed, the context has ") + version);
     drainGl();
 
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, "vertex");
-    GLuint fs = 0;
-    try {
-        fs = compile(GL_FRAGMENT_SHADER, kFragmentShader, "fragment");
-    } catch (...) {
-        glDeleteShader(vs);
-        throw;
-    }
-    program_ = glCreateProgram();
-    glAttachShader(program_, vs);
-    glAttachShader(program_, fs);
-    glLinkProgram(program_);
-    glDeleteShader(vs);  // flagged: freed with the program
-    glDeleteShader(fs);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        GLint len = 0;
-        glGetProgramiv(program_, GL_INFO_LOG_LENGTH, &len);
-        std::string log(size_t(len > 0 ? len : 1), '\0');
-        glGetProgramInfoLog(program_, GLsizei(log.size()), nullptr, log.data());
-        glDeleteProgram(program_);
-        throw std::runtime_error(std::string("Renderer::Renderer(): the shaders do not link: ") + log.c_str());
-    }
+    program_ = buildGlProgram(kVertexShader, kFragmentShader, "Renderer::Renderer()");
     uViewProj_ = glGetUniformLocation(program_, "uViewProj");
     uLightDir_ = glGetUniformLocation(program_, "uLightDir");
     uBaseColor_ = glGetUniformLocation(program_, "uBaseColor");

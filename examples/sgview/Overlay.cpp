@@ -1,5 +1,7 @@
 #include "sgview/Overlay.h"
 
+#include "sg/GlProgram.h"
+
 #include <GL/gl.h>
 #include <GL/glext.h>
 #pragma GCC diagnostic push
@@ -34,44 +36,10 @@ void main() { fragColor = vColor; }
 
 constexpr float kMargin = 6.0f;  // panel edge to text, in font pixels
 
-GLuint compile(GLenum type, const char* src) {
-    const GLuint s = glCreateShader(type);
-    glShaderSource(s, 1, &src, nullptr);
-    glCompileShader(s);
-    GLint ok = GL_FALSE;
-    glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-    if (ok == GL_TRUE) return s;
-    char log[1024] = {0};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw std::runtime_error(std::string("Overlay::Overlay(): the shader does not compile: ") + log);
-}
-
 }  // namespace
 
 Overlay::Overlay() {
-    const GLuint vs = compile(GL_VERTEX_SHADER, kVertex);
-    GLuint fs = 0;
-    try {
-        fs = compile(GL_FRAGMENT_SHADER, kFragment);
-    } catch (...) {
-        glDeleteShader(vs);
-        throw;
-    }
-    program_ = glCreateProgram();
-    glAttachShader(program_, vs);
-    glAttachShader(program_, fs);
-    glLinkProgram(program_);
-    glDeleteShader(vs);
-    glDeleteShader(fs);
-    GLint ok = GL_FALSE;
-    glGetProgramiv(program_, GL_LINK_STATUS, &ok);
-    if (ok != GL_TRUE) {
-        char log[1024] = {0};
-        glGetProgramInfoLog(program_, sizeof log, nullptr, log);
-        glDeleteProgram(program_);
-        throw std::runtime_error(std::string("Overlay::Overlay(): the shaders do not link: ") + log);
-    }
+    program_ = sg::buildGlProgram(kVertex, kFragment, "Overlay::Overlay()");
     uViewport_ = glGetUniformLocation(program_, "uViewport");
     glGenVertexArrays(1, &vao_);
     glGenBuffers(1, &vbo_);
