@@ -56,13 +56,11 @@ void CullTraversal::planLods(const FlatImage& img) {
     // room for every option at once.
     const size_t n = deferred_.size();
     lodObjects_.resize(n);
+    lodWorkOf_.resize(n);
     size_t total = 0;
     for (size_t k = 0; k < n; ++k) {
-        const uint32_t w = lodWork(img, deferred_[k].entry);
-        lodObjects_[k].options = nullptr;
-        lodObjects_[k].count = int(lodWork_[w].count);
-        lodObjects_[k].last = int(w);  // for now: where its work is
-        total += lodWork_[w].count;
+        lodWorkOf_[k] = lodWork(img, deferred_[k].entry);
+        total += lodWork_[lodWorkOf_[k]].count;
     }
     if (lodOptions_.size() < total) lodOptions_.resize(total);
     lodArea_.resize(n);
@@ -70,8 +68,9 @@ void CullTraversal::planLods(const FlatImage& img) {
     const bool persp = cam_->perspective();
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = deferred_[k].entry;
+        const LodWork* work = &lodWork_[lodWorkOf_[k]];
         LodSelector::Object& obj = lodObjects_[k];
-        const LodWork* work = &lodWork_[size_t(obj.last)];
+        obj.count = int(work->count);
         // Projected area of the LOD's bound, the value of drawing it at all.
         const double dx = img.cx[i] - eyeImg.x, dy = img.cy[i] - eyeImg.y, dz = img.cz[i] - eyeImg.z;
         const double pxPerUnit = persp ? ppu / std::max(std::sqrt(dx * dx + dy * dy + dz * dz), zNear) : ppu;

@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cmath>
 #include <stdexcept>
 
 namespace sg {
@@ -324,9 +323,10 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
                 break;
             }
             const double value = lodValue(c, i);
-            const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
-            if (set_->lodFade && img.lods[img.aux[i]].fade > 0.0f) {
-                fadedLod(c, i, mask, m, occ, value, img.lods[img.aux[i]].fade);
+            const FlatImage::Lod& lod = img.lods[img.aux[i]];
+            const FlatImage::Range* rg = &img.ranges[lod.firstRange];
+            if (set_->lodFade && lod.fade > 0.0f) {
+                fadedLod(c, i, mask, m, occ, value, lod.fade);
                 break;
             }
             if (set_->lodHysteresis > 0.0 && c.img == &scene_->image()) {

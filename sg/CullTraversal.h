@@ -92,6 +92,7 @@ private:
     std::vector<double> lodArea_;  // per deferred LOD: its projected area, pixels
     std::vector<LodWork> lodWork_;
     std::vector<uint32_t> lodWorkAt_;  // per image entry: its LodWork header, ~0u: not worked out yet
+    std::vector<uint32_t> lodWorkOf_;  // per deferred LOD: its LodWork header
     const FlatImage* lodWorkImage_ = nullptr;
     uint64_t lodWorkVersion_ = 0;
     std::vector<LodSelector::Option> lodOptions_;
