@@ -1,12 +1,11 @@
 #include "sg/LodSelector.h"
 
-#include <algorithm>
 #include <cmath>
-#include <utility>
 #include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 #include <string>
 
 namespace sg {
@@ -102,11 +101,7 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
                 if (!amount(op.costMs)) refuse(at, i, "costMs", op.costMs, "is negative or not finite");
                 if (!amount(op.benefit)) refuse(at, i, "benefit", op.benefit, "is negative or not finite");
             }
-        // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels, usually
-        // given finest (dearest) first: reversed first when strictly so.
-        bool descending = true;
-        for (std::size_t i = 1; i < m; ++i) descending &= cand[i - 1].cost > cand[i].cost;
-        if (descending) std::reverse(cand, cand + m);
+        // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels.
         for (std::size_t i = 1; i < m; ++i) {
             const Candidate c = cand[i];
             std::size_t j = i;
