@@ -3,7 +3,8 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config libglm-dev libtinygltf-dev libglfw3-dev libosmesa6-dev
       libgl-dev libegl-dev libmeshoptimizer-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
-      clang-14 libclang-rt-14-dev)  # clang: the glTF loader's libFuzzer target
+      clang-14 libclang-rt-14-dev  # clang: the glTF loader's libFuzzer target
+      clang-format)  # the format check of .ci/run
 [ "${SGKIT_BENCH_OSG:-0}" = 1 ] && pkgs+=(libopenscenegraph-dev)
 missing=()
 for p in "${pkgs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done

@@ -1,6 +1,6 @@
 // glfw_smoke: opens a window, draws one frame of a box and checks the centre pixel (run under xvfb-run).
-#include "sg/GlfwWindow.h"
-#include "sg/Renderer.h"
+#include "sg/gl/GlfwWindow.h"
+#include "sg/gl/Renderer.h"
 
 #include <cstdio>
 #include <exception>

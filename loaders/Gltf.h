@@ -1,8 +1,8 @@
 // glTF 2.0 in and out (.gltf with external or embedded buffers, .glb), through tinygltf, with the
 // validation tinygltf does not do. sgkit's own node kinds travel in glTF `extras`.
 #pragma once
-#include "sg/Math.h"
-#include "sg/Node.h"
+#include "sg/core/Math.h"
+#include "sg/core/Node.h"
 
 #include <functional>
 #include <stdexcept>
@@ -26,7 +26,7 @@ private:
 
 struct GltfCamera {
     std::string name;
-    dmat4 world{1.0};          // the camera node's world matrix (the camera looks down its -Z)
+    dmat4 world{1.0};  // the camera node's world matrix (the camera looks down its -Z)
     bool perspective = true;
     double yfovDegrees = 60.0, aspect = 0.0, znear = 0.1, zfar = 0.0;  // aspect/zfar 0: not given
     double xmag = 1.0, ymag = 1.0;                                     // orthographic half sizes
@@ -40,7 +40,7 @@ struct GltfLoadOptions {
 };
 
 struct GltfScene {
-    ref_ptr<Node> root;                 // a Group holding the default scene's root nodes
+    ref_ptr<Node> root;  // a Group holding the default scene's root nodes
     std::vector<GltfCamera> cameras;
     std::vector<std::string> warnings;  // what was skipped or converted, each naming its JSON path
 };

@@ -47,8 +47,7 @@ struct AccessorReader {
         if (!base) return 0.0f;
         const unsigned char* p = base + i * stride;
         switch (comp) {
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-                return normalized ? p[k] / 255.0f : float(p[k]);
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[k] / 255.0f : float(p[k]);
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
                 uint16_t v;
                 std::memcpy(&v, p + 2 * k, 2);

@@ -1,12 +1,12 @@
 // loadGltf: reads the file (mapped, not copied), checks the bytes, lets tinygltf parse, validates, converts.
 #include "loaders/GltfDetail.h"
 
-#include <cerrno>
-#include <cstring>
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstring>
 
 namespace sg {
 
@@ -75,9 +75,7 @@ bool fileExists(const std::string& path, void* user) {
     struct stat st {};
     return !static_cast<FsContext*>(user)->allowFiles || (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode));
 }
-std::string expandPath(const std::string& path, void*) {
-    return path;
-}
+std::string expandPath(const std::string& path, void*) { return path; }
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
     if (!static_cast<FsContext*>(user)->allowFiles) {
         if (err) *err += "external file '" + path + "' is not read when loading from memory\n";

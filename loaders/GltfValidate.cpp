@@ -1,17 +1,15 @@
 // Validation the glTF loader does itself: on the raw bytes before tinygltf, and on tinygltf's model after.
 #include "loaders/GltfDetail.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <set>
 
 namespace sg::gltf {
 
-std::string at(const std::string& array, size_t i) {
-    return array + "[" + std::to_string(i) + "]";
-}
+std::string at(const std::string& array, size_t i) { return array + "[" + std::to_string(i) + "]"; }
 
 void fail(const std::string& file, const std::string& path, const std::string& reason) {
     throw LoadError(file, path, reason);
@@ -49,22 +47,14 @@ void checkDepth(const std::string& file, const unsigned char* p, size_t n) {
 
 const char* typeName(int type) {
     switch (type) {
-        case TINYGLTF_TYPE_SCALAR:
-            return "SCALAR";
-        case TINYGLTF_TYPE_VEC2:
-            return "VEC2";
-        case TINYGLTF_TYPE_VEC3:
-            return "VEC3";
-        case TINYGLTF_TYPE_VEC4:
-            return "VEC4";
-        case TINYGLTF_TYPE_MAT2:
-            return "MAT2";
-        case TINYGLTF_TYPE_MAT3:
-            return "MAT3";
-        case TINYGLTF_TYPE_MAT4:
-            return "MAT4";
-        default:
-            return "an unknown type";
+        case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+        case TINYGLTF_TYPE_VEC2: return "VEC2";
+        case TINYGLTF_TYPE_VEC3: return "VEC3";
+        case TINYGLTF_TYPE_VEC4: return "VEC4";
+        case TINYGLTF_TYPE_MAT2: return "MAT2";
+        case TINYGLTF_TYPE_MAT3: return "MAT3";
+        case TINYGLTF_TYPE_MAT4: return "MAT4";
+        default: return "an unknown type";
     }
 }
 

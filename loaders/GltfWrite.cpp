@@ -21,12 +21,8 @@ namespace {
 
 using tinygltf::Value;
 
-Value num(double v) {
-    return Value(v);
-}
-Value vec3v(const dvec3& v) {
-    return Value(Value::Array{num(v.x), num(v.y), num(v.z)});
-}
+Value num(double v) { return Value(v); }
+Value vec3v(const dvec3& v) { return Value(Value::Array{num(v.x), num(v.y), num(v.z)}); }
 
 struct Writer {
     tinygltf::Model m;
@@ -170,12 +166,8 @@ struct Writer {
         }
         if (n.nodeMask() != 0xffffffffu) x["mask"] = num(n.nodeMask());
         switch (n.kind()) {
-            case NodeKind::Group:
-                x["kind"] = Value(std::string("Group"));
-                break;
-            case NodeKind::Transform:
-                setMatrix(gn, static_cast<const Transform&>(n).matrix());
-                break;
+            case NodeKind::Group: x["kind"] = Value(std::string("Group")); break;
+            case NodeKind::Transform: setMatrix(gn, static_cast<const Transform&>(n).matrix()); break;
             case NodeKind::Geometry: {
                 x["kind"] = Value(std::string("Geometry"));
                 const auto& g = static_cast<const Geometry&>(n);
@@ -221,9 +213,7 @@ struct Writer {
                 x["kind"] = Value(std::string("Instance"));
                 setMatrix(gn, static_cast<const Instance&>(n).matrix());
                 break;
-            case NodeKind::BspGroup:
-                x["kind"] = Value(std::string("BspGroup"));
-                break;
+            case NodeKind::BspGroup: x["kind"] = Value(std::string("BspGroup")); break;
             case NodeKind::Occluder: {
                 const auto& oc = static_cast<const Occluder&>(n);
                 x["kind"] = Value(std::string("Occluder"));

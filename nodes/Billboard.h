@@ -1,7 +1,7 @@
 // Billboard: turns its children toward the eye each frame, about an axis (trees) or fully (sprites).
 #pragma once
 #include "nodes/Group.h"
-#include "sg/Math.h"
+#include "sg/core/Math.h"
 
 namespace sg {
 

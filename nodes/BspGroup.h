@@ -2,7 +2,7 @@
 // update pass when they change (the scene order the occlusion passes rely on).
 #pragma once
 #include "nodes/Group.h"
-#include "sg/Math.h"
+#include "sg/core/Math.h"
 
 #include <cstdint>
 #include <vector>
@@ -15,7 +15,7 @@ public:
     // visited between the near and the far side.
     struct BspNode {
         Plane plane;
-        int32_t front = -1, back = -1;       // indices into nodes(), -1: none
+        int32_t front = -1, back = -1;          // indices into nodes(), -1: none
         uint32_t firstItem = 0, itemCount = 0;  // range in items(): child indices on the plane
     };
     BspGroup() : Group(NodeKind::BspGroup) {}

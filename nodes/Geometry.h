@@ -1,8 +1,8 @@
 // Geometry: a leaf that draws a shared Mesh with a shared Material.
 #pragma once
-#include "sg/Material.h"
-#include "sg/Mesh.h"
-#include "sg/Node.h"
+#include "sg/core/Material.h"
+#include "sg/core/Mesh.h"
+#include "sg/core/Node.h"
 
 namespace sg {
 

@@ -1,6 +1,6 @@
 #include "nodes/Group.h"
 
-#include "sg/NodeVisitor.h"
+#include "sg/core/NodeVisitor.h"
 
 #include <algorithm>
 #include <stdexcept>

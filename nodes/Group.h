@@ -1,7 +1,6 @@
 // Group: a node with an ordered list of children; the base of every node that has children.
 #pragma once
-#include "sg/Node.h"
-
+#include "sg/core/Node.h"
 
 namespace sg {
 

@@ -1,8 +1,8 @@
 // Instance: places a shared prototype subgraph with its own matrix; the prototype is stored (and its
 // flat image built) once however often it is placed, and every placement is culled on its own.
 #pragma once
-#include "sg/Math.h"
-#include "sg/Node.h"
+#include "sg/core/Math.h"
+#include "sg/core/Node.h"
 
 namespace sg {
 

@@ -1,7 +1,7 @@
 #include "nodes/LOD.h"
 
 #include "nodes/Geometry.h"
-#include "sg/NodeVisitor.h"
+#include "sg/core/NodeVisitor.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -31,7 +31,8 @@ void LOD::addChild(ref_ptr<Node> child, float mn, float mx) {
 
 void LOD::setRange(size_t i, float mn, float mx) {
     if (i >= numChildren())
-        throw std::out_of_range("LOD::setRange(): child " + std::to_string(i) + " of " + describe() + " does not exist");
+        throw std::out_of_range("LOD::setRange(): child " + std::to_string(i) + " of " + describe() +
+                                " does not exist");
     checkRange(i, mn, mx, "LOD::setRange()");
     rangeRef(i) = Range{mn, mx};
     markDirty(kDirtyBound);
@@ -54,7 +55,8 @@ void LOD::setTransition(float width) {
 
 void LOD::setError(size_t i, float e) {
     if (i >= numChildren())
-        throw std::out_of_range("LOD::setError(): child " + std::to_string(i) + " of " + describe() + " does not exist");
+        throw std::out_of_range("LOD::setError(): child " + std::to_string(i) + " of " + describe() +
+                                " does not exist");
     if (!(e >= 0.0f && std::isfinite(e)))
         throw std::invalid_argument("LOD::setError(): " + describe() + " child " + std::to_string(i) + ": error " +
                                     std::to_string(e) + " is not finite and non-negative");

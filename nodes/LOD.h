@@ -1,7 +1,7 @@
 // LOD: shows the children whose range holds the eye's distance to a centre, or the projected pixel size.
 #pragma once
 #include "nodes/Group.h"
-#include "sg/Math.h"
+#include "sg/core/Math.h"
 
 #include <memory>
 #include <vector>

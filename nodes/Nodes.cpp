@@ -4,7 +4,7 @@
 #include "nodes/Instance.h"
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
-#include "sg/NodeVisitor.h"
+#include "sg/core/NodeVisitor.h"
 
 #include <stdexcept>
 

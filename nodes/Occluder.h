@@ -1,7 +1,7 @@
 // Occluder: marks a box or a convex polygon as a major occluder (designated at modelling time).
 #pragma once
-#include "sg/Math.h"
-#include "sg/Node.h"
+#include "sg/core/Math.h"
+#include "sg/core/Node.h"
 
 #include <vector>
 

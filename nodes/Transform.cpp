@@ -1,6 +1,6 @@
 #include "nodes/Transform.h"
 
-#include "sg/NodeVisitor.h"
+#include "sg/core/NodeVisitor.h"
 
 #include <stdexcept>
 

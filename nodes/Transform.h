@@ -1,7 +1,7 @@
 // Transform: places its children with a double-precision affine matrix.
 #pragma once
 #include "nodes/Group.h"
-#include "sg/Math.h"
+#include "sg/core/Math.h"
 
 #include <memory>
 
@@ -22,7 +22,9 @@ public:
     const dmat4* matrixPtr() const noexcept { return general_.get(); }
     const dvec3& translation() const noexcept { return translation_; }
     // parent * this matrix, with the cheap path for translations.
-    dmat4 apply(const dmat4& parent) const { return general_ ? parent * *general_ : mulTranslate(parent, translation_); }
+    dmat4 apply(const dmat4& parent) const {
+        return general_ ? parent * *general_ : mulTranslate(parent, translation_);
+    }
 
     void accept(NodeVisitor& v) override;
 

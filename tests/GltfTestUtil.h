@@ -53,8 +53,8 @@ inline ref_ptr<Group> allKindsScene() {
     auto plod = make<LOD>();
     plod->setMode(LOD::Mode::PixelSize);
     plod->addChild(make<Geometry>(slab, green), 40.0f, 1e9f);
-    plod->setError(0, 0.0f);       // given, as 0: the budget reads it as exact
-    plod->setTransition(6.5f);     // a fade band of 6.5 px
+    plod->setError(0, 0.0f);    // given, as 0: the budget reads it as exact
+    plod->setTransition(6.5f);  // a fade band of 6.5 px
     root->addChild(plod);
 
     auto sw = make<Switch>();
@@ -183,8 +183,7 @@ inline bool sameGraph(const Node& a, const Node& b, std::map<const Node*, const 
                 return differ("material");
             break;
         }
-        default:
-            break;
+        default: break;
     }
     for (size_t i = 0; i < a.numChildren(); ++i)
         if (!sameGraph(*a.child(i), *b.child(i), seen, why)) return false;

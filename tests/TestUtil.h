@@ -6,7 +6,7 @@
 #include "nodes/LOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
-#include "sg/Camera.h"
+#include "sg/core/Camera.h"
 
 #include <functional>
 
@@ -16,7 +16,8 @@ using namespace sg;
 
 // Calls f(geometry, world matrix) for every geometry the LOD and Switch selection shows from `cam`
 // (no frustum tests): the reference set a cull may only shrink.
-inline void forEachActive(Node* n, const dmat4& m, const Camera& cam, const std::function<void(Geometry*, const dmat4&)>& f) {
+inline void forEachActive(Node* n, const dmat4& m, const Camera& cam,
+                          const std::function<void(Geometry*, const dmat4&)>& f) {
     switch (n->kind()) {
         case NodeKind::Geometry: f(static_cast<Geometry*>(n), m); return;
         case NodeKind::Transform: {

@@ -1,5 +1,5 @@
 // Draw-list sort (radix on 64-bit state/depth keys) beside std::sort of the same keys.
-#include "sg/DrawList.h"
+#include "sg/cull/DrawList.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,7 +1,7 @@
 // The frustum kernel beside its naive twin and beside a plain flat scan written the obvious way, on
 // the same random spheres against the same six planes (items per second).
-#include "sg/Camera.h"
-#include "sg/FrustumKernel.h"
+#include "sg/core/Camera.h"
+#include "sg/cull/FrustumKernel.h"
 
 #include <benchmark/benchmark.h>
 
@@ -44,7 +44,8 @@ constexpr size_t kN = 1 << 16;
 void BM_ClassifySpheres(benchmark::State& s) {
     Data d(kN);
     for (auto _ : s) {
-        sg::kernel::classifySpheres(d.kp, d.cx.data(), d.cy.data(), d.cz.data(), d.r.data(), uint32_t(kN), d.out.data());
+        sg::kernel::classifySpheres(d.kp, d.cx.data(), d.cy.data(), d.cz.data(), d.r.data(), uint32_t(kN),
+                                    d.out.data());
         benchmark::DoNotOptimize(d.out.data());
     }
     s.SetItemsProcessed(int64_t(s.iterations() * kN));

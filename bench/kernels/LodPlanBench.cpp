@@ -4,9 +4,9 @@
 #include "nodes/Group.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
-#include "sg/CullTraversal.h"
-#include "sg/DrawCostModel.h"
-#include "sg/LodSelector.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/lod/DrawCostModel.h"
+#include "sg/lod/LodSelector.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,6 +1,6 @@
 // MeshBvh beside its naive twin (every triangle tested) and, when built with Embree, beside Embree 3's BVH
 // (robust mode, float) on the same meshes and rays: nearest hit per ray, and build time.
-#include "sg/MeshBvh.h"
+#include "sg/intersect/MeshBvh.h"
 
 #include <benchmark/benchmark.h>
 
@@ -96,10 +96,12 @@ struct EmbreeMesh {
         scene = rtcNewScene(dev);
         rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
         RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, m.positions().size()));
+        auto* v = static_cast<float*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 12, m.positions().size()));
         for (size_t i = 0; i < m.positions().size(); ++i)
             v[3 * i] = m.positions()[i].x, v[3 * i + 1] = m.positions()[i].y, v[3 * i + 2] = m.positions()[i].z;
-        auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, m.triangleCount()));
+        auto* ix = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 12, m.triangleCount()));
         for (uint32_t i = 0; i < m.indexCount(); ++i) ix[i] = m.index(i);
         rtcCommitGeometry(g);
         rtcAttachGeometry(scene, g);

@@ -124,11 +124,11 @@
 #include <unistd.h>
 
 #ifdef SGBENCH_WITH_SGKIT
-#include "scenes/City.h"
-#include "scenes/RandomScene.h"
-#include "sg/CullTraversal.h"
-#include "sg/IntersectTraversal.h"
-#include "sg/PickSet.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/intersect/IntersectTraversal.h"
+#include "sg/intersect/PickSet.h"
+#include "testbed/City.h"
+#include "testbed/RandomScene.h"
 
 #include <memory>
 #endif
@@ -139,15 +139,15 @@ namespace {
 // Scene definition constants (units metres, +Z up).
 
 constexpr double kCellSize = 20.0;
-constexpr double kFootprint = 12.0;         // building footprint, centred in the cell
+constexpr double kFootprint = 12.0;  // building footprint, centred in the cell
 constexpr double kCarSize[3] = {4.0, 2.0, 1.5};
-constexpr double kCarOffset = 1.0;           // car minimum corner at (20i+1, 20j+1, 0)
+constexpr double kCarOffset = 1.0;  // car minimum corner at (20i+1, 20j+1, 0)
 constexpr unsigned kMinHeight = 10;
-constexpr unsigned kHeightCount = 51;        // heights 10..60
-constexpr int kTileCells = 8;                // tiles group 8x8 cells
-constexpr float kDetailFar = 250.0f;         // detailed LOD: [0, 250)
-constexpr float kCoarseFar = 2500.0f;        // coarse LOD:   [250, 2500)
-constexpr int kDetailSubdiv = 10;            // 10x10 quads per face -> 1200 triangles
+constexpr unsigned kHeightCount = 51;  // heights 10..60
+constexpr int kTileCells = 8;          // tiles group 8x8 cells
+constexpr float kDetailFar = 250.0f;   // detailed LOD: [0, 250)
+constexpr float kCoarseFar = 2500.0f;  // coarse LOD:   [250, 2500)
+constexpr int kDetailSubdiv = 10;      // 10x10 quads per face -> 1200 triangles
 
 // Camera paths.
 constexpr int kFrames = 120;        // orbit
@@ -207,8 +207,12 @@ osg::ref_ptr<osg::Geometry> makeBox(const osg::Vec3& lo, const osg::Vec3& hi, in
                 const unsigned short v10 = v00 + 1;
                 const unsigned short v11 = v10 + side;
                 const unsigned short v01 = v00 + side;
-                triangles->push_back(v00); triangles->push_back(v10); triangles->push_back(v11);
-                triangles->push_back(v00); triangles->push_back(v11); triangles->push_back(v01);
+                triangles->push_back(v00);
+                triangles->push_back(v10);
+                triangles->push_back(v11);
+                triangles->push_back(v00);
+                triangles->push_back(v11);
+                triangles->push_back(v01);
             }
         }
     }
@@ -222,8 +226,7 @@ osg::ref_ptr<osg::Geometry> makeBox(const osg::Vec3& lo, const osg::Vec3& hi, in
 
 unsigned triangleCount(const osg::Geometry& geom) {
     unsigned n = 0;
-    for (unsigned p = 0; p < geom.getNumPrimitiveSets(); ++p)
-        n += geom.getPrimitiveSet(p)->getNumIndices() / 3;
+    for (unsigned p = 0; p < geom.getNumPrimitiveSets(); ++p) n += geom.getPrimitiveSet(p)->getNumIndices() / 3;
     return n;
 }
 
@@ -252,8 +255,7 @@ std::vector<std::array<osg::Vec3, 4>> occluderPolygons(OccluderKind kind, float 
         polys.push_back({{{s, s, 0}, {-s, s, 0}, {-s, s, h}, {s, s, h}}});      // +Y
         polys.push_back({{{-s, -s, 0}, {s, -s, 0}, {s, -s, h}, {-s, -s, h}}});  // -Y
     }
-    if (kind == OccluderKind::Box)
-        polys.push_back({{{-s, -s, h}, {s, -s, h}, {s, s, h}, {-s, s, h}}});    // roof
+    if (kind == OccluderKind::Box) polys.push_back({{{-s, -s, h}, {s, -s, h}, {s, s, h}, {-s, s, h}}});  // roof
     if (kind == OccluderKind::Diagonals) {
         polys.push_back({{{-s, -s, 0}, {s, s, 0}, {s, s, h}, {-s, -s, h}}});
         polys.push_back({{{s, -s, 0}, {-s, s, 0}, {-s, s, h}, {s, -s, h}}});
@@ -328,8 +330,8 @@ Scene buildCity(int n, const Meshes& meshes, bool withOccluders, float occluderR
 
                     osg::ref_ptr<osg::Group> cell = new osg::Group;
 
-                    osg::ref_ptr<osg::MatrixTransform> buildingXf = new osg::MatrixTransform(
-                        osg::Matrixd::translate(x0 + kCellSize / 2, y0 + kCellSize / 2, 0.0));
+                    osg::ref_ptr<osg::MatrixTransform> buildingXf =
+                        new osg::MatrixTransform(osg::Matrixd::translate(x0 + kCellSize / 2, y0 + kCellSize / 2, 0.0));
                     osg::ref_ptr<osg::LOD> lod = new osg::LOD;
                     // The range is measured from the eye to a user-defined centre
                     // (the middle of the building), not to the bounding-sphere
@@ -359,14 +361,16 @@ Scene buildCity(int n, const Meshes& meshes, bool withOccluders, float occluderR
                         for (const auto& cpo : meshes.occluders[k]) {
                             osg::ref_ptr<osg::OccluderNode> occ = new osg::OccluderNode;
                             occ->setOccluder(cpo.get());
-                            if (occLod) occLod->addChild(occ.get(), 0.0f, occluderRange);
-                            else buildingXf->addChild(occ.get());
+                            if (occLod)
+                                occLod->addChild(occ.get(), 0.0f, occluderRange);
+                            else
+                                buildingXf->addChild(occ.get());
                             ++scene.nodes;
                         }
                     }
 
-                    osg::ref_ptr<osg::MatrixTransform> carXf = new osg::MatrixTransform(
-                        osg::Matrixd::translate(x0 + kCarOffset, y0 + kCarOffset, 0.0));
+                    osg::ref_ptr<osg::MatrixTransform> carXf =
+                        new osg::MatrixTransform(osg::Matrixd::translate(x0 + kCarOffset, y0 + kCarOffset, 0.0));
                     osg::ref_ptr<osg::Geode> carGeode = new osg::Geode;
                     carGeode->addDrawable(meshes.car.get());
                     carXf->addChild(carGeode.get());
@@ -451,8 +455,7 @@ std::vector<LeafKey> leafKeys(const osgUtil::RenderStage& stage) {
     std::vector<LeafKey> keys;
     forEachLeaf(stage, [&](const osgUtil::RenderLeaf* leaf) {
         const osg::RefMatrix* mv = leaf->_modelview.get();
-        keys.emplace_back(leaf->getDrawable(), mv ? (*mv)(3, 0) : 0.0, mv ? (*mv)(3, 1) : 0.0,
-                          mv ? (*mv)(3, 2) : 0.0);
+        keys.emplace_back(leaf->getDrawable(), mv ? (*mv)(3, 0) : 0.0, mv ? (*mv)(3, 1) : 0.0, mv ? (*mv)(3, 2) : 0.0);
     });
     std::sort(keys.begin(), keys.end());
     return keys;
@@ -522,8 +525,10 @@ class Json {
 public:
     Json& add(const std::string& k, double v, int decimals = 4) {
         char buf[64];
-        if (!std::isfinite(v)) std::snprintf(buf, sizeof buf, "null");
-        else std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+        if (!std::isfinite(v))
+            std::snprintf(buf, sizeof buf, "null");
+        else
+            std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
         kv_.emplace_back(k, buf);
         return *this;
     }
@@ -541,8 +546,7 @@ public:
     }
     std::string str() const {
         std::string s = "{";
-        for (size_t i = 0; i < kv_.size(); ++i)
-            s += (i ? ",\"" : "\"") + kv_[i].first + "\":" + kv_[i].second;
+        for (size_t i = 0; i < kv_.size(); ++i) s += (i ? ",\"" : "\"") + kv_[i].first + "\":" + kv_[i].second;
         return s + "}";
     }
     const std::vector<std::pair<std::string, std::string>>& fields() const { return kv_; }
@@ -577,8 +581,9 @@ bool checkInherited(const osgUtil::SceneView& sv, unsigned cullingMode) {
     const osgUtil::CullVisitor* cv = sv.getCullVisitor();
     if (unsigned(cv->getCullingMode()) != cullingMode ||
         cv->getComputeNearFarMode() != osg::CullSettings::DO_NOT_COMPUTE_NEAR_FAR) {
-        std::fprintf(stderr, "error: CullVisitor did not inherit the cull settings "
-                             "(mode 0x%x, near/far mode %d)\n",
+        std::fprintf(stderr,
+                     "error: CullVisitor did not inherit the cull settings "
+                     "(mode 0x%x, near/far mode %d)\n",
                      cv->getCullingMode(), int(cv->getComputeNearFarMode()));
         return false;
     }
@@ -586,8 +591,7 @@ bool checkInherited(const osgUtil::SceneView& sv, unsigned cullingMode) {
 }
 
 constexpr unsigned kFrustumCulling = osg::CullSettings::VIEW_FRUSTUM_SIDES_CULLING |
-                                     osg::CullSettings::NEAR_PLANE_CULLING |
-                                     osg::CullSettings::FAR_PLANE_CULLING;
+                                     osg::CullSettings::NEAR_PLANE_CULLING | osg::CullSettings::FAR_PLANE_CULLING;
 
 using Clock = std::chrono::steady_clock;
 double msBetween(Clock::time_point a, Clock::time_point b) {
@@ -679,18 +683,19 @@ int runCull(int n, int passes, bool withSgkit) {
         return 1;
     }
 
-    std::printf("{\"peer\":\"openscenegraph\",\"osg_version\":\"%s\",\"n\":%d,\"path\":\"orbit\","
-                "\"frames\":%d,\"cull_ms_median\":%.4f,\"cull_ms_p95\":%.4f,"
-                "\"geometries_mean\":%.2f,\"triangles_mean\":%.1f,\"build_s\":%.4f,"
-                "\"rss_mb\":%.2f,\"nodes\":%llu,\"bytes_per_node\":%.2f",
-                osgGetVersion(), n, kFrames, median(frameMs), percentile95(frameMs),
-                geometriesMean, trianglesSum / timedFrames, buildSeconds,
-                rssAfter / (1024.0 * 1024.0), (unsigned long long)scene.nodes,
-                (rssAfter - rssBefore) / double(scene.nodes));
+    std::printf(
+        "{\"peer\":\"openscenegraph\",\"osg_version\":\"%s\",\"n\":%d,\"path\":\"orbit\","
+        "\"frames\":%d,\"cull_ms_median\":%.4f,\"cull_ms_p95\":%.4f,"
+        "\"geometries_mean\":%.2f,\"triangles_mean\":%.1f,\"build_s\":%.4f,"
+        "\"rss_mb\":%.2f,\"nodes\":%llu,\"bytes_per_node\":%.2f",
+        osgGetVersion(), n, kFrames, median(frameMs), percentile95(frameMs), geometriesMean, trianglesSum / timedFrames,
+        buildSeconds, rssAfter / (1024.0 * 1024.0), (unsigned long long)scene.nodes,
+        (rssAfter - rssBefore) / double(scene.nodes));
 #ifdef SGBENCH_WITH_SGKIT
     if (sgScene)
-        std::printf(",\"sgkit_cull_ms_median\":%.4f,\"sgkit_geometries_mean\":%.2f,\"osg_over_sgkit_per_frame_median\":%.3f",
-                    median(sgMs), sgGeometries / double(sgMs.size()), median(ratio));
+        std::printf(
+            ",\"sgkit_cull_ms_median\":%.4f,\"sgkit_geometries_mean\":%.2f,\"osg_over_sgkit_per_frame_median\":%.3f",
+            median(sgMs), sgGeometries / double(sgMs.size()), median(ratio));
 #endif
     std::printf("}\n");
     std::fflush(stdout);
@@ -908,7 +913,8 @@ int runOcclusion(const OcclusionOptions& o) {
     j.add("active_occluders_mean", osgOcc.s.occluders / k, 2);
     j.add("occluder_collect_ms_median", median(osgOcc.s.collectMs));
     j.add("occluder_collect_ms_p95", percentile95(osgOcc.s.collectMs));
-    j.add("cull_ms_median_no_occlusion", median(osgOff.s.ms)).add("cull_ms_p95_no_occlusion", percentile95(osgOff.s.ms));
+    j.add("cull_ms_median_no_occlusion", median(osgOff.s.ms))
+        .add("cull_ms_p95_no_occlusion", percentile95(osgOff.s.ms));
     j.add("geometries_mean_no_occlusion", osgOff.s.geometries / k, 2);
     j.add("triangles_mean_no_occlusion", osgOff.s.triangles / k, 1);
     j.add("cull_ms_median_occluders_ignored", median(osgIgn.s.ms));
@@ -940,18 +946,21 @@ int runOcclusion(const OcclusionOptions& o) {
     if (o.json) {
         std::printf("%s\n", j.str().c_str());
     } else {
-        std::printf("sgbench_osg --occlusion: city N=%d, %s path, %d frames x %d pass(es), OpenSceneGraph %s\n",
-                    n, o.street ? "street" : "orbit", frames, o.passes, osgGetVersion());
-        std::printf("OSG occluders: %s (%zu ConvexPlanarOccluder polygons per building), at most %u active, "
-                    "minimum volume %g, ",
-                    occluderKindName(o.occluders), meshes.occluders[0].size(), o.maxOccluders, o.minVolume);
-        if (o.occluderRange > 0.0) std::printf("within %g m (LOD)\n\n", o.occluderRange);
-        else std::printf("no range limit\n\n");
+        std::printf("sgbench_osg --occlusion: city N=%d, %s path, %d frames x %d pass(es), OpenSceneGraph %s\n", n,
+                    o.street ? "street" : "orbit", frames, o.passes, osgGetVersion());
+        std::printf(
+            "OSG occluders: %s (%zu ConvexPlanarOccluder polygons per building), at most %u active, "
+            "minimum volume %g, ",
+            occluderKindName(o.occluders), meshes.occluders[0].size(), o.maxOccluders, o.minVolume);
+        if (o.occluderRange > 0.0)
+            std::printf("within %g m (LOD)\n\n", o.occluderRange);
+        else
+            std::printf("no range limit\n\n");
         std::printf("%-38s %10s %10s %12s %12s %10s\n", "", "cull ms", "p95 ms", "geometries", "triangles",
                     "occluders");
         auto row = [&](const char* name, const Series& s, bool occl) {
-            std::printf("%-38s %10.3f %10.3f %12.1f %12.1f", name, median(s.ms), percentile95(s.ms),
-                        s.geometries / k, s.triangles / k);
+            std::printf("%-38s %10.3f %10.3f %12.1f %12.1f", name, median(s.ms), percentile95(s.ms), s.geometries / k,
+                        s.triangles / k);
             if (occl) std::printf(" %10.2f", s.occluders / k);
             std::printf("\n");
         };
@@ -972,8 +981,8 @@ int runOcclusion(const OcclusionOptions& o) {
         std::printf("  OSG occluders ignored / OSG frustum only    %.3f\n", perFrame(osgIgn.s, osgOff.s));
 #ifdef SGBENCH_WITH_SGKIT
         if (sgScene) {
-            std::printf("  sgkit occlusion / sgkit frustum only        %.3f   (triangles %.3f)\n",
-                        perFrame(sgO, sgF), sgO.triangles / sgF.triangles);
+            std::printf("  sgkit occlusion / sgkit frustum only        %.3f   (triangles %.3f)\n", perFrame(sgO, sgF),
+                        sgO.triangles / sgF.triangles);
             std::printf("  OSG / sgkit, frustum only                   %.3f\n", perFrame(osgOff.s, sgF));
             std::printf("  OSG / sgkit, with occlusion                 %.3f   (triangles %.3f)\n",
                         perFrame(osgOcc.s, sgO), osgOcc.s.triangles / sgO.triangles);
@@ -1004,7 +1013,8 @@ int runPick(int n, int raysPerFrame) {
     std::vector<sg::Ray> rays;
     for (int f = 0; f < kFrames; ++f) {
         const sg::Camera cam = scenes::cityOrbitCamera(n, f);
-        for (int k = 0; k < raysPerFrame; ++k) rays.push_back(sg::pixelRay(cam, rng.uniform(0, 1280), rng.uniform(0, 720)));
+        for (int k = 0; k < raysPerFrame; ++k)
+            rays.push_back(sg::pixelRay(cam, rng.uniform(0, 1280), rng.uniform(0, 720)));
     }
     sg::IntersectTraversal sgPick;
     sg::QueryOptions opt;
@@ -1012,7 +1022,8 @@ int runPick(int n, int raysPerFrame) {
     auto osgPick = [&](const sg::Ray& r, double& dist) {
         const osg::Vec3d a(r.origin.x, r.origin.y, r.origin.z);
         const sg::dvec3 e = r.origin + r.direction * r.tMax;
-        osg::ref_ptr<osgUtil::LineSegmentIntersector> lsi = new osgUtil::LineSegmentIntersector(a, osg::Vec3d(e.x, e.y, e.z));
+        osg::ref_ptr<osgUtil::LineSegmentIntersector> lsi =
+            new osgUtil::LineSegmentIntersector(a, osg::Vec3d(e.x, e.y, e.z));
         lsi->setIntersectionLimit(osgUtil::Intersector::LIMIT_NEAREST);
         osgUtil::IntersectionVisitor iv(lsi.get());
         iv.setUseKdTreeWhenAvailable(true);
@@ -1040,11 +1051,12 @@ int runPick(int n, int raysPerFrame) {
             same += oh == sh && (!sh || std::abs(od - h.distance) < 1e-3);
         }
     }
-    std::printf("{\"peer\":\"openscenegraph\",\"osg_version\":\"%s\",\"n\":%d,\"rays\":%zu,\"hit_fraction\":%.4f,"
-                "\"osg_pick_us_median\":%.3f,\"osg_pick_us_p95\":%.3f,\"sgkit_pick_us_median\":%.3f,\"sgkit_pick_us_p95\":%.3f,"
-                "\"osg_over_sgkit_per_ray_median\":%.3f,\"same_hit_fraction\":%.5f}\n",
-                osgGetVersion(), n, sgUs.size(), double(hits) / double(sgUs.size()), median(osgUs), percentile95(osgUs),
-                median(sgUs), percentile95(sgUs), median(ratio), double(same) / double(sgUs.size()));
+    std::printf(
+        "{\"peer\":\"openscenegraph\",\"osg_version\":\"%s\",\"n\":%d,\"rays\":%zu,\"hit_fraction\":%.4f,"
+        "\"osg_pick_us_median\":%.3f,\"osg_pick_us_p95\":%.3f,\"sgkit_pick_us_median\":%.3f,\"sgkit_pick_us_p95\":%.3f,"
+        "\"osg_over_sgkit_per_ray_median\":%.3f,\"same_hit_fraction\":%.5f}\n",
+        osgGetVersion(), n, sgUs.size(), double(hits) / double(sgUs.size()), median(osgUs), percentile95(osgUs),
+        median(sgUs), percentile95(sgUs), median(ratio), double(same) / double(sgUs.size()));
     return 0;
 }
 #endif
@@ -1079,10 +1091,14 @@ int main(int argc, char** argv) {
             path = argv[++a];
         else if (!std::strcmp(argv[a], "--osg-occluders") && hasValue) {
             const std::string k = argv[++a];
-            if (k == "box") occ.occluders = OccluderKind::Box;
-            else if (k == "sides") occ.occluders = OccluderKind::Sides;
-            else if (k == "diagonals") occ.occluders = OccluderKind::Diagonals;
-            else usage("--osg-occluders must be box, sides or diagonals");
+            if (k == "box")
+                occ.occluders = OccluderKind::Box;
+            else if (k == "sides")
+                occ.occluders = OccluderKind::Sides;
+            else if (k == "diagonals")
+                occ.occluders = OccluderKind::Diagonals;
+            else
+                usage("--osg-occluders must be box, sides or diagonals");
             occOnly = true;
         } else if (!std::strcmp(argv[a], "--osg-max-occluders") && hasValue) {
             occ.maxOccluders = unsigned(parsePositive(argv[++a], "--osg-max-occluders"));
@@ -1117,7 +1133,8 @@ int main(int argc, char** argv) {
     } else {
         // The cull mode always prints JSON (--json is accepted for symmetry).
         if (!path.empty() && path != "orbit") usage("--path street needs --occlusion");
-        if (occOnly) usage("--osg-occluders, --osg-max-occluders, --osg-min-volume and --osg-occluder-range need --occlusion");
+        if (occOnly)
+            usage("--osg-occluders, --osg-max-occluders, --osg-min-volume and --osg-occluder-range need --occlusion");
         rc = runCull(n ? n : 316, passes, withSgkit);
     }
 

@@ -1,10 +1,10 @@
 // sgbench accuracy: differing pixels between the unculled and the culled render over K random views.
-#include "accuracy/Accuracy.h"
 #include "loaders/Gltf.h"
-#include "scenes/City.h"
-#include "scenes/Office.h"
-#include "scenes/RandomScene.h"
 #include "sgbench/Bench.h"
+#include "testbed/Accuracy.h"
+#include "testbed/City.h"
+#include "testbed/Office.h"
+#include "testbed/RandomScene.h"
 
 #include <stdexcept>
 
@@ -24,7 +24,8 @@ int runAccuracy(const Args& a) {
     // Occlusion is off unless asked for (the settings' own default is Auto).
     set.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "off"));
     const std::string cap = a.str("cap", "front");
-    if (cap != "front" && cap != "centre") throw std::invalid_argument("sgbench accuracy: --cap must be front or centre (got '" + cap + "')");
+    if (cap != "front" && cap != "centre")
+        throw std::invalid_argument("sgbench accuracy: --cap must be front or centre (got '" + cap + "')");
     set.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CentrePlane;
     const bool occlusion = set.occlusion.mode != sg::OcclusionMode::Off;
 
@@ -34,7 +35,8 @@ int runAccuracy(const Args& a) {
         if (n < 1) throw std::invalid_argument("sgbench accuracy: --n must be at least 1");
         // With occlusion: city.md's occluders, and views where they hide things (streets, low aerial ones).
         root = scenes::buildCity({n, occlusion});
-        cams = occlusion ? accuracy::cityOcclusionViews(n, views, seed, w, h) : accuracy::cityViews(n, views, seed, w, h);
+        cams =
+            occlusion ? accuracy::cityOcclusionViews(n, views, seed, w, h) : accuracy::cityViews(n, views, seed, w, h);
     } else if (sceneName == "office") {
         if (r < 1) throw std::invalid_argument("sgbench accuracy: --r must be at least 1");
         root = scenes::buildOffice(r);
@@ -42,8 +44,8 @@ int runAccuracy(const Args& a) {
     } else if (sceneName == "random") {
         root = scenes::buildRandomScene(seed);
         cams = accuracy::boxViews(sg::Box{sg::dvec3(-70), sg::dvec3(70)}, views, seed, w, h);
-    } else if (sceneName.size() > 4 && (sceneName.rfind(".gltf") == sceneName.size() - 5 ||
-                                        sceneName.rfind(".glb") == sceneName.size() - 4)) {
+    } else if (sceneName.size() > 4 &&
+               (sceneName.rfind(".gltf") == sceneName.size() - 5 || sceneName.rfind(".glb") == sceneName.size() - 4)) {
         root = sg::loadGltf(sceneName).root;  // a sg::LoadError names the file, the JSON path and why
     } else {
         throw std::invalid_argument("sgbench accuracy: --scene " + sceneName +
@@ -73,7 +75,8 @@ int runAccuracy(const Args& a) {
     j.add("occlusion", sg::occlusionModeName(set.occlusion.mode)).add("cap", cap);
     j.addInt("culled_occlusion_total", long(res.culledOcclusionTotal));
     j.addInt("views_with_occlusion_culls", res.viewsWithOcclusionCulls);
-    j.addInt("triangles_total", long(res.trianglesTotal)).addInt("reference_triangles_total", long(res.referenceTrianglesTotal));
+    j.addInt("triangles_total", long(res.trianglesTotal))
+        .addInt("reference_triangles_total", long(res.referenceTrianglesTotal));
     j.addInt("worst_view", res.worstView);
     j.print(a);
     return 0;

@@ -1,8 +1,8 @@
 // sgbench cull: city.md's scene and camera path; cull time (draw list included), what it selected,
 // build time and memory.
-#include "scenes/City.h"
-#include "sg/CullTraversal.h"
+#include "sg/cull/CullTraversal.h"
 #include "sgbench/Bench.h"
+#include "testbed/City.h"
 
 #include <chrono>
 #include <cstdio>
@@ -14,11 +14,13 @@ using Clock = std::chrono::steady_clock;
 
 int runCull(const Args& a) {
     const std::string sceneName = a.str("scene", "city");
-    if (sceneName != "city") throw std::invalid_argument("sgbench cull: --scene must be city (got '" + sceneName + "')");
+    if (sceneName != "city")
+        throw std::invalid_argument("sgbench cull: --scene must be city (got '" + sceneName + "')");
     const int n = int(a.num("n", 316));
     if (n < 1 || n > 4000) throw std::invalid_argument("sgbench cull: --n " + std::to_string(n) + " is not in 1..4000");
     const std::string path = a.str("path", "orbit");
-    if (path != "orbit" && path != "street") throw std::invalid_argument("sgbench cull: --path must be orbit or street");
+    if (path != "orbit" && path != "street")
+        throw std::invalid_argument("sgbench cull: --path must be orbit or street");
     sg::CullSettings set;
     set.strategy = sg::parseStrategy(a.str("strategy", "aabb"));
     set.smallFeaturePixels = double(a.num("small-feature", 0));
@@ -55,7 +57,11 @@ int runCull(const Args& a) {
         }
     const double k = double(ms.size());
     Json j;
-    j.add("command", "cull").add("scene", "city").addInt("n", n).add("path", path).add("strategy", sg::strategyName(set.strategy));
+    j.add("command", "cull")
+        .add("scene", "city")
+        .addInt("n", n)
+        .add("path", path)
+        .add("strategy", sg::strategyName(set.strategy));
     j.addInt("frames", long(ms.size()));
     j.add("cull_ms_median", median(ms)).add("cull_ms_p95", percentile(ms, 0.95));
     j.add("geometries_mean", geoms / k).add("triangles_mean", tris / k);

@@ -8,18 +8,16 @@
 
 #include <tiny_gltf.h>
 
+#include <sys/stat.h>
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
-#include <sys/stat.h>
 
 namespace bench {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
-}
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 size_t meshBytes(const sg::Mesh& m) {
     return m.positions().size() * 12 + m.normals().size() * 12 + m.uvs().size() * 8 + m.indices16().size() * 2 +

@@ -3,13 +3,13 @@
 // time budget (every visible LOD planned together with a draw-cost model fitted online). Headless,
 // 1280x720, city.md's orbit path; each frame's image is compared with the same view at full detail.
 #include "nodes/LOD.h"
-#include "scenes/City.h"
-#include "sg/CullTraversal.h"
-#include "sg/DrawCostModel.h"
-#include "sg/LodStress.h"
-#include "sg/OsmesaContext.h"
-#include "sg/Renderer.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/lod/DrawCostModel.h"
+#include "sg/lod/LodStress.h"
 #include "sgbench/Bench.h"
+#include "testbed/City.h"
 
 #include <chrono>
 #include <cmath>
@@ -74,7 +74,8 @@ int runLod(const Args& a) {
     std::vector<sg::Camera> cams;
     const int frames = path == "orbit" ? scenes::kOrbitFrames : scenes::kStreetFrames;
     for (int f = 0; f < frames; f += every)
-        cams.push_back(path == "orbit" ? scenes::cityOrbitCamera(n, a.flag("same-view") ? 0 : f) : scenes::cityStreetCamera(n, f));
+        cams.push_back(path == "orbit" ? scenes::cityOrbitCamera(n, a.flag("same-view") ? 0 : f)
+                                       : scenes::cityStreetCamera(n, f));
 
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
@@ -113,7 +114,7 @@ int runLod(const Args& a) {
         return total;
     };
     double cm = 0, dm = 0;
-    renderer.draw(list, cams[0]);  // uploads
+    renderer.draw(list, cams[0]);                     // uploads
     for (const auto& cam : cams) frame(cam, cm, dm);  // warm-up: stress and the model settle on the path
 
     std::vector<double> total, dev, select, predErr;
@@ -121,9 +122,11 @@ int runLod(const Args& a) {
     for (const auto& cam : cams) {
         const double t = frame(cam, cm, dm);
         if (a.flag("trace"))
-            std::fprintf(stderr, "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu dropped %5llu\n", t, cm, dm,
-                         st.lodPredictedMs, (unsigned long long)st.triangles, (unsigned long long)st.geometries,
-                         (unsigned long long)st.lodObjects, (unsigned long long)st.lodDropped);
+            std::fprintf(
+                stderr,
+                "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu dropped %5llu\n",
+                t, cm, dm, st.lodPredictedMs, (unsigned long long)st.triangles, (unsigned long long)st.geometries,
+                (unsigned long long)st.lodObjects, (unsigned long long)st.lodDropped);
         total.push_back(t);
         dev.push_back(std::abs(t - budget));
         select.push_back(st.lodSelectMs);
@@ -146,7 +149,8 @@ int runLod(const Args& a) {
     Json j;
     j.add("command", "lod").add("scene", "city").addInt("n", n).add("path", path).add("method", method);
     j.add("budget_ms", budget).addInt("frames", long(cams.size())).add("may_drop", a.flag("may-drop") ? "yes" : "no");
-    j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known").add("same_view", a.flag("same-view") ? "yes" : "no");
+    j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known")
+        .add("same_view", a.flag("same-view") ? "yes" : "no");
     j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);

@@ -1,12 +1,12 @@
 // sgbench occlusion: the occlusion-tree pass on city.md's street path or office.md's walk. Per frame, in
 // one run and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion;
 // triangles drawn by each, cull and pass times, and the whole frame drawn headless (1280x720).
-#include "scenes/City.h"
-#include "scenes/Office.h"
-#include "sg/CullTraversal.h"
-#include "sg/OsmesaContext.h"
-#include "sg/Renderer.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
 #include "sgbench/Bench.h"
+#include "testbed/City.h"
+#include "testbed/Office.h"
 
 #include <chrono>
 #include <memory>
@@ -22,12 +22,15 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 int runOcclusion(const Args& a) {
     const std::string sceneName = a.str("scene", "city");
     const bool city = sceneName == "city";
-    if (!city && sceneName != "office") throw std::invalid_argument("sgbench occlusion: --scene must be city or office (got '" + sceneName + "')");
+    if (!city && sceneName != "office")
+        throw std::invalid_argument("sgbench occlusion: --scene must be city or office (got '" + sceneName + "')");
     const int n = int(a.num(city ? "n" : "r", city ? 100 : 8));
-    if (n < 1 || n > 1000) throw std::invalid_argument("sgbench occlusion: the scene size " + std::to_string(n) + " is not in 1..1000");
+    if (n < 1 || n > 1000)
+        throw std::invalid_argument("sgbench occlusion: the scene size " + std::to_string(n) + " is not in 1..1000");
     const std::string path = a.str("path", city ? "street" : "walk");
     if (city ? (path != "street" && path != "orbit") : path != "walk")
-        throw std::invalid_argument("sgbench occlusion: --path must be street or orbit for city, walk for office (got '" + path + "')");
+        throw std::invalid_argument(
+            "sgbench occlusion: --path must be street or orbit for city, walk for office (got '" + path + "')");
     const bool draw = !a.flag("no-draw");
     const int every = int(a.num("every", 1));  // every k-th frame of the path
     if (every < 1) throw std::invalid_argument("sgbench occlusion: --every must be at least 1");
@@ -36,9 +39,11 @@ int runOcclusion(const Args& a) {
     frustum.occlusion.mode = sg::OcclusionMode::Off;
     sg::CullSettings occl = frustum;
     occl.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "tree"));
-    if (occl.occlusion.mode == sg::OcclusionMode::Off) throw std::invalid_argument("sgbench occlusion: --occlusion must be tree or auto");
+    if (occl.occlusion.mode == sg::OcclusionMode::Off)
+        throw std::invalid_argument("sgbench occlusion: --occlusion must be tree or auto");
     const std::string cap = a.str("cap", "front");
-    if (cap != "front" && cap != "centre") throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
+    if (cap != "front" && cap != "centre")
+        throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
     occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CentrePlane;
     occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
     occl.occlusion.minOccluderPixels = double(a.num("min-pixels", long(occl.occlusion.minOccluderPixels)));
@@ -84,7 +89,8 @@ int runOcclusion(const Args& a) {
         cullFrustum.cull(scene, cam, frustum, idList, st);
         while (ids.size() < idList.items.size()) {
             const uint32_t k = uint32_t(ids.size()) + 1;
-            auto m = sg::make<sg::Material>(sg::vec4(float(k & 255) / 255.0f, float((k >> 8) & 255) / 255.0f, float((k >> 16) & 255) / 255.0f, 1.0f));
+            auto m = sg::make<sg::Material>(sg::vec4(float(k & 255) / 255.0f, float((k >> 8) & 255) / 255.0f,
+                                                     float((k >> 16) & 255) / 255.0f, 1.0f));
             m->unlit = true;
             ids.push_back(m);
         }
@@ -105,7 +111,8 @@ int runOcclusion(const Args& a) {
     double trisIdeal = 0;
 
     std::vector<double> cullF, cullO, passO, frameF, frameO, speedup;
-    double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0, ran = 0;
+    double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0,
+           ran = 0;
     for (const sg::Camera& cam : cams) {
         cullNone.cull(scene, cam, none, list, st);
         total += double(st.triangles);
@@ -133,7 +140,9 @@ int runOcclusion(const Args& a) {
     j.add("command", "occlusion").add("scene", sceneName).addInt(city ? "n" : "r", n).add("path", path);
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
     j.addInt("max_occluders", long(occl.occlusion.maxOccluders)).addInt("splits", occl.occlusion.screenSplits);
-    j.add("triangles_total", total / k).add("triangles_frustum_mean", trisF / k).add("triangles_occlusion_mean", trisO / k);
+    j.add("triangles_total", total / k)
+        .add("triangles_frustum_mean", trisF / k)
+        .add("triangles_occlusion_mean", trisO / k);
     j.add("frustum_percent", 100.0 * trisF / total).add("occlusion_percent", 100.0 * trisO / total);
     j.add("occlusion_over_frustum", trisO / trisF);
     if (ideal) j.add("triangles_visible_mean", trisIdeal / k).add("visible_percent", 100.0 * trisIdeal / total);

@@ -1,13 +1,13 @@
 // sgbench pick: picking and viewpoint collision on city.md's scene. Pick rays through random pixels of the
 // orbit path's frames (LOD levels as each frame draws them); collision steps of a random walk at up to
 // 100 m/s at 60 Hz; time per ray and per step; then the picks checked against an id-buffer render.
-#include "accuracy/Accuracy.h"
-#include "accuracy/PickAccuracy.h"
-#include "scenes/City.h"
-#include "scenes/RandomScene.h"
-#include "sg/PickSet.h"
-#include "sg/ViewpointCollider.h"
+#include "sg/intersect/PickSet.h"
+#include "sg/intersect/ViewpointCollider.h"
 #include "sgbench/Bench.h"
+#include "testbed/Accuracy.h"
+#include "testbed/City.h"
+#include "testbed/PickAccuracy.h"
+#include "testbed/RandomScene.h"
 
 #include <chrono>
 #include <stdexcept>
@@ -21,14 +21,16 @@ double usSince(Clock::time_point t) { return std::chrono::duration<double, std::
 
 int runPick(const Args& a) {
     const std::string sceneName = a.str("scene", "city");
-    if (sceneName != "city") throw std::invalid_argument("sgbench pick: --scene must be city (got '" + sceneName + "')");
+    if (sceneName != "city")
+        throw std::invalid_argument("sgbench pick: --scene must be city (got '" + sceneName + "')");
     const int n = int(a.num("n", 316));
     if (n < 1 || n > 1000) throw std::invalid_argument("sgbench pick: --n " + std::to_string(n) + " is not in 1..1000");
     const int perFrame = int(a.num("rays-per-frame", 100));
     const int steps = int(a.num("steps", 10000));
     const int agreementViews = int(a.num("agreement-views", 20));
     if (perFrame < 1 || steps < 1 || agreementViews < 0)
-        throw std::invalid_argument("sgbench pick: --rays-per-frame and --steps must be at least 1, --agreement-views at least 0");
+        throw std::invalid_argument(
+            "sgbench pick: --rays-per-frame and --steps must be at least 1, --agreement-views at least 0");
 
     sg::Scene scene(scenes::buildCity({n, false}));
     scene.update();
@@ -57,7 +59,9 @@ int runPick(const Args& a) {
             const bool hit = isect.intersect(scene, rays[r], opt, h);
             if (us) us->push_back(usSince(t0));
             if (hits && hit) ++*hits;
-            if (us) geometriesTested += isect.lastStats().geometriesTested, entriesVisited += isect.lastStats().entriesVisited;
+            if (us)
+                geometriesTested += isect.lastStats().geometriesTested,
+                    entriesVisited += isect.lastStats().entriesVisited;
         }
     };
     const auto w0 = Clock::now();
@@ -102,7 +106,8 @@ int runPick(const Args& a) {
         const accuracy::IdMap ids = accuracy::assignIdColors(scene.root());
         scene.update();
         accuracy::PickHarness h(320, 180);
-        const accuracy::PickAgreement r = h.run(scene, ids, accuracy::cityViews(n, agreementViews, 7, 320, 180), 500, 3);
+        const accuracy::PickAgreement r =
+            h.run(scene, ids, accuracy::cityViews(n, agreementViews, 7, 320, 180), 500, 3);
         j.add("pick_agreement", r.rate()).addInt("agreement_pixels", long(r.compared));
     }
     j.print(a);

@@ -1,13 +1,13 @@
 // sgbench: the benchmarks whose figures the README reports. `sgbench <command> [--options] [--json]`.
 #include "sgbench/Bench.h"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
-#include <unistd.h>
 
 namespace bench {
 
@@ -36,7 +36,8 @@ long Args::num(const std::string& k, long def) const {
     if (it == opts.end()) return def;
     char* end = nullptr;
     const long v = std::strtol(it->second.c_str(), &end, 10);
-    if (!end || *end) throw std::invalid_argument("sgbench: --" + k + " needs a whole number, got '" + it->second + "'");
+    if (!end || *end)
+        throw std::invalid_argument("sgbench: --" + k + " needs a whole number, got '" + it->second + "'");
     return v;
 }
 
@@ -95,16 +96,22 @@ double percentile(std::vector<double> v, double p) {
 }  // namespace bench
 
 static void usage() {
-    std::fprintf(stderr,
-                 "usage: sgbench cull --scene city --n N [--strategy S] [--path orbit|street] [--json]\n"
-                 "       sgbench accuracy --scene city|random|office|FILE.gltf --views K --strategy S [--seed X] [--n N | --r R]\n"
-                 "                [--occlusion off|tree|auto] [--cap front|centre] [--width W --height H] [--json]\n"
-                 "       sgbench occlusion --scene city|office [--n N | --r R] [--path street|orbit|walk] [--occlusion tree|auto]\n"
-                 "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] [--no-draw] [--json]\n"
-                 "       sgbench lod --scene city [--n N] [--path orbit|street] --budget-ms B --method static|stress|budget [--may-drop] [--guess-accuracy] [--same-view] [--every K] [--json]\n"
-                 "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
-                 "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
-                 "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature culling\n");
+    std::fprintf(
+        stderr,
+        "usage: sgbench cull --scene city --n N [--strategy S] [--path orbit|street] [--json]\n"
+        "       sgbench accuracy --scene city|random|office|FILE.gltf --views K --strategy S [--seed X] [--n N | --r "
+        "R]\n"
+        "                [--occlusion off|tree|auto] [--cap front|centre] [--width W --height H] [--json]\n"
+        "       sgbench occlusion --scene city|office [--n N | --r R] [--path street|orbit|walk] [--occlusion "
+        "tree|auto]\n"
+        "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] "
+        "[--no-draw] [--json]\n"
+        "       sgbench lod --scene city [--n N] [--path orbit|street] --budget-ms B --method static|stress|budget "
+        "[--may-drop] [--guess-accuracy] [--same-view] [--every K] [--json]\n"
+        "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
+        "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
+        "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
+        "culling\n");
 }
 
 int main(int argc, char** argv) {

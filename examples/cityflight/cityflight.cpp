@@ -2,10 +2,10 @@
 // frame (update, cull, draw) rendered offscreen, writes the last frame to a PNG and prints a stats table.
 //   cityflight [--n N] [--frames F] [--size WxH] [--out city.png] [--strategy S]
 #include "nodes/Transform.h"
-#include "scenes/City.h"
-#include "sg/CullTraversal.h"
-#include "sg/OsmesaContext.h"
-#include "sg/Renderer.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "testbed/City.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,11 +21,15 @@ int main(int argc, char** argv) {
     std::string out = "city.png", strategy = "aabb";
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string k = argv[i], v = argv[i + 1];
-        if (k == "--n") n = std::max(1, std::atoi(v.c_str()));
-        else if (k == "--frames") frames = std::max(1, std::atoi(v.c_str()));
-        else if (k == "--size" && std::sscanf(v.c_str(), "%dx%d", &w, &h) == 2) {}
-        else if (k == "--out") out = v;
-        else if (k == "--strategy") strategy = v;
+        if (k == "--n")
+            n = std::max(1, std::atoi(v.c_str()));
+        else if (k == "--frames")
+            frames = std::max(1, std::atoi(v.c_str()));
+        else if (k == "--size" && std::sscanf(v.c_str(), "%dx%d", &w, &h) == 2) {
+        } else if (k == "--out")
+            out = v;
+        else if (k == "--strategy")
+            strategy = v;
         else {
             std::fprintf(stderr, "cityflight: unknown option %s\n", k.c_str());
             return 2;
@@ -73,8 +77,8 @@ int main(int argc, char** argv) {
             for (double x : v) s += x;
             return s / double(v.size());
         };
-        std::printf("cityflight: city N=%d (%zu image entries), %d frames at %dx%d, strategy %s\n", n, scene.image().size(),
-                    frames, w, h, strategy.c_str());
+        std::printf("cityflight: city N=%d (%zu image entries), %d frames at %dx%d, strategy %s\n", n,
+                    scene.image().size(), frames, w, h, strategy.c_str());
         std::printf("  %-28s %10.1f\n", "scene build + update (ms)", buildMs);
         std::printf("  %-28s %10.3f\n", "cull per frame (ms, mean)", mean(cullMs));
         std::printf("  %-28s %10.3f\n", "draw submit (ms, mean)", mean(drawMs));

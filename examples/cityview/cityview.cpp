@@ -1,10 +1,10 @@
 // cityview: the `city` scene in a real window (GLFW): the orbit path of city.md plays until the window is
 // closed or Escape is pressed; space pauses; the cull and draw figures go to the terminal once a second.
 //   cityview [--n N] [--frames F]   (F > 0: stop after F frames, for scripted runs under xvfb-run)
-#include "scenes/City.h"
-#include "sg/CullTraversal.h"
-#include "sg/GlfwWindow.h"
-#include "sg/Renderer.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/GlfwWindow.h"
+#include "sg/gl/Renderer.h"
+#include "testbed/City.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -15,8 +15,10 @@ int main(int argc, char** argv) try {
     int n = 100, frames = 0;
     for (int i = 1; i + 1 < argc; i += 2) {
         const std::string k = argv[i];
-        if (k == "--n") n = std::max(1, std::atoi(argv[i + 1]));
-        else if (k == "--frames") frames = std::max(0, std::atoi(argv[i + 1]));
+        if (k == "--n")
+            n = std::max(1, std::atoi(argv[i + 1]));
+        else if (k == "--frames")
+            frames = std::max(0, std::atoi(argv[i + 1]));
     }
     GlfwWindow window(1280, 720, "sgkit cityview");
     Renderer renderer;
@@ -25,9 +27,9 @@ int main(int argc, char** argv) try {
     DrawList list;
     bool paused = false;
     window.setKeyCallback([&](int key, int action, int) {
-        if (action != 1) return;           // GLFW_PRESS
-        if (key == 256) window.close();    // GLFW_KEY_ESCAPE
-        if (key == 32) paused = !paused;   // GLFW_KEY_SPACE
+        if (action != 1) return;          // GLFW_PRESS
+        if (key == 256) window.close();   // GLFW_KEY_ESCAPE
+        if (key == 32) paused = !paused;  // GLFW_KEY_SPACE
     });
     int shown = 0, path = 0;
     double lastReport = window.time(), cullMs = 0, drawMs = 0;
@@ -45,7 +47,8 @@ int main(int argc, char** argv) try {
         ++shown;
         if (window.time() - lastReport > 1.0 || (frames && shown == frames)) {
             std::printf("frame %d: %llu geometries, %llu triangles, cull %.2f ms, draw submit %.2f ms\n", shown,
-                        (unsigned long long)st.geometries, (unsigned long long)st.triangles, cullMs / shown, drawMs / shown);
+                        (unsigned long long)st.geometries, (unsigned long long)st.triangles, cullMs / shown,
+                        drawMs / shown);
             lastReport = window.time();
         }
     }

@@ -3,10 +3,10 @@
 #include "nodes/Group.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
-#include "sg/CullTraversal.h"
-#include "sg/ImageIO.h"
-#include "sg/OsmesaContext.h"
-#include "sg/Renderer.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/io/ImageIO.h"
 
 #include <cstdio>
 #include <exception>
@@ -45,8 +45,8 @@ int main(int argc, char** argv) try {
     savePng(out, renderer.readColor());
 
     const RenderStats& s = renderer.lastStats();
-    std::printf("%s: %llu geometries, %llu draw calls, %llu triangles, %.2f ms\n", out,
-                (unsigned long long)s.instances, (unsigned long long)s.drawCalls, (unsigned long long)s.triangles, s.ms);
+    std::printf("%s: %llu geometries, %llu draw calls, %llu triangles, %.2f ms\n", out, (unsigned long long)s.instances,
+                (unsigned long long)s.drawCalls, (unsigned long long)s.triangles, s.ms);
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "hello: %s\n", e.what());

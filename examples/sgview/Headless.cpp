@@ -1,7 +1,7 @@
-#include "sg/ImageIO.h"
+#include "sg/io/ImageIO.h"
 #include "sgview/EglContext.h"
-#include "sgview/Pick.h"
 #include "sgview/Modes.h"
+#include "sgview/Pick.h"
 #include "sgview/View.h"
 #include "sgview/ViewCamera.h"
 
@@ -35,11 +35,12 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     IntersectTraversal picker;
     for (const auto& [x, y] : o.picks) std::printf("%s\n", pickReport(picker, scene, camera, x, y).c_str());
     const dvec3 e = camera.eye();
-    std::printf("sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
-                "eye (%g, %g, %g)\n",
-                o.out.c_str(), o.width, o.height, o.frames, o.frames == 1 ? "" : "s", cullMs / o.frames,
-                drawMs / o.frames, (unsigned long long)view.renderStats().instances,
-                (unsigned long long)view.renderStats().triangles, e.x, e.y, e.z);
+    std::printf(
+        "sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
+        "eye (%g, %g, %g)\n",
+        o.out.c_str(), o.width, o.height, o.frames, o.frames == 1 ? "" : "s", cullMs / o.frames, drawMs / o.frames,
+        (unsigned long long)view.renderStats().instances, (unsigned long long)view.renderStats().triangles, e.x, e.y,
+        e.z);
     return 0;
 }
 

@@ -28,7 +28,7 @@ size_t finestChild(const LOD& lod) {
     size_t best = 0;
     for (size_t i = 1; i < lod.numChildren(); ++i) {
         const bool finer = lod.mode() == LOD::Mode::Distance ? lod.range(i).min < lod.range(best).min
-                                                              : lod.range(i).max > lod.range(best).max;
+                                                             : lod.range(i).max > lod.range(best).max;
         if (finer) best = i;
     }
     return best;
@@ -114,13 +114,15 @@ SceneInfo computeInfo(const Node& root, const Scene& scene) {
     return info;
 }
 
-void printInfo(std::FILE* out, const std::string& title, const SceneInfo& i,
-               const std::vector<std::string>& warnings) {
+void printInfo(std::FILE* out, const std::string& title, const SceneInfo& i, const std::vector<std::string>& warnings) {
     auto size = [](size_t b) {  // "812 B", "12.5 KB", "3.20 MB"
         char buf[32];
-        if (b < 1024) std::snprintf(buf, sizeof buf, "%zu B", b);
-        else if (b < 1024 * 1024) std::snprintf(buf, sizeof buf, "%.1f KB", double(b) / 1024.0);
-        else std::snprintf(buf, sizeof buf, "%.2f MB", double(b) / (1024.0 * 1024.0));
+        if (b < 1024)
+            std::snprintf(buf, sizeof buf, "%zu B", b);
+        else if (b < 1024 * 1024)
+            std::snprintf(buf, sizeof buf, "%.1f KB", double(b) / 1024.0);
+        else
+            std::snprintf(buf, sizeof buf, "%.2f MB", double(b) / (1024.0 * 1024.0));
         return std::string(buf);
     };
     std::fprintf(out, "scene: %s\n", title.c_str());

@@ -1,7 +1,7 @@
 // sgview --info: what a scene holds (nodes by kind, triangles, bounds, memory) and what its loader warned.
 #pragma once
-#include "sg/Node.h"
-#include "sg/Scene.h"
+#include "sg/core/Node.h"
+#include "sg/scene/Scene.h"
 
 #include <array>
 #include <cstdint>

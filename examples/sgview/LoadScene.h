@@ -1,7 +1,7 @@
 // Loading what sgview shows: glTF files (LoadScene.cpp, through loaders/Gltf.h) or a built-in scene.
 #pragma once
-#include "sg/Math.h"
-#include "sg/Node.h"
+#include "sg/core/Math.h"
+#include "sg/core/Node.h"
 #include "sgview/Options.h"
 
 #include <string>

@@ -1,6 +1,6 @@
 // sgview's two ways of showing a loaded scene; each returns the process exit code.
 #pragma once
-#include "sg/Scene.h"
+#include "sg/scene/Scene.h"
 #include "sgview/LoadScene.h"
 #include "sgview/Options.h"
 

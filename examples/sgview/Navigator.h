@@ -1,8 +1,8 @@
 // Navigator: the viewer's eye under trackball, fly and walk navigation (no window or GL: driven by events).
 #pragma once
-#include "sg/Camera.h"
-#include "sg/ViewpointCollider.h"
-#include "sg/Math.h"
+#include "sg/core/Camera.h"
+#include "sg/core/Math.h"
+#include "sg/intersect/ViewpointCollider.h"
 
 #include <cstdint>
 #include <functional>

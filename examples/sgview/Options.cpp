@@ -1,6 +1,6 @@
 #include "sgview/Options.h"
 
-#include "sg/Camera.h"
+#include "sg/core/Camera.h"
 
 #include <cerrno>
 #include <cmath>
@@ -79,10 +79,14 @@ Options parseOptions(int argc, const char* const* argv) {
             if (i + 1 >= argc) throw UsageError(a + " needs a value");
             return argv[++i];
         };
-        if (a == "--help" || a == "-h") o.help = true;
-        else if (a == "--headless") o.headless = true;
-        else if (a == "--info") o.info = true;
-        else if (a == "--overlay") o.overlay = true;
+        if (a == "--help" || a == "-h")
+            o.help = true;
+        else if (a == "--headless")
+            o.headless = true;
+        else if (a == "--info")
+            o.info = true;
+        else if (a == "--overlay")
+            o.overlay = true;
         else if (a == "--scene") {
             o.scene = value();
             if (o.scene != "city" && o.scene != "office") bad(a, o.scene, "the built-in scenes are city and office");
@@ -105,18 +109,24 @@ Options parseOptions(int argc, const char* const* argv) {
             const std::string v = value();
             const std::vector<double> xy = parseNumbers(a, v, 2, "X,Y (a pixel, y down)");
             o.picks.emplace_back(xy[0], xy[1]);
-        } else if (a == "--camera") o.camera = parseCamera(value());
-        else if (a == "--size") parseSize(value(), o.width, o.height);
+        } else if (a == "--camera")
+            o.camera = parseCamera(value());
+        else if (a == "--size")
+            parseSize(value(), o.width, o.height);
         else if (a == "--strategy" || a == "--occlusion") {
             const std::string v = value();
             try {
-                if (a == "--strategy") o.strategy = sg::parseStrategy(v);
-                else o.occlusion = sg::parseOcclusionMode(v);
+                if (a == "--strategy")
+                    o.strategy = sg::parseStrategy(v);
+                else
+                    o.occlusion = sg::parseOcclusionMode(v);
             } catch (const std::invalid_argument& e) {
                 bad(a, v, e.what());
             }
-        } else if (a.size() > 1 && a[0] == '-') throw UsageError("unknown option '" + a + "'");
-        else o.files.push_back(a);
+        } else if (a.size() > 1 && a[0] == '-')
+            throw UsageError("unknown option '" + a + "'");
+        else
+            o.files.push_back(a);
     }
     if (o.help) return o;
     if (o.files.empty() && o.scene.empty()) throw UsageError("nothing to show: give FILE... or --scene city|office");
@@ -125,7 +135,8 @@ Options parseOptions(int argc, const char* const* argv) {
     if (out && !o.headless && !frames)
         throw UsageError("--out in the window needs --frames K (the picture is frame K; P or F12 save screenshots)");
     if (o.info && o.headless) throw UsageError("--info prints a summary and renders nothing: drop --headless");
-    if (!o.save.empty() && (o.headless || o.info)) throw UsageError("--save writes the scene and exits: drop --headless and --info");
+    if (!o.save.empty() && (o.headless || o.info))
+        throw UsageError("--save writes the scene and exits: drop --headless and --info");
     if (!o.picks.empty() && !o.headless) throw UsageError("--pick is for --headless (in the window, click)");
     for (const auto& [x, y] : o.picks)
         if (x < 0 || y < 0 || x >= o.width || y >= o.height)

@@ -1,7 +1,7 @@
 // sgview's command line: what to show (files or a built-in scene), how (window, headless, info) and the view.
 #pragma once
-#include "sg/CullSettings.h"
-#include "sg/Math.h"
+#include "sg/core/Math.h"
+#include "sg/cull/CullSettings.h"
 
 #include <optional>
 #include <stdexcept>
@@ -25,13 +25,13 @@ struct Options {
     std::string scene;  // "city" or "office" (bench/scenes) when no files are given
     int n = 0;          // city: N x N cells (default 32); office: R x R rooms (default 6)
     bool headless = false, info = false, overlay = false, help = false;
-    int frames = 0;  // headless: frames rendered (default 1); window: quit after this many (0: run until closed)
+    int frames = 0;   // headless: frames rendered (default 1); window: quit after this many (0: run until closed)
     std::string out;  // headless: the picture (default sgview.png); window with --frames: frame K, written at exit
     std::optional<CameraSpec> camera;
     int width = 1280, height = 720;
     sg::CullStrategy strategy = sg::CullStrategy::Aabb;
     sg::OcclusionMode occlusion = sg::OcclusionMode::Auto;
-    std::string save;  // write the scene as glTF here and exit (--save)
+    std::string save;                              // write the scene as glTF here and exit (--save)
     std::vector<std::pair<double, double>> picks;  // headless: pixels to pick in the last frame (--pick X,Y)
 };
 

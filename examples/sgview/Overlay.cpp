@@ -1,6 +1,6 @@
 #include "sgview/Overlay.h"
 
-#include "sg/GlProgram.h"
+#include "sg/gl/GlProgram.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

@@ -1,13 +1,13 @@
 #include "sgview/Pick.h"
 
-#include "sg/PickSet.h"
+#include "sg/intersect/PickSet.h"
 
 #include <cstdio>
 
 namespace sgview {
 
-std::string pickReport(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera,
-                       double x, double y) {
+std::string pickReport(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera, double x,
+                       double y) {
     char head[64];
     std::snprintf(head, sizeof head, "pick (%g, %g): ", x, y);
     // No objects registered: the path itself is the answer, down to the geometry that was hit.

@@ -1,8 +1,8 @@
 // Built-in scenes, and the checks every file passes before the loader sees it.
 #include "nodes/Group.h"
-#include "scenes/City.h"
-#include "scenes/Office.h"
 #include "sgview/LoadScene.h"
+#include "testbed/City.h"
+#include "testbed/Office.h"
 
 #include <filesystem>
 #include <fstream>

@@ -1,8 +1,8 @@
 // View: one sgview frame (cull, draw, stats overlay) over a current GL context; the window and the headless
 // mode both draw through it.
 #pragma once
-#include "sg/CullTraversal.h"
-#include "sg/Renderer.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/Renderer.h"
 #include "sgview/Overlay.h"
 
 #include <string>
@@ -42,7 +42,7 @@ private:
 
 // Bounds culled by any test (frustum, the sphere and centre pre-tests, small features, occlusion).
 uint64_t culledCount(const sg::CullStats& s);
-const char* nextName(sg::CullStrategy& s);  // cycles none, sphere, aabb, sphere-sphere, center-box
+const char* nextName(sg::CullStrategy& s);   // cycles none, sphere, aabb, sphere-sphere, center-box
 const char* nextName(sg::OcclusionMode& m);  // cycles off, tree, auto
 
 }  // namespace sgview

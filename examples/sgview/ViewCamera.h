@@ -1,7 +1,7 @@
 // The cameras sgview starts from: the whole scene framed automatically, or the one given with --camera.
 #pragma once
-#include "sg/Camera.h"
-#include "sg/Scene.h"
+#include "sg/core/Camera.h"
+#include "sg/scene/Scene.h"
 #include "sgview/Options.h"
 
 namespace sgview {

@@ -1,6 +1,6 @@
 // The window: GLFW input drives the Navigator; each frame is culled and drawn through View.
-#include "sg/GlfwWindow.h"
-#include "sg/ImageIO.h"
+#include "sg/gl/GlfwWindow.h"
+#include "sg/io/ImageIO.h"
 #include "sgview/Modes.h"
 #include "sgview/Navigator.h"
 #include "sgview/Pick.h"
@@ -61,11 +61,11 @@ private:
     ViewpointCollider walker_;  // walk mode: collisions and ground following
     MoveKeys keys_;
     bool overlay_ = true, wantShot_ = false;
-    int held_ = -1;               // mouse button held, -1: none
-    double x_ = 0.0, y_ = 0.0;    // cursor
+    int held_ = -1;             // mouse button held, -1: none
+    double x_ = 0.0, y_ = 0.0;  // cursor
     double pressX_ = 0.0, pressY_ = 0.0;
-    bool dragged_ = false;        // moved since the press: a drag, not a click
-    IntersectTraversal picker_;   // keeps its per-mesh BVHs between clicks
+    bool dragged_ = false;       // moved since the press: a drag, not a click
+    IntersectTraversal picker_;  // keeps its per-mesh BVHs between clicks
 };
 
 int Viewer::run() {

@@ -1,6 +1,6 @@
 // sgview: the scene viewer. A window with trackball, fly and walk navigation and a stats overlay; or
 // --headless, rendering offscreen to a PNG; or --info, a summary of the scene. `sgview --help` lists it all.
-#include "sg/Scene.h"
+#include "sg/scene/Scene.h"
 #include "sgview/Info.h"
 #include "sgview/LoadScene.h"
 #include "sgview/Modes.h"

@@ -2,8 +2,8 @@
 #include <loaders/Gltf.h>
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
-#include <sg/CullTraversal.h>
-#include <sg/LodGenerator.h>
+#include <sg/cull/CullTraversal.h>
+#include <sg/lod/LodGenerator.h>
 
 #include <cstdio>
 #include <filesystem>

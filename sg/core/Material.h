@@ -1,0 +1,36 @@
+// Material: base colour and an optional RGBA8 texture; shared between geometries.
+#pragma once
+#include "sg/core/Math.h"
+#include "sg/core/Ref.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sg {
+
+class Texture : public Referenced {
+public:
+    // Throws std::invalid_argument when the pixel count does not match width * height * 4.
+    Texture(int width, int height, std::vector<uint8_t> rgba);
+    int width() const { return w_; }
+    int height() const { return h_; }
+    const std::vector<uint8_t>& rgba() const { return rgba_; }
+
+private:
+    int w_, h_;
+    std::vector<uint8_t> rgba_;
+};
+
+class Material : public Referenced {
+public:
+    explicit Material(const vec4& baseColor = vec4(0.8f, 0.8f, 0.8f, 1.0f), ref_ptr<Texture> tex = {});
+    vec4 baseColor;
+    ref_ptr<Texture> texture;
+    bool unlit = false;  // billboards and maps are often drawn without lighting
+    uint32_t id() const { return id_; }
+
+private:
+    uint32_t id_;
+};
+
+}  // namespace sg

@@ -1,0 +1,93 @@
+#include "sg/core/Mesh.h"
+
+#include <atomic>
+#include <stdexcept>
+#include <string>
+
+namespace sg {
+
+static std::atomic<uint32_t> g_nextMeshId{1};
+
+Mesh::Mesh() : id_(g_nextMeshId++) {}
+
+void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vector<uint32_t> indices,
+               std::vector<vec2> uvs, std::vector<vec4> colors) {
+    const size_t n = positions.size();
+    auto sizeError = [&](const char* what, size_t got) {
+        throw std::invalid_argument(std::string("Mesh::set(): ") + what + " has " + std::to_string(got) +
+                                    " elements, positions has " + std::to_string(n));
+    };
+    if (!normals.empty() && normals.size() != n) sizeError("normals", normals.size());
+    if (!uvs.empty() && uvs.size() != n) sizeError("uvs", uvs.size());
+    if (!colors.empty() && colors.size() != n) sizeError("colors", colors.size());
+    if (indices.size() % 3 != 0)
+        throw std::invalid_argument("Mesh::set(): index count " + std::to_string(indices.size()) +
+                                    " is not a multiple of 3");
+    uint32_t maxIndex = 0;
+    for (size_t i = 0; i < indices.size(); ++i) {
+        if (indices[i] >= n)
+            throw std::invalid_argument("Mesh::set(): indices[" + std::to_string(i) +
+                                        "] = " + std::to_string(indices[i]) + " is out of range (" + std::to_string(n) +
+                                        " positions)");
+        maxIndex = std::max(maxIndex, indices[i]);
+    }
+    box_ = Box{};
+    valid_ = true;
+    for (const vec3& p : positions) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) valid_ = false;
+        box_.expand(dvec3(p));
+    }
+    positions_ = std::move(positions);
+    normals_ = std::move(normals);
+    uvs_ = std::move(uvs);
+    colors_ = std::move(colors);
+    indices16_.clear();
+    indices32_.clear();
+    if (maxIndex < 65536) {
+        indices16_.assign(indices.begin(), indices.end());
+    } else {
+        indices32_ = std::move(indices);
+    }
+    ++version_;
+}
+
+ref_ptr<Mesh> makeBoxMesh(const dvec3& mn, const dvec3& mx, int div) {
+    if (div < 1) div = 1;
+    std::vector<vec3> pos, nrm;
+    std::vector<vec2> uv;
+    std::vector<uint32_t> idx;
+    // Each face: origin corner, two edge vectors (u, v) with u x v pointing outward.
+    const dvec3 d = mx - mn;
+    struct Face {
+        dvec3 o, u, v;
+    };
+    const Face faces[6] = {
+        {{mn.x, mn.y, mn.z}, {0, d.y, 0}, {d.x, 0, 0}},  // -z
+        {{mn.x, mn.y, mx.z}, {d.x, 0, 0}, {0, d.y, 0}},  // +z
+        {{mn.x, mn.y, mn.z}, {d.x, 0, 0}, {0, 0, d.z}},  // -y
+        {{mn.x, mx.y, mn.z}, {0, 0, d.z}, {d.x, 0, 0}},  // +y
+        {{mn.x, mn.y, mn.z}, {0, 0, d.z}, {0, d.y, 0}},  // -x
+        {{mx.x, mn.y, mn.z}, {0, d.y, 0}, {0, 0, d.z}},  // +x
+    };
+    for (const Face& f : faces) {
+        const vec3 n = vec3(glm::normalize(glm::cross(f.u, f.v)));
+        const uint32_t base = uint32_t(pos.size());
+        for (int j = 0; j <= div; ++j)
+            for (int i = 0; i <= div; ++i) {
+                const double a = double(i) / div, b = double(j) / div;
+                pos.push_back(vec3(f.o + f.u * a + f.v * b));
+                nrm.push_back(n);
+                uv.push_back(vec2(float(a), float(b)));
+            }
+        for (int j = 0; j < div; ++j)
+            for (int i = 0; i < div; ++i) {
+                const uint32_t a = base + uint32_t(j * (div + 1) + i), b = a + 1, c = a + uint32_t(div + 1), e = c + 1;
+                idx.insert(idx.end(), {a, b, e, a, e, c});
+            }
+    }
+    auto m = make<Mesh>();
+    m->set(std::move(pos), std::move(nrm), std::move(idx), std::move(uv));
+    return m;
+}
+
+}  // namespace sg

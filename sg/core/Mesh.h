@@ -1,0 +1,54 @@
+// Mesh: shared triangle data (positions, normals, optional UVs and colours, 16- or 32-bit indices).
+#pragma once
+#include "sg/core/Math.h"
+#include "sg/core/Ref.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sg {
+
+class Mesh : public Referenced {
+public:
+    Mesh();
+    // Throws std::invalid_argument when an index is out of range or the sizes disagree; the message
+    // names the array and the first bad element. Non-finite positions are kept (the bound is then
+    // invalid: the geometry is always drawn and counted).
+    void set(std::vector<vec3> positions, std::vector<vec3> normals, std::vector<uint32_t> indices,
+             std::vector<vec2> uvs = {}, std::vector<vec4> colors = {});
+
+    const std::vector<vec3>& positions() const { return positions_; }
+    const std::vector<vec3>& normals() const { return normals_; }
+    const std::vector<vec2>& uvs() const { return uvs_; }
+    const std::vector<vec4>& colors() const { return colors_; }
+    // Exactly one of these is filled: 16-bit when every index fits.
+    const std::vector<uint16_t>& indices16() const { return indices16_; }
+    const std::vector<uint32_t>& indices32() const { return indices32_; }
+    uint32_t indexCount() const { return uint32_t(indices16_.empty() ? indices32_.size() : indices16_.size()); }
+    uint32_t index(size_t i) const { return indices16_.empty() ? indices32_[i] : indices16_[i]; }
+    uint32_t triangleCount() const { return indexCount() / 3; }
+
+    // Local bound; `validBound()` is false when a position is NaN or infinite.
+    const Box& box() const { return box_; }
+    bool validBound() const { return valid_; }
+    uint32_t id() const { return id_; }
+    // Counts calls to set(): caches built from the arrays (MeshBvh) compare it to see that they are stale.
+    uint64_t version() const { return version_; }
+
+private:
+    std::vector<vec3> positions_, normals_;
+    std::vector<vec2> uvs_;
+    std::vector<vec4> colors_;
+    std::vector<uint16_t> indices16_;
+    std::vector<uint32_t> indices32_;
+    Box box_;
+    bool valid_ = true;
+    uint32_t id_;
+    uint64_t version_ = 0;
+};
+
+// Builders for the shapes the tests, benchmarks and demos use.
+// Box [min,max] with each face split into `div` x `div` quads, outward normals.
+ref_ptr<Mesh> makeBoxMesh(const dvec3& min, const dvec3& max, int div = 1);
+
+}  // namespace sg

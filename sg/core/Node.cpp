@@ -1,0 +1,155 @@
+#include "sg/core/Node.h"
+
+#include "sg/core/NodeVisitor.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace sg {
+
+struct Node::Extras {
+    std::string name;
+    UpdateCallback callback;
+    std::vector<Node*> moreParents;  // parents after the first (DAG)
+};
+
+namespace {
+std::unordered_map<const Node*, Node::Extras>& extrasTable() {
+    static std::unordered_map<const Node*, Node::Extras> table;
+    return table;
+}
+}  // namespace
+
+const char* kindName(NodeKind k) {
+    switch (k) {
+        case NodeKind::Group: return "Group";
+        case NodeKind::Transform: return "Transform";
+        case NodeKind::Geometry: return "Geometry";
+        case NodeKind::LOD: return "LOD";
+        case NodeKind::Switch: return "Switch";
+        case NodeKind::Billboard: return "Billboard";
+        case NodeKind::Instance: return "Instance";
+        case NodeKind::BspGroup: return "BspGroup";
+        case NodeKind::Occluder: return "Occluder";
+    }
+    return "Node";
+}
+
+Node::~Node() {
+    if (dirty_ & kHasExtras) extrasTable().erase(this);
+}
+
+Node::Extras& Node::extras() {
+    dirty_ |= kHasExtras;
+    return extrasTable()[this];
+}
+
+const Node::Extras* Node::findExtras() const {
+    if (!(dirty_ & kHasExtras)) return nullptr;
+    auto it = extrasTable().find(this);
+    return it == extrasTable().end() ? nullptr : &it->second;
+}
+
+void Node::setNodeMask(uint32_t m) {
+    mask_ = m;
+    if (m == 0xffffffffu)
+        dirty_ &= ~kHasMask;
+    else
+        dirty_ |= kHasMask;
+    markDirty(kDirtyBound);  // the image caches whether a mask must be read
+}
+
+const std::string& Node::name() const {
+    static const std::string empty;
+    const Extras* e = findExtras();
+    return e ? e->name : empty;
+}
+
+void Node::setName(std::string name) { extras().name = std::move(name); }
+
+std::string Node::describe() const {
+    std::string s = kindName();
+    if (!name().empty()) s += " '" + name() + "'";
+    return s;
+}
+
+void Node::setUpdateCallback(UpdateCallback cb) {
+    extras().callback = std::move(cb);
+    markDirty(kDirtyStructure);  // the image keeps the list of nodes with callbacks
+}
+
+const UpdateCallback* Node::updateCallback() const {
+    const Extras* e = findExtras();
+    return e && e->callback ? &e->callback : nullptr;
+}
+
+size_t Node::numParents() const noexcept {
+    if (!firstParent_) return 0;
+    const Extras* e = findExtras();
+    return 1 + (e ? e->moreParents.size() : 0);
+}
+
+Node* Node::parent(size_t i) const noexcept {
+    if (i == 0) return firstParent_;
+    const Extras* e = findExtras();
+    return e && i - 1 < e->moreParents.size() ? e->moreParents[i - 1] : nullptr;
+}
+
+void Node::addParent(Node* p) {
+    if (!firstParent_)
+        firstParent_ = p;
+    else
+        extras().moreParents.push_back(p);
+}
+
+void Node::removeParent(Node* p) {
+    Extras* e = (dirty_ & kHasExtras) ? &extras() : nullptr;
+    if (firstParent_ == p) {
+        if (e && !e->moreParents.empty()) {
+            firstParent_ = e->moreParents.back();
+            e->moreParents.pop_back();
+        } else {
+            firstParent_ = nullptr;
+        }
+        return;
+    }
+    if (!e) return;
+    auto& v = e->moreParents;
+    auto it = std::find(v.begin(), v.end(), p);
+    if (it != v.end()) v.erase(it);
+}
+
+void Node::markDirty(uint8_t bits) {
+    dirty_ |= bits;
+    const uint8_t up = kDirtyBelow | (bits & kDirtyStructure);
+    // Iterative walk to the roots; stop where the marks are already present (their ancestors have them).
+    std::vector<Node*> stack;
+    for (size_t i = 0, n = numParents(); i < n; ++i) stack.push_back(parent(i));
+    while (!stack.empty()) {
+        Node* a = stack.back();
+        stack.pop_back();
+        if ((a->dirty_ & up) == up) continue;
+        a->dirty_ |= up;
+        for (size_t i = 0, n = a->numParents(); i < n; ++i) stack.push_back(a->parent(i));
+    }
+}
+
+bool Node::hasAncestorOrSelf(const Node* n) const {
+    std::vector<const Node*> stack{this};
+    std::vector<const Node*> seen;
+    while (!stack.empty()) {
+        const Node* a = stack.back();
+        stack.pop_back();
+        if (a == n) return true;
+        if (a->numParents() > 1) {  // only DAG joins can be reached twice
+            if (std::find(seen.begin(), seen.end(), a) != seen.end()) continue;
+            seen.push_back(a);
+        }
+        for (size_t i = 0, k = a->numParents(); i < k; ++i) stack.push_back(a->parent(i));
+    }
+    return false;
+}
+
+void Node::accept(NodeVisitor& v) { v.apply(*this); }
+
+}  // namespace sg

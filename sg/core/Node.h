@@ -1,0 +1,93 @@
+// Base of every scene-graph node: reference count, parents, node mask, name, update callback, dirty bits.
+#pragma once
+#include "sg/core/Ref.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sg {
+
+class NodeVisitor;
+
+enum class NodeKind : uint8_t { Group, Transform, Geometry, LOD, Switch, Billboard, Instance, BspGroup, Occluder };
+const char* kindName(NodeKind k);
+
+struct FrameInfo {
+    uint64_t frame = 0;
+    double time = 0.0;
+};
+
+class Node;
+using UpdateCallback = std::function<void(Node&, const FrameInfo&)>;
+
+class Node : public Referenced {
+public:
+    // Dirty bits, kept small: the update pass follows only marked paths.
+    enum : uint8_t {
+        kDirtyBound = 1,      // this node's own bound-affecting data changed (matrix, mesh, shape)
+        kDirtyBelow = 2,      // something below changed
+        kDirtyStructure = 4,  // children were added or removed here or below
+        kHasMask = 8,         // node mask is not all ones (the cull then reads it)
+        kHasExtras = 16,      // name, callback or more parents are kept in the side table
+    };
+
+    NodeKind kind() const noexcept { return kind_; }
+    const char* kindName() const { return sg::kindName(kind_); }
+
+    // Node masks select what cull, pick and collision see (node seen when mask & traversal mask != 0).
+    uint32_t nodeMask() const noexcept { return mask_; }
+    void setNodeMask(uint32_t m);
+
+    const std::string& name() const;
+    void setName(std::string name);
+    // "Transform 'crane'" or "Transform" when unnamed: for error messages.
+    std::string describe() const;
+
+    void setUpdateCallback(UpdateCallback cb);
+    const UpdateCallback* updateCallback() const;
+
+    size_t numParents() const noexcept;
+    Node* parent(size_t i) const noexcept;
+
+    // Generic child access; leaves have none.
+    virtual size_t numChildren() const noexcept { return 0; }
+    virtual Node* child(size_t) const noexcept { return nullptr; }
+
+    virtual void accept(NodeVisitor& v);
+
+    struct Extras;  // defined in Node.cpp
+
+    uint8_t dirtyBits() const noexcept { return dirty_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
+    void clearDirty() noexcept { dirty_ &= kHasMask | kHasExtras; }
+    // Marks this node and propagates "below" marks to every ancestor.
+    void markDirty(uint8_t bits);
+
+    // True when `n` is this node or one of its ancestors (through any parent).
+    bool hasAncestorOrSelf(const Node* n) const;
+
+protected:
+    explicit Node(NodeKind k) : kind_(k) {}
+    ~Node() override;
+    void addParent(Node* p);
+    void removeParent(Node* p);
+    friend class Group;
+    friend class Instance;
+
+private:
+    // Rare data (a name, an update callback, parents after the first) lives in a side table keyed by
+    // the node: millions of plain nodes then carry no pointer for it.
+    Extras& extras();
+    const Extras* findExtras() const;
+
+    // Order matters for size: the mask fills the tail of Referenced, and derived nodes fill this
+    // class's tail (a Group is 40 bytes, a Transform 72).
+    uint32_t mask_ = 0xffffffffu;
+    Node* firstParent_ = nullptr;
+    NodeKind kind_;
+    uint8_t dirty_ = kDirtyBound | kDirtyStructure;
+};
+
+}  // namespace sg

@@ -1,0 +1,118 @@
+// What the cull does (strategy, small-feature threshold, traversal mask) and what it counted.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace sg {
+
+enum class CullStrategy : uint8_t {
+    None,          // no culling of any kind, occlusion included (the accuracy reference)
+    Sphere,        // bounding sphere against the planes
+    Aabb,          // box against the planes (nearest/farthest vertex): the default, see below
+    SphereSphere,  // the frustum's bounding sphere as a coarse pre-test, then the planes
+    CenterBox,     // objects' centres against the frustum's bounding box: cheap, NOT conservative
+};
+const char* strategyName(CullStrategy s);
+// Throws std::invalid_argument listing the valid names.
+CullStrategy parseStrategy(const std::string& name);
+bool isConservative(CullStrategy s);
+
+// The occlusion-tree pass (sg/OcclusionTree.h): major occluders, nearest first, fused into one tree per
+// frame; bounds inside the occluded space are culled.
+enum class OcclusionMode : uint8_t {
+    Off,
+    On,    // every frame that has occluders in view
+    Auto,  // On, but skipped for a while after frames where it culled too little to pay (aerial views)
+};
+enum class OccluderCap : uint8_t {
+    FrontFaces,   // a box occludes behind its front faces: conservative (the default)
+    CentrePlane,  // the paper's plane through the box centre, facing the eye: NOT conservative (grazing rays)
+};
+const char* occlusionModeName(OcclusionMode m);
+// Throws std::invalid_argument listing the valid names ("off", "tree", "auto").
+OcclusionMode parseOcclusionMode(const std::string& name);
+
+struct OcclusionSettings {
+    OcclusionMode mode = OcclusionMode::Auto;
+    OccluderCap cap = OccluderCap::FrontFaces;
+    uint32_t maxOccluders = 16;       // occluders added to the tree per frame (hidden ones do not count)
+    double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used
+    int screenSplits = 0;             // two-level tree: 2^k screen regions above the occluders (0: one level)
+    double autoMinGain = 0.1;         // Auto: a frame "pays" when occlusion removed this share of the entries
+};
+
+class DrawCostModel;
+
+// Time-budgeted LOD selection (Funkhouser and Sequin's adaptive display): every visible LOD of the scene
+// (not inside Instance prototypes) offers its children as options, priced by the draw-cost model and
+// valued by projected size times accuracy; sg/LodSelector.h picks one per LOD, or none, to fit the budget.
+struct LodBudgetSettings {
+    bool enabled = false;
+    double budgetMs = 33.3;                // predicted draw time the frame must fit
+    double hysteresis = 0.1;               // last frame's choice ranks (1 + this) times higher
+    const DrawCostModel* model = nullptr;  // required when enabled; feed it measured frames
+    // Whether a visible LOD may be left out to fit: off, every one is drawn at least at its cheapest level
+    // (a coarse object reads better than a hole), and the budget buys the upgrades.
+    bool mayDrop = false;
+};
+
+struct CullSettings {
+    // Boxes: as fast as spheres on `city` (fewer instructions per frame under callgrind, since fewer
+    // geometries pass and get sorted; within timing noise otherwise) and tighter, as tight as
+    // OpenSceneGraph's per-drawable box test. bench/strategies.sh measures them all.
+    CullStrategy strategy = CullStrategy::Aabb;
+    double smallFeaturePixels = 0.0;  // drop bounds smaller than this many pixels across; 0: off
+    uint32_t traversalMask = 0xffffffffu;
+    bool sort = true;  // sort the draw list by state, then front to back
+    // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
+    // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
+    // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs
+    // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
+    double lodHysteresis = 0.0;
+    // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
+    // and OpenSceneGraph's LOD scale; sg/LodStress.h drives it from the frame time.
+    double lodScale = 1.0;
+    // LOD fade (LOD::setTransition): children dissolve in and out over their LOD's band. Off: every band is
+    // ignored and levels pop at the plain boundaries (as without transitions). Not applied to the LODs the
+    // budget plans (lodBudget), which change level only when the budget does.
+    bool lodFade = true;
+    LodBudgetSettings lodBudget;  // when enabled, LOD ranges, scale and hysteresis are not used
+    OcclusionSettings occlusion;
+};
+
+struct CullStats {
+    uint64_t nodesVisited = 0;
+    uint64_t boundsTested = 0;
+    uint64_t kernelEntries = 0;       // bounds classified by the flat kernel (straddling subtrees)
+    uint64_t culledFrustum = 0;       // by the plane tests
+    uint64_t culledSphereSphere = 0;  // by the frustum-sphere pre-test
+    uint64_t culledCenterBox = 0;
+    uint64_t culledSmallFeature = 0;
+    uint64_t instancesVisited = 0;
+    uint64_t geometries = 0;
+    uint64_t triangles = 0;
+    uint64_t invalidDrawn = 0;  // geometries with a NaN/infinite bound, drawn because never culled
+    // Occlusion pass
+    bool occlusionRan = false;        // the tree was built this frame (occluders in view, not skipped)
+    bool occlusionSkipped = false;    // Auto mode skipped it this frame
+    uint64_t occluderCandidates = 0;  // occluders in view and large enough
+    uint64_t occludersUsed = 0;       // added something to the tree
+    uint64_t occlusionTreeNodes = 0;
+    uint64_t occlusionPolygonSplits = 0;  // occluder polygons split while growing the tree
+    uint64_t occlusionBoxSplits = 0;      // bounds split by a tree plane while tested
+    uint64_t occlusionTests = 0;
+    uint64_t culledOcclusion = 0;  // bounds culled as occluded
+    uint64_t occludedEntries = 0;  // image entries below them (work the walk skipped)
+    double occlusionMs = 0.0;      // growing the tree plus the tests
+    // LOD budget
+    uint64_t lodObjects = 0;      // visible LODs planned
+    uint64_t lodDropped = 0;      // left out to fit the budget
+    uint64_t lodLevels[4] = {};   // LODs shown at child 0, 1, 2, and 3 or more
+    double lodBudgetMs = 0.0;     // the budget planned for (LodBudgetSettings::budgetMs)
+    double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
+    double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
+    double lodSelectMs = 0.0;
+    double ms = 0.0;
+};
+
+}  // namespace sg

@@ -1,0 +1,81 @@
+// DrawList: what the cull selected, in the order the renderer draws it.
+#pragma once
+#include "sg/core/Material.h"
+#include "sg/core/Mesh.h"
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace sg {
+
+struct Uninitialized {};
+
+struct DrawItem {
+    DrawItem() : model(1.0f) {}
+    explicit DrawItem(Uninitialized) {}  // every field is written by the cull right after
+    const Mesh* mesh = nullptr;
+    const Material* material = nullptr;
+    // Local -> eye-relative world (the eye at the origin): float without jitter. Affine, so its last row
+    // (0 0 0 1) is left out: 4 columns of 3, and a whole item fits one 64-byte cache line.
+    glm::mat4x3 model;
+    mat4 matrix() const { return mat4(model); }
+};
+
+class DrawList {
+public:
+    // Items in emission order (front to back through BspGroups) and, for each, its sort key: state
+    // (material, mesh) then the depth of its bound's centre along the view.
+    std::vector<DrawItem> items;
+    std::vector<uint32_t> order;  // indices into items, sorted by key
+    // Items drawn dissolved (LOD fade), by item index, in emission order: f in (0, 1) keeps the pixels whose
+    // screen-door pattern value is below f, f in (-1, 0) those at or above 1 + f. Items not listed: opaque.
+    std::vector<std::pair<uint32_t, float>> fades;
+
+    void clear() {
+        items.clear();
+        order.clear();
+        fades.clear();
+        keys_.clear();
+    }
+    // Appends an item with its depth along the view (its sort key is made here).
+    void add(const DrawItem& it, float depth = 0.0f) {
+        items.push_back(it);
+        keys_.push_back(makeKey(it.mesh, it.material, depth));
+    }
+    // The cull's way: the key first, then the item filled in place.
+    DrawItem& push(uint32_t state, float depth) {
+        keys_.push_back(depthKey(state, depth));
+        items.emplace_back(Uninitialized{});
+        return items.back();
+    }
+    uint32_t key(size_t i) const { return keys_[i]; }
+    // Sorts `order` by state, then front to back (stable radix sort on the keys made by add()/push();
+    // items appended to `items` directly sort as depth 0).
+    void sort();
+    // Order as emitted (no sort).
+    void keepEmissionOrder();
+
+    // A 22-bit key, sorted in two 11-bit passes: 10 bits of state, then the depth's exponent and top
+    // 3 mantissa bits (monotonic for depth >= 0; buckets 12% apart, plenty for front to back). The cull
+    // passes a dense state index per mesh/material pair; states that share 10 bits only share a sort
+    // bucket: the renderer compares pointers before it batches.
+    static uint32_t stateKey(const Mesh* mesh, const Material* mat) {
+        return ((mat ? mat->id() * 37u : 0u) + (mesh ? mesh->id() : 0u)) & 0x3ffu;
+    }
+    static uint32_t depthKey(uint32_t state, float depth) {
+        const float d = depth > 0.0f ? depth : 0.0f;  // NaN fails the test too
+        uint32_t bits;
+        std::memcpy(&bits, &d, 4);
+        return ((state & 0x3ffu) << 12) | (bits >> 19);
+    }
+    static uint32_t makeKey(const Mesh* mesh, const Material* mat, float depth) {
+        return depthKey(stateKey(mesh, mat), depth);
+    }
+
+private:
+    std::vector<uint32_t> keys_, keysTmp_, work_, count_;
+    std::vector<uint32_t> tmp_;
+};
+
+}  // namespace sg

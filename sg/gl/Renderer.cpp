@@ -1,0 +1,375 @@
+#include "sg/gl/Renderer.h"
+
+#include "sg/gl/GlProgram.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace sg {
+
+namespace {
+
+const char* kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec2 aUv;
+layout(location = 3) in vec4 aColor;
+layout(location = 4) in mat4 aModel;  // per instance: locations 4 to 7
+uniform mat4 uViewProj;
+out vec3 vNormal;
+out vec2 vUv;
+out vec4 vColor;
+void main() {
+    gl_Position = uViewProj * (aModel * vec4(aPosition, 1.0));
+    // The cofactor matrix is det * inverse-transpose: right under non-uniform scale, and its sign does
+    // not matter with two-sided lighting.
+    mat3 m = mat3(aModel);
+    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
+    vUv = aUv;
+    vColor = aColor;
+}
+)";
+
+const char* kFragmentShader = R"(#version 330 core
+in vec3 vNormal;
+in vec2 vUv;
+in vec4 vColor;
+uniform vec4 uBaseColor;
+uniform vec3 uLightDir;
+uniform bool uUseTexture;
+uniform bool uUseColor;
+uniform bool uLit;
+uniform sampler2D uTexture;
+uniform float uFade;  // DrawList::fades: 1 opaque; f > 0 keeps pattern < f; f < 0 keeps pattern >= 1 + f
+out vec4 fragColor;
+void main() {
+    if (uFade < 1.0) {
+        // Interleaved gradient noise (Jimenez 2014): a pattern value per pixel, evenly spread, no visible grid.
+        float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
+        if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
+    }
+    vec4 c = uBaseColor;
+    if (uUseTexture) c *= texture(uTexture, vUv);
+    if (uUseColor) c *= vColor;
+    if (uLit) {
+        float len = length(vNormal);
+        float d = len > 0.0 ? abs(dot(vNormal / len, uLightDir)) : 1.0;
+        c.rgb *= 0.35 + 0.65 * d;
+    }
+    fragColor = c;
+}
+)";
+
+constexpr GLuint kInstanceLoc = 4;
+
+#ifndef NDEBUG
+const char* errorName(GLenum e) {
+    switch (e) {
+        case GL_INVALID_ENUM: return "GL_INVALID_ENUM";
+        case GL_INVALID_VALUE: return "GL_INVALID_VALUE";
+        case GL_INVALID_OPERATION: return "GL_INVALID_OPERATION";
+        case GL_INVALID_FRAMEBUFFER_OPERATION: return "GL_INVALID_FRAMEBUFFER_OPERATION";
+        case GL_OUT_OF_MEMORY: return "GL_OUT_OF_MEMORY";
+        default: return "unknown GL error";
+    }
+}
+
+void checkGl(const char* fn, const char* what) {
+    const GLenum e = glGetError();
+    if (e == GL_NO_ERROR) return;
+    while (glGetError() != GL_NO_ERROR) {
+    }
+    char code[16];
+    std::snprintf(code, sizeof code, "0x%04x", unsigned(e));
+    throw std::runtime_error(std::string(fn) + ": " + errorName(e) + " (" + code + ") " + what);
+}
+// Errors left by the application are not ours to report.
+void drainGl() {
+    while (glGetError() != GL_NO_ERROR) {
+    }
+}
+#else
+inline void checkGl(const char*, const char*) {}
+inline void drainGl() {}
+#endif
+
+}  // namespace
+
+Renderer::Renderer() {
+    const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    if (!version) throw std::runtime_error("Renderer::Renderer(): no current OpenGL context");
+    int major = 0, minor = 0;
+    if (std::sscanf(version, "%d.%d", &major, &minor) != 2 || major * 10 + minor < 33)
+        throw std::runtime_error(std::string("Renderer::Renderer(): OpenGL 3.3 is needed, the context has ") + version);
+    drainGl();
+
+    program_ = buildGlProgram(kVertexShader, kFragmentShader, "Renderer::Renderer()");
+    uViewProj_ = glGetUniformLocation(program_, "uViewProj");
+    uLightDir_ = glGetUniformLocation(program_, "uLightDir");
+    uBaseColor_ = glGetUniformLocation(program_, "uBaseColor");
+    uUseTexture_ = glGetUniformLocation(program_, "uUseTexture");
+    uUseColor_ = glGetUniformLocation(program_, "uUseColor");
+    uLit_ = glGetUniformLocation(program_, "uLit");
+    uFade_ = glGetUniformLocation(program_, "uFade");
+    uTexture_ = glGetUniformLocation(program_, "uTexture");
+    glUseProgram(program_);
+    glUniform1i(uTexture_, 0);
+    glUseProgram(0);
+    glGenBuffers(1, &instanceVbo_);
+    try {
+        checkGl("Renderer::Renderer()", "after compiling the shaders");
+    } catch (...) {
+        glDeleteBuffers(1, &instanceVbo_);
+        glDeleteProgram(program_);
+        throw;
+    }
+}
+
+Renderer::~Renderer() {
+    clear();
+    glDeleteBuffers(1, &instanceVbo_);
+    glDeleteProgram(program_);
+}
+
+void Renderer::destroy(GpuMesh& g) {
+    glDeleteVertexArrays(1, &g.vao);
+    glDeleteBuffers(1, &g.vbo);
+    glDeleteBuffers(1, &g.ibo);
+}
+
+Renderer::GpuMesh& Renderer::mesh(const Mesh* m) {
+    auto it = meshes_.find(m);
+    if (it != meshes_.end()) {
+        it->second.lastFrame = frame_;
+        return it->second;
+    }
+    GpuMesh g;
+    g.mesh = m;
+    g.lastFrame = frame_;
+    const size_t n = m->positions().size();
+    g.normals = m->normals().size() == n;
+    g.uvs = m->uvs().size() == n;
+    g.colors = m->colors().size() == n;
+    // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
+    const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
+                 uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0;
+    const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes;
+    glGenVertexArrays(1, &g.vao);
+    glBindVertexArray(g.vao);
+    glGenBuffers(1, &g.vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colOff + colBytes), nullptr, GL_STATIC_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    if (g.normals) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(nrmOff), GLsizeiptr(nrmBytes), m->normals().data());
+        glEnableVertexAttribArray(1);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(nrmOff));
+    }
+    if (g.uvs) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(uvOff), GLsizeiptr(uvBytes), m->uvs().data());
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(uvOff));
+    }
+    if (g.colors) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(colOff), GLsizeiptr(colBytes), m->colors().data());
+        glEnableVertexAttribArray(3);
+        glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(colOff));
+    }
+    glGenBuffers(1, &g.ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
+    if (!m->indices16().empty()) {
+        g.indexType = GL_UNSIGNED_SHORT;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices16().size() * 2), m->indices16().data(),
+                     GL_STATIC_DRAW);
+    } else {
+        g.indexType = GL_UNSIGNED_INT;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices32().size() * 4), m->indices32().data(),
+                     GL_STATIC_DRAW);
+    }
+    g.indexCount = GLsizei(m->indexCount());
+    // The instance matrix: its pointers are set per run, to the run's place in the instance buffer.
+    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+    for (GLuint c = 0; c < 4; ++c) {
+        glEnableVertexAttribArray(kInstanceLoc + c);
+        glVertexAttribDivisor(kInstanceLoc + c, 1);
+        glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(mat4),
+                              reinterpret_cast<const void*>(c * sizeof(vec4)));
+    }
+    glBindVertexArray(0);
+    return meshes_.emplace(m, std::move(g)).first->second;
+}
+
+Renderer::GpuTexture& Renderer::texture(const Texture* t) {
+    auto it = textures_.find(t);
+    if (it != textures_.end()) {
+        it->second.lastFrame = frame_;
+        return it->second;
+    }
+    GpuTexture g;
+    g.texture = t;
+    g.lastFrame = frame_;
+    glGenTextures(1, &g.id);
+    glBindTexture(GL_TEXTURE_2D, g.id);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // The first row of the RGBA array is v = 0.
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE, t->rgba().data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    return textures_.emplace(t, std::move(g)).first->second;
+}
+
+void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
+    const auto t0 = std::chrono::steady_clock::now();
+    drainGl();
+    ++frame_;
+    stats_ = RenderStats{};
+
+    // Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
+    const size_t n = list.order.empty() ? list.items.size() : list.order.size();
+    instances_.clear();
+    runs_.clear();
+    fades_.clear();
+    if (!list.fades.empty()) {  // dissolving items are few: a dense copy only in frames that have them
+        fades_.assign(list.items.size(), 1.0f);
+        for (const auto& [i, f] : list.fades)
+            if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
+    }
+    for (size_t k = 0; k < n; ++k) {
+        const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
+        if (i >= list.items.size())
+            throw std::out_of_range("Renderer::draw(): order[" + std::to_string(k) + "] = " + std::to_string(i) +
+                                    " is past the " + std::to_string(list.items.size()) + " items");
+        const DrawItem& it = list.items[i];
+        if (!it.mesh || it.mesh->indexCount() == 0) continue;
+        const float fade = fades_.empty() ? 1.0f : fades_[i];
+        if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
+            runs_.back().fade != fade)
+            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade});
+        runs_.back().count++;
+        instances_.push_back(it.matrix());
+    }
+
+    glViewport(0, 0, camera.width(), camera.height());
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glClearColor(clearColor.r, clearColor.g, clearColor.b, clearColor.a);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+    if (!runs_.empty()) {
+        glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+        // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
+        const auto bytes = GLsizeiptr(instances_.size() * sizeof(mat4));
+        glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
+        glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, instances_.data());
+
+        glUseProgram(program_);
+        // Projection times the view's rotation only, in double: the eye's translation is already in the
+        // items' matrices, so no large coordinate ever reaches float.
+        const mat4 viewProj(camera.projection() * camera.viewRotation());
+        glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
+        const vec3 light(camera.viewDirection());  // a headlight
+        glUniform3f(uLightDir_, light.x, light.y, light.z);
+        glActiveTexture(GL_TEXTURE0);
+
+        for (const Run& r : runs_) {
+            const GpuMesh& g = mesh(r.mesh);
+            glBindVertexArray(g.vao);
+            glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+            // GL 3.3 has no base instance: point the instance attributes at the run's first matrix.
+            for (GLuint c = 0; c < 4; ++c)
+                glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(mat4),
+                                      reinterpret_cast<const void*>(size_t(r.first) * sizeof(mat4) + c * sizeof(vec4)));
+            const vec4 base = r.material ? r.material->baseColor : vec4(1.0f);
+            glUniform4f(uBaseColor_, base.r, base.g, base.b, base.a);
+            const Texture* tex = r.material && g.uvs ? r.material->texture.get() : nullptr;
+            if (tex) glBindTexture(GL_TEXTURE_2D, texture(tex).id);
+            glUniform1i(uUseTexture_, tex ? 1 : 0);
+            glUniform1i(uUseColor_, g.colors ? 1 : 0);
+            glUniform1i(uLit_, (!r.material || !r.material->unlit) && g.normals ? 1 : 0);
+            glUniform1f(uFade_, r.fade);
+            glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
+            stats_.drawCalls++;
+            stats_.instances += r.count;
+            stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
+        }
+        glBindVertexArray(0);
+        glUseProgram(0);
+    }
+    checkGl("Renderer::draw()", "after drawing");
+    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Renderer::finish() const { glFinish(); }
+
+Image Renderer::readColor() const {
+    GLint vp[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_VIEWPORT, vp);
+    Image img;
+    img.width = vp[2];
+    img.height = vp[3];
+    const size_t row = size_t(img.width) * 4u;
+    std::vector<uint8_t> tmp(row * size_t(img.height));
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(vp[0], vp[1], img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, tmp.data());
+    checkGl("Renderer::readColor()", "from glReadPixels");
+    img.rgba.resize(tmp.size());
+    for (int y = 0; y < img.height; ++y)  // GL's first row is the bottom one
+        std::memcpy(&img.rgba[size_t(y) * row], &tmp[size_t(img.height - 1 - y) * row], row);
+    return img;
+}
+
+std::vector<float> Renderer::readDepth() const {
+    GLint vp[4] = {0, 0, 0, 0};
+    glGetIntegerv(GL_VIEWPORT, vp);
+    const size_t w = size_t(vp[2]), h = size_t(vp[3]);
+    std::vector<float> tmp(w * h), out(w * h);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(vp[0], vp[1], vp[2], vp[3], GL_DEPTH_COMPONENT, GL_FLOAT, tmp.data());
+    checkGl("Renderer::readDepth()", "from glReadPixels");
+    for (size_t y = 0; y < h; ++y) std::memcpy(&out[y * w], &tmp[(h - 1 - y) * w], w * sizeof(float));
+    return out;
+}
+
+void Renderer::releaseUnused() {
+    for (auto it = meshes_.begin(); it != meshes_.end();) {
+        if (it->second.lastFrame == frame_) {
+            ++it;
+            continue;
+        }
+        destroy(it->second);
+        it = meshes_.erase(it);
+    }
+    for (auto it = textures_.begin(); it != textures_.end();) {
+        if (it->second.lastFrame == frame_) {
+            ++it;
+            continue;
+        }
+        glDeleteTextures(1, &it->second.id);
+        it = textures_.erase(it);
+    }
+}
+
+void Renderer::clear() {
+    for (auto& [m, g] : meshes_) destroy(g);
+    meshes_.clear();
+    for (auto& [t, g] : textures_) glDeleteTextures(1, &g.id);
+    textures_.clear();
+}
+
+}  // namespace sg

@@ -1,0 +1,92 @@
+// Renderer: draws a DrawList with OpenGL 3.3 core, batching runs of equal state into instanced draws.
+#pragma once
+#include "sg/core/Camera.h"
+#include "sg/core/Material.h"
+#include "sg/core/Mesh.h"
+#include "sg/core/Ref.h"
+#include "sg/cull/DrawList.h"
+#include "sg/io/ImageIO.h"
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace sg {
+
+struct RenderStats {
+    uint64_t drawCalls = 0;  // glDrawElementsInstanced calls: one per run of equal mesh and material
+    uint64_t instances = 0;  // draw items drawn
+    uint64_t triangles = 0;
+    double ms = 0.0;  // CPU time of draw(), without waiting for the GPU to finish
+};
+
+class Renderer {
+public:
+    // Needs a current OpenGL 3.3+ core context, which must stay alive (and be current whenever the
+    // renderer is used or destroyed). Throws std::runtime_error when there is no such context or a
+    // shader does not compile or link (the message carries the GLSL info log).
+    Renderer();
+    ~Renderer();
+    Renderer(const Renderer&) = delete;
+    Renderer& operator=(const Renderer&) = delete;
+
+    // Viewport (0, 0, camera.width(), camera.height()), clear, then the items in list.order (all items
+    // in their order when list.order is empty). Runs of consecutive items with the same mesh and
+    // material pointers become one instanced draw call. Colour: base colour (white without a material)
+    // x texture (when the mesh has UVs) x vertex colour, lit by a two-sided headlight unless the
+    // material is unlit or the mesh has no normals. Throws std::out_of_range for an order index past the
+    // items; in debug builds std::runtime_error on a GL error.
+    void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
+    const RenderStats& lastStats() const { return stats_; }
+    // Waits until the GPU has drawn everything (whole-frame timings).
+    void finish() const;
+
+    // The current viewport's pixels, rows top to bottom.
+    Image readColor() const;
+    std::vector<float> readDepth() const;
+
+    // Meshes and textures are uploaded once and kept (with a reference, so that their pointers stay
+    // valid); a Mesh changed after its first draw keeps its old GPU copy until released.
+    // releaseUnused() frees those the last draw() did not use; clear() frees all of them.
+    void releaseUnused();
+    void clear();
+    size_t cachedMeshes() const { return meshes_.size(); }
+    size_t cachedTextures() const { return textures_.size(); }
+
+private:
+    struct GpuMesh {
+        ref_ptr<const Mesh> mesh;
+        unsigned vao = 0, vbo = 0, ibo = 0;
+        unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT
+        int indexCount = 0;
+        bool normals = false, uvs = false, colors = false;
+        uint64_t lastFrame = 0;
+    };
+    struct GpuTexture {
+        ref_ptr<const Texture> texture;
+        unsigned id = 0;
+        uint64_t lastFrame = 0;
+    };
+    GpuMesh& mesh(const Mesh* m);
+    GpuTexture& texture(const Texture* t);
+    static void destroy(GpuMesh& g);
+
+    unsigned program_ = 0, instanceVbo_ = 0;
+    int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
+        uTexture_ = -1;
+    std::unordered_map<const Mesh*, GpuMesh> meshes_;
+    std::unordered_map<const Texture*, GpuTexture> textures_;
+    struct Run {
+        const Mesh* mesh;
+        const Material* material;
+        uint32_t first, count;  // range in instances_
+        float fade;             // DrawList::fades
+    };
+    std::vector<mat4> instances_;  // the frame's model matrices, in draw order
+    std::vector<Run> runs_;
+    std::vector<float> fades_;  // per item, filled only in frames with dissolving items
+    uint64_t frame_ = 0;
+    RenderStats stats_;
+};
+
+}  // namespace sg

@@ -1,0 +1,67 @@
+// Intersection queries and their results: rays and segments, spheres and swept spheres against a scene.
+#pragma once
+#include "sg/core/Math.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sg {
+
+class Camera;
+class Node;
+class Geometry;
+class Instance;
+
+// Node mask bits the intersection traversals look for by default (a node is seen when
+// nodeMask & traversalMask != 0, as in the cull). High bits, so that masks chosen for drawing keep them.
+constexpr uint32_t kPickable = 1u << 30;
+constexpr uint32_t kCollidable = 1u << 31;
+
+// Which LOD child a query sees: the one the cull draws for `QueryOptions::camera`, or the most detailed.
+enum class LodChoice : uint8_t { AsDrawn, Highest };
+
+struct QueryOptions {
+    uint32_t traversalMask = kPickable;
+    LodChoice lod = LodChoice::Highest;
+    // The view whose LOD levels (AsDrawn) and billboard orientations are seen. Without one, billboards face
+    // the query's origin (the ray's or sphere's start) and AsDrawn measures the distance from it.
+    const Camera* camera = nullptr;
+    double lodScale = 1.0;  // CullSettings::lodScale of that view
+};
+
+// A ray origin + t * direction for t in [0, tMax]; a segment from a to b is {a, b - a, 1}.
+struct Ray {
+    dvec3 origin{0.0};
+    dvec3 direction{0.0, 0.0, -1.0};
+    double tMax = kInf;
+};
+inline Ray segment(const dvec3& a, const dvec3& b) { return Ray{a, b - a, 1.0}; }
+
+// One hit, in world coordinates (double).
+struct Hit {
+    double t = kInf;         // ray parameter of the hit (world distance when the direction is a unit vector)
+    double distance = kInf;  // world distance from the query's origin to `point`
+    dvec3 point{0.0};
+    dvec3 normal{0.0};        // unit geometric normal of the triangle (its winding's front side)
+    uint32_t primitive = 0;   // triangle index in the mesh
+    double u = 0.0, v = 0.0;  // barycentrics: point = (1-u-v) p0 + u p1 + v p2 in the mesh's frame
+    // From the root to the Geometry; an Instance appears in it followed by its prototype's subgraph.
+    std::vector<Node*> path;
+    const Geometry* geometry = nullptr;
+    // The innermost Instance on the path (the placement) and its entry index in the image that holds it
+    // (stable until the scene's structure changes); null and ~0u outside any Instance.
+    const Instance* instance = nullptr;
+    uint32_t placement = ~0u;
+};
+
+// Result of a swept sphere: the first contact along the motion.
+struct SweepHit {
+    double t = kInf;    // fraction of the motion travelled at contact, in [0, 1]
+    dvec3 point{0.0};   // the contact point on the surface (world)
+    dvec3 normal{0.0};  // unit, from the contact point toward the sphere's centre at contact
+    std::vector<Node*> path;
+    const Geometry* geometry = nullptr;
+    uint32_t primitive = 0;
+};
+
+}  // namespace sg

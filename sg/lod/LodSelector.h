@@ -1,0 +1,69 @@
+// LodSelector: the time-budgeted choice of detail levels of Funkhouser and Sequin's adaptive display (1993).
+// Every visible object offers its levels as (predicted draw cost, benefit) options, plus drawing nothing;
+// select() picks one option per object so that the total cost fits a frame budget and the total benefit is
+// high. It is greedy by benefit per cost over each object's upper convex hull of options: the hull makes an
+// object's upgrades ever less worth their cost, so taking upgrades best-ratio-first is the classic
+// near-optimal answer to this multiple-choice knapsack at a cost linear in the options, where the exact
+// answer is a search.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace sg {
+
+class LodSelector {
+public:
+    struct Option {
+        double costMs = 0.0;   // predicted draw time, >= 0
+        double benefit = 0.0;  // >= 0, e.g. projected pixels times the level's accuracy
+    };
+    struct Object {
+        const Option* options = nullptr;  // one per level, in any order; read only during select()
+        int count = 0;
+        int last = -1;  // the option chosen last frame, or -1 for nothing
+    };
+    // Whether an object may be left out: Nothing lets the budget drop it; Cheapest draws every object at
+    // least at its cheapest option, even when those alone overrun the budget.
+    enum class Floor { Nothing, Cheapest };
+    struct Selection {
+        std::vector<int> level;  // per object: the index of the chosen option, or -1 for nothing
+        double costMs = 0.0;     // the chosen costs, summed as chosen; <= the budget unless the floor overran it
+        double benefit = 0.0;    // the chosen benefits, without the hysteresis bonus
+    };
+
+    // Chooses the options for this frame. The option chosen last frame ranks as if its benefit were
+    // (1 + hysteresis) times larger, so two near-equal choices do not swap every frame. An upgrade that
+    // does not fit the remaining budget is skipped and cheaper ones after it still considered. The
+    // result stays valid until the next call. Throws std::invalid_argument naming the value: a cost,
+    // benefit or budget negative or not finite, hysteresis negative or not finite, `last` not an option,
+    // a negative count or missing options.
+    const Selection& select(const std::vector<Object>& objects, double budgetMs, double hysteresis,
+                            Floor floor = Floor::Nothing);
+    const Selection& selection() const { return sel_; }
+
+private:
+    // One step up an object's hull: from the previous hull point to `option`.
+    struct Step {
+        int object;
+        int option;
+        std::uint32_t key;  // descending benefit per cost as an ascending integer (31 bits)
+        double dCost;
+    };
+    static constexpr int kBucketShift = 19;  // histogram buckets: the key's top 12 bits
+    static constexpr std::size_t kBuckets = std::size_t(1) << (31 - kBucketShift);
+    struct Candidate {
+        double cost, rank;
+        int option;
+    };
+    Selection sel_;
+    std::vector<Candidate> cand_;
+    std::vector<Step> steps_;
+    std::vector<std::uint64_t> order_, scratch_;  // ratio key (high 32 bits) and step index
+    std::array<double, kBuckets> bucketCost_{};   // summed step costs per ratio bucket
+    std::vector<char> stuck_;                     // an upgrade of this object did not fit
+};
+
+}  // namespace sg

@@ -1,0 +1,108 @@
+// FlatImage: the pre-order, structure-of-arrays image of a graph that the cull walks instead of pointers.
+#pragma once
+#include "sg/core/Material.h"
+#include "sg/core/Math.h"
+#include "sg/core/Mesh.h"
+#include "sg/core/Node.h"
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+namespace sg {
+
+// One entry per node per path (a shared child appears once under each parent; an Instance's prototype
+// has an image of its own). Bounds are world-space boxes and spheres sharing one centre, stored in float
+// relative to `origin`, each rounded outward by its own rounding error (see sg/Math.h, eps).
+struct FlatImage {
+    enum Flag : uint8_t {
+        kInvalid = 1,   // non-finite bound: never culled, always drawn, counted
+        kEmpty = 2,     // nothing below to draw
+        kMasked = 4,    // node mask is not all ones: the cull reads it
+        kNoTest = 8,    // below a Billboard: orientation changes per frame, the billboard's own test covers it
+        kGeneral = 16,  // a Transform whose matrix is not a translation
+        kSlowPath = kInvalid | kEmpty | kMasked | kNoTest,  // the cull's fast paths skip these entries
+    };
+
+    dvec3 origin{0.0};
+    double extent = 0.0;  // max |centre| + radius: scales the float slack of the planes
+
+    // Columns (4 bytes each per entry unless said): centre, sphere radius, box half extents.
+    std::vector<float> cx, cy, cz, r, ex, ey, ez;
+    std::vector<uint32_t> end;   // one past the last entry of this entry's subtree (skip index)
+    std::vector<NodeKind> kind;  // 1 byte
+    std::vector<uint8_t> flags;  // 1 byte (kGeneral is set once, at the transform's write; not a cull flag)
+    std::vector<uint32_t> aux;   // index into the table of its kind (see below)
+
+    // What the cull reads for the common kinds, copied here so that it never waits on a node.
+    // Transform entries: aux indexes `translations`, or with kGeneral set, `matrices` (kept by the node).
+    using Xform = dvec3;
+    struct Lod {
+        float cx, cy, cz;     // the centre (user's, or the bound's), in image coordinates like the bounds
+        uint32_t firstRange;  // into ranges, one per child
+        float fade;           // LOD::transition(): the width of the dissolve band at range ends, 0 for none
+        uint8_t mode;         // LOD::Mode
+        bool hasErrors;       // LOD::hasErrors(): the levels' errors are known (Range::error, 0 included)
+    };
+    struct Range {
+        float min, max;
+        float error;  // the child's geometric error (LOD::error), 0 when not given
+    };
+    struct Draw {
+        const Mesh* mesh;
+        const Material* material;
+        uint32_t state;  // dense index of the mesh/material pair in the scene: the draw list sorts by it
+    };
+    // Groups with many children and a large subtree (a city's root over its tiles) keep their children's
+    // spheres side by side as well, so that the cull classifies them in one flat pass instead of reading
+    // bounds spread over the whole image. A Group entry's aux is its index here plus one (0: none).
+    struct Wide {
+        uint32_t first, count;  // into wideEntry and the wide columns
+    };
+    std::vector<Wide> wides;
+    std::vector<uint32_t> wideEntry;
+    std::vector<float> wcx, wcy, wcz, wr;
+
+    // Draws and LOD range sets are shared by every entry with the same values (a city has a few dozen
+    // mesh/material pairs and one set of ranges): found through these keys while building.
+    std::map<std::pair<const Mesh*, const Material*>, uint32_t> drawIndex;
+    std::map<std::vector<float>, uint32_t> rangeIndex;
+
+    std::vector<Xform> translations;
+    std::vector<const dmat4*> matrices;
+    // Entries of the kinds the cull meets rarely (Switch, Billboard, Instance, BspGroup, Occluder):
+    // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`.
+    std::vector<Node*> nodes;
+    std::vector<std::pair<uint32_t, const Node*>> masked;
+    const Node* maskedNode(uint32_t i) const;
+    std::vector<Lod> lods;
+    std::vector<Range> ranges;
+    std::vector<Draw> draws;
+
+    // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Only occluders that are
+    // drawn whatever the frame are active: not below a Switch, LOD, Billboard or a masked node, not
+    // masked themselves, not inside an Instance's prototype.
+    struct OccluderRef {
+        const Node* node;  // an Occluder
+        uint32_t entry;
+        uint32_t matrix;  // ~0u: the frame is the translation `shift`; else its index in occluderMatrices
+        dvec3 shift;
+        bool active;
+    };
+    static constexpr uint32_t kOccluderChunk = 32;
+    std::vector<OccluderRef> occluders;
+    std::vector<dmat4> occluderMatrices;
+    std::vector<Box> occluderChunks;  // world box of each run of kOccluderChunk active occluders
+
+    size_t size() const { return end.size(); }
+    void resize(size_t n);
+    size_t bytes() const;
+
+    dvec3 center(size_t i) const { return origin + dvec3(cx[i], cy[i], cz[i]); }
+    Box box(size_t i) const;
+    // Stores a world box and sphere radius at i, rounding outward.
+    void setBound(size_t i, const Box& b, double radius);
+    void setInvalid(size_t i);
+};
+
+}  // namespace sg

@@ -1,0 +1,31 @@
+// The value an LOD's ranges are compared with, shared by the cull and the intersection traversal so that a
+// pick sees the level that is drawn: the eye's distance to the LOD's centre times the LOD scale, or (pixel
+// size mode) its bound's projected diameter in pixels divided by it.
+#pragma once
+#include "nodes/LOD.h"
+#include "sg/core/Camera.h"
+#include "sg/scene/FlatImage.h"
+
+#include <cmath>
+
+namespace sg {
+
+// Entry i of `img` is an LOD. `rigid`: image coordinates are the world's shifted, the eye at `eyeImg` in them;
+// otherwise (below a scaled Instance) `imgToEye` takes image coordinates to the eye's, and `scale` is the
+// frame's scale of lengths.
+inline double lodValue(const FlatImage& img, uint32_t i, bool rigid, const dvec3& eyeImg, const dmat4& imgToEye,
+                       double scale, const Camera& cam, double lodScale) {
+    const FlatImage::Lod& lod = img.lods[img.aux[i]];
+    double dist;
+    if (rigid) {  // measure in image coordinates
+        const double dx = lod.cx - eyeImg.x, dy = lod.cy - eyeImg.y, dz = lod.cz - eyeImg.z;
+        dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+    } else {  // through the frame
+        dist = glm::length(dvec3(imgToEye * dvec4(lod.cx, lod.cy, lod.cz, 1.0)));
+    }
+    // The LOD scale makes everything look farther (scale > 1: coarser levels sooner), as Performer's.
+    if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist * lodScale;
+    return 2.0 * img.r[i] * scale * cam.pixelsPerUnit() / ((cam.perspective() ? dist : 1.0) * lodScale);
+}
+
+}  // namespace sg

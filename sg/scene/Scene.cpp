@@ -1,0 +1,459 @@
+#include "sg/scene/Scene.h"
+
+#include "nodes/Billboard.h"
+#include "nodes/BspGroup.h"
+#include "nodes/Geometry.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
+#include "nodes/Occluder.h"
+#include "nodes/Transform.h"
+#include "sg/scene/BspBuilder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace sg {
+
+struct Scene::Builder {
+    Scene& scene;
+    FlatImage& img;
+    std::unordered_set<const Node*>& builtProtos;  // prototypes (re)built during this update
+    uint32_t cursor = 0;
+    bool collect = false;    // full builds list the nodes with update callbacks
+    bool fresh = false;      // full build: tables are appended to; refit: rewritten at their index
+    bool prototype = false;  // building an Instance prototype's image: its occluders are not used
+    int conditional = 0;     // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
+    bool occludersWritten = false;
+
+    static bool isConditional(const Node* n) {
+        const NodeKind k = n->kind();
+        return k == NodeKind::Switch || k == NodeKind::LOD || k == NodeKind::Billboard || n->nodeMask() != 0xffffffffu;
+    }
+
+    struct Counts {
+        uint32_t entries = 0, xforms = 0, lods = 0;
+    };
+    static void count(const Node* n, Counts& c) {
+        c.entries++;
+        switch (n->kind()) {
+            case NodeKind::Instance: return;  // the prototype has its own image
+            case NodeKind::Transform: c.xforms++; break;
+            case NodeKind::LOD: c.lods++; break;
+            default: break;
+        }
+        for (size_t i = 0, k = n->numChildren(); i < k; ++i) count(n->child(i), c);
+    }
+
+    // A point inside the scene, found by one descent: float offsets from it stay small.
+    static dvec3 pickOrigin(const Node* n) {
+        dmat4 m(1.0);
+        for (int depth = 0; n && depth < 4096; ++depth) {
+            if (n->kind() == NodeKind::Transform) m = static_cast<const Transform*>(n)->apply(m);
+            if (n->kind() == NodeKind::Instance) m = m * static_cast<const Instance*>(n)->matrix();
+            if (n->kind() == NodeKind::Geometry) {
+                const Mesh* mesh = static_cast<const Geometry*>(n)->mesh();
+                if (mesh && mesh->validBound() && !mesh->box().empty())
+                    return dvec3(m * dvec4(mesh->box().center(), 1));
+            }
+            n = n->numChildren() ? n->child(0) : nullptr;
+        }
+        const dvec3 t(m[3]);
+        return isFinite(t) ? t : dvec3(0.0);
+    }
+
+    void full(Node* root) {
+        img.origin = pickOrigin(root);
+        Counts c;
+        count(root, c);
+        img.resize(c.entries);
+        // Exact sizes: the tables are filled in order and rewritten in place by later refits.
+        img.translations.clear(), img.matrices.clear(), img.nodes.clear(), img.masked.clear();
+        img.translations.reserve(c.xforms), img.translations.shrink_to_fit();
+        img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
+        img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
+        img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
+        img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
+        fresh = true;
+        cursor = 0;
+        write(root, dmat4(1.0));
+        updateExtent();
+        scene.stats_.fullRebuilds++;
+    }
+
+    void updateExtent() {
+        img.extent = 0.0;
+        if (img.size() == 0) return;
+        if (img.flags[0] & (FlatImage::kInvalid)) {  // some entry below is invalid: scan the valid ones
+            for (size_t i = 0; i < img.size(); ++i)
+                if (!(img.flags[i] & (FlatImage::kInvalid | FlatImage::kEmpty)))
+                    img.extent = std::max(img.extent, glm::length(img.center(i) - img.origin) + img.r[i]);
+        } else {
+            img.extent = glm::length(img.center(0) - img.origin) + img.r[0];
+        }
+    }
+
+    const FlatImage& proto(Node* p) {
+        auto& slot = scene.protos_[p];
+        if (!slot || (!builtProtos.count(p) && p->dirtyBits())) {
+            if (!slot) slot = std::make_unique<FlatImage>();
+            Builder b{scene, *slot, builtProtos};
+            b.collect = collect;
+            b.prototype = true;
+            b.full(p);
+            b.occluderChunks();
+            scene.stats_.entriesWritten += slot->size();
+        }
+        builtProtos.insert(p);
+        return *slot;
+    }
+
+    void leafBound(uint32_t i, const Box& local, bool valid, const dmat4& m) {
+        if (!valid) {
+            img.setInvalid(i);
+            return;
+        }
+        img.setBound(i, transformBox(m, local), glm::length(local.halfExtent()) * maxScale(m));
+    }
+
+    void boundFromChildren(uint32_t i) {
+        Box b;
+        bool invalid = false;
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) {
+            if (img.flags[j] & FlatImage::kInvalid) invalid = true;
+            if (img.flags[j] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
+            b.expand(img.box(j));
+        }
+        if (invalid) return img.setInvalid(i);
+        double rad = 0.0;
+        const dvec3 c = b.center();
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j])
+            if (!(img.flags[j] & FlatImage::kEmpty)) rad = std::max(rad, glm::length(img.center(j) - c) + img.r[j]);
+        img.setBound(i, b, rad);
+    }
+
+    // Largest distance of anything below `n` from the origin of the frame `m` maps from.
+    static double localRadius(const Node* n, const dmat4& m, Scene& s) {
+        switch (n->kind()) {
+            case NodeKind::Geometry: {
+                const Mesh* mesh = static_cast<const Geometry*>(n)->mesh();
+                if (!mesh || mesh->box().empty()) return 0.0;
+                if (!mesh->validBound()) return kInf;
+                const Box b = transformBox(m, mesh->box());
+                return glm::length(glm::max(glm::abs(b.min), glm::abs(b.max)));
+            }
+            case NodeKind::Transform: {
+                double r = 0.0;
+                const dmat4 mm = static_cast<const Transform*>(n)->apply(m);
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), mm, s));
+                return r;
+            }
+            case NodeKind::Instance: {
+                const auto* in = static_cast<const Instance*>(n);
+                return in->prototype() ? localRadius(in->prototype(), m * in->matrix(), s) : 0.0;
+            }
+            default: {
+                double r = 0.0;
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), m, s));
+                return r;
+            }
+        }
+    }
+
+    void bsp(uint32_t i, Node* n, const dmat4& m) {
+        auto* g = static_cast<BspGroup*>(n);
+        const dmat4 inv = glm::inverse(m);
+        std::vector<Box> boxes;
+        for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j])
+            boxes.push_back(img.flags[j] & (FlatImage::kEmpty | FlatImage::kInvalid) ? Box{}
+                                                                                     : transformBox(inv, img.box(j)));
+        buildBsp(*g, boxes);
+    }
+
+    // The LOD's centre in image coordinates: the user's centre through the frame, or the bound's centre.
+    void lodCenter(uint32_t i, const LOD* l, const dmat4& m) {
+        FlatImage::Lod& lod = img.lods[img.aux[i]];
+        const dvec3 c = l->userCenter() ? dvec3(m * dvec4(l->center(), 1.0)) - img.origin : img.center(i) - img.origin;
+        lod.cx = float(c.x);
+        lod.cy = float(c.y);
+        lod.cz = float(c.z);
+    }
+
+    static constexpr uint32_t kWideChildren = 16, kWideEntries = 1024;
+    // A plain Group with many children over a large subtree: its children's spheres side by side.
+    void wide(uint32_t i, Node* n) {
+        if (n->kind() != NodeKind::Group || n->numChildren() < kWideChildren || img.end[i] - i <= kWideEntries) return;
+        if (fresh) {
+            img.aux[i] = uint32_t(img.wides.size() + 1);
+            img.wides.push_back({uint32_t(img.wideEntry.size()), uint32_t(n->numChildren())});
+            for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) {
+                img.wideEntry.push_back(j);
+                img.wcx.push_back(0), img.wcy.push_back(0), img.wcz.push_back(0), img.wr.push_back(0);
+            }
+        }
+        const FlatImage::Wide& w = img.wides[img.aux[i] - 1];
+        for (uint32_t k = 0; k < w.count; ++k) {
+            const uint32_t j = img.wideEntry[w.first + k];
+            img.wcx[w.first + k] = img.cx[j];
+            img.wcy[w.first + k] = img.cy[j];
+            img.wcz[w.first + k] = img.cz[j];
+            img.wr[w.first + k] = img.r[j];
+        }
+    }
+
+    // Copies the parameters the cull reads into the kind's table (appended on a full build).
+    // A refit rewrites the entry's slot in place, unless the slot is in another table now (a transform
+    // that stopped being a translation): then it takes a new one at the end.
+    template <class T>
+    uint32_t slot(std::vector<T>& v, uint32_t i, const T& value, bool sameTable = true) {
+        if (fresh || !sameTable) {
+            v.push_back(value);
+            return uint32_t(v.size() - 1);
+        }
+        v[img.aux[i]] = value;
+        return img.aux[i];
+    }
+    void setMasked(uint32_t i, const Node* n) {
+        auto& v = img.masked;
+        auto it = std::lower_bound(v.begin(), v.end(), std::make_pair(i, static_cast<const Node*>(nullptr)));
+        const bool present = it != v.end() && it->first == i;
+        if (n->nodeMask() != 0xffffffffu) {
+            img.flags[i] |= FlatImage::kMasked;
+            if (present)
+                it->second = n;
+            else
+                v.insert(it, {i, n});
+        } else if (present) {
+            v.erase(it);
+        }
+    }
+    void params(uint32_t i, Node* n) {
+        switch (n->kind()) {
+            case NodeKind::Transform: {
+                const auto* t = static_cast<const Transform*>(n);
+                const bool wasGeneral = img.flags[i] & FlatImage::kGeneral;
+                if (t->matrixPtr()) {
+                    img.aux[i] = slot(img.matrices, i, t->matrixPtr(), wasGeneral);
+                    img.flags[i] |= FlatImage::kGeneral;
+                } else {
+                    img.aux[i] = slot(img.translations, i, t->translation(), !wasGeneral);
+                    img.flags[i] &= ~FlatImage::kGeneral;
+                }
+                break;
+            }
+            case NodeKind::Geometry: {
+                const auto* g = static_cast<const Geometry*>(n);
+                const auto key = std::make_pair<const Mesh*, const Material*>(g->mesh(), g->material());
+                auto it = img.drawIndex.find(key);
+                if (it == img.drawIndex.end()) {
+                    it = img.drawIndex.emplace(key, uint32_t(img.draws.size())).first;
+                    // A dense index over the scene's mesh/material pairs (all images): the sort's state.
+                    auto st = scene.states_.emplace(key, uint32_t(scene.states_.size())).first;
+                    img.draws.push_back(FlatImage::Draw{key.first, key.second, st->second});
+                }
+                img.aux[i] = it->second;  // shared, never rewritten: a changed geometry finds or adds its pair
+                break;
+            }
+            case NodeKind::LOD: {
+                const auto* l = static_cast<const LOD*>(n);
+                std::vector<float> key;
+                for (size_t k = 0; k < l->numChildren(); ++k)
+                    key.insert(key.end(), {l->range(k).min, l->range(k).max, l->error(k)});
+                auto it = img.rangeIndex.find(key);
+                if (it == img.rangeIndex.end()) {
+                    it = img.rangeIndex.emplace(key, uint32_t(img.ranges.size())).first;
+                    for (size_t k = 0; k < key.size(); k += 3) img.ranges.push_back({key[k], key[k + 1], key[k + 2]});
+                }
+                // The centre is filled in by write(), once the bound and the frame are known.
+                img.aux[i] = slot(
+                    img.lods, i,
+                    FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()), l->hasErrors()});
+                break;
+            }
+            case NodeKind::Group:
+                if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
+                break;
+            case NodeKind::Occluder: break;  // written with its frame, in write()
+            default: img.aux[i] = slot(img.nodes, i, n); break;
+        }
+    }
+
+    // Writes the subtree of `n` at `cursor`; `m` is the world matrix of n's parent frame.
+    void write(Node* n, const dmat4& m) {
+        const uint32_t i = cursor++;
+        img.kind[i] = n->kind();
+        img.flags[i] &= fresh ? 0 : FlatImage::kGeneral;  // a refit needs to know the transform's old table
+        setMasked(i, n);
+        params(i, n);
+        scene.stats_.entriesWritten++;
+        if (collect && n->updateCallback()) scene.callbacks_.push_back(n);
+        switch (n->kind()) {
+            case NodeKind::Geometry: {
+                const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
+                img.end[i] = cursor;
+                if (!mesh) return img.setBound(i, Box{}, 0.0);
+                return leafBound(i, mesh->box(), mesh->validBound(), m);
+            }
+            case NodeKind::Occluder:
+                img.end[i] = cursor;
+                occluder(i, n, m);
+                return leafBound(i, static_cast<Occluder*>(n)->box(), true, m);
+            case NodeKind::Instance: {
+                img.end[i] = cursor;
+                auto* in = static_cast<Instance*>(n);
+                if (!in->prototype()) return img.setBound(i, Box{}, 0.0);
+                const FlatImage& p = proto(in->prototype());
+                if (p.size() == 0 || (p.flags[0] & FlatImage::kEmpty)) return img.setBound(i, Box{}, 0.0);
+                const bool valid = !(p.flags[0] & FlatImage::kInvalid);
+                // The prototype's root bound, in the prototype's frame (its image origin added back).
+                const dmat4 pm = m * in->matrix();
+                if (!valid) return img.setInvalid(i);
+                img.setBound(i, transformBox(pm, p.box(0)), double(p.r[0]) * maxScale(pm));
+                return;
+            }
+            default: break;
+        }
+        const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        const int cond = isConditional(n);
+        conditional += cond;
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) write(n->child(k), cm);
+        conditional -= cond;
+        img.end[i] = cursor;
+        boundFromChildren(i);
+        wide(i, n);
+        if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
+        if (n->kind() == NodeKind::Billboard) billboard(i, n, cm);
+        if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
+    }
+
+    // The occluder's frame, and whether the occlusion pass may use it.
+    void occluder(uint32_t i, const Node* n, const dmat4& m) {
+        FlatImage::OccluderRef ref{n, i, ~0u, dvec3(m[3]),
+                                   !prototype && conditional == 0 && n->nodeMask() == 0xffffffffu};
+        if (glm::dmat3(m) != glm::dmat3(1.0)) {
+            const bool had = !fresh && img.occluders[img.aux[i]].matrix != ~0u;
+            ref.matrix = had ? img.occluders[img.aux[i]].matrix : uint32_t(img.occluderMatrices.size());
+            if (had)
+                img.occluderMatrices[ref.matrix] = m;
+            else
+                img.occluderMatrices.push_back(m);
+        }
+        img.aux[i] = slot(img.occluders, i, ref);
+        occludersWritten = true;
+    }
+
+    // Chunk boxes over the active occluders, tested against the frustum before the occluders themselves.
+    void occluderChunks() {
+        const uint32_t k = FlatImage::kOccluderChunk, n = uint32_t(img.occluders.size());
+        img.occluderChunks.assign((n + k - 1) / k, Box{});
+        for (uint32_t j = 0; j < n; ++j) {
+            const FlatImage::OccluderRef& o = img.occluders[j];
+            if (o.active && !(img.flags[o.entry] & (FlatImage::kEmpty | FlatImage::kInvalid)))
+                img.occluderChunks[j / k].expand(img.box(o.entry));
+        }
+    }
+
+    // A billboard turns about its origin: bound it, and everything below it, by a sphere there.
+    void billboard(uint32_t i, Node* n, const dmat4& m) {
+        if (img.flags[i] & FlatImage::kEmpty) return;
+        const double rl = localRadius(n, dmat4(1.0), scene);
+        const dvec3 o(m[3]);
+        const double rad = rl * maxScale(m);
+        for (uint32_t j = i; j < img.end[i]; ++j) {
+            if (!std::isfinite(rad)) {
+                img.setInvalid(j);
+            } else {
+                img.setBound(j, Box{o - dvec3(rad), o + dvec3(rad)}, rad);
+            }
+            if (j > i) img.flags[j] |= FlatImage::kNoTest;
+        }
+    }
+
+    // Structure unchanged: rewrite only the dirty paths in place.
+    void refit(uint32_t i, Node* n, const dmat4& m) {
+        if ((n->dirtyBits() & Node::kDirtyBound) || n->kind() == NodeKind::Billboard ||
+            n->kind() == NodeKind::Instance) {
+            cursor = i;
+            write(n, m);
+            return;
+        }
+        const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        const int cond = isConditional(n);
+        conditional += cond;
+        uint32_t j = i + 1;
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k, j = img.end[j]) {
+            Node* ch = n->child(k);
+            if (ch->dirtyBits()) refit(j, ch, cm);
+        }
+        conditional -= cond;
+        boundFromChildren(i);
+        wide(i, n);
+        if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
+        if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
+    }
+
+    static void clear(Node* n) {
+        if (!(n->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))) return;
+        n->clearDirty();
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) clear(n->child(k));
+    }
+};
+
+Scene::Scene(ref_ptr<Node> root) : root_(std::move(root)) {
+    if (!root_) throw std::invalid_argument("Scene::Scene(): root is null");
+}
+
+Scene::~Scene() = default;
+
+const FlatImage* Scene::prototypeImage(const Node* p) const {
+    auto it = protos_.find(p);
+    return it == protos_.end() ? nullptr : it->second.get();
+}
+
+void Scene::update(const FrameInfo& frame) {
+    const auto t0 = std::chrono::steady_clock::now();
+    stats_ = UpdateStats{};
+    // Structure first (it also finds the nodes with callbacks), then the callbacks, then their changes.
+    if ((root_->dirtyBits() & Node::kDirtyStructure) || main_.size() == 0) refresh();
+    for (Node* n : callbacks_) {
+        (*n->updateCallback())(*n, frame);
+        stats_.callbacksRun++;
+    }
+    refresh();
+    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void Scene::refresh() {
+    const uint8_t bits = root_->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure);
+    if (bits || main_.size() == 0) {
+        version_++;
+        std::unordered_set<const Node*> built;
+        Builder b{*this, main_, built};
+        if ((bits & Node::kDirtyStructure) || main_.size() == 0) {
+            callbacks_.clear();
+            protos_.clear();
+            b.collect = true;
+            b.full(root_.get());
+            structureVersion_++;
+            // A shared node is met once per path: keep its first place in traversal order.
+            std::unordered_set<const Node*> seen;
+            callbacks_.erase(std::remove_if(callbacks_.begin(), callbacks_.end(),
+                                            [&](const Node* n) { return !seen.insert(n).second; }),
+                             callbacks_.end());
+        } else {
+            b.refit(0, root_.get(), dmat4(1.0));
+            b.updateExtent();
+        }
+        if (b.occludersWritten) b.occluderChunks();
+        Builder::clear(root_.get());
+    }
+}
+
+size_t Scene::bytes() const {
+    size_t b = main_.bytes();
+    for (auto& p : protos_) b += p.second->bytes();
+    return b;
+}
+
+}  // namespace sg

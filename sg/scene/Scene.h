@@ -1,0 +1,55 @@
+// Scene: a root node with its flat image, kept current by the update pass (app callbacks, then an
+// incremental refit of only the paths marked dirty).
+#pragma once
+#include "sg/core/Node.h"
+#include "sg/scene/FlatImage.h"
+
+#include <map>
+#include <memory>
+#include <unordered_map>
+
+namespace sg {
+
+struct UpdateStats {
+    uint64_t callbacksRun = 0;
+    uint64_t fullRebuilds = 0;
+    uint64_t entriesWritten = 0;  // entries whose bound was recomputed this update
+    double ms = 0.0;
+};
+
+class Scene {
+public:
+    // Throws std::invalid_argument for a null root.
+    explicit Scene(ref_ptr<Node> root);
+    ~Scene();
+    Node* root() const { return root_.get(); }
+
+    // Runs update callbacks, then brings the image up to date. An unchanged scene costs one flag check
+    // (plus the callbacks it has).
+    void update(const FrameInfo& frame = {});
+
+    const FlatImage& image() const { return main_; }
+    // The image of an Instance's prototype (built once however often it is placed); null if unknown.
+    const FlatImage* prototypeImage(const Node* prototype) const;
+    const UpdateStats& lastUpdate() const { return stats_; }
+    // Counts full rebuilds of the image: state kept per image entry (LOD hysteresis) is stale when it moves.
+    uint64_t structureVersion() const { return structureVersion_; }
+    // Counts updates that changed the image at all (bounds, frames, meshes, structure): what is derived from
+    // it stays valid while this stays the same.
+    uint64_t version() const { return version_; }
+    size_t bytes() const;
+
+private:
+    struct Builder;
+    void refresh();  // brings the image up to date with the dirty marks
+    ref_ptr<Node> root_;
+    FlatImage main_;
+    std::unordered_map<const Node*, std::unique_ptr<FlatImage>> protos_;
+    std::vector<Node*> callbacks_;
+    std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
+    UpdateStats stats_;
+    uint64_t structureVersion_ = 0;
+    uint64_t version_ = 0;
+};
+
+}  // namespace sg

@@ -1,0 +1,27 @@
+// The canonical `city` benchmark scene and its camera paths, exactly as ../shared/bench/city.md defines them.
+#pragma once
+#include "nodes/Group.h"
+#include "sg/core/Camera.h"
+
+#include <cstdint>
+
+namespace scenes {
+
+struct CityOptions {
+    int n = 100;             // N x N cells
+    bool occluders = false;  // a box Occluder per building (occlusion benchmarks only)
+};
+
+uint32_t cityHeight(uint32_t i, uint32_t j);
+sg::ref_ptr<sg::Group> buildCity(const CityOptions& opt);
+// Nodes per cell (7) times cells, plus tiles and the root.
+uint64_t cityNodeCount(int n);
+
+constexpr int kOrbitFrames = 120;
+constexpr int kStreetFrames = 240;
+// Viewport 1280x720, fov 60, near 1, far 3000; frame f of 120.
+sg::Camera cityOrbitCamera(int n, int frame, int width = 1280, int height = 720);
+// Viewport 1280x720, fov 60, near 0.5, far 3000; frame f of 240.
+sg::Camera cityStreetCamera(int n, int frame, int width = 1280, int height = 720);
+
+}  // namespace scenes

@@ -1,0 +1,186 @@
+// The LOD budget inside the cull: every visible LOD planned at once, within the budget, nearer (larger)
+// objects first when the budget is short, levels valued by their errors when the LOD has them.
+#include "nodes/Geometry.h"
+#include "nodes/LOD.h"
+#include "nodes/Transform.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/lod/DrawCostModel.h"
+
+#include <gtest/gtest.h>
+
+using namespace sg;
+
+namespace {
+// Twenty LODs in a row along +y, 10 m apart, each a fine (about 1,200 triangles) and a coarse (12) box.
+struct Row {
+    ref_ptr<Group> root = make<Group>();
+    ref_ptr<Mesh> fine, coarse;
+    std::vector<ref_ptr<LOD>> lods;
+    explicit Row(bool errors) {
+        std::vector<vec3> pos;
+        std::vector<uint32_t> idx;
+        // A 20 x 30 grid of quads in a 2 m square facing -y: 1,200 triangles.
+        for (int i = 0; i <= 20; ++i)
+            for (int j = 0; j <= 30; ++j) pos.push_back(vec3(-1.0f + 0.1f * i, -1.0f, -1.0f + 2.0f * j / 30.0f));
+        for (int i = 0; i < 20; ++i)
+            for (int j = 0; j < 30; ++j) {
+                const uint32_t a = uint32_t(i * 31 + j), b = a + 31;
+                idx.insert(idx.end(), {a, b, a + 1, a + 1, b, b + 1});
+            }
+        fine = make<Mesh>();
+        fine->set(pos, std::vector<vec3>(pos.size(), vec3(0, -1, 0)), idx);
+        coarse = makeBoxMesh(dvec3(-1), dvec3(1));
+        auto mat = make<Material>();
+        for (int k = 0; k < 20; ++k) {
+            auto t = make<Transform>();
+            t->setTranslation(dvec3(0, 20 + 10 * k, 0));
+            auto lod = make<LOD>();
+            lod->addChild(make<Geometry>(fine, mat), 0.0f, 1e6f);
+            lod->addChild(make<Geometry>(coarse, mat), 1e6f, 2e6f);
+            if (errors) lod->setError(1, 0.2f);
+            t->addChild(lod);
+            root->addChild(t);
+            lods.push_back(lod);
+        }
+    }
+};
+Camera lookingAlongY() {
+    Camera cam;
+    cam.setViewport(400, 300);
+    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 1000.0);
+    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
+    return cam;
+}
+// A model that knows the machine: 1 ms per frame plus 10 ms per 100,000 triangles, items free.
+DrawCostModel trained() {
+    DrawCostModel m;
+    for (int f = 0; f < 200; ++f) {
+        const double tris = 1000.0 * (f % 50 + 1), items = double((f * 7) % 40);
+        m.update({tris, items, 0.0}, 1.0 + 10.0 * tris / 1e5);
+    }
+    return m;
+}
+CullSettings budgeted(const DrawCostModel& model, double ms) {
+    CullSettings set;
+    set.lodBudget.enabled = true;
+    set.lodBudget.model = &model;
+    set.lodBudget.budgetMs = ms;
+    return set;
+}
+struct Frame {
+    int fine = 0, coarse = 0;
+    std::vector<double> fineY;  // where the fine ones are
+    CullStats stats;
+};
+Frame cull(const Scene& s, const Row& row, CullSettings set) {
+    Frame f;
+    DrawList l;
+    CullTraversal().cull(s, lookingAlongY(), set, l, f.stats);
+    for (auto& it : l.items) {
+        if (it.mesh == row.fine.get()) {
+            f.fine++;
+            f.fineY.push_back(it.model[3].y);
+        }
+        f.coarse += it.mesh == row.coarse.get();
+    }
+    return f;
+}
+}  // namespace
+
+TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
+    Row row(false);
+    Scene s(row.root);
+    s.update();
+    const DrawCostModel model = trained();
+    CullSettings set = budgeted(model, 100.0);  // room for everything: all fine (the ranges would say the same)
+    Frame f = cull(s, row, set);
+    EXPECT_EQ(f.fine, 20);
+    EXPECT_EQ(f.stats.lodObjects, 20u);
+    EXPECT_LE(f.stats.lodPredictedMs, 100.0);
+
+    set.lodBudget.budgetMs = 1.5;  // fixed cost plus a little: everything drawn, coarse, some fine up front
+    f = cull(s, row, set);
+    EXPECT_EQ(f.fine + f.coarse, 20);
+    EXPECT_GE(f.coarse, 15);
+    EXPECT_LE(f.stats.lodPredictedMs, 1.5 + 0.05);
+    // The stats count the levels the budget chose, and the budget it planned for.
+    EXPECT_EQ(f.stats.lodLevels[0], uint64_t(f.fine));
+    EXPECT_EQ(f.stats.lodLevels[1], uint64_t(f.coarse));
+    EXPECT_EQ(f.stats.lodBudgetMs, 1.5);
+    EXPECT_GT(f.stats.lodPixels, 0.0);            // what the drawn LODs cover, for the cost model's pixel term
+    for (double y : f.fineY) EXPECT_LT(y, 60.0);  // the upgrades went to the nearest (largest on screen)
+
+    set.lodBudget.mayDrop = true;  // allowed to leave LODs out: a budget below the fixed cost drops all
+    set.lodBudget.budgetMs = 0.5;
+    f = cull(s, row, set);
+    EXPECT_EQ(f.fine + f.coarse, 0);
+    EXPECT_EQ(f.stats.lodDropped, 20u);
+    EXPECT_EQ(f.stats.lodPixels, 0.0);
+
+    set.lodBudget.model = nullptr;
+    EXPECT_THROW(cull(s, row, set), std::invalid_argument);
+}
+
+TEST(LodBudget, LevelErrorsTellWhereDetailPays) {
+    // With errors on the LODs (the coarse level 0.2 m off), a mid budget buys detail where the coarse
+    // error would show most: near. Without, it buys it where the objects are largest: also near. Both
+    // keep within the budget; the errors make the far coarse levels nearly as good as fine.
+    for (bool errors : {false, true}) {
+        Row row(errors);
+        Scene s(row.root);
+        s.update();
+        const DrawCostModel model = trained();
+        const Frame f = cull(s, row, budgeted(model, 2.0));
+        EXPECT_EQ(f.fine + f.coarse, 20);
+        EXPECT_GT(f.fine, 0);
+        EXPECT_LT(f.fine, 20);
+        for (double y : f.fineY) EXPECT_LE(y, 20.0 + 10.0 * (f.fine - 1) + 1e-3) << "errors " << errors;
+    }
+}
+
+TEST(LodBudget, KnownZeroErrorsMakeTheCoarseLevelAsGoodAsTheFine) {
+    // Errors given as 0 for both levels (the coarse level is the same shape): even an ample budget buys
+    // no detail, since it would add nothing; with no errors given, the guess from triangles buys it all.
+    for (bool known : {false, true}) {
+        Row row(false);
+        if (known)
+            for (auto& lod : row.lods) {
+                lod->setError(0, 0.0f);
+                lod->setError(1, 0.0f);
+                EXPECT_TRUE(lod->hasErrors());
+            }
+        Scene s(row.root);
+        s.update();
+        const DrawCostModel model = trained();
+        const Frame f = cull(s, row, budgeted(model, 100.0));
+        EXPECT_EQ(f.fine + f.coarse, 20);
+        EXPECT_EQ(f.coarse, known ? 20 : 0) << "errors known " << known;
+    }
+}
+
+TEST(LodBudget, AMeshChangedBetweenFramesIsPricedAfresh) {
+    // One traversal over frames keeps what it worked out of the LODs' children while the scene is the
+    // same; a fine level made ten times heavier must then cost ten times more.
+    Row row(false);
+    Scene s(row.root);
+    s.update();
+    const DrawCostModel model = trained();
+    const CullSettings set = budgeted(model, 4.0);  // 20 fine levels (24,000 triangles) fit: 3.4 ms
+    CullTraversal t;
+    auto shown = [&](const Mesh* mesh) {
+        DrawList l;
+        CullStats st;
+        t.cull(s, lookingAlongY(), set, l, st);
+        int n = 0;
+        for (auto& it : l.items) n += it.mesh == mesh;
+        return n;
+    };
+    EXPECT_EQ(shown(row.fine.get()), 20);
+    EXPECT_EQ(shown(row.fine.get()), 20);               // the same frame again, from what was kept
+    auto heavy = makeBoxMesh(dvec3(-1), dvec3(1), 32);  // 12,288 triangles
+    for (auto& lod : row.lods) static_cast<Geometry*>(lod->child(0))->setMesh(heavy);
+    s.update();
+    const int n = shown(heavy.get());
+    EXPECT_GT(n, 0);
+    EXPECT_LT(n, 4);  // (4 - 1) ms buys two at 1.2 ms each
+}

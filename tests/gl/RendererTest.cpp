@@ -1,0 +1,350 @@
+// Renderer and OsmesaContext: headless renders compared pixel by pixel.
+#include "nodes/Geometry.h"
+#include "nodes/Group.h"
+#include "nodes/LOD.h"
+#include "nodes/Transform.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/io/ImageIO.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdlib>
+#include <stdexcept>
+
+using namespace sg;
+
+namespace {
+
+constexpr int kW = 160, kH = 120;
+// Multiples of 1/255: the clear colour converts to RGBA8 without rounding.
+const vec4 kClear(51.0f / 255.0f, 102.0f / 255.0f, 153.0f / 255.0f, 1.0f);
+const std::array<int, 4> kClear8{51, 102, 153, 255};
+
+std::array<int, 4> pixel(const Image& img, int x, int y) {
+    const uint8_t* p = &img.rgba[(size_t(y) * size_t(img.width) + size_t(x)) * 4u];
+    return {p[0], p[1], p[2], p[3]};
+}
+
+bool near(const std::array<int, 4>& a, const vec4& c, int tol) {
+    for (int i = 0; i < 4; ++i)
+        if (std::abs(a[size_t(i)] - int(std::lround(c[i] * 255.0f))) > tol) return false;
+    return true;
+}
+
+Camera lookingAt(const dvec3& eye, const dvec3& center) {
+    Camera cam;
+    cam.setLookAt(eye, center, dvec3(0.0, 1.0, 0.0));
+    cam.setPerspective(45.0, double(kW) / kH, 0.1, 100.0);
+    cam.setViewport(kW, kH);
+    return cam;
+}
+
+DrawList cull(const ref_ptr<Node>& root, const Camera& cam, bool sort = true) {
+    Scene scene(root);
+    scene.update();
+    DrawList list;
+    CullStats stats;
+    CullSettings settings;
+    settings.sort = sort;
+    CullTraversal().cull(scene, cam, settings, list, stats);
+    return list;
+}
+
+ref_ptr<Group> placed(const ref_ptr<Mesh>& mesh, const ref_ptr<Material>& mat, const dvec3& at) {
+    auto t = make<Transform>(glm::translate(dmat4(1.0), at));
+    t->addChild(make<Geometry>(mesh, mat));
+    return t;
+}
+
+// A context and a renderer per test; the renderer is declared last so that it is destroyed while its
+// context still exists.
+struct RendererTest : ::testing::Test {
+    OsmesaContext context{kW, kH};
+    Renderer renderer;
+};
+
+}  // namespace
+
+TEST_F(RendererTest, EmptyListIsClearColourEverywhere) {
+    renderer.draw(DrawList{}, lookingAt(dvec3(0, 0, 5), dvec3(0.0)), kClear);
+    const Image img = renderer.readColor();
+    ASSERT_EQ(img.width, kW);
+    ASSERT_EQ(img.height, kH);
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) ASSERT_EQ(pixel(img, x, y), kClear8) << "at " << x << "," << y;
+    EXPECT_EQ(renderer.lastStats().drawCalls, 0u);
+    EXPECT_EQ(renderer.lastStats().instances, 0u);
+}
+
+TEST_F(RendererTest, BoxAheadCoversCentreAndLeavesCorners) {
+    const vec4 red(0.8f, 0.3f, 0.2f, 1.0f);
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(makeBoxMesh(dvec3(-0.5), dvec3(0.5)), make<Material>(red)));
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    renderer.draw(cull(root, cam), cam, kClear);
+    const Image img = renderer.readColor();
+    // The front face looks straight at the headlight: ambient 0.35 + diffuse 0.65 = the material colour.
+    EXPECT_TRUE(near(pixel(img, kW / 2, kH / 2), red, 2));
+    for (auto [x, y] : {std::pair{0, 0}, {kW - 1, 0}, {0, kH - 1}, {kW - 1, kH - 1}})
+        EXPECT_EQ(pixel(img, x, y), kClear8) << "corner " << x << "," << y;
+    EXPECT_EQ(renderer.lastStats().drawCalls, 1u);
+    EXPECT_EQ(renderer.lastStats().triangles, 12u);
+}
+
+TEST_F(RendererTest, InstancedRunsGiveTheSameImageWithFewerDrawCalls) {
+    // A 6 x 4 grid of two meshes (alternating), one material; spaced so that no two boxes touch.
+    auto meshA = makeBoxMesh(dvec3(-0.4), dvec3(0.4));
+    auto meshB = makeBoxMesh(dvec3(-0.3, -0.45, -0.3), dvec3(0.3, 0.45, 0.3), 2);
+    auto matA = make<Material>(vec4(0.3f, 0.8f, 0.4f, 1.0f));
+    auto matB = make<Material>(matA->baseColor);  // same colour, another object: breaks runs
+    auto root = make<Group>();
+    int k = 0;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 6; ++i, ++k)
+            root->addChild(
+                placed(k % 2 ? meshB : meshA, matA, dvec3(-3.75 + 1.5 * i, -2.25 + 1.5 * j, -0.7 * (k % 3))));
+    const Camera cam = lookingAt(dvec3(1.0, 1.5, 9.0), dvec3(0.0));
+
+    const DrawList sorted = cull(root, cam);  // state order: one run per mesh
+    ASSERT_EQ(sorted.items.size(), 24u);
+    renderer.draw(sorted, cam, kClear);
+    const Image batched = renderer.readColor();
+    const RenderStats s1 = renderer.lastStats();
+
+    DrawList single = sorted;  // emission order, materials alternating: every item is its own run
+    for (size_t i = 0; i < single.items.size(); ++i) single.items[i].material = (i % 2) ? matB.get() : matA.get();
+    single.keepEmissionOrder();
+    renderer.draw(single, cam, kClear);
+    const Image separate = renderer.readColor();
+    const RenderStats s2 = renderer.lastStats();
+
+    EXPECT_EQ(s1.drawCalls, 2u);
+    EXPECT_EQ(s2.drawCalls, 24u);
+    EXPECT_LT(s1.drawCalls, s2.drawCalls);
+    EXPECT_EQ(s1.instances, 24u);
+    EXPECT_EQ(s2.instances, 24u);
+    EXPECT_EQ(s1.triangles, s2.triangles);
+    EXPECT_EQ(countDifferingPixels(batched, separate, 0), 0u);
+    Image empty = batched;  // the grid is in view: it covers a good part of the image
+    for (size_t i = 0; i < empty.rgba.size(); ++i) empty.rgba[i] = uint8_t(kClear8[i % 4]);
+    EXPECT_GT(countDifferingPixels(batched, empty, 0), size_t(kW * kH / 5));
+    if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_grid.png", batched);  // to look at by eye
+}
+
+TEST_F(RendererTest, SceneTenThousandKilometresAwayRendersLikeAtTheOrigin) {
+    auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5), 3);
+    auto matA = make<Material>(vec4(0.9f, 0.6f, 0.1f, 1.0f));
+    auto matB = make<Material>(vec4(0.2f, 0.5f, 0.9f, 1.0f));
+    // Offsets that are not binary fractions, so that the far coordinates do round in double.
+    const dvec3 at[3] = {{0.3, 0.1, 0.0}, {-1.7, -0.45, -1.3}, {1.9, 0.6, -2.1}};
+    const dvec3 eye(0.4, 1.3, 6.1), center(0.1, 0.2, -0.7);
+    auto build = [&](const dvec3& origin) {
+        auto root = make<Group>();
+        for (int i = 0; i < 3; ++i) root->addChild(placed(mesh, i == 1 ? matB : matA, origin + at[i]));
+        return root;
+    };
+    const dvec3 far(1e7, 1e7, 0.0);
+
+    const Camera camNear = lookingAt(eye, center);
+    renderer.draw(cull(build(dvec3(0.0)), camNear), camNear, kClear);
+    const Image atOrigin = renderer.readColor();
+
+    const Camera camFar = lookingAt(far + eye, far + center);
+    const DrawList farList = cull(build(far), camFar);
+    renderer.draw(farList, camFar, kClear);
+    const Image away = renderer.readColor();
+    if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_far.png", away);
+
+    // Tolerance: 2 pixels. world - eye is computed in double, where 1e7 carries ~2e-9 m of rounding, so
+    // an eye-relative float matrix can differ from the origin scene's by one float ulp. That moves an
+    // edge by about 1e-7 pixel: only a pixel centre that close to an edge could flip (none does here).
+    EXPECT_LE(countDifferingPixels(atOrigin, away, 0), 2u);
+    EXPECT_NE(pixel(atOrigin, kW / 2, kH / 2), kClear8);
+
+    // The check has teeth: composing the same matrices in float (world, then minus the eye) loses the
+    // offsets below a metre at 1e7 and visibly moves the boxes.
+    DrawList naive = farList;
+    const mat4 minusEye = mat4(glm::translate(dmat4(1.0), -camFar.eye()));
+    for (DrawItem& it : naive.items) {
+        const dvec3 world = dvec3(it.model[3]) + camFar.eye();
+        it.model = glm::mat4x3(minusEye * mat4(glm::translate(dmat4(1.0), world)));
+    }
+    renderer.draw(naive, camFar, kClear);
+    EXPECT_GT(countDifferingPixels(atOrigin, renderer.readColor(), 0), 100u);
+}
+
+TEST_F(RendererTest, DepthIsBelowOneOnTheBoxAndOneAtTheCorners) {
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(makeBoxMesh(dvec3(-0.5), dvec3(0.5)), make<Material>()));
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    renderer.draw(cull(root, cam), cam, kClear);
+    const std::vector<float> depth = renderer.readDepth();
+    ASSERT_EQ(depth.size(), size_t(kW) * kH);
+    const float centre = depth[size_t(kH / 2) * kW + kW / 2];
+    EXPECT_GT(centre, 0.0f);
+    EXPECT_LT(centre, 1.0f);
+    for (auto [x, y] : {std::pair{0, 0}, {kW - 1, 0}, {0, kH - 1}, {kW - 1, kH - 1}})
+        EXPECT_EQ(depth[size_t(y) * kW + size_t(x)], 1.0f) << "corner " << x << "," << y;
+}
+
+TEST(OsmesaContextTest, RejectsEmptySizes) {
+    EXPECT_THROW(OsmesaContext(0, 10), std::invalid_argument);
+    EXPECT_THROW(OsmesaContext(10, -1), std::invalid_argument);
+}
+
+TEST_F(RendererTest, ResizedContextRendersAtTheNewSize) {
+    context.resize(64, 32);
+    Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    cam.setViewport(64, 32);
+    renderer.draw(DrawList{}, cam, kClear);
+    const Image img = renderer.readColor();
+    EXPECT_EQ(img.width, 64);
+    EXPECT_EQ(img.height, 32);
+    EXPECT_EQ(pixel(img, 63, 31), kClear8);
+}
+
+TEST_F(RendererTest, TopRowOfTheImageIsTheTopOfTheView) {
+    // A box above the view axis shows in the upper half of the image (rows go top to bottom).
+    auto root = make<Group>();
+    root->addChild(placed(makeBoxMesh(dvec3(-0.5), dvec3(0.5)), make<Material>(), dvec3(0.0, 1.2, 0.0)));
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    renderer.draw(cull(root, cam), cam, kClear);
+    const Image img = renderer.readColor();
+    EXPECT_NE(pixel(img, kW / 2, kH / 4), kClear8);
+    EXPECT_EQ(pixel(img, kW / 2, 3 * kH / 4), kClear8);
+}
+
+TEST_F(RendererTest, UnlitTextureAndVertexColoursMultiply) {
+    // One quad facing the camera, with UVs and a vertex colour, under a one-colour texture.
+    auto mesh = make<Mesh>();
+    const vec4 vc(0.5f, 1.0f, 1.0f, 1.0f);
+    mesh->set({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}},
+              {0, 1, 2, 0, 2, 3}, {{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {vc, vc, vc, vc});
+    std::vector<uint8_t> texel;
+    for (int i = 0; i < 4 * 4; ++i) texel.insert(texel.end(), {255, 128, 255, 255});
+    auto mat = make<Material>(vec4(1.0f, 1.0f, 0.5f, 1.0f), make<Texture>(4, 4, texel));
+    mat->unlit = true;
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(mesh, mat));
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    renderer.draw(cull(root, cam), cam, kClear);
+    EXPECT_TRUE(near(pixel(renderer.readColor(), kW / 2, kH / 2), vec4(0.5f, 128.0f / 255.0f, 0.5f, 1.0f), 1));
+    EXPECT_EQ(renderer.cachedTextures(), 1u);
+}
+
+TEST_F(RendererTest, NormalsFollowNonUniformScale) {
+    // A quad with normal (1,1,0)/sqrt2, stretched 3x along y: the true normal becomes (3,1,0)/sqrt10.
+    // Seen (and lit) along -x that gives 0.35 + 0.65 * 3/sqrt10; transforming the normal like a position
+    // would give 0.35 + 0.65 * 1/sqrt10.
+    auto mesh = make<Mesh>();
+    const vec3 n = glm::normalize(vec3(1, 1, 0));
+    mesh->set({{-0.5f, 0.5f, -1}, {0.5f, -0.5f, -1}, {0.5f, -0.5f, 1}, {-0.5f, 0.5f, 1}}, {n, n, n, n},
+              {0, 1, 2, 0, 2, 3});
+    auto root = make<Transform>(glm::scale(dmat4(1.0), dvec3(1.0, 3.0, 1.0)));
+    root->addChild(make<Geometry>(mesh, make<Material>(vec4(1.0f))));
+    const Camera cam = lookingAt(dvec3(5, 0, 0), dvec3(0.0));
+    renderer.draw(cull(root, cam), cam, kClear);
+    const float expected = 0.35f + 0.65f * 3.0f / std::sqrt(10.0f);
+    EXPECT_TRUE(near(pixel(renderer.readColor(), kW / 2, kH / 2), vec4(vec3(expected), 1.0f), 2));
+}
+
+TEST_F(RendererTest, MeshesAreUploadedOnceAndReleasedWhenUnused) {
+    auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5));
+    auto root = make<Group>();
+    for (int i = 0; i < 3; ++i) root->addChild(placed(mesh, make<Material>(), dvec3(1.2 * i - 1.2, 0, 0)));
+    const Camera cam = lookingAt(dvec3(0, 0, 6), dvec3(0.0));
+    const DrawList list = cull(root, cam);
+    renderer.draw(list, cam, kClear);
+    renderer.draw(list, cam, kClear);
+    EXPECT_EQ(renderer.cachedMeshes(), 1u);
+    EXPECT_EQ(renderer.lastStats().drawCalls, 3u);  // three materials: three runs
+    renderer.draw(DrawList{}, cam, kClear);
+    renderer.releaseUnused();
+    EXPECT_EQ(renderer.cachedMeshes(), 0u);
+}
+
+TEST_F(RendererTest, OrderPastTheItemsThrows) {
+    DrawList list;
+    list.items.push_back(DrawItem{});
+    list.order = {0, 5};
+    EXPECT_THROW(renderer.draw(list, lookingAt(dvec3(0, 0, 5), dvec3(0.0))), std::out_of_range);
+}
+
+TEST_F(RendererTest, EmptyOrderDrawsTheItemsAndWideIndicesWork) {
+    // A box fine enough to need 32-bit indices, in a list without `order`.
+    auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5), 110);
+    ASSERT_FALSE(mesh->indices32().empty());
+    const vec4 red(0.8f, 0.3f, 0.2f, 1.0f);
+    auto mat = make<Material>(red);
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    DrawItem item;
+    item.mesh = mesh.get();
+    item.material = mat.get();
+    item.model = glm::mat4x3(glm::translate(dmat4(1.0), -cam.eye()));
+    DrawList list;
+    list.items.push_back(item);
+    renderer.draw(list, cam, kClear);
+    EXPECT_EQ(renderer.lastStats().drawCalls, 1u);
+    EXPECT_EQ(renderer.lastStats().triangles, uint64_t(mesh->triangleCount()));
+    const Image img = renderer.readColor();
+    EXPECT_TRUE(near(pixel(img, kW / 2, kH / 2), red, 2));
+    EXPECT_EQ(pixel(img, 0, 0), kClear8);
+}
+
+// LOD fade on screen: in the band the two levels share the object's pixels with complementary patterns,
+// so together they cover exactly what one opaque level covers, in the proportion the band position gives.
+TEST_F(RendererTest, LodFadeSharesThePixelsBetweenTheTwoLevels) {
+    const vec4 red(1, 0, 0, 1), green(0, 1, 0, 1);
+    auto matOf = [](const vec4& c) {
+        auto m = make<Material>();
+        m->baseColor = c;
+        m->unlit = true;
+        return m;
+    };
+    auto mesh = makeBoxMesh(dvec3(-2.0), dvec3(2.0));
+    auto lod = make<LOD>();
+    lod->addChild(make<Geometry>(mesh, matOf(red)), 0, 10);
+    lod->addChild(make<Geometry>(mesh, matOf(green)), 10, 100);
+    lod->setCenter(dvec3(0.0));
+    lod->setTransition(2.0f);
+    Scene scene(lod);
+    scene.update();
+    auto render = [&](double dist, bool fade) {
+        const Camera cam = lookingAt(dvec3(0.3, 0.2, dist), dvec3(0.0));
+        CullSettings set;
+        set.lodFade = fade;
+        DrawList list;
+        CullStats stats;
+        CullTraversal().cull(scene, cam, set, list, stats);
+        list.sort();
+        renderer.draw(list, cam, kClear);
+        return renderer.readColor();
+    };
+    for (double dist : {9.5, 10.0, 10.5}) {
+        const Image opaque = render(dist, false), faded = render(dist, true);
+        int covered = 0, r = 0, g = 0, other = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const bool in = pixel(opaque, x, y) != kClear8;
+                const auto p = pixel(faded, x, y);
+                covered += in;
+                if (!in)
+                    other += p != kClear8;  // nothing outside the object
+                else if (near(p, red, 0))
+                    ++r;
+                else if (near(p, green, 0))
+                    ++g;
+                else
+                    ++other;  // a hole or a blend: neither level
+            }
+        ASSERT_GT(covered, 1000);
+        EXPECT_EQ(other, 0) << dist;
+        EXPECT_EQ(r + g, covered) << dist;
+        // The detailed (red) share is (11 - dist) / 2: 0.75, 0.5, 0.25, within the pattern's spread.
+        EXPECT_NEAR(double(r) / covered, (11.0 - dist) / 2.0, 0.03) << dist;
+    }
+}

@@ -1,0 +1,302 @@
+#include "TestUtil.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/scene/Scene.h"
+#include "testbed/City.h"
+#include "testbed/RandomScene.h"
+
+#include <gtest/gtest.h>
+
+using namespace sg;
+
+namespace {
+ref_ptr<Geometry> unitBox(const ref_ptr<Material>& m = make<Material>()) {
+    return make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), m);
+}
+
+// Every vertex of every geometry lies inside the box and the sphere of its entry and of all its ancestors.
+void expectBoundsEnclose(const Scene& s) {
+    const FlatImage& img = s.image();
+    std::vector<uint32_t> stack;
+    std::function<void(Node*, const dmat4&, uint32_t)> walk = [&](Node* n, const dmat4& m, uint32_t i) {
+        ASSERT_EQ(img.kind[i], n->kind());
+        if (n->kind() == NodeKind::Geometry && !(img.flags[i] & FlatImage::kNoTest)) {
+            for (const vec3& p : static_cast<Geometry*>(n)->mesh()->positions()) {
+                const dvec3 w(m * dvec4(dvec3(p), 1.0));
+                for (uint32_t a : stack) {
+                    const Box b = img.box(a);
+                    ASSERT_TRUE(b.contains(w))
+                        << "entry " << a << " (" << kindName(img.kind[a]) << ") box misses a vertex of entry " << i
+                        << " by " << glm::length(glm::max(b.min - w, dvec3(0)) + glm::max(w - b.max, dvec3(0)));
+                    ASSERT_LE(glm::length(w - img.center(a)), double(img.r[a]))
+                        << "entry " << a << " sphere misses a vertex";
+                }
+            }
+        }
+        if (n->kind() == NodeKind::Instance) return;  // its prototype has an image of its own
+        const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
+        uint32_t j = i + 1;
+        for (size_t k = 0; k < n->numChildren(); ++k, j = img.end[j]) {
+            stack.push_back(j);
+            walk(n->child(k), cm, j);
+            stack.pop_back();
+        }
+        ASSERT_EQ(j, img.end[i]);
+    };
+    stack.push_back(0);
+    walk(s.root(), dmat4(1.0), 0);
+}
+}  // namespace
+
+TEST(Scene, ImageIsPreOrderWithSkipIndices) {
+    auto root = make<Group>();
+    auto a = make<Transform>(glm::translate(dmat4(1.0), dvec3(10, 0, 0)));
+    a->addChild(unitBox());
+    a->addChild(unitBox());
+    root->addChild(a);
+    root->addChild(unitBox());
+    Scene s(root);
+    s.update();
+    const FlatImage& img = s.image();
+    ASSERT_EQ(img.size(), 5u);
+    EXPECT_EQ(img.end[0], 5u);
+    EXPECT_EQ(img.end[1], 4u);
+    EXPECT_EQ(img.end[2], 3u);
+    EXPECT_EQ(img.kind[1], NodeKind::Transform);
+    EXPECT_NEAR(img.center(2).x, 10.0, 1e-6);
+    EXPECT_NEAR(img.box(0).min.x, -1.0, 1e-5);
+    EXPECT_NEAR(img.box(0).max.x, 11.0, 1e-5);
+    expectBoundsEnclose(s);
+}
+
+TEST(Scene, UnchangedSceneCostsNothingAndChangesRefitOnlyTheirPath) {
+    Scene s(scenes::buildCity({16, false}));
+    s.update();
+    EXPECT_EQ(s.lastUpdate().fullRebuilds, 1u);
+    s.update();
+    EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
+    EXPECT_EQ(s.lastUpdate().entriesWritten, 0u);
+    // Move one building's transform: its subtree (transform, LOD, 2 geometries) is rewritten, nothing else.
+    auto* tile = s.root()->child(0);
+    auto* cell = tile->child(3);
+    auto* place = static_cast<Transform*>(cell->child(0));
+    const size_t before = s.image().size();
+    place->setTranslation(place->translation() + dvec3(0, 0, 100));
+    s.update();
+    EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
+    EXPECT_EQ(s.lastUpdate().entriesWritten, 4u);
+    EXPECT_EQ(s.image().size(), before);
+    EXPECT_GT(s.image().box(0).max.z, 100.0);  // the root's bound followed
+    expectBoundsEnclose(s);
+    // A structural change rebuilds.
+    static_cast<Group*>(cell)->addChild(unitBox());
+    s.update();
+    EXPECT_EQ(s.lastUpdate().fullRebuilds, 1u);
+    EXPECT_EQ(s.image().size(), before + 1);
+    expectBoundsEnclose(s);
+}
+
+TEST(Scene, SharedChildIsUpdatedOnEveryPath) {
+    auto shared = make<Transform>();
+    shared->addChild(unitBox());
+    auto root = make<Group>();
+    for (int k = 0; k < 2; ++k) {
+        auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(100.0 * k, 0, 0)));
+        t->addChild(shared);
+        root->addChild(t);
+    }
+    Scene s(root);
+    s.update();
+    shared->setTranslation(dvec3(0, 50, 0));
+    s.update();
+    EXPECT_NEAR(s.image().center(3).y, 50.0, 1e-5);
+    EXPECT_NEAR(s.image().center(6).y, 50.0, 1e-5);
+    EXPECT_NEAR(s.image().center(6).x, 100.0, 1e-5);
+    expectBoundsEnclose(s);
+}
+
+TEST(Scene, UpdateCallbacksRunEachFrameAndTheirChangesShow) {
+    auto root = make<Group>();
+    auto t = make<Transform>();
+    t->addChild(unitBox());
+    t->setUpdateCallback(
+        [](Node& n, const FrameInfo& f) { static_cast<Transform&>(n).setTranslation(dvec3(double(f.frame), 0, 0)); });
+    root->addChild(t);
+    Scene s(root);
+    for (uint64_t f = 1; f <= 3; ++f) {
+        s.update({f, 0.0});
+        EXPECT_EQ(s.lastUpdate().callbacksRun, 1u);
+        EXPECT_NEAR(s.image().center(2).x, double(f), 1e-6);
+    }
+}
+
+TEST(Scene, RandomScenesHaveEnclosingBoundsNearAndFarFromTheOrigin) {
+    for (uint64_t seed = 1; seed <= 6; ++seed)
+        for (double off : {0.0, 1e7}) {
+            scenes::RandomSceneOptions o;
+            o.offset = dvec3(off, -off, off * 0.1);
+            Scene s(scenes::buildRandomScene(seed, o));
+            s.update();
+            expectBoundsEnclose(s);
+            // Float offsets stay small: the image origin is inside the scene.
+            EXPECT_LT(s.image().extent, 1e3) << "seed " << seed;
+        }
+}
+
+TEST(Scene, NaNPositionsMakeAnInvalidEntryThatPoisonsNoSibling) {
+    auto root = make<Group>();
+    auto bad = make<Mesh>();
+    bad->set({vec3(0), vec3(1, 0, 0), vec3(NAN, 0, 0)}, {}, {0, 1, 2});
+    root->addChild(make<Geometry>(bad, make<Material>()));
+    root->addChild(unitBox());
+    Scene s(root);
+    s.update();
+    EXPECT_TRUE(s.image().flags[1] & FlatImage::kInvalid);
+    EXPECT_FALSE(s.image().flags[2] & FlatImage::kInvalid);
+    EXPECT_TRUE(s.image().flags[0] & FlatImage::kInvalid);  // the parent can never be culled either
+}
+
+TEST(Scene, PrototypeImageIsBuiltOnceForManyInstances) {
+    auto proto = make<Group>();
+    proto->addChild(unitBox());
+    auto root = make<Group>();
+    for (int k = 0; k < 50; ++k)
+        root->addChild(make<Instance>(proto, glm::translate(dmat4(1.0), dvec3(10.0 * k, 0, 0))));
+    Scene s(root);
+    s.update();
+    EXPECT_EQ(s.image().size(), 51u);
+    ASSERT_NE(s.prototypeImage(proto.get()), nullptr);
+    EXPECT_EQ(s.prototypeImage(proto.get())->size(), 2u);
+    EXPECT_NEAR(s.image().center(50).x, 490.0, 1e-5);
+    EXPECT_NEAR(s.image().r[50], std::sqrt(3.0), 1e-5);
+}
+
+TEST(Scene, RefitGivesTheImageAFullBuildGives) {
+    // Large enough for the root's children to be kept side by side (a wide group).
+    auto root = scenes::buildCity({48, false});
+    Scene s(root);
+    s.update();
+    ASSERT_FALSE(s.image().wides.empty());
+    scenes::Rng rng(3);
+    for (int round = 0; round < 3; ++round) {
+        for (int k = 0; k < 20; ++k) {
+            Node* tile = root->child(size_t(rng.below(int(root->numChildren()))));
+            Node* cell = tile->child(size_t(rng.below(int(tile->numChildren()))));
+            auto* t = static_cast<Transform*>(cell->child(size_t(rng.below(2))));
+            t->setMatrix(glm::rotate(
+                glm::translate(dmat4(1.0), t->translation() + dvec3(rng.uniform(-50, 50), 0, rng.uniform(0, 30))),
+                rng.uniform(0, 3), dvec3(0, 0, 1)));
+        }
+        s.update();
+        EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
+        Scene fresh(root);
+        fresh.update();
+        const FlatImage &a = s.image(), &b = fresh.image();
+        ASSERT_EQ(a.size(), b.size());
+        ASSERT_EQ(a.origin, b.origin);
+        for (size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(a.cx[i], b.cx[i]) << i;
+            ASSERT_EQ(a.r[i], b.r[i]) << i;
+            ASSERT_EQ(a.ez[i], b.ez[i]) << i;
+            ASSERT_EQ(a.end[i], b.end[i]) << i;
+        }
+        ASSERT_EQ(a.wr, b.wr);
+        ASSERT_EQ(a.wcx, b.wcx);
+        for (size_t i = 0; i < a.size(); ++i) {
+            if (a.kind[i] != NodeKind::Transform) continue;
+            ASSERT_EQ(a.flags[i], b.flags[i]) << i;
+            if (a.flags[i] & FlatImage::kGeneral)
+                ASSERT_EQ(*a.matrices[a.aux[i]], *b.matrices[b.aux[i]]) << i;
+            else
+                ASSERT_EQ(a.translations[a.aux[i]], b.translations[b.aux[i]]) << i;
+        }
+        expectBoundsEnclose(s);
+    }
+}
+
+// Random edits, good and bad, between updates and culls: bad ones are refused with an error and change
+// nothing; after every update the image equals a fresh build of the same graph, and a cull runs.
+TEST(Scene, RandomEditsKeepTheImageExactAndBadOnesAreRefused) {
+    scenes::Rng rng(12345);
+    auto root = scenes::buildRandomScene(5, {30, 40.0, dvec3(0.0)});
+    Scene s(root);
+    s.update();
+    std::vector<ref_ptr<Node>> all;  // references: a node removed by one edit stays valid for the next
+    std::function<void(Node*)> collect = [&](Node* n) {
+        all.push_back(n);
+        for (size_t k = 0; k < n->numChildren(); ++k) collect(n->child(k));
+    };
+    Camera cam;
+    cam.setViewport(64, 64);
+    cam.setLookAt(dvec3(0, -150, 40), dvec3(0), dvec3(0, 0, 1));
+    CullTraversal cull;
+    DrawList list;
+    CullStats stats;
+    int refused = 0;
+    for (int round = 0; round < 60; ++round) {
+        all.clear();
+        collect(root.get());
+        for (int e = 0; e < 8; ++e) {
+            Node* n = all[size_t(rng.below(int(all.size())))].get();
+            Node* other = all[size_t(rng.below(int(all.size())))].get();
+            try {
+                switch (rng.below(7)) {
+                    case 0:
+                        if (n->kind() == NodeKind::Transform) {
+                            dmat4 m = glm::rotate(glm::translate(dmat4(1.0), dvec3(rng.uniform(-20, 20), 0, 0)),
+                                                  rng.uniform(0, 3), dvec3(0, 0, 1));
+                            if (rng.chance(0.3)) m[1][1] = std::nan("");
+                            if (rng.chance(0.2)) m = glm::translate(dmat4(1.0), dvec3(rng.uniform(-5, 5)));
+                            static_cast<Transform*>(n)->setMatrix(m);
+                        }
+                        break;
+                    case 1:  // may be a cycle: must be refused
+                        if (auto* g = dynamic_cast<Group*>(n); g && n->kind() != NodeKind::LOD) g->addChild(other);
+                        break;
+                    case 2:
+                        if (auto* g = dynamic_cast<Group*>(n); g && g->numChildren() > 1 && n->kind() != NodeKind::LOD)
+                            g->removeChild(size_t(rng.below(int(g->numChildren()))));
+                        break;
+                    case 3: n->setNodeMask(rng.chance(0.5) ? 0x1u : 0xffffffffu); break;
+                    case 4:
+                        if (n->kind() == NodeKind::LOD)
+                            static_cast<LOD*>(n)->setRange(0, rng.chance(0.3) ? -1.0f : 0.0f,
+                                                           float(rng.uniform(5, 80)));
+                        break;
+                    case 5:
+                        if (n->kind() == NodeKind::Instance)
+                            static_cast<Instance*>(n)->setPrototype(rng.chance(0.5) ? ref_ptr<Node>(other)
+                                                                                    : ref_ptr<Node>(n));
+                        break;
+                    default:
+                        if (n->kind() == NodeKind::Switch) static_cast<Switch*>(n)->setAll(rng.chance(0.5));
+                        break;
+                }
+            } catch (const std::invalid_argument& err) {
+                ++refused;
+                const std::string what = err.what();
+                ASSERT_NE(what.find("()"), std::string::npos) << what;  // names the function
+            }
+        }
+        s.update();
+        cull.cull(s, cam, CullSettings{}, list, stats);
+        Scene fresh(root);
+        fresh.update();
+        const FlatImage &a = s.image(), &b = fresh.image();
+        ASSERT_EQ(a.size(), b.size()) << "round " << round;
+        for (size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(a.kind[i], b.kind[i]);
+            ASSERT_EQ(a.end[i], b.end[i]);
+            ASSERT_EQ(a.flags[i] & ~FlatImage::kGeneral, b.flags[i] & ~FlatImage::kGeneral)
+                << "round " << round << " entry " << i;
+            if (!(a.flags[i] & FlatImage::kInvalid)) {
+                // The two images may have different origins (a refit keeps the old one): equal up to
+                // the float rounding of the stored offsets.
+                const double tol = 1e-5 * (1.0 + a.extent);
+                ASSERT_LE(glm::length(a.center(i) - b.center(i)), tol) << "round " << round << " entry " << i;
+                ASSERT_NEAR(a.r[i], b.r[i], tol);
+            }
+        }
+        expectBoundsEnclose(s);
+    }
+    EXPECT_GT(refused, 10);
+}

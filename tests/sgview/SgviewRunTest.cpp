@@ -1,0 +1,319 @@
+// The sgview program itself: its headless pictures against the library's own render (OSMesa, in this process),
+// the overlay's pixels, --info's counts, and bad input (exit code 2 and a message naming the option).
+#include "testbed/City.h"
+#ifdef SGVIEW_TEST_GLTF
+#include "loaders/Gltf.h"
+#endif
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/intersect/IntersectTraversal.h"
+#include "sg/io/ImageIO.h"
+#include "sgview/Pick.h"
+#include "sgview/ViewCamera.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+using namespace sg;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int code = -1;  // exit code; 128 + signal when killed (a crash)
+    std::string out, err;
+};
+
+// A directory of this test's own (tests run in parallel).
+fs::path scratch() {
+    const auto* t = testing::UnitTest::GetInstance()->current_test_info();
+    const fs::path dir = fs::temp_directory_path() / (std::string("sgview_") + t->test_suite_name() + "_" + t->name());
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+// Runs `command` in this test's directory; its output goes to out.txt and err.txt there.
+Result run(const std::string& command) {
+    const fs::path dir = scratch();
+    const int status = std::system(("cd '" + dir.string() + "' && " + command + " > out.txt 2> err.txt").c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(dir / "out.txt");
+    r.err = slurp(dir / "err.txt");
+    return r;
+}
+
+Result runSgview(const std::string& args) { return run("'" SGVIEW_EXE "' " + args); }
+
+// What the library draws of city N=8 from `cam`, with the default cull settings: sgview's reference.
+Image libraryRender(const Scene& scene, const Camera& cam) {
+    OsmesaContext context(cam.width(), cam.height());
+    Renderer renderer;
+    CullTraversal cull;
+    DrawList list;
+    CullStats stats;
+    cull.cull(scene, cam, CullSettings{}, list, stats);
+    renderer.draw(list, cam);
+    return renderer.readColor();
+}
+
+// Pixels that are not the renderer's default clear colour.
+size_t nonBackground(const Image& img) {
+    const int bg[3] = {int(std::lround(0.55 * 255)), int(std::lround(0.7 * 255)), int(std::lround(0.9 * 255))};
+    size_t n = 0;
+    for (size_t i = 0; i < img.rgba.size(); i += 4) {
+        bool differs = false;
+        for (size_t c = 0; c < 3; ++c) differs |= std::abs(int(img.rgba[i + c]) - bg[c]) > 1;
+        n += differs;
+    }
+    return n;
+}
+
+struct City8 {
+    City8() : scene(scenes::buildCity({8, false})) { scene.update(); }
+    Scene scene;
+};
+
+const char* kCamera = "-20,-30,90,80,80,0,0,0,1";
+
+}  // namespace
+
+TEST(SgviewRun, HeadlessEqualsTheLibrarysRenderFromTheGivenCamera) {
+    const std::string args = "--headless --scene city --n 8 --frames 2 --out x.png --size 400x300 --camera ";
+    const Result r = runSgview(args + kCamera);
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("wrote x.png (400x300), 2 frames"), std::string::npos) << r.out;
+    const Image got = loadPng((scratch() / "x.png").string());
+    ASSERT_EQ(got.width, 400);
+    ASSERT_EQ(got.height, 300);
+    City8 city;
+    const Camera cam = sgview::specCamera({dvec3(-20, -30, 90), dvec3(80, 80, 0), dvec3(0, 0, 1)},
+                                          sgview::sceneBound(city.scene), 400, 300);
+    const Image want = libraryRender(city.scene, cam);
+    EXPECT_GT(nonBackground(want), size_t(400 * 300 / 10));  // the city fills a good part of the picture
+    EXPECT_EQ(countDifferingPixels(got, want), 0u);
+}
+
+TEST(SgviewRun, HeadlessAutoCameraFramesTheScene) {
+    const Result r = runSgview("--headless --scene city --n 8 --frames 2 --out auto.png");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const Image got = loadPng((scratch() / "auto.png").string());
+    ASSERT_EQ(got.width, 1280);
+    ASSERT_EQ(got.height, 720);
+    City8 city;
+    const Camera cam = sgview::autoCamera(sgview::sceneBound(city.scene), dvec3(0, 0, 1), 1280, 720);
+    EXPECT_EQ(countDifferingPixels(got, libraryRender(city.scene, cam)), 0u);
+    EXPECT_GT(nonBackground(got), size_t(1280 * 720 / 8));
+    // Framed: the city reaches near the picture's bottom edge (its nearest corner) and not past the borders.
+    auto rowHasCity = [&](int y) {
+        const auto first = got.rgba.begin() + std::ptrdiff_t(y) * got.width * 4;
+        return nonBackground(Image{got.width, 1, {first, first + got.width * 4}}) > 0;
+    };
+    EXPECT_FALSE(rowHasCity(0));
+    EXPECT_FALSE(rowHasCity(719));
+    bool low = false;
+    for (int y = 640; y < 719; ++y) low |= rowHasCity(y);
+    EXPECT_TRUE(low);
+}
+
+TEST(SgviewRun, SameCameraSameImageOtherCameraOtherImage) {
+    const std::string base = "--headless --scene city --n 8 --size 320x240 ";
+    ASSERT_EQ(runSgview(base + "--out a.png --camera " + kCamera).code, 0);
+    ASSERT_EQ(runSgview(base + "--out b.png --camera " + kCamera).code, 0);
+    ASSERT_EQ(runSgview(base + "--out c.png --camera 200,-50,40,80,80,20,0,0,1").code, 0);
+    const fs::path d = scratch();
+    const Image a = loadPng((d / "a.png").string()), b = loadPng((d / "b.png").string());
+    const Image c = loadPng((d / "c.png").string());
+    EXPECT_EQ(countDifferingPixels(a, b), 0u);
+    EXPECT_GT(countDifferingPixels(a, c), size_t(320 * 240 / 10));
+}
+
+TEST(SgviewRun, OverlayDrawsTextInItsPanelOnly) {
+    const std::string base = "--headless --scene city --n 8 --camera " + std::string(kCamera);
+    ASSERT_EQ(runSgview(base + " --out plain.png").code, 0);
+    const Result r = runSgview(base + " --out overlay.png --overlay --strategy sphere --occlusion off");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const fs::path d = scratch();
+    const Image plain = loadPng((d / "plain.png").string()), over = loadPng((d / "overlay.png").string());
+    // Five lines of 2x-scaled stb_easy_font on a dark panel at the top left: about 700 x 145 pixels.
+    size_t inside = 0, outside = 0, bright = 0;
+    for (int y = 0; y < plain.height; ++y)
+        for (int x = 0; x < plain.width; ++x) {
+            const size_t i = (size_t(y) * plain.width + x) * 4;
+            const bool differs = std::memcmp(&plain.rgba[i], &over.rgba[i], 3) != 0;
+            (x < 800 && y < 160 ? inside : outside) += differs;
+            bright += x < 800 && y < 160 && over.rgba[i] > 200 && over.rgba[i + 1] > 200;  // the yellow-white text
+        }
+    EXPECT_EQ(outside, 0u);
+    EXPECT_GT(inside, size_t(500 * 100));  // the panel
+    EXPECT_GT(bright, size_t(2000));       // the letters on it
+}
+
+TEST(SgviewRun, InfoCountsTheCity) {
+    const Result r = runSgview("--scene city --n 8 --info");
+    ASSERT_EQ(r.code, 0) << r.err;
+    std::map<std::string, uint64_t> kinds;
+    std::istringstream lines(r.out);
+    for (std::string line; std::getline(lines, line);) {
+        std::istringstream f(line);
+        std::string name;
+        uint64_t count = 0;
+        if (line.rfind("  ", 0) == 0 && (f >> name >> count)) kinds[name] = count;
+    }
+    // The builder's structure: a root, 1 tile, and per cell a Group, 2 Transforms, an LOD, 3 Geometries.
+    const uint64_t cells = 64;
+    EXPECT_EQ(kinds["Group"], 1 + 1 + cells);
+    EXPECT_EQ(kinds["Transform"], 2 * cells);
+    EXPECT_EQ(kinds["LOD"], cells);
+    EXPECT_EQ(kinds["Geometry"], 3 * cells);
+    EXPECT_EQ(kinds["Occluder"], 0u);
+    const std::string nodes = "nodes: " + std::to_string(scenes::cityNodeCount(8)) + " distinct";
+    EXPECT_NE(r.out.find(nodes), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("triangles: 77568 at full detail"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("bounds: min ("), std::string::npos);
+    EXPECT_NE(r.out.find("memory: "), std::string::npos);
+    EXPECT_NE(r.out.find("warnings: 0"), std::string::npos);
+    const Result office = runSgview("--scene office --n 2 --info");
+    ASSERT_EQ(office.code, 0) << office.err;
+    EXPECT_NE(office.out.find("Occluder"), std::string::npos);
+}
+
+TEST(SgviewRun, BadInputExitsWithTwoAndSaysWhy) {
+    const std::pair<std::string, std::string> cases[] = {
+        {"--scene city --bogus", "unknown option '--bogus'"},
+        {"--headless --scene city --camera 1,2,3", "--camera '1,2,3': expected eye,center,up"},
+        {"--headless --scene city --camera 0,0,0,0,0,0,0,0,1",
+         "--camera '0,0,0,0,0,0,0,0,1': Camera::setLookAt(): eye equals centre"},
+        {"--headless --scene city --size 640", "--size '640': expected WxH"},
+        {"--headless --scene city --size 0x480", "--size '0x480': expected WxH"},
+        {"--headless --scene city --frames", "--frames needs a value"},
+        {"--headless --scene town", "--scene 'town'"},
+        {"--headless", "nothing to show"},
+        {"--headless missing.gltf", "'missing.gltf': no such file"},
+        {"--info missing.glb", "'missing.glb': no such file"},
+    };
+    for (const auto& [args, message] : cases) {
+        const Result r = runSgview(args);
+        EXPECT_EQ(r.code, 2) << args;
+        EXPECT_NE(r.err.find("sgview: " + message), std::string::npos) << args << "\n" << r.err;
+        EXPECT_EQ(r.out, "") << args;
+    }
+}
+
+TEST(SgviewRun, AFileTheLoaderRefusesIsNamed) {
+    std::ofstream(scratch() / "broken.gltf") << "{ this is not glTF";
+    const Result r = runSgview("--headless broken.gltf");
+    EXPECT_EQ(r.code, 2);
+    // Either the loader's LoadError or, in a build without the loader, that message: both name the file.
+    EXPECT_NE(r.err.find("broken.gltf"), std::string::npos) << r.err;
+}
+
+TEST(SgviewRun, HelpListsTheKeys) {
+    const Result r = runSgview("--help");
+    EXPECT_EQ(r.code, 0);
+    for (const char* s : {"--headless", "--camera", "--info", "trackball", "fly", "walk", "F12", "Escape"})
+        EXPECT_NE(r.out.find(s), std::string::npos) << s;
+}
+
+TEST(SgviewRun, AnUnwritableOutputFailsWithOne) {
+    const Result r = runSgview("--headless --scene city --n 2 --out no/such/dir/x.png");
+    EXPECT_EQ(r.code, 1);
+    EXPECT_NE(r.err.find("no/such/dir/x.png"), std::string::npos) << r.err;
+}
+
+TEST(SgviewRun, TheWindowShowsWhatHeadlessRenders) {
+#ifndef XVFB_RUN
+    GTEST_SKIP() << "xvfb-run was not found: no window without a display";
+#else
+    const std::string view = std::string("--scene city --n 8 --size 400x300 --camera ") + kCamera;
+    const Result w =
+        run("'" XVFB_RUN "' -a -s '-screen 0 1024x768x24' '" SGVIEW_EXE "' " + view + " --frames 3 --out window.png");
+    ASSERT_EQ(w.code, 0) << w.err;
+    EXPECT_NE(w.out.find("sgview: 3 frames"), std::string::npos) << w.out;
+    ASSERT_EQ(runSgview("--headless --out headless.png " + view).code, 0);
+    const Image win = loadPng((scratch() / "window.png").string());
+    const Image off = loadPng((scratch() / "headless.png").string());
+    ASSERT_EQ(win.width, 400);
+    ASSERT_EQ(win.height, 300);
+    // The window draws its stats panel (1x font below 960 pixels wide: about 340 x 85) over the same picture.
+    size_t panel = 0, rest = 0;
+    for (int y = 0; y < 300; ++y)
+        for (int x = 0; x < 400; ++x) {
+            const size_t i = (size_t(y) * 400 + size_t(x)) * 4;
+            const bool differs = std::memcmp(&win.rgba[i], &off.rgba[i], 3) != 0;
+            (x < 360 && y < 100 ? panel : rest) += differs;
+        }
+    // The window's camera goes through the navigator's yaw and pitch: equal up to rounding, which may move an
+    // edge pixel or two (none here today).
+    EXPECT_LE(rest, size_t(400 * 300 / 1000));
+    EXPECT_GT(panel, size_t(250 * 60));
+#endif
+}
+
+// --pick prints the node path of what the picture shows at a pixel: the same line the library's pick gives
+// from the same camera, a path down to a Geometry where the picture shows the city, and "nothing" in the sky.
+TEST(SgviewRun, PickPrintsTheNodePathOfWhatIsAtThePixel) {
+    const Result r = runSgview(std::string("--headless --scene city --n 8 --size 400x300 --out p.png --camera ") +
+                               kCamera + " --pick 200,150 --pick 120,200 --pick 1,1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    City8 city;
+    const Camera cam = sgview::specCamera({dvec3(-20, -30, 90), dvec3(80, 80, 0), dvec3(0, 0, 1)},
+                                          sgview::sceneBound(city.scene), 400, 300);
+    const Image img = loadPng((scratch() / "p.png").string());
+    IntersectTraversal picker;
+    for (auto [x, y] : {std::pair{200, 150}, std::pair{120, 200}, std::pair{1, 1}}) {
+        const std::string want = sgview::pickReport(picker, city.scene, cam, x, y);
+        EXPECT_NE(r.out.find(want + "\n"), std::string::npos) << want << "\nin\n" << r.out;
+        // What the picture shows there decides which answer is right.
+        const auto first = img.rgba.begin() + (std::ptrdiff_t(y) * img.width + x) * 4;
+        const bool city = nonBackground(Image{1, 1, {first, first + 4}}) > 0;
+        EXPECT_EQ(want.find("Geometry") != std::string::npos, city) << want;
+        EXPECT_EQ(want.find("nothing") != std::string::npos, !city) << want;
+    }
+    // Out of the picture: refused by name.
+    const Result bad = runSgview("--headless --scene city --n 8 --size 400x300 --pick 400,10");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--pick"), std::string::npos) << bad.err;
+}
+
+#ifdef SGVIEW_TEST_GLTF
+// A glTF file in, a picture out: sgview --save writes the city as .glb (turned to glTF's +Y up), and
+// --headless renders the file as the library renders what the loader makes of it.
+TEST(SgviewRun, HeadlessRendersAGltfFile) {
+    ASSERT_EQ(runSgview("--scene city --n 8 --save city8.glb").code, 0);
+    const std::string file = (scratch() / "city8.glb").string();
+    const Result r = runSgview("--headless city8.glb --out g.png --size 400x300 --camera -20,90,20,80,0,-80,0,1,0");
+    ASSERT_EQ(r.code, 0) << r.err;
+    Scene scene(loadGltf(file).root);
+    scene.update();
+    const Camera cam = sgview::specCamera({dvec3(-20, 90, 20), dvec3(80, 0, -80), dvec3(0, 1, 0)},
+                                          sgview::sceneBound(scene), 400, 300);
+    const Image want = libraryRender(scene, cam);
+    EXPECT_GT(nonBackground(want), size_t(400 * 300 / 10));
+    EXPECT_EQ(countDifferingPixels(loadPng((scratch() / "g.png").string()), want), 0u);
+    // The quarter turn: the city's heights (its +Z) are the file's +Y.
+    const Box b = sgview::sceneBound(scene);
+    EXPECT_GT(b.max.y - b.min.y, 10.0);
+    EXPECT_LT(b.max.z, 1.0);
+    // A file name sgview cannot write as glTF is refused by name.
+    const Result bad = runSgview("--scene city --n 8 --save city8.obj");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--save"), std::string::npos) << bad.err;
+}
+#endif
