@@ -199,7 +199,7 @@ Camera lookDownAt(const dvec3& target, double z, double yaw, double depression, 
 
 }  // namespace
 
-// City geometry (city.md): building (i, j) occupies [20i+4, 20i+16] x [20j+4, 20j+16] x [0, h(i, j)]; the
+// City geometry (docs/scenes.md): building (i, j) occupies [20i+4, 20i+16] x [20j+4, 20j+16] x [0, h(i, j)]; the
 // streets are the 8 m gaps around x = 20i and y = 20j (edge streets included); cars are 4 x 2 x 1.5 boxes at
 // (20i+1, 20j+1, 0), lower than any street-level eye.
 std::vector<Camera> cityOcclusionViews(int n, int count, uint64_t seed, int w, int h) {
@@ -314,7 +314,7 @@ std::vector<Camera> cityOcclusionViews(int n, int count, uint64_t seed, int w, i
     return views;
 }
 
-// Office geometry (office.md): room (i, j) spans [6i, 6i+6] x [6j, 6j+6]; walls 0.2 m thick and 3 m high
+// Office geometry (docs/scenes.md): room (i, j) spans [6i, 6i+6] x [6j, 6j+6]; walls 0.2 m thick and 3 m high
 // centred on the room boundaries; inner walls have a door opening 1 m wide (the middle of the wall) and
 // 2.2 m high. No ceiling.
 std::vector<Camera> officeViews(int r, int count, uint64_t seed, int w, int h) {

@@ -1,4 +1,4 @@
-// The canonical `city` benchmark scene and its camera paths, exactly as ../shared/bench/city.md defines them.
+// The `city` benchmark scene and its orbit and street camera paths, as docs/scenes.md describes them.
 #pragma once
 #include "nodes/Group.h"
 #include "sg/core/Camera.h"

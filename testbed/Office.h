@@ -1,5 +1,5 @@
-// The canonical `office` benchmark scene (rooms, walls with doors as box occluders, shared furniture) and
-// its walk path, exactly as ../shared/bench/office.md defines them.
+// The `office` benchmark scene (rooms, walls with doors as box occluders, shared furniture) and its walk
+// path, as docs/scenes.md describes them.
 #pragma once
 #include "nodes/Group.h"
 #include "sg/core/Camera.h"

@@ -33,7 +33,8 @@ int runAccuracy(const Args& a) {
     std::vector<sg::Camera> cams;
     if (sceneName == "city") {
         if (n < 1) throw std::invalid_argument("sgbench accuracy: --n must be at least 1");
-        // With occlusion: city.md's occluders, and views where they hide things (streets, low aerial ones).
+        // With occlusion: the city's occluders (docs/scenes.md), and views where they hide things (streets, low
+        // aerial ones).
         root = scenes::buildCity({n, occlusion});
         cams =
             occlusion ? accuracy::cityOcclusionViews(n, views, seed, w, h) : accuracy::cityViews(n, views, seed, w, h);

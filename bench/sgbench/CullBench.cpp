@@ -1,4 +1,4 @@
-// sgbench cull: city.md's scene and camera path; cull time (draw list included), what it selected,
+// sgbench cull: the city scene and its orbit path (docs/scenes.md); cull time (draw list included), what it selected,
 // build time and memory.
 #include "sg/cull/CullTraversal.h"
 #include "sgbench/Bench.h"

@@ -1,7 +1,7 @@
 // sgbench lod: frame time against a budget, and image error against full detail, for three ways of
 // choosing LOD levels: static ranges, Performer's stress (one range scale driven by the load), and the
 // time budget (every visible LOD planned together with a draw-cost model fitted online). Headless,
-// 1280x720, city.md's orbit path; each frame's image is compared with the same view at full detail.
+// 1280x720, city's orbit path (docs/scenes.md); each frame's image is compared with the same view at full detail.
 #include "nodes/LOD.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"

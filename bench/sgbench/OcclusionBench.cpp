@@ -1,4 +1,4 @@
-// sgbench occlusion: the occlusion-tree pass on city.md's street path or office.md's walk. Per frame, in
+// sgbench occlusion: the occlusion-tree pass on city's street path or office's walk (docs/scenes.md). Per frame, in
 // one run and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion;
 // triangles drawn by each, cull and pass times, and the whole frame drawn headless (1280x720).
 #include "sg/cull/CullTraversal.h"

@@ -1,6 +1,6 @@
-// sgbench pick: picking and viewpoint collision on city.md's scene. Pick rays through random pixels of the
-// orbit path's frames (LOD levels as each frame draws them); collision steps of a random walk at up to
-// 100 m/s at 60 Hz; time per ray and per step; then the picks checked against an id-buffer render.
+// sgbench pick: picking and viewpoint collision on the city scene (docs/scenes.md). Pick rays through random pixels of
+// the orbit path's frames (LOD levels as each frame draws them); collision steps of a random walk at up to 100 m/s at
+// 60 Hz; time per ray and per step; then the picks checked against an id-buffer render.
 #include "sg/intersect/PickSet.h"
 #include "sg/intersect/ViewpointCollider.h"
 #include "sgbench/Bench.h"

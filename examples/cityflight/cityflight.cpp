@@ -48,7 +48,7 @@ int main(int argc, char** argv) {
         DrawList list;
         std::vector<double> cullMs, drawMs, geoms, tris, calls;
         for (int f = 0; f < frames; ++f) {
-            // The orbit path of city.md, sampled evenly over the frames shown.
+            // The city's orbit path (docs/scenes.md), sampled evenly over the frames shown.
             const Camera cam = scenes::cityOrbitCamera(n, f * scenes::kOrbitFrames / frames, w, h);
             scene.update({uint64_t(f), f / 30.0});
             CullStats st;

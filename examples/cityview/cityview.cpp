@@ -1,4 +1,4 @@
-// cityview: the `city` scene in a real window (GLFW): the orbit path of city.md plays until the window is
+// cityview: the `city` scene in a real window (GLFW): the orbit path (docs/scenes.md) plays until the window is
 // closed or Escape is pressed; space pauses; the cull and draw figures go to the terminal once a second.
 //   cityview [--n N] [--frames F]   (F > 0: stop after F frames, for scripted runs under xvfb-run)
 #include "sg/cull/CullTraversal.h"
