@@ -1,4 +1,4 @@
-// sgbench: the benchmarks whose figures the README reports. `sgbench <command> [--options] [--json]`.
+// sgbench: the benchmarks whose figures docs/benchmarks.md reports. `sgbench <command> [--options] [--json]`.
 #include "sgbench/Bench.h"
 
 #include <unistd.h>
