@@ -15,7 +15,7 @@
 //   * cull (default): the `orbit` camera path (120 frames), frustum culling only,
 //     the scene without occluders. Output: one JSON object.
 //   * --occlusion: the `street` camera path (240 frames; or --path orbit) on
-//     the city with occluders (city.md, "for occlusion benchmarks"), OSG's
+//     the city with occluders (docs/scenes.md), OSG's
 //     shadow-volume occlusion culling on, alternating every frame with the same
 //     city without occluders and frustum culling only (and with the occluder
 //     city with SHADOW_OCCLUSION_CULLING cleared, which shows what collecting
@@ -70,7 +70,7 @@
 //   frustum each frame, out to the far plane; --osg-occluder-range R puts a
 //   building's OccluderNodes under an osg::LOD active in [0, R) (the
 //   collection honours LOD ranges), so only the polygons of nearby buildings
-//   are computed. Off (0) by default: the scene is then city.md's exactly.
+//   are computed. Off (0) by default: the scene is then the built-in city exactly.
 //
 // Usage
 //   sgbench_osg [--n N] [--frames-passes K] [--with-sgkit]

@@ -167,14 +167,14 @@ TEST(Accuracy, HarnessSeesWhatACullDrops) {
 }
 
 TEST(Accuracy, CityOcclusionFrontFacesIsExact) {
-    // city.md with its box occluders; street-level and aerial views, awkward ones among them.
+    // city (docs/scenes.md) with its box occluders; street-level and aerial views, awkward ones among them.
     Scene s(scenes::buildCity({kCityN, true}));
     s.update();
     checkFrontFaces(s, accuracy::cityOcclusionViews(kCityN, kViews, kCitySeed, kW, kH), "city");
 }
 
 TEST(Accuracy, OfficeOcclusionFrontFacesIsExact) {
-    // office.md: walls with door openings as box occluders; views in the rooms, in and through the doors,
+    // office (docs/scenes.md): walls with door openings as box occluders; views in the rooms, in and through the doors,
     // and from above (no ceiling).
     Scene s(scenes::buildOffice(kOfficeR));
     s.update();

@@ -1,4 +1,4 @@
-// The canonical benchmark scenes are built as ../shared/bench/city.md and office.md define them.
+// The built-in scenes (docs/scenes.md): their sizes, shared meshes, occluders and camera paths as documented.
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/core/NodeVisitor.h"
