@@ -16,7 +16,7 @@ std::string settingName(const CullSettings& s) {
     if (s.smallFeaturePixels > 0) name += "+small-feature";
     if (s.strategy != CullStrategy::None && s.occlusion.mode != OcclusionMode::Off) {
         name += s.occlusion.mode == OcclusionMode::Auto ? "+occlusion-auto" : "+occlusion";
-        if (s.occlusion.cap == OccluderCap::CentrePlane) name += "-centre";
+        if (s.occlusion.cap == OccluderCap::CenterPlane) name += "-centre";
     }
     return name;
 }

@@ -806,7 +806,7 @@ int runOcclusion(const OcclusionOptions& o) {
     sg::CullSettings sgFrustum;
     sgFrustum.occlusion.mode = sg::OcclusionMode::Off;
     sg::CullSettings sgOcclusion = sgFrustum;
-    sgOcclusion.occlusion.mode = sg::OcclusionMode::On;
+    sgOcclusion.occlusion.mode = sg::OcclusionMode::Tree;
     sg::CullTraversal sgCullFrustum, sgCullOcclusion;  // one per setting, as each keeps per-view state
     sg::DrawList sgList;
     Series sgF, sgO;

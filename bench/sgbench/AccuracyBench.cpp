@@ -26,7 +26,7 @@ int runAccuracy(const Args& a) {
     const std::string cap = a.str("cap", "front");
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench accuracy: --cap must be front or centre (got '" + cap + "')");
-    set.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CentrePlane;
+    set.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
     const bool occlusion = set.occlusion.mode != sg::OcclusionMode::Off;
 
     sg::ref_ptr<sg::Node> root;

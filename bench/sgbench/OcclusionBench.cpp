@@ -44,7 +44,7 @@ int runOcclusion(const Args& a) {
     const std::string cap = a.str("cap", "front");
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
-    occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CentrePlane;
+    occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
     occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
     occl.occlusion.minOccluderPixels = double(a.num("min-pixels", long(occl.occlusion.minOccluderPixels)));
     occl.occlusion.screenSplits = int(a.num("splits", 0));

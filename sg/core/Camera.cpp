@@ -65,6 +65,7 @@ void Camera::derive() {
     viewRot_[3] = dvec4(0.0, 0.0, 0.0, 1.0);
     viewDir_ = glm::normalize(-dvec3(inv[2]));
     planes_ = frustumPlanes(proj_ * viewRot_);
+    near_ = std::max(-planes_[4].d, 1e-9);
 }
 
 std::array<dvec3, 8> Camera::eyeCorners() const {

@@ -2,6 +2,7 @@
 #pragma once
 #include "sg/core/Math.h"
 
+#include <algorithm>
 #include <array>
 
 namespace sg {
@@ -32,6 +33,13 @@ public:
     const std::array<Plane, 6>& eyePlanes() const { return planes_; }
     // Pixels covered by a length 1 at distance 1 (perspective) or anywhere (orthographic), vertically.
     double pixelsPerUnit() const { return proj_[1][1] * 0.5 * h_; }
+    // Pixels across covered by a length `size` facing the eye at `distance` from it. Perspective: the
+    // distance is taken as at least the near plane's (nothing nearer is drawn); orthographic: any distance.
+    double pixelSize(double size, double distance) const {
+        return size * pixelsPerUnit() / (perspective() ? std::max(distance, near_) : 1.0);
+    }
+    // The near plane's distance from the eye (perspective; at least 1e-9).
+    double nearDistance() const { return near_; }
     // The eight frustum corners relative to the eye (near then far; x, y in -1, 1 order).
     std::array<dvec3, 8> eyeCorners() const;
 
@@ -40,6 +48,7 @@ private:
     dmat4 view_{1.0}, proj_{1.0}, viewRot_{1.0};
     dvec3 eye_{0.0}, viewDir_{0.0, 0.0, -1.0};
     std::array<Plane, 6> planes_{};
+    double near_ = 1.0;
     int w_ = 640, h_ = 480;
 };
 

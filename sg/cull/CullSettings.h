@@ -17,16 +17,16 @@ const char* strategyName(CullStrategy s);
 CullStrategy parseStrategy(const std::string& name);
 bool isConservative(CullStrategy s);
 
-// The occlusion-tree pass (sg/OcclusionTree.h): major occluders, nearest first, fused into one tree per
+// The occlusion-tree pass (sg/cull/OcclusionTree.h): major occluders, nearest first, fused into one tree per
 // frame; bounds inside the occluded space are culled.
 enum class OcclusionMode : uint8_t {
     Off,
-    On,    // every frame that has occluders in view
-    Auto,  // On, but skipped for a while after frames where it culled too little to pay (aerial views)
+    Tree,  // every frame that has occluders in view
+    Auto,  // Tree, but skipped for a while after frames where it culled too little to pay (aerial views)
 };
 enum class OccluderCap : uint8_t {
     FrontFaces,   // a box occludes behind its front faces: conservative (the default)
-    CentrePlane,  // the paper's plane through the box centre, facing the eye: NOT conservative (grazing rays)
+    CenterPlane,  // the paper's plane through the box centre, facing the eye: NOT conservative (grazing rays)
 };
 const char* occlusionModeName(OcclusionMode m);
 // Throws std::invalid_argument listing the valid names ("off", "tree", "auto").
@@ -45,7 +45,7 @@ class DrawCostModel;
 
 // Time-budgeted LOD selection (Funkhouser and Sequin's adaptive display): every visible LOD of the scene
 // (not inside Instance prototypes) offers its children as options, priced by the draw-cost model and
-// valued by projected size times accuracy; sg/LodSelector.h picks one per LOD, or none, to fit the budget.
+// valued by projected size times accuracy; sg/lod/LodSelector.h picks one per LOD, or none, to fit the budget.
 struct LodBudgetSettings {
     bool enabled = false;
     double budgetMs = 33.3;                // predicted draw time the frame must fit
@@ -70,7 +70,7 @@ struct CullSettings {
     // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
     double lodHysteresis = 0.0;
     // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
-    // and OpenSceneGraph's LOD scale; sg/LodStress.h drives it from the frame time.
+    // and OpenSceneGraph's LOD scale; sg/lod/LodStress.h drives it from the frame time.
     double lodScale = 1.0;
     // LOD fade (LOD::setTransition): children dissolve in and out over their LOD's band. Off: every band is
     // ignored and levels pop at the plain boundaries (as without transitions). Not applied to the LODs the

@@ -8,6 +8,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/cull/FrustumKernel.h"
+#include "sg/scene/ImageWalk.h"
 #include "sg/scene/LodValue.h"
 
 #include <algorithm>
@@ -19,50 +20,8 @@ namespace sg {
 
 namespace {
 constexpr uint32_t kAllPlanes = 0x3f;
-
-// parent * the transform of entry i.
-inline dmat4 transformed(const FlatImage& img, uint32_t i, const dmat4& parent) {
-    return (img.flags[i] & FlatImage::kGeneral) ? parent * *img.matrices[img.aux[i]]
-                                                : mulTranslate(parent, img.translations[img.aux[i]]);
-}
 constexpr uint8_t kBySphereSphere = 4;  // batch result bit: culled by the pre-test
 }  // namespace
-
-const char* strategyName(CullStrategy s) {
-    switch (s) {
-        case CullStrategy::None: return "none";
-        case CullStrategy::Sphere: return "sphere";
-        case CullStrategy::Aabb: return "aabb";
-        case CullStrategy::SphereSphere: return "sphere-sphere";
-        case CullStrategy::CenterBox: return "center-box";
-    }
-    return "?";
-}
-
-CullStrategy parseStrategy(const std::string& name) {
-    for (auto s : {CullStrategy::None, CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere,
-                   CullStrategy::CenterBox})
-        if (name == strategyName(s)) return s;
-    throw std::invalid_argument("parseStrategy(): unknown strategy '" + name +
-                                "' (none, sphere, aabb, sphere-sphere, center-box)");
-}
-
-bool isConservative(CullStrategy s) { return s != CullStrategy::CenterBox; }
-
-const char* occlusionModeName(OcclusionMode m) {
-    switch (m) {
-        case OcclusionMode::Off: return "off";
-        case OcclusionMode::On: return "tree";
-        case OcclusionMode::Auto: return "auto";
-    }
-    return "?";
-}
-
-OcclusionMode parseOcclusionMode(const std::string& name) {
-    for (auto m : {OcclusionMode::Off, OcclusionMode::On, OcclusionMode::Auto})
-        if (name == occlusionModeName(m)) return m;
-    throw std::invalid_argument("parseOcclusionMode(): unknown occlusion mode '" + name + "' (off, tree, auto)");
-}
 
 // Per image: the planes and frames the tests need, in that image's coordinates.
 struct CullTraversal::Ctx {
@@ -87,11 +46,7 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
     c.imgToEye = t;
     c.eyeImg = dvec3(glm::inverse(t) * dvec4(0, 0, 0, 1));
     c.scale = maxScale(t);
-    const glm::dmat3 a(t);
-    const glm::dmat3 ata = glm::transpose(a) * a;
-    c.rigid = glm::length(ata[0] - dvec3(1, 0, 0)) + glm::length(ata[1] - dvec3(0, 1, 0)) +
-                  glm::length(ata[2] - dvec3(0, 0, 1)) <
-              1e-9;
+    c.rigid = isRigid(t);
     c.viewDir = cam_->viewDirection();
     // A plane (n, d) in eye space becomes t^T (n, d) in image space (exact for affine t), normalized.
     const dmat4 tt = glm::transpose(t);
@@ -120,10 +75,9 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
 
 void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettings& set, DrawList& out,
                          CullStats& stats) {
+    constexpr const char* fn = "CullTraversal::cull()";
     const auto t0 = std::chrono::steady_clock::now();
-    if (scene.root()->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))
-        throw std::logic_error(
-            "CullTraversal::cull(): the scene changed since its last update(); call Scene::update() first");
+    checkUpdated(scene, fn);
     scene_ = &scene;
     cam_ = &cam;
     set_ = &set;
@@ -136,10 +90,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     triangles_ = 0;
     fade_ = 1.0f;
     const FlatImage& img = scene.image();
-    occlusionTestMs_ = 0.0;
-    if (!(set.lodScale > 0.0 && std::isfinite(set.lodScale)))
-        throw std::invalid_argument("CullTraversal::cull(): lodScale " + std::to_string(set.lodScale) +
-                                    " is not a positive number");
+    checkLodScale(set.lodScale, fn);
     const LodBudgetSettings& lb = set.lodBudget;
     if (lb.enabled && (!lb.model || !(lb.budgetMs > 0.0 && std::isfinite(lb.budgetMs)) ||
                        !(lb.hysteresis >= 0.0 && std::isfinite(lb.hysteresis))))
@@ -150,47 +101,34 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         if (!(set.lodHysteresis < 1.0))
             throw std::invalid_argument("CullTraversal::cull(): lodHysteresis " + std::to_string(set.lodHysteresis) +
                                         " is not in [0, 1)");
-        if (lodImage_ != &img || lodVersion_ != scene.structureVersion() || lodLast_.size() != img.size()) {
-            lodLast_.assign(img.size(), 0xff);
-            lodImage_ = &img;
-            lodVersion_ = scene.structureVersion();
-        }
+        lodHistory_.track(img, scene.structureVersion());
     }
     if (img.size()) {
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
         c.originRel = img.origin - cam.eye();
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
-        const int32_t occ = buildOcclusion(img);
+        const int32_t occ = occlusion_.build(img, cam, set, stats);
         framesTop_ = 0;
-        deferred_.clear();
+        planner_.clear();
         planning_ = lb.enabled;
         visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()), occ);
         planning_ = false;
-        if (!deferred_.empty()) {
+        const auto& deferred = planner_.deferred();
+        if (!deferred.empty()) {
             // The budget's choice for every visible LOD at once; then their chosen children are walked.
-            planLods(img);
-            for (size_t k = 0; k < deferred_.size(); ++k) {
-                if (chosen_[k] < 0) continue;
-                const DeferredLod& d = deferred_[k];
+            planner_.plan(img, scene.version(), cam, lb, {double(triangles_), double(out.items.size()), 0.0},
+                          lodHistory_, stats);
+            for (size_t k = 0; k < deferred.size(); ++k) {
+                const int chosen = planner_.chosen(k);
+                if (chosen < 0) continue;
+                const LodBudgetPlanner::Deferred& d = deferred[k];
                 uint32_t j = d.entry + 1;
-                for (int n = 0; n < chosen_[k]; ++n) j = img.end[j];
+                for (int n = 0; n < chosen; ++n) j = img.end[j];
                 visit(c, j, d.mask, d.m, d.occ);
             }
         }
-        stats.occlusionMs += occlusionTestMs_;
-        stats.occlusionBoxSplits = otree_.boxSplits();
-        if (stats.occlusionRan && set.occlusion.mode == OcclusionMode::Auto) {
-            // Did it pay? The share of the walk it removed, against the threshold; if not, skip it for a
-            // while (4, 8, ... 64 frames) and try again.
-            const double gain = double(stats.occludedEntries) / double(stats.occludedEntries + stats.nodesVisited + 1);
-            if (gain < set.occlusion.autoMinGain) {
-                autoBackoff_ = std::min(64, std::max(4, autoBackoff_ * 2));
-                autoWait_ = autoBackoff_;
-            } else {
-                autoBackoff_ = 0;
-            }
-        }
+        occlusion_.finish(set.occlusion, stats);
     }
     stats.geometries = out.items.size();
     stats.triangles = triangles_;
@@ -312,8 +250,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     }
     if (set_->smallFeaturePixels > 0.0 && !(fl & FlatImage::kInvalid)) {
         const double dist = glm::length(img.center(i) - img.origin - c.eyeImg);
-        const double px = 2.0 * img.r[i] * c.scale * cam_->pixelsPerUnit() / (cam_->perspective() ? dist : 1.0);
-        if (px < set_->smallFeaturePixels) {
+        if (cam_->pixelSize(2.0 * img.r[i] * c.scale, dist) < set_->smallFeaturePixels) {
             stats_->culledSmallFeature++;
             return;
         }
@@ -323,7 +260,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     if (occ != OcclusionTree::kVisible && !(fl & FlatImage::kInvalid)) {
         const NodeKind k = img.kind[i];
         if (k != NodeKind::Transform && k != NodeKind::LOD && k != NodeKind::Occluder &&
-            !occlusionTest(img, c.originRel, i, occ))
+            !occlusion_.test(img, c.originRel, i, occ, *stats_))
             return;
     }
 
@@ -332,7 +269,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
         case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
         case NodeKind::LOD: {
             if (planning_ && c.img == &scene_->image()) {  // the budget decides, once the walk is done
-                deferred_.push_back({i, mask, occ, m});
+                planner_.defer({i, mask, occ, m});
                 break;
             }
             const double value = lodValue(c, i);
@@ -346,15 +283,16 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
                 // The last child stays while the value is within its widened range; else the plain
                 // ranges decide, and the first child they show is remembered.
                 const double h = set_->lodHysteresis;
-                const uint8_t last = lodLast_[i];
-                const bool keep = last != 0xff && value >= rg[last].min * (1.0 - h) && value < rg[last].max * (1.0 + h);
-                uint32_t k = 0, shown = 0xff;
+                const uint8_t last = lodHistory_.last(i);
+                const bool keep =
+                    last != LodHistory::kNone && value >= rg[last].min * (1.0 - h) && value < rg[last].max * (1.0 + h);
+                uint32_t k = 0, shown = LodHistory::kNone;
                 for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k) {
                     if (keep ? k != last : !(value >= rg[k].min && value < rg[k].max)) continue;
-                    if (shown == 0xff && k < 0xff) shown = k;
+                    if (shown == LodHistory::kNone && k < LodHistory::kNone) shown = k;
                     visit(c, j, mask, m, occ);
                 }
-                lodLast_[i] = uint8_t(shown);
+                lodHistory_.show(i, uint8_t(shown));
                 break;
             }
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++rg)
@@ -379,14 +317,16 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
         case NodeKind::BspGroup: {
             const auto* g = static_cast<BspGroup*>(img.nodes[img.aux[i]]);
             const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
-            // Child entry indices by child number, then the BSP's front-to-back order over them.
+            // Child entry indices by child number, then the BSP's front-to-back order over them; indexed, as
+            // the BspGroups below push onto scratch_ too.
             const size_t base = scratch_.size();
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) scratch_.push_back(j);
             const size_t nChildren = scratch_.size() - base;
-            std::vector<uint32_t> ord;
-            g->order(eyeLocal, ord);
-            for (uint32_t k : ord)
-                if (k < nChildren) visit(c, scratch_[base + k], mask, m, occ);
+            g->order(eyeLocal, bspOrder_);
+            scratch_.insert(scratch_.end(), bspOrder_.begin(), bspOrder_.end());
+            const size_t orderEnd = scratch_.size();
+            for (size_t o = base + nChildren; o < orderEnd; ++o)
+                if (scratch_[o] < nChildren) visit(c, scratch_[base + scratch_[o]], mask, m, occ);
             scratch_.resize(base);
             break;
         }
@@ -398,7 +338,6 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
             }
             children(c, i, mask, m, occ);
             break;
-        default: children(c, i, mask, m, occ); break;
     }
 }
 
@@ -458,7 +397,7 @@ void CullTraversal::fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
 }
 
 double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {
-    return sg::lodValue(*c.img, i, c.rigid, c.eyeImg, c.imgToEye, c.scale, *cam_, set_->lodScale);
+    return sg::lodValue(*c.img, i, c.rigid, c.eyeImg, c.imgToEye, c.scale, cam_, set_->lodScale);
 }
 
 // Entries [begin, end) inside the frustum (no test left): one forward scan over the pre-order entries

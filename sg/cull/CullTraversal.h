@@ -4,8 +4,9 @@
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
 #include "sg/cull/DrawList.h"
-#include "sg/cull/OcclusionTree.h"
-#include "sg/lod/LodSelector.h"
+#include "sg/cull/LodBudgetPlanner.h"
+#include "sg/cull/LodHistory.h"
+#include "sg/cull/OcclusionPass.h"
 #include "sg/scene/Scene.h"
 
 #include <vector>
@@ -23,7 +24,7 @@ public:
 
     // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Auto
     // mode's state from frame to frame: use one traversal per view.
-    const OcclusionTree& occlusionTree() const { return otree_; }
+    const OcclusionTree& occlusionTree() const { return occlusion_.tree(); }
 
 private:
     struct Ctx;
@@ -35,17 +36,6 @@ private:
     double lodValue(const Ctx& c, uint32_t i) const;
     void fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width);
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
-    int32_t buildOcclusion(const FlatImage& img);
-    bool occlusionTest(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ);
-    void planLods(const FlatImage& img);  // LOD budget: fills chosen_ for deferred_
-    // An LOD's header (count of children) followed by one entry per child.
-    union LodWork {
-        uint32_t count;
-        struct Child {
-            float tris, items, detail;
-        } child;
-    };
-    uint32_t lodWork(const FlatImage& img, uint32_t i);  // its header's index in lodWork_
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void emit(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
@@ -55,8 +45,10 @@ private:
     const CullSettings* set_ = nullptr;
     DrawList* out_ = nullptr;
     CullStats* stats_ = nullptr;
-    std::vector<uint8_t> cls_;       // batch classifications, used as a stack
-    std::vector<uint32_t> scratch_;  // BspGroup orders, used as a stack
+    std::vector<uint8_t> cls_;  // batch classifications, used as a stack
+    // BspGroups being walked, used as a stack: each one's child entries, then its front-to-back order.
+    std::vector<uint32_t> scratch_;
+    std::vector<uint32_t> bspOrder_;  // BspGroup::order()'s answer, copied to scratch_ at once
     struct Frame {
         uint32_t end;  // entries before this index use m
         dmat4 m;
@@ -64,39 +56,11 @@ private:
     std::vector<Frame> frames_;  // transform frames of inside(), a stack up to framesTop_
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
-    float fade_ = 1.0f;  // the dissolve of what is emitted now (DrawList::fades), 1: none
-    OcclusionTree otree_;
-    struct Candidate {
-        double dist;
-        uint32_t index;
-    };
-    std::vector<Candidate> cands_;
-    std::vector<dvec3> polyScratch_;
-    int autoWait_ = 0;     // Auto mode: frames left to skip the pass
-    int autoBackoff_ = 0;  // and how many to skip after the next frame where it does not pay
-    double occlusionTestMs_ = 0.0;
-    // LOD hysteresis: the child each LOD entry of the main image showed last (0xff: none).
-    std::vector<uint8_t> lodLast_;
-    const FlatImage* lodImage_ = nullptr;  // the image lodLast_ is for, and its version
-    uint64_t lodVersion_ = 0;
-    // LOD budget: the visible LODs met by the walk, planned together once it is done.
-    struct DeferredLod {
-        uint32_t entry, mask;
-        int32_t occ;
-        dmat4 m;
-    };
-    bool planning_ = false;
-    std::vector<DeferredLod> deferred_;
-    std::vector<int> chosen_;      // per deferred LOD: the child shown, -1: none
-    std::vector<double> lodArea_;  // per deferred LOD: its projected area, pixels
-    std::vector<LodWork> lodWork_;
-    std::vector<uint32_t> lodWorkAt_;  // per image entry: its LodWork header, ~0u: not worked out yet
-    std::vector<uint32_t> lodWorkOf_;  // per deferred LOD: its LodWork header
-    const FlatImage* lodWorkImage_ = nullptr;
-    uint64_t lodWorkVersion_ = 0;
-    std::vector<LodSelector::Option> lodOptions_;
-    std::vector<LodSelector::Object> lodObjects_;
-    LodSelector selector_;
+    float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none
+    bool planning_ = false;  // the walk sets the main image's visible LODs aside for planner_
+    OcclusionPass occlusion_;
+    LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
+    LodBudgetPlanner planner_;
 };
 
 }  // namespace sg

@@ -45,7 +45,7 @@ public:
         glm::dmat3 viewToWorld{1.0};    // the camera's axes (looking down -Z)
         double tanX = 1.0, tanY = 1.0;  // half the field of view, as tangents
     };
-    // Margins for a perspective camera: a 64th of a pixel, and 4 steps of a 24-bit depth buffer.
+    // Margins for a perspective camera: a 64th of a pixel, and 8 steps of a 24-bit depth buffer.
     static Options optionsFor(const Camera& cam, const OcclusionSettings& s);
 
     // Empties the tree for a new eye (world coordinates).

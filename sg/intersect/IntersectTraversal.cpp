@@ -8,6 +8,7 @@
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
 #include "sg/intersect/IntersectPrimitives.h"
+#include "sg/scene/ImageWalk.h"
 #include "sg/scene/LodValue.h"
 
 #include <algorithm>
@@ -38,12 +39,6 @@ void checkRadius(const char* fn, double r) {
     if (!(r >= 0.0 && std::isfinite(r)))
         throw std::invalid_argument(std::string(fn) + ": radius " + std::to_string(r) + " is negative or not finite");
 }
-
-// parent * the transform of entry i (as the cull composes it).
-inline dmat4 transformed(const FlatImage& img, uint32_t i, const dmat4& parent) {
-    return (img.flags[i] & FlatImage::kGeneral) ? parent * *img.matrices[img.aux[i]]
-                                                : mulTranslate(parent, img.translations[img.aux[i]]);
-}
 }  // namespace
 
 // Per image: the query in that image's coordinates, and what the LOD choice needs (as the cull's Ctx).
@@ -63,11 +58,7 @@ void IntersectTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) 
     const dmat4 inv = glm::inverse(t);
     c.eyeImg = dvec3(inv * dvec4(0, 0, 0, 1));
     c.scale = maxScale(t);
-    const glm::dmat3 a(t);
-    const glm::dmat3 ata = glm::transpose(a) * a;
-    c.rigid = glm::length(ata[0] - dvec3(1, 0, 0)) + glm::length(ata[1] - dvec3(0, 1, 0)) +
-                  glm::length(ata[2] - dvec3(0, 0, 1)) <
-              1e-9;
+    c.rigid = isRigid(t);
     if (mode_ == Mode::Nearest || mode_ == Mode::All) {
         c.o = dvec3(inv * dvec4(o_, 1.0));
         c.d = glm::dmat3(inv) * d_;
@@ -78,12 +69,8 @@ void IntersectTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) 
 }
 
 void IntersectTraversal::run(const Scene& scene, const QueryOptions& opt, const dvec3& origin, const char* fn) {
-    if (scene.root()->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))
-        throw std::logic_error(std::string(fn) +
-                               ": the scene changed since its last update(); call Scene::update() first");
-    if (!(opt.lodScale > 0.0 && std::isfinite(opt.lodScale)))
-        throw std::invalid_argument(std::string(fn) + ": lodScale " + std::to_string(opt.lodScale) +
-                                    " is not a positive number");
+    checkUpdated(scene, fn);
+    checkLodScale(opt.lodScale, fn);
     scene_ = &scene;
     opt_ = &opt;
     q_ = opt.camera ? opt.camera->eye() : origin;
@@ -195,8 +182,10 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
             const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
             const int only = lodChild(c, i, n);
             double value = 0.0;
-            if (only < 0)  // as drawn: the cull's value (eye at the relative origin)
-                value = lodValue(img, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, *opt_->camera, opt_->lodScale);
+            // As drawn: the cull's value, measured from the relative origin (the camera's eye, or without a
+            // camera the query's origin; a pixel-size LOD then has its finest child, from lodChild()).
+            if (only < 0)
+                value = lodValue(img, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, opt_->camera, opt_->lodScale);
             int k = 0;
             for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k, ++rg) {
                 const bool shown = only >= 0 ? k == only : (value >= rg->min && value < rg->max);

@@ -6,15 +6,16 @@
 #include "sg/core/Camera.h"
 #include "sg/scene/FlatImage.h"
 
+#include <cassert>
 #include <cmath>
 
 namespace sg {
 
 // Entry i of `img` is an LOD. `rigid`: image coordinates are the world's shifted, the eye at `eyeImg` in them;
 // otherwise (below a scaled Instance) `imgToEye` takes image coordinates to the eye's, and `scale` is the
-// frame's scale of lengths.
+// frame's scale of lengths. `cam` gives the pixels of a pixel-size LOD; a distance LOD needs none (null).
 inline double lodValue(const FlatImage& img, uint32_t i, bool rigid, const dvec3& eyeImg, const dmat4& imgToEye,
-                       double scale, const Camera& cam, double lodScale) {
+                       double scale, const Camera* cam, double lodScale) {
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
     double dist;
     if (rigid) {  // measure in image coordinates
@@ -25,7 +26,8 @@ inline double lodValue(const FlatImage& img, uint32_t i, bool rigid, const dvec3
     }
     // The LOD scale makes everything look farther (scale > 1: coarser levels sooner), as Performer's.
     if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist * lodScale;
-    return 2.0 * img.r[i] * scale * cam.pixelsPerUnit() / ((cam.perspective() ? dist : 1.0) * lodScale);
+    assert(cam && "lodValue(): a pixel-size LOD needs a camera");
+    return cam->pixelSize(2.0 * img.r[i] * scale, dist) / lodScale;
 }
 
 }  // namespace sg

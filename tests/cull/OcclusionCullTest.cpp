@@ -44,7 +44,7 @@ struct Culled {
     }
 };
 
-Culled cull(const Scene& s, const Camera& cam, OcclusionMode mode = OcclusionMode::On, CullTraversal* t = nullptr) {
+Culled cull(const Scene& s, const Camera& cam, OcclusionMode mode = OcclusionMode::Tree, CullTraversal* t = nullptr) {
     Culled r;
     CullSettings set;
     set.occlusion.mode = mode;

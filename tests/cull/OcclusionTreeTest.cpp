@@ -435,7 +435,7 @@ TEST(OcclusionTree, NeighboursTogetherHideWhatNeitherHidesAlone) {
 
 // The paper's cap, a plane through the box centre facing the eye, also takes in the space just in front
 // of a face that recedes past that plane: a long box seen at a grazing angle shows it.
-TEST(OcclusionTree, CentrePlaneCapIsNotConservative) {
+TEST(OcclusionTree, CenterPlaneCapIsNotConservative) {
     bool found = false;
     for (uint64_t seed = 1; seed <= 20000 && !found; ++seed) {
         Rng r{seed};
@@ -443,7 +443,7 @@ TEST(OcclusionTree, CentrePlaneCapIsNotConservative) {
         View v{dvec3(0.0), {Occ{Box{dvec3(x0, y0, -z), dvec3(x0 + len, y0 + r.uni(0.5, 3), z)}}}, {}};
         OcclusionTree front, centre;
         front.reset(v.eye, v.opts), insert(front, v.occs[0]);
-        v.opts.cap = OccluderCap::CentrePlane, centre.reset(v.eye, v.opts), insert(centre, v.occs[0]);
+        v.opts.cap = OccluderCap::CenterPlane, centre.reset(v.eye, v.opts), insert(centre, v.occs[0]);
         for (int i = 0; i < 8 && !found; ++i) {  // small boxes just in front of the long face
             const dvec3 c(x0 + r.uni(0, len), y0 - r.uni(0.02, 1), r.uni(-z, z));
             Box t{c - r.uni(0.01, 0.3), c + r.uni(0.01, 0.3)};

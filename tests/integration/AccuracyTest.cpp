@@ -96,7 +96,7 @@ std::string describeWorst(accuracy::Harness& h, const Scene& scene, const std::v
 // fewer triangles were drawn than with frustum culling alone.
 void checkFrontFaces(const Scene& scene, const std::vector<Camera>& views, const char* name) {
     accuracy::Harness h(kW, kH);
-    const std::vector<CullSettings> settings = {occlusion(OcclusionMode::Off), occlusion(OcclusionMode::On)};
+    const std::vector<CullSettings> settings = {occlusion(OcclusionMode::Off), occlusion(OcclusionMode::Tree)};
     const std::vector<accuracy::Result> res = h.run(scene, views, settings);
     for (const auto& r : res) printOcclusion(r, name);
     const accuracy::Result &frustum = res[0], &front = res[1];
@@ -181,13 +181,13 @@ TEST(Accuracy, OfficeOcclusionFrontFacesIsExact) {
     checkFrontFaces(s, accuracy::officeViews(kOfficeR, kViews, kOfficeSeed, kW, kH), "office");
 }
 
-TEST(Accuracy, OcclusionCentrePlaneCapShowsError) {
+TEST(Accuracy, OcclusionCenterPlaneCapShowsError) {
     // The paper's cap, a plane through the box centre facing the eye, culls what rays grazing an occluder
     // still see between that plane and the box's far silhouette edges. Its error is reported on both scenes
     // and must show on at least one, or the harness could not tell it from the conservative cap. It shows
     // on about 1% of the office views (past a door jamb at furniture just beyond it): 200 views may miss
     // it, so the office gets 1000 (the first 200 are the ones above); the city keeps the 200 above.
-    const CullSettings centre = occlusion(OcclusionMode::On, OccluderCap::CentrePlane);
+    const CullSettings centre = occlusion(OcclusionMode::Tree, OccluderCap::CenterPlane);
     uint64_t total = 0;
     auto report = [&](const Scene& scene, const std::vector<Camera>& views, const char* name) {
         accuracy::Harness h(kW, kH);

@@ -126,6 +126,43 @@ TEST(Intersect, MasksSwitchAndLod) {
     EXPECT_EQ(h.geometry, detailed.get());
 }
 
+TEST(Intersect, AsDrawnWithoutCameraMeasuresFromTheQueryOrigin) {
+    // A distance LOD 50 m down -z: seen from the origin the coarse child (20 m and beyond), from 10 m away
+    // the detailed one; a pixel-size LOD has no pixels without a camera: its finest child.
+    auto root = make<Group>();
+    auto lod = make<LOD>();
+    auto detailed = unitBox(), coarse = unitBox();
+    lod->addChild(detailed, 0.0f, 20.0f);
+    lod->addChild(coarse, 20.0f, 1000.0f);
+    lod->setCenter(dvec3(0));
+    root->addChild(at(dvec3(0, 0, -50), lod));
+    auto pixels = make<LOD>();
+    auto big = unitBox(), small = unitBox();
+    pixels->setMode(LOD::Mode::PixelSize);
+    pixels->addChild(small, 0.0f, 100.0f);
+    pixels->addChild(big, 100.0f, 1e6f);
+    root->addChild(at(dvec3(10, 0, -500), pixels));
+    Scene scene(root);
+    scene.update();
+    IntersectTraversal it;
+    QueryOptions drawn;
+    drawn.lod = LodChoice::AsDrawn;
+    Hit h;
+    ASSERT_TRUE(it.intersect(scene, Ray{dvec3(0), dvec3(0, 0, -1)}, drawn, h));
+    EXPECT_EQ(h.geometry, coarse.get());
+    ASSERT_TRUE(it.intersect(scene, Ray{dvec3(0, 0, -40), dvec3(0, 0, -1)}, drawn, h));
+    EXPECT_EQ(h.geometry, detailed.get());
+    drawn.lodScale = 3.0;  // 30 m look like 90: coarse again
+    ASSERT_TRUE(it.intersect(scene, Ray{dvec3(0, 0, -20), dvec3(0, 0, -1)}, drawn, h));
+    EXPECT_EQ(h.geometry, coarse.get());
+    std::vector<Hit> hits;
+    it.intersectSphere(scene, dvec3(0, 0, -44), 6.0, drawn, hits);  // 6 m away, scaled to 18: detailed
+    ASSERT_FALSE(hits.empty());
+    for (const Hit& s : hits) EXPECT_EQ(s.geometry, detailed.get());
+    ASSERT_TRUE(it.intersect(scene, Ray{dvec3(10, 0, 0), dvec3(0, 0, -1)}, drawn, h));
+    EXPECT_EQ(h.geometry, big.get());
+}
+
 TEST(Intersect, BillboardFacesTheEye) {
     // A thin panel facing -Y; turned toward an eye on +X it blocks a ray along -X.
     auto root = make<Group>();

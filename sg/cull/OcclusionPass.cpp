@@ -1,7 +1,6 @@
-// The occlusion-tree pass of CullTraversal: which occluders grow this frame's tree, and the test of one
-// entry's bound against it.
+#include "sg/cull/OcclusionPass.h"
+
 #include "nodes/Occluder.h"
-#include "sg/cull/CullTraversal.h"
 
 #include <algorithm>
 #include <chrono>
@@ -21,26 +20,23 @@ bool outsideFrustum(const std::array<Plane, 6>& planes, const dvec3& lo, const d
 }
 }  // namespace
 
-// Grows this frame's tree; returns the node the walk's tests start at (kVisible: no tests at all).
-int32_t CullTraversal::buildOcclusion(const FlatImage& img) {
-    const CullSettings& set = *set_;
+int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats) {
     const OcclusionSettings& os = set.occlusion;
-    otree_.reset(cam_->eye(), OcclusionTree::Options{});
+    testMs_ = 0.0;
+    tree_.reset(cam.eye(), OcclusionTree::Options{});
     // Nothing to do: no occluders in the scene, the reference render (no culling), the pass turned off,
     // an orthographic camera (the tree's planes pass through an eye point).
     if (img.occluders.empty() || os.mode == OcclusionMode::Off || set.strategy == CullStrategy::None ||
-        !cam_->perspective() || os.maxOccluders == 0)
+        !cam.perspective() || os.maxOccluders == 0)
         return OcclusionTree::kVisible;
     if (os.mode == OcclusionMode::Auto && autoWait_ > 0) {
         --autoWait_;
-        stats_->occlusionSkipped = true;
+        stats.occlusionSkipped = true;
         return OcclusionTree::kVisible;
     }
     const auto t0 = Clock::now();
-    const dvec3 eye = cam_->eye();
-    const auto& planes = cam_->eyePlanes();
-    const double ppu = cam_->pixelsPerUnit();
-    const double zNear = std::max(-planes[4].d, 1e-9);
+    const dvec3 eye = cam.eye();
+    const auto& planes = cam.eyePlanes();
 
     // Candidates: active occluders in the frustum, large enough on screen, by distance.
     cands_.clear();
@@ -59,11 +55,11 @@ int32_t CullTraversal::buildOcclusion(const FlatImage& img) {
             if (outsideFrustum(planes, c - h, c + h)) continue;
             const dvec3 gap = glm::max(glm::abs(c) - h, dvec3(0.0));  // eye to the box
             const double dist = glm::length(gap);
-            if (2.0 * img.r[e] * ppu < os.minOccluderPixels * std::max(dist, zNear)) continue;
+            if (cam.pixelSize(2.0 * img.r[e], dist) < os.minOccluderPixels) continue;
             cands_.push_back({dist, j});
         }
     }
-    stats_->occluderCandidates = cands_.size();
+    stats.occluderCandidates = cands_.size();
     // Nearest first: nearer occluders hide farther ones, whose parts then add nothing to the tree.
     const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders) * 4);
     auto byDist = [](const Candidate& a, const Candidate& b) {
@@ -72,7 +68,7 @@ int32_t CullTraversal::buildOcclusion(const FlatImage& img) {
     std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), byDist);
     std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), byDist);
 
-    otree_.reset(eye, OcclusionTree::optionsFor(*cam_, os));
+    tree_.reset(eye, OcclusionTree::optionsFor(cam, os));
     uint64_t used = 0;
     for (size_t k = 0; k < keep && used < os.maxOccluders; ++k) {
         const FlatImage::OccluderRef& o = img.occluders[cands_[k].index];
@@ -81,42 +77,60 @@ int32_t CullTraversal::buildOcclusion(const FlatImage& img) {
         bool added;
         if (node->shape() == Occluder::Shape::Box) {
             const Box& lb = node->box();
-            added = m ? otree_.insertBox(lb, m) : otree_.insertBox(Box{lb.min + o.shift, lb.max + o.shift});
+            added = m ? tree_.insertBox(lb, m) : tree_.insertBox(Box{lb.min + o.shift, lb.max + o.shift});
         } else {
             polyScratch_.clear();
             for (const dvec3& v : node->polygon()) polyScratch_.push_back(m ? dvec3(*m * dvec4(v, 1.0)) : v + o.shift);
-            added = otree_.insertPolygon(polyScratch_.data(), polyScratch_.size());
+            added = tree_.insertPolygon(polyScratch_.data(), polyScratch_.size());
         }
         used += added;
     }
-    stats_->occlusionRan = true;
-    stats_->occludersUsed = used;
-    stats_->occlusionTreeNodes = otree_.nodeCount();
-    stats_->occlusionPolygonSplits = otree_.polygonSplits();
-    stats_->occlusionMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    return otree_.empty() ? OcclusionTree::kVisible : otree_.root();
+    stats.occlusionRan = true;
+    stats.occludersUsed = used;
+    stats.occlusionTreeNodes = tree_.nodeCount();
+    stats.occlusionPolygonSplits = tree_.polygonSplits();
+    stats.occlusionMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    return tree_.empty() ? OcclusionTree::kVisible : tree_.root();
 }
 
-// False when entry i is occluded; else `occ` is where the tests of the entries below it start.
-bool CullTraversal::occlusionTest(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ) {
+bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats) {
     const auto t0 = Clock::now();
     const dvec3 ctr = originRel + dvec3(img.cx[i], img.cy[i], img.cz[i]), h(img.ex[i], img.ey[i], img.ez[i]);
-    stats_->occlusionTests++;
+    stats.occlusionTests++;
     // The eye in the plane of one of the bound's faces (within the float bound's rounding): a face of the
     // content may be seen exactly edge-on there, and the rasterizer draws such a face as a sliver with a
     // depth that is not the face's (nearer, through walls). Not culled; the entries below are tested.
     const double slack = 1e-6 * (std::abs(img.cx[i]) + std::abs(img.cy[i]) + std::abs(img.cz[i]) + h.x + h.y + h.z);
     const dvec3 gap = glm::abs(glm::abs(ctr) - h);
     if (gap.x <= slack || gap.y <= slack || gap.z <= slack) {
-        occlusionTestMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        testMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         return true;
     }
-    const auto r = otree_.testRelative(ctr - h, ctr + h, occ);
-    occlusionTestMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const auto r = tree_.testRelative(ctr - h, ctr + h, occ);
+    testMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     if (r != OcclusionTree::Result::Occluded) return true;
-    stats_->culledOcclusion++;
-    stats_->occludedEntries += img.end[i] - i;
+    stats.culledOcclusion++;
+    stats.occludedEntries += img.end[i] - i;
     return false;
+}
+
+void OcclusionPass::finish(const OcclusionSettings& s, CullStats& stats) {
+    stats.occlusionMs += testMs_;
+    stats.occlusionBoxSplits = tree_.boxSplits();
+    // Did it pay? The share of the walk it removed.
+    if (stats.occlusionRan && s.mode == OcclusionMode::Auto)
+        recordGain(double(stats.occludedEntries) / double(stats.occludedEntries + stats.nodesVisited + 1),
+                   s.autoMinGain);
+}
+
+void OcclusionPass::recordGain(double gain, double minGain) {
+    if (gain < minGain) {
+        autoBackoff_ = std::min(64, std::max(4, autoBackoff_ * 2));
+        autoWait_ = autoBackoff_;
+    } else {
+        autoBackoff_ = 0;
+        autoWait_ = 0;
+    }
 }
 
 }  // namespace sg

@@ -1,0 +1,48 @@
+// OcclusionPass: the cull's occlusion culling: each frame's OcclusionTree grown from the image's nearest
+// large occluders, the test of an entry's bound against it, and the Auto mode's back-off.
+#pragma once
+#include "sg/core/Camera.h"
+#include "sg/cull/CullSettings.h"
+#include "sg/cull/OcclusionTree.h"
+#include "sg/scene/FlatImage.h"
+
+#include <vector>
+
+namespace sg {
+
+class OcclusionPass {
+public:
+    // Grows this frame's tree from img's occluders; returns the node where the walk's tests start, or
+    // OcclusionTree::kVisible when there is nothing to test against: no occluders, the pass off, the
+    // reference render (CullStrategy::None), an orthographic camera, or Auto mode skipping this frame.
+    int32_t build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats);
+
+    // False when entry i of `img` is occluded; otherwise `occ` becomes the node where the tests of the
+    // entries below it start. `originRel`: the image's origin relative to the eye.
+    bool test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats);
+
+    // After the walk: the tests' time and box splits into `stats`; in Auto mode, whether the frame paid.
+    void finish(const OcclusionSettings& s, CullStats& stats);
+
+    // Auto mode: a frame where the pass removed `gain` (a share of the walk) below `minGain` did not pay,
+    // and the pass skips the next 4, 8, ... up to 64 frames (doubling while it keeps not paying); a frame
+    // that paid makes it run every frame again.
+    void recordGain(double gain, double minGain);
+    int framesToSkip() const { return autoWait_; }
+
+    const OcclusionTree& tree() const { return tree_; }
+
+private:
+    struct Candidate {
+        double dist;
+        uint32_t index;
+    };
+    OcclusionTree tree_;
+    std::vector<Candidate> cands_;
+    std::vector<dvec3> polyScratch_;
+    int autoWait_ = 0;     // frames left to skip the pass
+    int autoBackoff_ = 0;  // and how many to skip after the next frame where it does not pay
+    double testMs_ = 0.0;  // this frame's tests
+};
+
+}  // namespace sg

@@ -1,0 +1,152 @@
+// LodBudgetPlanner alone: the work of an LOD's children (kept per image version) and the plan's choices.
+#include "nodes/Geometry.h"
+#include "nodes/LOD.h"
+#include "nodes/Transform.h"
+#include "sg/cull/LodBudgetPlanner.h"
+#include "sg/cull/OcclusionTree.h"
+#include "sg/scene/Scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace sg;
+
+namespace {
+// A mesh of n triangles (a fan; only the count matters here).
+ref_ptr<Mesh> triangles(int n) {
+    std::vector<vec3> pos{vec3(0.0f)};
+    std::vector<uint32_t> idx;
+    for (int k = 0; k <= n; ++k) pos.push_back(vec3(std::cos(0.01f * k), 0.0f, std::sin(0.01f * k)));
+    for (int k = 0; k < n; ++k) idx.insert(idx.end(), {0u, uint32_t(k + 1), uint32_t(k + 2)});
+    auto m = make<Mesh>();
+    m->set(pos, std::vector<vec3>(pos.size(), vec3(0, -1, 0)), idx);
+    return m;
+}
+
+// `count` LODs along +y, 10 m apart from y = 20, each a fine (1,000 triangles) and a coarse (10) child.
+struct Row {
+    ref_ptr<Group> root = make<Group>();
+    ref_ptr<Mesh> fine = triangles(1000), coarse = triangles(10);
+    std::vector<ref_ptr<Geometry>> coarseGeoms;
+    explicit Row(int count) {
+        for (int k = 0; k < count; ++k) {
+            auto t = make<Transform>();
+            t->setTranslation(dvec3(0, 20 + 10 * k, 0));
+            auto lod = make<LOD>();
+            lod->addChild(make<Geometry>(fine, make<Material>()), 0.0f, 1e6f);
+            coarseGeoms.push_back(make<Geometry>(coarse, make<Material>()));
+            lod->addChild(coarseGeoms.back(), 1e6f, 2e6f);
+            t->addChild(lod);
+            root->addChild(t);
+        }
+    }
+};
+
+std::vector<uint32_t> lodEntries(const FlatImage& img) {
+    std::vector<uint32_t> out;
+    for (uint32_t i = 0; i < img.size(); ++i)
+        if (img.kind[i] == NodeKind::LOD) out.push_back(i);
+    return out;
+}
+
+Camera lookingAlongY() {
+    Camera cam;
+    cam.setViewport(400, 300);
+    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 1000.0);
+    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
+    return cam;
+}
+
+// 1 ms per frame plus 10 ms per 100,000 triangles, items free.
+DrawCostModel trained() {
+    DrawCostModel m;
+    for (int f = 0; f < 200; ++f) {
+        const double tris = 1000.0 * (f % 50 + 1), items = double((f * 7) % 40);
+        m.update({tris, items, 0.0}, 1.0 + 10.0 * tris / 1e5);
+    }
+    return m;
+}
+}  // namespace
+
+TEST(LodBudgetPlanner, WorksOutEachChildsTrianglesAndDetail) {
+    Row row(1);
+    Scene s(row.root);
+    s.update();
+    LodBudgetPlanner planner;
+    uint32_t count = 0;
+    const auto* w = planner.work(s.image(), s.version(), lodEntries(s.image())[0], count);
+    ASSERT_EQ(count, 2u);
+    EXPECT_EQ(w[0].tris, 1000.0f);
+    EXPECT_EQ(w[0].items, 1.0f);
+    EXPECT_EQ(w[0].detail, 1.0f);
+    EXPECT_EQ(w[1].tris, 10.0f);
+    EXPECT_NEAR(w[1].detail, std::pow(0.01, 0.25), 1e-6);  // a hundredth of the triangles: ~32% of the value
+}
+
+TEST(LodBudgetPlanner, KeepsTheWorkUntilTheVersionChanges) {
+    Row row(1);
+    Scene s(row.root);
+    s.update();
+    const uint64_t before = s.version();
+    const uint32_t lod = lodEntries(s.image())[0];
+    LodBudgetPlanner planner;
+    uint32_t count = 0;
+    EXPECT_EQ(planner.work(s.image(), before, lod, count)[1].tris, 10.0f);
+    row.coarseGeoms[0]->setMesh(triangles(100));
+    s.update();
+    ASSERT_NE(s.version(), before);
+    // Asked for the old version, the work is the one kept; for the new one it is worked out again.
+    EXPECT_EQ(planner.work(s.image(), before, lod, count)[1].tris, 10.0f);
+    EXPECT_EQ(planner.work(s.image(), s.version(), lod, count)[1].tris, 100.0f);
+}
+
+TEST(LodBudgetPlanner, ChoosesLevelsThatFitTheBudgetNearestFirst) {
+    Row row(20);
+    Scene s(row.root);
+    s.update();
+    const FlatImage& img = s.image();
+    const std::vector<uint32_t> lods = lodEntries(img);
+    ASSERT_EQ(lods.size(), 20u);
+    const DrawCostModel model = trained();
+    LodBudgetSettings b;
+    b.enabled = true;
+    b.model = &model;
+    LodHistory history;
+    history.track(img, s.structureVersion());
+    LodBudgetPlanner planner;
+    auto plan = [&](double budgetMs, bool mayDrop) {
+        b.budgetMs = budgetMs;
+        b.mayDrop = mayDrop;
+        planner.clear();
+        for (uint32_t i : lods) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
+        CullStats stats;
+        planner.plan(img, s.version(), lookingAlongY(), b, {}, history, stats);
+        return stats;
+    };
+
+    CullStats st = plan(100.0, false);  // room for everything: all fine
+    EXPECT_EQ(st.lodObjects, 20u);
+    EXPECT_EQ(st.lodLevels[0], 20u);
+    EXPECT_LE(st.lodPredictedMs, 100.0);
+    for (size_t k = 0; k < lods.size(); ++k) EXPECT_EQ(history.last(lods[k]), planner.chosen(k));
+
+    st = plan(1.3, false);  // a little over the fixed cost: every LOD drawn, most coarse, the fine ones near
+    EXPECT_EQ(st.lodLevels[0] + st.lodLevels[1], 20u);
+    EXPECT_GT(st.lodLevels[0], 0u);
+    EXPECT_GE(st.lodLevels[1], 10u);
+    EXPECT_LE(st.lodPredictedMs, 1.3 + 1e-9);
+    bool coarseSeen = false;
+    for (size_t k = 0; k < lods.size(); ++k) {
+        EXPECT_FALSE(coarseSeen && planner.chosen(k) == 0) << "a fine level behind a coarse one, LOD " << k;
+        coarseSeen |= planner.chosen(k) == 1;
+        EXPECT_EQ(history.last(lods[k]), planner.chosen(k));
+    }
+
+    st = plan(0.5, true);  // below the fixed cost, may drop: nothing drawn
+    EXPECT_EQ(st.lodDropped, 20u);
+    for (size_t k = 0; k < lods.size(); ++k) {
+        EXPECT_EQ(planner.chosen(k), -1);
+        EXPECT_EQ(history.last(lods[k]), LodHistory::kNone);
+    }
+}

@@ -1,0 +1,139 @@
+// OcclusionPass alone: the tree it builds from a scene's occluders, its test of one entry, the Auto back-off.
+#include "nodes/Geometry.h"
+#include "nodes/Occluder.h"
+#include "nodes/Transform.h"
+#include "sg/cull/OcclusionPass.h"
+#include "sg/scene/Scene.h"
+
+#include <gtest/gtest.h>
+
+using namespace sg;
+
+namespace {
+Camera lookingAlongY() {
+    Camera cam;
+    cam.setViewport(400, 300);
+    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 500.0);
+    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
+    return cam;
+}
+
+// A wall (box occluder) across the view at y = 20..21, a box behind it and a box in front of it.
+struct Walled {
+    ref_ptr<Group> root = make<Group>();
+    ref_ptr<Mesh> behind = makeBoxMesh(dvec3(-1, 40, -1), dvec3(1, 42, 1));
+    ref_ptr<Mesh> front = makeBoxMesh(dvec3(-1, 10, -1), dvec3(1, 12, 1));
+    explicit Walled(bool occluder = true) {
+        if (occluder) {
+            auto o = make<Occluder>();
+            o->setBox(Box{dvec3(-10, 20, -10), dvec3(10, 21, 10)});
+            root->addChild(o);
+        }
+        root->addChild(make<Geometry>(behind, make<Material>()));
+        root->addChild(make<Geometry>(front, make<Material>()));
+    }
+};
+
+uint32_t entryOf(const FlatImage& img, const Mesh* mesh) {
+    for (uint32_t i = 0; i < img.size(); ++i)
+        if (img.kind[i] == NodeKind::Geometry && img.draws[img.aux[i]].mesh == mesh) return i;
+    ADD_FAILURE() << "no entry draws the mesh";
+    return 0;
+}
+
+CullSettings mode(OcclusionMode m) {
+    CullSettings set;
+    set.occlusion.mode = m;
+    return set;
+}
+}  // namespace
+
+TEST(OcclusionPass, CullsTheBoxBehindTheOccluderNotTheOneInFront) {
+    Walled w;
+    Scene s(w.root);
+    s.update();
+    const Camera cam = lookingAlongY();
+    const FlatImage& img = s.image();
+    OcclusionPass pass;
+    CullStats stats;
+    const int32_t root = pass.build(img, cam, mode(OcclusionMode::Tree), stats);
+    ASSERT_NE(root, OcclusionTree::kVisible);
+    EXPECT_TRUE(stats.occlusionRan);
+    EXPECT_EQ(stats.occludersUsed, 1u);
+    EXPECT_FALSE(pass.tree().empty());
+
+    const dvec3 originRel = img.origin - cam.eye();
+    int32_t occ = root;
+    EXPECT_FALSE(pass.test(img, originRel, entryOf(img, w.behind.get()), occ, stats));
+    EXPECT_EQ(stats.culledOcclusion, 1u);
+    occ = root;
+    EXPECT_TRUE(pass.test(img, originRel, entryOf(img, w.front.get()), occ, stats));
+    EXPECT_EQ(occ, OcclusionTree::kVisible);  // wholly visible: nothing below needs a test
+    EXPECT_EQ(stats.occlusionTests, 2u);
+}
+
+TEST(OcclusionPass, DoesNothingWithoutOccludersOrWhenOff) {
+    const Camera cam = lookingAlongY();
+    {
+        Walled w(false);
+        Scene s(w.root);
+        s.update();
+        OcclusionPass pass;
+        CullStats stats;
+        EXPECT_EQ(pass.build(s.image(), cam, mode(OcclusionMode::Tree), stats), OcclusionTree::kVisible);
+        EXPECT_FALSE(stats.occlusionRan);
+        EXPECT_TRUE(pass.tree().empty());
+    }
+    Walled w;
+    Scene s(w.root);
+    s.update();
+    OcclusionPass pass;
+    CullStats stats;
+    EXPECT_EQ(pass.build(s.image(), cam, mode(OcclusionMode::Off), stats), OcclusionTree::kVisible);
+    CullSettings none = mode(OcclusionMode::Tree);
+    none.strategy = CullStrategy::None;  // the reference render culls nothing
+    EXPECT_EQ(pass.build(s.image(), cam, none, stats), OcclusionTree::kVisible);
+    Camera ortho = cam;
+    ortho.setProjection(glm::ortho(-10.0, 10.0, -10.0, 10.0, 0.5, 500.0));
+    EXPECT_EQ(pass.build(s.image(), ortho, mode(OcclusionMode::Tree), stats), OcclusionTree::kVisible);
+    EXPECT_FALSE(stats.occlusionRan);
+}
+
+TEST(OcclusionPass, AutoBacksOffDoublingUpTo64FramesAndResetsWhenItPays) {
+    OcclusionPass pass;
+    EXPECT_EQ(pass.framesToSkip(), 0);
+    std::vector<int> skips;
+    for (int f = 0; f < 6; ++f) {
+        pass.recordGain(0.05, 0.1);  // did not pay
+        skips.push_back(pass.framesToSkip());
+    }
+    EXPECT_EQ(skips, (std::vector<int>{4, 8, 16, 32, 64, 64}));
+    pass.recordGain(0.1, 0.1);  // paid: every frame again, and the next back-off starts over at 4
+    EXPECT_EQ(pass.framesToSkip(), 0);
+    pass.recordGain(0.0, 0.1);
+    EXPECT_EQ(pass.framesToSkip(), 4);
+}
+
+TEST(OcclusionPass, AutoSkipsTheFramesOfItsBackOffThenRunsAgain) {
+    Walled w;
+    Scene s(w.root);
+    s.update();
+    const Camera cam = lookingAlongY();
+    const CullSettings set = mode(OcclusionMode::Auto);
+    OcclusionPass pass;
+    pass.recordGain(0.0, set.occlusion.autoMinGain);
+    for (int f = 0; f < 4; ++f) {
+        CullStats stats;
+        EXPECT_EQ(pass.build(s.image(), cam, set, stats), OcclusionTree::kVisible) << "frame " << f;
+        EXPECT_TRUE(stats.occlusionSkipped);
+        EXPECT_FALSE(stats.occlusionRan);
+    }
+    CullStats stats;
+    EXPECT_NE(pass.build(s.image(), cam, set, stats), OcclusionTree::kVisible);
+    EXPECT_TRUE(stats.occlusionRan);
+    // A frame where it culled little (one entry of a hundred visited): the back-off doubles.
+    stats.occludedEntries = 1;
+    stats.nodesVisited = 100;
+    pass.finish(set.occlusion, stats);
+    EXPECT_EQ(pass.framesToSkip(), 8);
+}
