@@ -1,6 +1,7 @@
 // MeshBvh: a bounding-volume hierarchy over one Mesh's triangles, in the mesh's own frame, built once and
 // shared by every placement of the mesh; watertight ray tests (Woop, Benthin, Wald 2013) in double.
 #pragma once
+#include "sg/core/Assert.h"
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
 
@@ -87,6 +88,7 @@ void MeshBvh::overlapping(const Box& b, F&& f) const {
         if (n.count) {
             for (uint32_t k = 0; k < n.count; ++k) f(prims_[n.index + k]);
         } else {
+            SG_ASSERT(top + 2 <= 128, "MeshBvh::overlapping(): traversal stack overflow");
             stack[top++] = n.index + 1;
             stack[top++] = n.index;
         }
