@@ -27,7 +27,8 @@ public:
     bool nearest(const dvec3& o, const dvec3& d, double tMax, RayHit& out) const noexcept;
     // Every hit with t in [0, tMax], appended unsorted.
     void all(const dvec3& o, const dvec3& d, double tMax, std::vector<RayHit>& out) const;
-    // Calls f(primitive) for every triangle whose box overlaps b (the mesh's frame).
+    // Calls f(primitive) once for every triangle whose box overlaps b (the mesh's frame), and for the others
+    // of the leaves it meets: the caller tests each triangle exactly anyway.
     template <class F>
     void overlapping(const Box& b, F&& f) const;
 
