@@ -84,12 +84,15 @@ void LOD::childInserted(size_t i) {
     for (size_t k = n - 1; k > i; --k) rangeRef(k) = rangeRef(k - 1);
     rangeRef(i) = Range{0.0f, 3.4e38f};
     if (more_ && !more_->errors.empty()) more_->errors.insert(more_->errors.begin() + std::ptrdiff_t(i), 0.0f);
+    SG_ASSERT(n <= 2 || more_->ranges.size() == n - 2, "LOD::childInserted(): ranges out of step with the children");
 }
 void LOD::childRemoved(size_t i) {
     const size_t n = numChildren();  // after removal
     for (size_t k = i; k < n; ++k) rangeRef(k) = rangeRef(k + 1);
     if (n >= 2) more_->ranges.pop_back();
     if (more_ && !more_->errors.empty()) more_->errors.erase(more_->errors.begin() + std::ptrdiff_t(i));
+    SG_ASSERT(!more_ || more_->ranges.size() == (n > 2 ? n - 2 : 0),
+              "LOD::childRemoved(): ranges out of step with the children");
 }
 void LOD::accept(NodeVisitor& v) { v.apply(*this); }
 

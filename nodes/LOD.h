@@ -1,6 +1,7 @@
 // LOD: shows the children whose range holds the eye's distance to a centre, or the projected pixel size.
 #pragma once
 #include "nodes/Group.h"
+#include "sg/core/Assert.h"
 #include "sg/core/Math.h"
 
 #include <memory>
@@ -21,7 +22,11 @@ public:
     // or (Distance mode) the range starts before the previous child's range starts (out of order).
     void addChild(ref_ptr<Node> child, float min, float max);
     void setRange(size_t i, float min, float max);
-    const Range& range(size_t i) const { return i < 2 ? inline_[i] : more_->ranges[i - 2]; }
+    // The range of child i; i < numChildren().
+    const Range& range(size_t i) const {
+        SG_ASSERT(i < numChildren(), "LOD::range(): child index past the children");
+        return i < 2 ? inline_[i] : more_->ranges[i - 2];
+    }
     // Geometric error of child i in the LOD's units (the deviation of that level from the full detail one),
     // 0 unless set; it follows its child when children are inserted or removed, as the range does. sg::makeLod
     // stores them; the LOD budget (CullSettings::lodBudget) values levels by them once any is set, even to 0
@@ -58,7 +63,11 @@ protected:
 
 private:
     void checkRange(size_t i, float min, float max, const char* fn) const;
-    Range& rangeRef(size_t i) { return i < 2 ? inline_[i] : more_->ranges[i - 2]; }
+    // While children are inserted or removed the ranges lag the children by one: checked against the storage.
+    Range& rangeRef(size_t i) {
+        SG_ASSERT(i < 2 || (more_ && i - 2 < more_->ranges.size()), "LOD::rangeRef(): index past the stored ranges");
+        return i < 2 ? inline_[i] : more_->ranges[i - 2];
+    }
     // What does not fit inline shares one allocation, so that a plain two-level LOD stays as small as it was.
     struct More {
         std::vector<Range> ranges;  // ranges of children 2 and up

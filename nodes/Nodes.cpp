@@ -4,6 +4,7 @@
 #include "nodes/Instance.h"
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
+#include "sg/core/Assert.h"
 #include "sg/core/NodeVisitor.h"
 
 #include <stdexcept>
@@ -29,8 +30,14 @@ void Switch::setOnly(size_t i) {
     setAll(false);
     on_[i] = true;
 }
-void Switch::childInserted(size_t i) { on_.insert(on_.begin() + std::ptrdiff_t(i), true); }
-void Switch::childRemoved(size_t i) { on_.erase(on_.begin() + std::ptrdiff_t(i)); }
+void Switch::childInserted(size_t i) {
+    on_.insert(on_.begin() + std::ptrdiff_t(i), true);
+    SG_ASSERT(on_.size() == numChildren(), "Switch::childInserted(): switch bits out of step with the children");
+}
+void Switch::childRemoved(size_t i) {
+    on_.erase(on_.begin() + std::ptrdiff_t(i));
+    SG_ASSERT(on_.size() == numChildren(), "Switch::childRemoved(): switch bits out of step with the children");
+}
 void Switch::accept(NodeVisitor& v) { v.apply(*this); }
 
 // --- Billboard

@@ -1,5 +1,6 @@
 // Mesh: shared triangle data (positions, normals, optional UVs and colours, 16- or 32-bit indices).
 #pragma once
+#include "sg/core/Assert.h"
 #include "sg/core/Math.h"
 #include "sg/core/Ref.h"
 
@@ -25,7 +26,10 @@ public:
     const std::vector<uint16_t>& indices16() const { return indices16_; }
     const std::vector<uint32_t>& indices32() const { return indices32_; }
     uint32_t indexCount() const { return uint32_t(indices16_.empty() ? indices32_.size() : indices16_.size()); }
-    uint32_t index(size_t i) const { return indices16_.empty() ? indices32_[i] : indices16_[i]; }
+    uint32_t index(size_t i) const {
+        SG_ASSERT(i < indexCount(), "Mesh::index(): index past the index array");
+        return indices16_.empty() ? indices32_[i] : indices16_[i];
+    }
     uint32_t triangleCount() const { return indexCount() / 3; }
 
     // Local bound; `validBound()` is false when a position is NaN or infinite.

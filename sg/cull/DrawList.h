@@ -1,5 +1,6 @@
 // DrawList: what the cull selected, in the order the renderer draws it.
 #pragma once
+#include "sg/core/Assert.h"
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"
 
@@ -49,7 +50,10 @@ public:
         items.emplace_back(Uninitialized{});
         return items.back();
     }
-    uint32_t key(size_t i) const { return keys_[i]; }
+    uint32_t key(size_t i) const {
+        SG_ASSERT(i < keys_.size(), "DrawList::key(): item past the keys");
+        return keys_[i];
+    }
     // Sorts `order` by state, then front to back (stable radix sort on the keys made by add()/push();
     // items appended to `items` directly sort as depth 0).
     void sort();

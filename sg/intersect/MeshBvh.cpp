@@ -62,6 +62,7 @@ uint32_t MeshBvh::build(uint32_t first, uint32_t count, std::vector<Box>& boxes,
     while (!work.empty()) {
         const Item it = work.back();
         work.pop_back();
+        SG_ASSERT(it.count > 0, "MeshBvh::build(): empty subtree");
         Box bound, cb;
         for (uint32_t k = it.first; k < it.first + it.count; ++k) {
             bound.expand(boxes[k]);
@@ -148,6 +149,8 @@ uint32_t MeshBvh::build(uint32_t first, uint32_t count, std::vector<Box>& boxes,
             std::copy(bx.begin(), bx.end(), boxes.begin() + it.first);
             std::copy(c.begin(), c.end(), centroids.begin() + it.first);
         }
+        SG_ASSERT(mid > it.first && mid < it.first + it.count, "MeshBvh::build(): a split left one side empty");
+        SG_ASSERT(nodes_.size() + 2 <= UINT32_MAX, "MeshBvh::build(): node index overflow");
         // The two children side by side.
         const uint32_t left = uint32_t(nodes_.size()), right = left + 1;
         nodes_.push_back({});
@@ -219,6 +222,7 @@ bool MeshBvh::nearest(const dvec3& o, const dvec3& d, double tMax, RayHit& out) 
             continue;
         }
         // Nearer child first; the farther one waits on the stack.
+        SG_ASSERT(top + 2 <= kStack, "MeshBvh::nearest(): traversal stack overflow");
         const uint32_t l = n.index, r = n.index + 1;
         double tl, tr;
         const bool hl = isect::slab(nodes_[l].min, nodes_[l].max, o, inv, best, tl);
@@ -262,12 +266,14 @@ void MeshBvh::all(const dvec3& o, const dvec3& d, double tMax, std::vector<RayHi
             }
             continue;
         }
+        SG_ASSERT(top + 2 <= kStack, "MeshBvh::all(): traversal stack overflow");
         stack[top++] = n.index + 1;
         stack[top++] = n.index;
     }
 }
 
 void MeshBvh::triangle(uint32_t t, dvec3& p0, dvec3& p1, dvec3& p2) const {
+    SG_ASSERT(t < mesh_->triangleCount(), "MeshBvh::triangle(): primitive past the mesh's triangles");
     const auto& pos = mesh_->positions();
     p0 = dvec3(pos[mesh_->index(3 * size_t(t))]);
     p1 = dvec3(pos[mesh_->index(3 * size_t(t) + 1)]);

@@ -1,6 +1,7 @@
 // MeshBvh: a bounding-volume hierarchy over one Mesh's triangles, in the mesh's own frame, built once and
 // shared by every placement of the mesh; watertight ray tests (Woop, Benthin, Wald 2013) in double.
 #pragma once
+#include "sg/core/Assert.h"
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
 
@@ -26,7 +27,8 @@ public:
     bool nearest(const dvec3& o, const dvec3& d, double tMax, RayHit& out) const noexcept;
     // Every hit with t in [0, tMax], appended unsorted.
     void all(const dvec3& o, const dvec3& d, double tMax, std::vector<RayHit>& out) const;
-    // Calls f(primitive) for every triangle whose box overlaps b (the mesh's frame).
+    // Calls f(primitive) once for every triangle whose box overlaps b (the mesh's frame), and for the others
+    // of the leaves it meets: the caller tests each triangle exactly anyway.
     template <class F>
     void overlapping(const Box& b, F&& f) const;
 
@@ -87,6 +89,7 @@ void MeshBvh::overlapping(const Box& b, F&& f) const {
         if (n.count) {
             for (uint32_t k = 0; k < n.count; ++k) f(prims_[n.index + k]);
         } else {
+            SG_ASSERT(top + 2 <= 128, "MeshBvh::overlapping(): traversal stack overflow");
             stack[top++] = n.index + 1;
             stack[top++] = n.index;
         }

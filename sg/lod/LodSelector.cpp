@@ -1,5 +1,7 @@
 #include "sg/lod/LodSelector.h"
 
+#include "sg/core/Assert.h"
+
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -137,6 +139,9 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
         double prevCost = base.cost, prevRank = base.rank;
         for (std::size_t i = first; i < top; ++i) {
             const double dCost = cand[i].cost - prevCost;
+            // The budget cut below sums step costs by bucket: a negative step would undercount.
+            SG_ASSERT(dCost >= 0.0, "LodSelector::select(): a hull step lowers the cost");
+            SG_ASSERT(nSteps < total, "LodSelector::select(): more hull steps than options");
             const double ratio =
                 dCost > 0 ? (cand[i].rank - prevRank) / dCost : std::numeric_limits<double>::infinity();
             steps_[nSteps++] = {static_cast<int>(o), cand[i].option, descendingKey(ratio), dCost};

@@ -29,6 +29,7 @@ size_t FlatImage::bytes() const {
 }
 
 Box FlatImage::box(size_t i) const {
+    SG_ASSERT(i < size(), "FlatImage::box(): entry past the image");
     const dvec3 c = center(i), e(ex[i], ey[i], ez[i]);
     return Box{c - e, c + e};
 }
@@ -40,6 +41,7 @@ static float roundUp(double x) {
 }
 
 void FlatImage::setBound(size_t i, const Box& b, double radius) {
+    SG_ASSERT(i < size(), "FlatImage::setBound(): entry past the image");
     if (b.empty()) {
         cx[i] = cy[i] = cz[i] = 0.0f;
         r[i] = ex[i] = ey[i] = ez[i] = 0.0f;
@@ -71,8 +73,11 @@ void FlatImage::setBound(size_t i, const Box& b, double radius) {
 }
 
 const Node* FlatImage::maskedNode(uint32_t i) const {
+    SG_ASSERT(i < size(), "FlatImage::maskedNode(): entry past the image");
     auto it = std::lower_bound(masked.begin(), masked.end(), std::make_pair(i, static_cast<const Node*>(nullptr)));
-    return it != masked.end() && it->first == i ? it->second : nullptr;
+    const bool listed = it != masked.end() && it->first == i;
+    SG_ASSERT(listed || !(flags[i] & kMasked), "FlatImage::maskedNode(): a kMasked entry is not in `masked`");
+    return listed ? it->second : nullptr;
 }
 
 void FlatImage::setInvalid(size_t i) {

@@ -1,5 +1,6 @@
 // FlatImage: the pre-order, structure-of-arrays image of a graph that the cull walks instead of pointers.
 #pragma once
+#include "sg/core/Assert.h"
 #include "sg/core/Material.h"
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
@@ -71,7 +72,8 @@ struct FlatImage {
     std::vector<Xform> translations;
     std::vector<const dmat4*> matrices;
     // Entries of the kinds the cull meets rarely (Switch, Billboard, Instance, BspGroup, Occluder):
-    // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`.
+    // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`;
+    // maskedNode(i) finds entry i's node there (null when it is not listed, never for a kMasked entry).
     std::vector<Node*> nodes;
     std::vector<std::pair<uint32_t, const Node*>> masked;
     const Node* maskedNode(uint32_t i) const;
@@ -98,7 +100,10 @@ struct FlatImage {
     void resize(size_t n);
     size_t bytes() const;
 
-    dvec3 center(size_t i) const { return origin + dvec3(cx[i], cy[i], cz[i]); }
+    dvec3 center(size_t i) const {
+        SG_ASSERT(i < size(), "FlatImage::center(): entry past the image");
+        return origin + dvec3(cx[i], cy[i], cz[i]);
+    }
     Box box(size_t i) const;
     // Stores a world box and sphere radius at i, rounding outward.
     void setBound(size_t i, const Box& b, double radius);
