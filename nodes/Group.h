@@ -29,7 +29,6 @@ protected:
     // Hook for nodes that keep per-child data (LOD ranges, Switch bits).
     virtual void childInserted(size_t) {}
     virtual void childRemoved(size_t) {}
-    const char* addChildName() const;
 
 private:
     void checkChild(const Node* child, const char* fn) const;

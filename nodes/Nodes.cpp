@@ -1,6 +1,7 @@
 // Small node types: data setters with their argument checks, and accept().
 #include "nodes/Billboard.h"
 #include "nodes/BspGroup.h"
+#include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
@@ -9,6 +10,9 @@
 #include <stdexcept>
 
 namespace sg {
+
+// --- Geometry
+void Geometry::accept(NodeVisitor& v) { v.apply(*this); }
 
 // --- Switch
 void Switch::addChild(ref_ptr<Node> child, bool on) {

@@ -54,11 +54,6 @@ struct Box {
     }
 };
 
-struct Sphere {
-    dvec3 center{0.0};
-    double radius = -1.0;  // negative: empty
-};
-
 // Plane n.x + d = 0 with unit n; positive side is "inside".
 struct Plane {
     dvec3 n{0.0, 0.0, 1.0};

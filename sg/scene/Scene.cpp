@@ -134,7 +134,7 @@ struct Scene::Builder {
     }
 
     // Largest distance of anything below `n` from the origin of the frame `m` maps from.
-    static double localRadius(const Node* n, const dmat4& m, Scene& s) {
+    static double localRadius(const Node* n, const dmat4& m) {
         switch (n->kind()) {
             case NodeKind::Geometry: {
                 const Mesh* mesh = static_cast<const Geometry*>(n)->mesh();
@@ -146,16 +146,16 @@ struct Scene::Builder {
             case NodeKind::Transform: {
                 double r = 0.0;
                 const dmat4 mm = static_cast<const Transform*>(n)->apply(m);
-                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), mm, s));
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), mm));
                 return r;
             }
             case NodeKind::Instance: {
                 const auto* in = static_cast<const Instance*>(n);
-                return in->prototype() ? localRadius(in->prototype(), m * in->matrix(), s) : 0.0;
+                return in->prototype() ? localRadius(in->prototype(), m * in->matrix()) : 0.0;
             }
             default: {
                 double r = 0.0;
-                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), m, s));
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), m));
                 return r;
             }
         }
@@ -357,7 +357,7 @@ struct Scene::Builder {
     // A billboard turns about its origin: bound it, and everything below it, by a sphere there.
     void billboard(uint32_t i, Node* n, const dmat4& m) {
         if (img.flags[i] & FlatImage::kEmpty) return;
-        const double rl = localRadius(n, dmat4(1.0), scene);
+        const double rl = localRadius(n, dmat4(1.0));
         const dvec3 o(m[3]);
         const double rad = rl * maxScale(m);
         for (uint32_t j = i; j < img.end[i]; ++j) {
