@@ -51,6 +51,19 @@ TEST(Group, ACycleNeverEntersTheGraph) {
     EXPECT_NE(errorOf([&] { a->addChild(nullptr); }).find("Group::addChild(): child is null"), std::string::npos);
 }
 
+TEST(Group, ErrorsNameTheFunctionCalled) {
+    auto a = make<Group>(), b = make<Group>();
+    a->setName("a");
+    a->addChild(b);
+    EXPECT_EQ(errorOf([&] { a->insertChild(0, nullptr); }),
+              "Group::insertChild(): child is null (adding to Group 'a')");
+    EXPECT_EQ(errorOf([&] { a->addChild(nullptr); }), "Group::addChild(): child is null (adding to Group 'a')");
+    EXPECT_EQ(errorOf([&] { b->insertChild(0, a); }),
+              "Group::insertChild(): adding Group 'a' below Group would make a cycle (the group is the child or one "
+              "of its descendants)");
+    EXPECT_EQ(a->numChildren(), 1u);
+}
+
 TEST(Group, ParentsAreTrackedForDagsAndRemoval) {
     auto shared = make<Group>();
     auto p1 = make<Group>(), p2 = make<Group>();
