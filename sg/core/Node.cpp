@@ -36,16 +36,16 @@ const char* kindName(NodeKind k) {
 }
 
 Node::~Node() {
-    if (dirty_ & kHasExtras) extrasTable().erase(this);
+    if (state_ & kHasExtras) extrasTable().erase(this);
 }
 
 Node::Extras& Node::extras() {
-    dirty_ |= kHasExtras;
+    state_ |= kHasExtras;
     return extrasTable()[this];
 }
 
 const Node::Extras* Node::findExtras() const {
-    if (!(dirty_ & kHasExtras)) return nullptr;
+    if (!(state_ & kHasExtras)) return nullptr;
     auto it = extrasTable().find(this);
     return it == extrasTable().end() ? nullptr : &it->second;
 }
@@ -53,9 +53,9 @@ const Node::Extras* Node::findExtras() const {
 void Node::setNodeMask(uint32_t m) {
     mask_ = m;
     if (m == 0xffffffffu)
-        dirty_ &= ~kHasMask;
+        state_ &= ~kHasMask;
     else
-        dirty_ |= kHasMask;
+        state_ |= kHasMask;
     markDirty(kDirtyBound);  // the image caches whether a mask must be read
 }
 
@@ -103,7 +103,7 @@ void Node::addParent(Node* p) {
 }
 
 void Node::removeParent(Node* p) {
-    Extras* e = (dirty_ & kHasExtras) ? &extras() : nullptr;
+    Extras* e = (state_ & kHasExtras) ? &extras() : nullptr;
     if (firstParent_ == p) {
         if (e && !e->moreParents.empty()) {
             firstParent_ = e->moreParents.back();
@@ -120,7 +120,7 @@ void Node::removeParent(Node* p) {
 }
 
 void Node::markDirty(uint8_t bits) {
-    dirty_ |= bits;
+    state_ |= bits;
     const uint8_t up = kDirtyBelow | (bits & kDirtyStructure);
     // Iterative walk to the roots; stop where the marks are already present (their ancestors have them).
     std::vector<Node*> stack;
@@ -128,8 +128,8 @@ void Node::markDirty(uint8_t bits) {
     while (!stack.empty()) {
         Node* a = stack.back();
         stack.pop_back();
-        if ((a->dirty_ & up) == up) continue;
-        a->dirty_ |= up;
+        if ((a->state_ & up) == up) continue;
+        a->state_ |= up;
         for (size_t i = 0, n = a->numParents(); i < n; ++i) stack.push_back(a->parent(i));
     }
 }

@@ -25,7 +25,7 @@ using UpdateCallback = std::function<void(Node&, const FrameInfo&)>;
 
 class Node : public Referenced {
 public:
-    // Dirty bits, kept small: the update pass follows only marked paths.
+    // State bits in one byte: three dirty bits (the update pass follows only marked paths) and two flags.
     enum : uint8_t {
         kDirtyBound = 1,      // this node's own bound-affecting data changed (matrix, mesh, shape)
         kDirtyBelow = 2,      // something below changed
@@ -60,8 +60,8 @@ public:
 
     struct Extras;  // defined in Node.cpp
 
-    uint8_t dirtyBits() const noexcept { return dirty_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
-    void clearDirty() noexcept { dirty_ &= kHasMask | kHasExtras; }
+    uint8_t dirtyBits() const noexcept { return state_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
+    void clearDirty() noexcept { state_ &= kHasMask | kHasExtras; }
     // Marks this node and propagates "below" marks to every ancestor.
     void markDirty(uint8_t bits);
 
@@ -87,7 +87,7 @@ private:
     uint32_t mask_ = 0xffffffffu;
     Node* firstParent_ = nullptr;
     NodeKind kind_;
-    uint8_t dirty_ = kDirtyBound | kDirtyStructure;
+    uint8_t state_ = kDirtyBound | kDirtyStructure;  // the dirty bits and the kHas* flags above
 };
 
 }  // namespace sg
