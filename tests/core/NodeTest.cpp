@@ -51,6 +51,24 @@ TEST(Group, ACycleNeverEntersTheGraph) {
     EXPECT_NE(errorOf([&] { a->addChild(nullptr); }).find("Group::addChild(): child is null"), std::string::npos);
 }
 
+TEST(Node, PlainNodesStaySmall) {
+    // A name, a callback or a second parent costs a block of its own; a node without them carries none.
+    if (sizeof(void*) != 8) GTEST_SKIP() << "sizes stated for 64-bit targets";
+    EXPECT_EQ(sizeof(Group), 40u);
+    EXPECT_EQ(sizeof(Transform), 72u);
+    auto g = make<Group>(), p1 = make<Group>(), p2 = make<Group>();
+    p1->addChild(g);
+    g->setName("g");  // the only parent moves into the node's Extras with the name
+    p2->addChild(g);
+    EXPECT_EQ(g->numParents(), 2u);
+    EXPECT_EQ(g->parent(0), p1.get());
+    EXPECT_EQ(g->parent(1), p2.get());
+    p1->removeChild(g.get());
+    EXPECT_EQ(g->numParents(), 1u);
+    EXPECT_EQ(g->parent(0), p2.get());
+    EXPECT_EQ(g->name(), "g");
+}
+
 TEST(Group, ErrorsNameTheFunctionCalled) {
     auto a = make<Group>(), b = make<Group>();
     a->setName("a");
