@@ -78,12 +78,8 @@ void Instance::setPrototype(ref_ptr<Node> p) {
     markDirty(kDirtyStructure | kDirtyBound);
 }
 void Instance::setMatrix(const dmat4& m) {
-    const std::string bad = nonFiniteElement(m);
-    if (!bad.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + bad);
-    const std::string proj = nonAffineRow(m);
-    if (!proj.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + proj);
-    if (!(std::abs(glm::determinant(glm::dmat3(m))) > 0.0))
-        throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": matrix is singular " + toString(m));
+    const std::string why = nonInvertibleAffine(m);
+    if (!why.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + why);
     matrix_ = m;
     markDirty(kDirtyBound);
 }

@@ -103,6 +103,11 @@ inline void toFloat(const dmat4& m, glm::mat4x3& out) {
 // An affine matrix has (0 0 0 1) as its last row; "" when so, else a description of the row.
 std::string nonAffineRow(const dmat4& m);
 
+// "" when m is a finite, affine and invertible matrix (|det| of the upper 3x3 above kDegenerate times
+// the product of its column lengths, so that the test does not depend on the scale), else why it is not:
+// the one check of every node that places children with a matrix (bounds and picking invert it).
+std::string nonInvertibleAffine(const dmat4& m);
+
 // Six planes (left, right, bottom, top, near, far), normals inward and unit length, of clip = proj * view.
 std::array<Plane, 6> frustumPlanes(const dmat4& clip);
 

@@ -97,6 +97,25 @@ TEST(Group, ParentsAreTrackedForDagsAndRemoval) {
     EXPECT_EQ(shared->numParents(), 0u);
 }
 
+TEST(Transform, InstanceAndTransformRefuseTheSameNearlySingularMatrix) {
+    dmat4 m(1.0);
+    m[1] = dvec4(1.0, 1e-13, 0.0, 0.0);  // the second axis almost along the first: |det| 1e-13
+    auto t = make<Transform>();
+    auto in = make<Instance>();
+    const std::string why = nonInvertibleAffine(m);
+    EXPECT_EQ(why.rfind("matrix is singular (det ", 0), 0u) << why;
+    EXPECT_EQ(errorOf([&] { t->setMatrix(m); }), "Transform::setMatrix(): Transform: " + why);
+    EXPECT_EQ(errorOf([&] { in->setMatrix(m); }), "Instance::setMatrix(): Instance: " + why);
+    EXPECT_EQ(in->matrix(), dmat4(1.0));
+    m[1] = dvec4(1.0, 1e-9, 0.0, 0.0);  // thin but invertible: both take it
+    EXPECT_EQ(errorOf([&] { t->setMatrix(m); }), "no error");
+    EXPECT_EQ(errorOf([&] { in->setMatrix(m); }), "no error");
+    m[2][3] = 0.5;
+    EXPECT_EQ(errorOf([&] { in->setMatrix(m); }),
+              "Instance::setMatrix(): Instance: last row is (0 0 0.5 1), not (0 0 0 1): only affine transforms are "
+              "drawn");
+}
+
 TEST(Transform, BadMatricesAreRefusedWithTheElement) {
     auto t = make<Transform>();
     t->setName("crane");
