@@ -68,10 +68,12 @@ struct Scene::Builder {
         Counts c;
         count(root, c);
         img.resize(c.entries);
-        // Exact sizes: the tables are filled in order and rewritten in place by later refits.
-        img.translations.clear(), img.matrices.clear(), img.nodes.clear(), img.masked.clear();
-        img.translations.reserve(c.xforms), img.translations.shrink_to_fit();
-        img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
+        // The tables are filled in order and rewritten in place by later refits. Translations and LODs get
+        // one allocation of the counted size (for translations an upper bound: general matrices go to
+        // `matrices`), replacing any larger one a previous build left; the other tables grow as filled.
+        img.matrices.clear(), img.nodes.clear(), img.masked.clear();
+        img.translations = {}, img.translations.reserve(c.xforms);
+        img.lods = {}, img.lods.reserve(c.lods);
         img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
