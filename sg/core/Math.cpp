@@ -53,9 +53,9 @@ double maxScale(const dmat4& m) {
     const double big = std::max(a, std::max(b, c));
     // Orthogonal columns (rotation times scale): the longest column is the exact stretch. Otherwise the
     // Frobenius norm, which bounds the spectral norm from above.
-    const double tol = 1e-12 * big * big;
+    const double tol = eps::kRounding * big * big;
     if (std::abs(glm::dot(x, y)) <= tol && std::abs(glm::dot(x, z)) <= tol && std::abs(glm::dot(y, z)) <= tol)
-        return big * (1.0 + 1e-12);
+        return big * (1.0 + eps::kRounding);
     return std::sqrt(a * a + b * b + c * c);
 }
 
