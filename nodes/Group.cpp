@@ -24,13 +24,17 @@ void Group::checkChild(const Node* child, const char* fn) const {
                                     " would make a cycle (the group is the child or one of its descendants)");
 }
 
-void Group::addChild(ref_ptr<Node> child) { insertChild(size_, std::move(child)); }
+void Group::addChild(ref_ptr<Node> child) { insertAt(size_, std::move(child), "Group::addChild()"); }
 
 void Group::insertChild(size_t index, ref_ptr<Node> child) {
-    checkChild(child.get(), "Group::addChild()");
+    insertAt(index, std::move(child), "Group::insertChild()");
+}
+
+void Group::insertAt(size_t index, ref_ptr<Node> child, const char* fn) {
+    checkChild(child.get(), fn);
     if (index > size_) index = size_;
     if (size_ == capacity()) {  // grow: 1 (inline) -> 2 -> 4 ... on the heap
-        if (capLog2_ >= 31) throw std::length_error("Group::addChild(): " + describe() + " has too many children");
+        if (capLog2_ >= 31) throw std::length_error(std::string(fn) + ": " + describe() + " has too many children");
         Node** d = new Node*[size_t(capacity()) * 2];
         std::copy(data(), data() + size_, d);
         if (capLog2_) delete[] many_;

@@ -29,10 +29,11 @@ protected:
     // Hook for nodes that keep per-child data (LOD ranges, Switch bits).
     virtual void childInserted(size_t) {}
     virtual void childRemoved(size_t) {}
-    const char* addChildName() const;
 
 private:
     void checkChild(const Node* child, const char* fn) const;
+    // addChild() and insertChild(); `fn` names the one called in error messages.
+    void insertAt(size_t index, ref_ptr<Node> child, const char* fn);
     Node* const* data() const noexcept { return capLog2_ == 0 ? &one_ : many_; }
     uint32_t capacity() const noexcept { return 1u << capLog2_; }
     // Children hold a reference each. One child is kept inline (most transforms hold exactly one), more

@@ -17,7 +17,7 @@ public:
     // Throws std::invalid_argument for a null prototype or one that would make a cycle.
     void setPrototype(ref_ptr<Node> p);
     Node* prototype() const noexcept { return proto_.get(); }
-    // Throws std::invalid_argument naming the element for a non-finite or singular matrix.
+    // Throws std::invalid_argument with nonInvertibleAffine()'s reason (non-finite, projective, singular).
     void setMatrix(const dmat4& m);
     const dmat4& matrix() const noexcept { return matrix_; }
 

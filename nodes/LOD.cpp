@@ -1,14 +1,11 @@
 #include "nodes/LOD.h"
 
-#include "nodes/Geometry.h"
 #include "sg/core/NodeVisitor.h"
 
 #include <cmath>
 #include <stdexcept>
 
 namespace sg {
-
-void Geometry::accept(NodeVisitor& v) { v.apply(*this); }
 
 void LOD::checkRange(size_t i, float mn, float mx, const char* fn) const {
     auto fail = [&](const std::string& why) {

@@ -1,6 +1,7 @@
 // Small node types: data setters with their argument checks, and accept().
 #include "nodes/Billboard.h"
 #include "nodes/BspGroup.h"
+#include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
@@ -10,6 +11,9 @@
 #include <stdexcept>
 
 namespace sg {
+
+// --- Geometry
+void Geometry::accept(NodeVisitor& v) { v.apply(*this); }
 
 // --- Switch
 void Switch::addChild(ref_ptr<Node> child, bool on) {
@@ -52,10 +56,10 @@ dmat4 Billboard::rotationToward(const dvec3& eyeLocal) const {
     dvec3 toEye = eyeLocal;
     if (mode_ == Mode::Axial) toEye -= glm::dot(toEye, a) * a;  // turn about the axis only
     const double len = glm::length(toEye);
-    if (!(len > 1e-12)) return dmat4(1.0);  // eye on the axis: any orientation is right
-    const dvec3 y = -toEye / len;           // the children face -Y: -Y points at the eye
+    if (!(len > eps::kZeroLength)) return dmat4(1.0);  // eye on the axis: any orientation is right
+    const dvec3 y = -toEye / len;                      // the children face -Y: -Y points at the eye
     dvec3 z = a - glm::dot(a, y) * y;
-    if (glm::length(z) < 1e-9) z = std::abs(y.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
+    if (glm::length(z) < eps::kParallel) z = std::abs(y.x) < 0.9 ? dvec3(1, 0, 0) : dvec3(0, 1, 0);
     z = glm::normalize(z - glm::dot(z, y) * y);
     const dvec3 x = glm::cross(y, z);
     dmat4 r(1.0);
@@ -81,12 +85,8 @@ void Instance::setPrototype(ref_ptr<Node> p) {
     markDirty(kDirtyStructure | kDirtyBound);
 }
 void Instance::setMatrix(const dmat4& m) {
-    const std::string bad = nonFiniteElement(m);
-    if (!bad.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + bad);
-    const std::string proj = nonAffineRow(m);
-    if (!proj.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + proj);
-    if (!(std::abs(glm::determinant(glm::dmat3(m))) > 0.0))
-        throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": matrix is singular " + toString(m));
+    const std::string why = nonInvertibleAffine(m);
+    if (!why.empty()) throw std::invalid_argument("Instance::setMatrix(): " + describe() + ": " + why);
     matrix_ = m;
     markDirty(kDirtyBound);
 }
@@ -146,10 +146,10 @@ void Occluder::setPolygon(std::vector<dvec3> v) {
     double size = 0.0;
     for (size_t i = 1; i < v.size(); ++i) size = std::max(size, glm::length(v[i] - v[0]));
     for (size_t i = 0; i < v.size(); ++i) {
-        if (std::abs(glm::dot(n, v[i] - v[0])) > 1e-9 * size)
+        if (std::abs(glm::dot(n, v[i] - v[0])) > eps::kCoplanar * size)
             throw std::invalid_argument(fn + "vertex " + std::to_string(i) + " is off the polygon's plane");
         const dvec3 e0 = v[(i + 1) % v.size()] - v[i], e1 = v[(i + 2) % v.size()] - v[(i + 1) % v.size()];
-        if (glm::dot(glm::cross(e0, e1), n) < -1e-12 * size * size)
+        if (glm::dot(glm::cross(e0, e1), n) < -eps::kRounding * size * size)
             throw std::invalid_argument(fn + "polygon is not convex at vertex " + std::to_string((i + 1) % v.size()));
     }
     box_ = Box{};

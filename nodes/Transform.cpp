@@ -7,15 +7,8 @@
 namespace sg {
 
 void Transform::setMatrix(const dmat4& m) {
-    const std::string bad = nonFiniteElement(m);
-    if (!bad.empty()) throw std::invalid_argument("Transform::setMatrix(): " + describe() + ": " + bad);
-    const std::string proj = nonAffineRow(m);
-    if (!proj.empty()) throw std::invalid_argument("Transform::setMatrix(): " + describe() + ": " + proj);
-    const double det = glm::determinant(glm::dmat3(m));
-    const double scale = glm::length(dvec3(m[0])) * glm::length(dvec3(m[1])) * glm::length(dvec3(m[2]));
-    if (!(std::abs(det) > eps::kDegenerate * scale) || scale == 0.0)
-        throw std::invalid_argument("Transform::setMatrix(): " + describe() + ": matrix is singular (det " +
-                                    std::to_string(det) + ") " + toString(m));
+    const std::string why = nonInvertibleAffine(m);
+    if (!why.empty()) throw std::invalid_argument("Transform::setMatrix(): " + describe() + ": " + why);
     if (sg::isTranslation(m)) {
         general_.reset();
         translation_ = dvec3(m[3]);

@@ -479,6 +479,8 @@ public:
     void notify(osg::NotifySeverity, const char* message) override { std::fputs(message, stderr); }
 };
 
+// The same definitions as sgbench's (compare_osg.sh divides one program's median by the other's): the
+// median is the mean of the two middle elements for an even count, other percentiles are nearest-rank.
 double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());

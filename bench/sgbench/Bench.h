@@ -34,6 +34,7 @@ private:
 };
 
 double rssMb();
+// Median: the mean of the two middle elements for an even count. Percentile: nearest rank (p in [0, 1]).
 double median(std::vector<double> v);
 double percentile(std::vector<double> v, double p);
 

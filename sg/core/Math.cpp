@@ -23,6 +23,17 @@ std::string nonAffineRow(const dmat4& m) {
     return buf;
 }
 
+std::string nonInvertibleAffine(const dmat4& m) {
+    std::string why = nonFiniteElement(m);
+    if (why.empty()) why = nonAffineRow(m);
+    if (!why.empty()) return why;
+    const double det = glm::determinant(glm::dmat3(m));
+    const double scale = glm::length(dvec3(m[0])) * glm::length(dvec3(m[1])) * glm::length(dvec3(m[2]));
+    if (!(std::abs(det) > eps::kDegenerate * scale) || scale == 0.0)
+        return "matrix is singular (det " + std::to_string(det) + ") " + toString(m);
+    return {};
+}
+
 Box transformBox(const dmat4& m, const Box& b) {
     Box out;
     if (b.empty()) return out;
@@ -42,9 +53,9 @@ double maxScale(const dmat4& m) {
     const double big = std::max(a, std::max(b, c));
     // Orthogonal columns (rotation times scale): the longest column is the exact stretch. Otherwise the
     // Frobenius norm, which bounds the spectral norm from above.
-    const double tol = 1e-12 * big * big;
+    const double tol = eps::kRounding * big * big;
     if (std::abs(glm::dot(x, y)) <= tol && std::abs(glm::dot(x, z)) <= tol && std::abs(glm::dot(y, z)) <= tol)
-        return big * (1.0 + 1e-12);
+        return big * (1.0 + eps::kRounding);
     return std::sqrt(a * a + b * b + c * c);
 }
 

@@ -1,4 +1,4 @@
-// Vector and matrix types, bounds and planes, and the one place that states the epsilon policy.
+// Vector and matrix types, bounds and planes, and the epsilon policy with its shared tolerances (sg::eps).
 #pragma once
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -25,9 +25,26 @@ using glm::vec4;
 // relative to an image origin. Every rounding is pushed in the conservative direction (when in doubt,
 // draw): bounds are inflated by their own rounding error when stored as float, and frustum planes are
 // moved outward by kPlaneSlack times the magnitudes involved before the float kernels use them.
+// sg::eps names the tolerances of the geometric predicates shared across the library. Not here: a
+// tolerance one algorithm tunes for itself (the occlusion tree's split and near-plane margins, with
+// their comments), guards that only keep a divisor away from zero, margins on timings and statistics,
+// cost-model coefficients, user settings and test data.
 namespace eps {
 constexpr double kPlaneSlack = 8.0 * 1.1920928955078125e-07;  // 8 float ulps, relative
-constexpr double kDegenerate = 1e-12;                         // |det| below this: singular
+// Rounding of a value computed in or stored as float, relative (8 float ulps, rounded up): bounds grow by it.
+constexpr double kFloatRounding = 1e-6;
+// |det| of a 3x3 at or below this (times its column lengths' product when scale-free): singular.
+constexpr double kDegenerate = 1e-12;
+// Rounding allowance of a short double computation, relative to its magnitudes (~4500 double ulps).
+constexpr double kRounding = 1e-12;
+// A point within this times the shape's size of a plane lies on it (relative: any unit, any scale).
+constexpr double kCoplanar = 1e-9;
+// The cross product of two unit vectors shorter than this: parallel, the direction between them undefined.
+constexpr double kParallel = 1e-9;
+// |A^T A - I| (sum of the column norms) below this: A is a rotation, lengths and angles kept.
+constexpr double kRigid = 1e-9;
+// A length at or below this is zero: no direction is taken from it (world units, far below any feature).
+constexpr double kZeroLength = 1e-12;
 }  // namespace eps
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -52,11 +69,6 @@ struct Box {
     bool contains(const dvec3& p) const {
         return p.x >= min.x && p.y >= min.y && p.z >= min.z && p.x <= max.x && p.y <= max.y && p.z <= max.z;
     }
-};
-
-struct Sphere {
-    dvec3 center{0.0};
-    double radius = -1.0;  // negative: empty
 };
 
 // Plane n.x + d = 0 with unit n; positive side is "inside".
@@ -107,6 +119,11 @@ inline void toFloat(const dmat4& m, glm::mat4x3& out) {
 
 // An affine matrix has (0 0 0 1) as its last row; "" when so, else a description of the row.
 std::string nonAffineRow(const dmat4& m);
+
+// "" when m is a finite, affine and invertible matrix (|det| of the upper 3x3 above kDegenerate times
+// the product of its column lengths, so that the test does not depend on the scale), else why it is not:
+// the one check of every node that places children with a matrix (bounds and picking invert it).
+std::string nonInvertibleAffine(const dmat4& m);
 
 // Six planes (left, right, bottom, top, near, far), normals inward and unit length, of clip = proj * view.
 std::array<Plane, 6> frustumPlanes(const dmat4& clip);

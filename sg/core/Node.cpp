@@ -3,22 +3,15 @@
 #include "sg/core/NodeVisitor.h"
 
 #include <algorithm>
-#include <unordered_map>
 
 namespace sg {
 
 struct Node::Extras {
+    Node* firstParent = nullptr;
     std::string name;
     UpdateCallback callback;
     std::vector<Node*> moreParents;  // parents after the first (DAG)
 };
-
-namespace {
-std::unordered_map<const Node*, Node::Extras>& extrasTable() {
-    static std::unordered_map<const Node*, Node::Extras> table;
-    return table;
-}
-}  // namespace
 
 const char* kindName(NodeKind k) {
     switch (k) {
@@ -36,26 +29,34 @@ const char* kindName(NodeKind k) {
 }
 
 Node::~Node() {
-    if (dirty_ & kHasExtras) extrasTable().erase(this);
+    if (state_ & kHasExtras) delete extras_;
 }
 
 Node::Extras& Node::extras() {
-    dirty_ |= kHasExtras;
-    return extrasTable()[this];
+    if (!(state_ & kHasExtras)) {
+        auto* e = new Extras;
+        e->firstParent = firstParent_;
+        extras_ = e;
+        state_ |= kHasExtras;
+    }
+    return *extras_;
 }
 
-const Node::Extras* Node::findExtras() const {
-    if (!(dirty_ & kHasExtras)) return nullptr;
-    auto it = extrasTable().find(this);
-    return it == extrasTable().end() ? nullptr : &it->second;
+Node* Node::firstParent() const noexcept { return state_ & kHasExtras ? extras_->firstParent : firstParent_; }
+
+void Node::setFirstParent(Node* p) noexcept {
+    if (state_ & kHasExtras)
+        extras_->firstParent = p;
+    else
+        firstParent_ = p;
 }
 
 void Node::setNodeMask(uint32_t m) {
     mask_ = m;
     if (m == 0xffffffffu)
-        dirty_ &= ~kHasMask;
+        state_ &= ~kHasMask;
     else
-        dirty_ |= kHasMask;
+        state_ |= kHasMask;
     markDirty(kDirtyBound);  // the image caches whether a mask must be read
 }
 
@@ -84,32 +85,32 @@ const UpdateCallback* Node::updateCallback() const {
 }
 
 size_t Node::numParents() const noexcept {
-    if (!firstParent_) return 0;
+    if (!firstParent()) return 0;
     const Extras* e = findExtras();
     return 1 + (e ? e->moreParents.size() : 0);
 }
 
 Node* Node::parent(size_t i) const noexcept {
-    if (i == 0) return firstParent_;
+    if (i == 0) return firstParent();
     const Extras* e = findExtras();
     return e && i - 1 < e->moreParents.size() ? e->moreParents[i - 1] : nullptr;
 }
 
 void Node::addParent(Node* p) {
-    if (!firstParent_)
-        firstParent_ = p;
+    if (!firstParent())
+        setFirstParent(p);
     else
         extras().moreParents.push_back(p);
 }
 
 void Node::removeParent(Node* p) {
-    Extras* e = (dirty_ & kHasExtras) ? &extras() : nullptr;
-    if (firstParent_ == p) {
+    Extras* e = (state_ & kHasExtras) ? extras_ : nullptr;
+    if (firstParent() == p) {
         if (e && !e->moreParents.empty()) {
-            firstParent_ = e->moreParents.back();
+            setFirstParent(e->moreParents.back());
             e->moreParents.pop_back();
         } else {
-            firstParent_ = nullptr;
+            setFirstParent(nullptr);
         }
         return;
     }
@@ -120,7 +121,7 @@ void Node::removeParent(Node* p) {
 }
 
 void Node::markDirty(uint8_t bits) {
-    dirty_ |= bits;
+    state_ |= bits;
     const uint8_t up = kDirtyBelow | (bits & kDirtyStructure);
     // Iterative walk to the roots; stop where the marks are already present (their ancestors have them).
     std::vector<Node*> stack;
@@ -128,8 +129,8 @@ void Node::markDirty(uint8_t bits) {
     while (!stack.empty()) {
         Node* a = stack.back();
         stack.pop_back();
-        if ((a->dirty_ & up) == up) continue;
-        a->dirty_ |= up;
+        if ((a->state_ & up) == up) continue;
+        a->state_ |= up;
         for (size_t i = 0, n = a->numParents(); i < n; ++i) stack.push_back(a->parent(i));
     }
 }

@@ -25,13 +25,13 @@ using UpdateCallback = std::function<void(Node&, const FrameInfo&)>;
 
 class Node : public Referenced {
 public:
-    // Dirty bits, kept small: the update pass follows only marked paths.
+    // State bits in one byte: three dirty bits (the update pass follows only marked paths) and two flags.
     enum : uint8_t {
         kDirtyBound = 1,      // this node's own bound-affecting data changed (matrix, mesh, shape)
         kDirtyBelow = 2,      // something below changed
         kDirtyStructure = 4,  // children were added or removed here or below
         kHasMask = 8,         // node mask is not all ones (the cull then reads it)
-        kHasExtras = 16,      // name, callback or more parents are kept in the side table
+        kHasExtras = 16,      // name, callback or more parents are kept in the node's Extras block
     };
 
     NodeKind kind() const noexcept { return kind_; }
@@ -58,15 +58,16 @@ public:
 
     virtual void accept(NodeVisitor& v);
 
-    struct Extras;  // defined in Node.cpp
-
-    uint8_t dirtyBits() const noexcept { return dirty_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
-    void clearDirty() noexcept { dirty_ &= kHasMask | kHasExtras; }
+    uint8_t dirtyBits() const noexcept { return state_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
+    void clearDirty() noexcept { state_ &= kHasMask | kHasExtras; }
     // Marks this node and propagates "below" marks to every ancestor.
     void markDirty(uint8_t bits);
 
     // True when `n` is this node or one of its ancestors (through any parent).
     bool hasAncestorOrSelf(const Node* n) const;
+
+    Node(const Node&) = delete;  // a node owns its Extras block and is shared through ref_ptr, never copied
+    Node& operator=(const Node&) = delete;
 
 protected:
     explicit Node(NodeKind k) : kind_(k) {}
@@ -77,17 +78,25 @@ protected:
     friend class Instance;
 
 private:
-    // Rare data (a name, an update callback, parents after the first) lives in a side table keyed by
-    // the node: millions of plain nodes then carry no pointer for it.
+    // Rare data (a name, an update callback, parents after the first) lives in a block the node owns.
+    // Until a node needs one, the same pointer slot holds its only parent (kHasExtras tells which):
+    // millions of plain nodes pay nothing for it, and nodes share no state, so that graphs built on
+    // different threads do not race.
+    struct Extras;  // defined in Node.cpp
     Extras& extras();
-    const Extras* findExtras() const;
+    const Extras* findExtras() const noexcept { return state_ & kHasExtras ? extras_ : nullptr; }
+    Node* firstParent() const noexcept;
+    void setFirstParent(Node* p) noexcept;
 
     // Order matters for size: the mask fills the tail of Referenced, and derived nodes fill this
     // class's tail (a Group is 40 bytes, a Transform 72).
     uint32_t mask_ = 0xffffffffu;
-    Node* firstParent_ = nullptr;
+    union {
+        Node* firstParent_ = nullptr;  // without kHasExtras
+        Extras* extras_;               // with kHasExtras (it keeps the first parent)
+    };
     NodeKind kind_;
-    uint8_t dirty_ = kDirtyBound | kDirtyStructure;
+    uint8_t state_ = kDirtyBound | kDirtyStructure;  // the dirty bits and the kHas* flags above
 };
 
 }  // namespace sg

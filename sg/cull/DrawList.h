@@ -26,7 +26,7 @@ struct DrawItem {
 class DrawList {
 public:
     // Items in emission order (front to back through BspGroups) and, for each, its sort key: state
-    // (material, mesh) then the depth of its bound's centre along the view.
+    // (material, mesh) then the depth of its geometry's origin (its matrix's translation) along the view.
     std::vector<DrawItem> items;
     std::vector<uint32_t> order;  // indices into items, sorted by key
     // Items drawn dissolved (LOD fade), by item index, in emission order: f in (0, 1) keeps the pixels whose

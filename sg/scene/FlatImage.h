@@ -37,7 +37,6 @@ struct FlatImage {
 
     // What the cull reads for the common kinds, copied here so that it never waits on a node.
     // Transform entries: aux indexes `translations`, or with kGeneral set, `matrices` (kept by the node).
-    using Xform = dvec3;
     struct Lod {
         float cx, cy, cz;     // the centre (user's, or the bound's), in image coordinates like the bounds
         uint32_t firstRange;  // into ranges, one per child
@@ -69,7 +68,7 @@ struct FlatImage {
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> drawIndex;
     std::map<std::vector<float>, uint32_t> rangeIndex;
 
-    std::vector<Xform> translations;
+    std::vector<dvec3> translations;
     std::vector<const dmat4*> matrices;
     // Entries of the kinds the cull meets rarely (Switch, Billboard, Instance, BspGroup, Occluder):
     // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`;

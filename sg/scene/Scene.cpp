@@ -68,10 +68,12 @@ struct Scene::Builder {
         Counts c;
         count(root, c);
         img.resize(c.entries);
-        // Exact sizes: the tables are filled in order and rewritten in place by later refits.
-        img.translations.clear(), img.matrices.clear(), img.nodes.clear(), img.masked.clear();
-        img.translations.reserve(c.xforms), img.translations.shrink_to_fit();
-        img.lods.clear(), img.lods.reserve(c.lods), img.lods.shrink_to_fit();
+        // The tables are filled in order and rewritten in place by later refits. Translations and LODs get
+        // one allocation of the counted size (for translations an upper bound: general matrices go to
+        // `matrices`), replacing any larger one a previous build left; the other tables grow as filled.
+        img.matrices.clear(), img.nodes.clear(), img.masked.clear();
+        img.translations = {}, img.translations.reserve(c.xforms);
+        img.lods = {}, img.lods.reserve(c.lods);
         img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
@@ -134,7 +136,7 @@ struct Scene::Builder {
     }
 
     // Largest distance of anything below `n` from the origin of the frame `m` maps from.
-    static double localRadius(const Node* n, const dmat4& m, Scene& s) {
+    static double localRadius(const Node* n, const dmat4& m) {
         switch (n->kind()) {
             case NodeKind::Geometry: {
                 const Mesh* mesh = static_cast<const Geometry*>(n)->mesh();
@@ -146,16 +148,16 @@ struct Scene::Builder {
             case NodeKind::Transform: {
                 double r = 0.0;
                 const dmat4 mm = static_cast<const Transform*>(n)->apply(m);
-                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), mm, s));
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), mm));
                 return r;
             }
             case NodeKind::Instance: {
                 const auto* in = static_cast<const Instance*>(n);
-                return in->prototype() ? localRadius(in->prototype(), m * in->matrix(), s) : 0.0;
+                return in->prototype() ? localRadius(in->prototype(), m * in->matrix()) : 0.0;
             }
             default: {
                 double r = 0.0;
-                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), m, s));
+                for (size_t i = 0; i < n->numChildren(); ++i) r = std::max(r, localRadius(n->child(i), m));
                 return r;
             }
         }
@@ -357,7 +359,7 @@ struct Scene::Builder {
     // A billboard turns about its origin: bound it, and everything below it, by a sphere there.
     void billboard(uint32_t i, Node* n, const dmat4& m) {
         if (img.flags[i] & FlatImage::kEmpty) return;
-        const double rl = localRadius(n, dmat4(1.0), scene);
+        const double rl = localRadius(n, dmat4(1.0));
         const dvec3 o(m[3]);
         const double rad = rl * maxScale(m);
         for (uint32_t j = i; j < img.end[i]; ++j) {

@@ -55,6 +55,19 @@ TEST(Math, NonFiniteElementIsNamed) {
     EXPECT_EQ(nonFiniteElement(m), "element [2][1] is nan");
 }
 
+TEST(Math, NonInvertibleAffineIsRelativeToTheScale) {
+    EXPECT_EQ(nonInvertibleAffine(dmat4(1.0)), "");
+    EXPECT_EQ(nonInvertibleAffine(glm::scale(dmat4(1.0), dvec3(1e-6))), "");             // |det| 1e-18, yet invertible
+    EXPECT_EQ(nonInvertibleAffine(glm::scale(dmat4(1.0), dvec3(1e6, 1e6, 1e-12))), "");  // thin, not singular
+    dmat4 sheared(1.0);
+    sheared[1] = dvec4(1.0, 1e-13, 0.0, 0.0);  // two axes almost parallel, at any scale
+    EXPECT_EQ(nonInvertibleAffine(glm::scale(dmat4(1.0), dvec3(1e6)) * sheared).rfind("matrix is singular", 0), 0u);
+    EXPECT_EQ(nonInvertibleAffine(glm::scale(dmat4(1.0), dvec3(1, 0, 1))).rfind("matrix is singular (det 0", 0), 0u);
+    dmat4 m(1.0);
+    m[3][0] = kInf;
+    EXPECT_EQ(nonInvertibleAffine(m), "element [3][0] is inf");
+}
+
 TEST(Camera, BadParametersAreRefusedByName) {
     Camera cam;
     auto msg = [](auto f) {

@@ -51,6 +51,37 @@ TEST(Group, ACycleNeverEntersTheGraph) {
     EXPECT_NE(errorOf([&] { a->addChild(nullptr); }).find("Group::addChild(): child is null"), std::string::npos);
 }
 
+TEST(Node, PlainNodesStaySmall) {
+    // A name, a callback or a second parent costs a block of its own; a node without them carries none.
+    if (sizeof(void*) != 8) GTEST_SKIP() << "sizes stated for 64-bit targets";
+    EXPECT_EQ(sizeof(Group), 40u);
+    EXPECT_EQ(sizeof(Transform), 72u);
+    auto g = make<Group>(), p1 = make<Group>(), p2 = make<Group>();
+    p1->addChild(g);
+    g->setName("g");  // the only parent moves into the node's Extras with the name
+    p2->addChild(g);
+    EXPECT_EQ(g->numParents(), 2u);
+    EXPECT_EQ(g->parent(0), p1.get());
+    EXPECT_EQ(g->parent(1), p2.get());
+    p1->removeChild(g.get());
+    EXPECT_EQ(g->numParents(), 1u);
+    EXPECT_EQ(g->parent(0), p2.get());
+    EXPECT_EQ(g->name(), "g");
+}
+
+TEST(Group, ErrorsNameTheFunctionCalled) {
+    auto a = make<Group>(), b = make<Group>();
+    a->setName("a");
+    a->addChild(b);
+    EXPECT_EQ(errorOf([&] { a->insertChild(0, nullptr); }),
+              "Group::insertChild(): child is null (adding to Group 'a')");
+    EXPECT_EQ(errorOf([&] { a->addChild(nullptr); }), "Group::addChild(): child is null (adding to Group 'a')");
+    EXPECT_EQ(errorOf([&] { b->insertChild(0, a); }),
+              "Group::insertChild(): adding Group 'a' below Group would make a cycle (the group is the child or one "
+              "of its descendants)");
+    EXPECT_EQ(a->numChildren(), 1u);
+}
+
 TEST(Group, ParentsAreTrackedForDagsAndRemoval) {
     auto shared = make<Group>();
     auto p1 = make<Group>(), p2 = make<Group>();
@@ -64,6 +95,25 @@ TEST(Group, ParentsAreTrackedForDagsAndRemoval) {
               "Group::removeChild(): index 3 past the 0 children of Group");
     p1 = nullptr;  // destroying a parent detaches it
     EXPECT_EQ(shared->numParents(), 0u);
+}
+
+TEST(Transform, InstanceAndTransformRefuseTheSameNearlySingularMatrix) {
+    dmat4 m(1.0);
+    m[1] = dvec4(1.0, 1e-13, 0.0, 0.0);  // the second axis almost along the first: |det| 1e-13
+    auto t = make<Transform>();
+    auto in = make<Instance>();
+    const std::string why = nonInvertibleAffine(m);
+    EXPECT_EQ(why.rfind("matrix is singular (det ", 0), 0u) << why;
+    EXPECT_EQ(errorOf([&] { t->setMatrix(m); }), "Transform::setMatrix(): Transform: " + why);
+    EXPECT_EQ(errorOf([&] { in->setMatrix(m); }), "Instance::setMatrix(): Instance: " + why);
+    EXPECT_EQ(in->matrix(), dmat4(1.0));
+    m[1] = dvec4(1.0, 1e-9, 0.0, 0.0);  // thin but invertible: both take it
+    EXPECT_EQ(errorOf([&] { t->setMatrix(m); }), "no error");
+    EXPECT_EQ(errorOf([&] { in->setMatrix(m); }), "no error");
+    m[2][3] = 0.5;
+    EXPECT_EQ(errorOf([&] { in->setMatrix(m); }),
+              "Instance::setMatrix(): Instance: last row is (0 0 0.5 1), not (0 0 0 1): only affine transforms are "
+              "drawn");
 }
 
 TEST(Transform, BadMatricesAreRefusedWithTheElement) {
