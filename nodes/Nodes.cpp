@@ -1,16 +1,29 @@
-// Small node types: data setters with their argument checks, and accept().
+// Small node types: data setters with their argument checks, and accept(); the visitor's defaults per kind.
 #include "nodes/Billboard.h"
 #include "nodes/BspGroup.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
+#include "nodes/Transform.h"
 #include "sg/core/Assert.h"
 #include "sg/core/NodeVisitor.h"
 
 #include <stdexcept>
 
 namespace sg {
+
+// --- NodeVisitor: each kind's default apply() forwards to its base kind's (here, where the kinds are complete).
+void NodeVisitor::apply(Group& n) { apply(static_cast<Node&>(n)); }
+void NodeVisitor::apply(Transform& n) { apply(static_cast<Group&>(n)); }
+void NodeVisitor::apply(Geometry& n) { apply(static_cast<Node&>(n)); }
+void NodeVisitor::apply(LOD& n) { apply(static_cast<Group&>(n)); }
+void NodeVisitor::apply(Switch& n) { apply(static_cast<Group&>(n)); }
+void NodeVisitor::apply(Billboard& n) { apply(static_cast<Group&>(n)); }
+void NodeVisitor::apply(Instance& n) { apply(static_cast<Node&>(n)); }
+void NodeVisitor::apply(BspGroup& n) { apply(static_cast<Group&>(n)); }
+void NodeVisitor::apply(Occluder& n) { apply(static_cast<Node&>(n)); }
 
 // --- Geometry
 void Geometry::accept(NodeVisitor& v) { v.apply(*this); }

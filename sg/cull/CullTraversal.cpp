@@ -69,7 +69,7 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
         c.fsRadius = 0.0;
         for (const dvec3& p : cam_->eyeCorners())
             c.fsRadius = std::max(c.fsRadius, glm::length(dvec3(inv * dvec4(p, 1.0)) - c.fsCenter));
-        c.fsRadius = c.fsRadius * (1.0 + 1e-6) + eps::kPlaneSlack * img.extent;
+        c.fsRadius = c.fsRadius * (1.0 + eps::kFloatRounding) + eps::kPlaneSlack * img.extent;
     }
 }
 

@@ -100,7 +100,8 @@ bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t 
     // The eye in the plane of one of the bound's faces (within the float bound's rounding): a face of the
     // content may be seen exactly edge-on there, and the rasterizer draws such a face as a sliver with a
     // depth that is not the face's (nearer, through walls). Not culled; the entries below are tested.
-    const double slack = 1e-6 * (std::abs(img.cx[i]) + std::abs(img.cy[i]) + std::abs(img.cz[i]) + h.x + h.y + h.z);
+    const double slack =
+        eps::kFloatRounding * (std::abs(img.cx[i]) + std::abs(img.cy[i]) + std::abs(img.cz[i]) + h.x + h.y + h.z);
     const dvec3 gap = glm::abs(glm::abs(ctr) - h);
     if (gap.x <= slack || gap.y <= slack || gap.z <= slack) {
         testMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

@@ -8,7 +8,7 @@
 namespace sg {
 
 namespace {
-constexpr double kRel = 1e-12;  // rounding allowance, relative to the magnitudes in play
+constexpr double kRel = eps::kRounding;  // rounding allowance, relative to the magnitudes in play
 // Growing the tree, a polygon within this (relative) distance of a plane is not split by it: the sliver
 // would add nodes and hide nothing. Either side is safe, as every chain is the shadow of a real part.
 constexpr double kInsertRel = 1e-6;
@@ -374,7 +374,7 @@ bool OcclusionTree::insertPlanar(const dvec3* v, size_t count) {
     n /= len;
     double d = -glm::dot(n, poly[0]);
     if (d < 0) n = -n, d = -d;
-    if (!(d > 1e-9 * size + kRel * zmax)) return false;  // the eye on its plane: seen edge-on
+    if (!(d > eps::kCoplanar * size + kRel * zmax)) return false;  // the eye on its plane: seen edge-on
     Occ o;
     o.caps[0] = Plane{n, d + opt_.depthMargin * zmax * zmax + kRel * (d + zmax) + 4.0 * worldErr_};
     o.capCount = 1;

@@ -93,7 +93,7 @@ bool sweepSphereTriangle(const dvec3& c0, const dvec3& d, double r, const dvec3&
         } else {
             return false;
         }
-        if (!(glm::dot(d, n) < -1e-12 * std::sqrt(dd))) return false;
+        if (!(glm::dot(d, n) < -eps::kRounding * std::sqrt(dd))) return false;
         t = 0.0, point = q, normal = n;
         return true;
     }

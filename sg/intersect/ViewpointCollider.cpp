@@ -38,7 +38,7 @@ dvec3 ViewpointCollider::slide(const Scene& scene, dvec3 p, dvec3 motion) {
     dvec3 prev(0.0);  // the normal of the last contact
     for (int k = 0; k < set_.slides; ++k) {
         const double len = glm::length(motion);
-        if (!(len > 1e-12)) break;
+        if (!(len > eps::kZeroLength)) break;
         SweepHit h;
         stats_.sweeps++;
         if (!isect_.sweepSphere(scene, p, r, motion, opt_, h)) {
@@ -61,7 +61,7 @@ dvec3 ViewpointCollider::slide(const Scene& scene, dvec3 p, dvec3 motion) {
         if (k > 0 && glm::dot(motion, prev) < 0.0) {
             const dvec3 crease = glm::cross(prev, h.normal);
             const double cl = glm::length(crease);
-            motion = cl > 1e-9 ? crease * (glm::dot(motion, crease) / (cl * cl)) : dvec3(0.0);
+            motion = cl > eps::kParallel ? crease * (glm::dot(motion, crease) / (cl * cl)) : dvec3(0.0);
         }
         prev = h.normal;
     }

@@ -1,6 +1,7 @@
 // The value an LOD's ranges are compared with, shared by the cull and the intersection traversal so that a
 // pick sees the level that is drawn: the eye's distance to the LOD's centre times the LOD scale, or (pixel
 // size mode) its bound's projected diameter in pixels divided by it.
+// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
 #pragma once
 #include "nodes/LOD.h"
 #include "sg/core/Camera.h"
