@@ -7,12 +7,32 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
+#include "sg/lod/DrawCostModel.h"
 
 #include <functional>
 
 namespace testutil {
 
 using namespace sg;
+
+// A 400x300 view from the origin along +y, z up (60 degrees, near 0.5).
+inline Camera lookingAlongY(double zFar = 1000.0) {
+    Camera cam;
+    cam.setViewport(400, 300);
+    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, zFar);
+    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
+    return cam;
+}
+
+// A cost model that knows its machine: 1 ms per frame plus 10 ms per 100,000 triangles, items free.
+inline DrawCostModel trainedCostModel() {
+    DrawCostModel m;
+    for (int f = 0; f < 200; ++f) {
+        const double tris = 1000.0 * (f % 50 + 1), items = double((f * 7) % 40);
+        m.update({tris, items, 0.0}, 1.0 + 10.0 * tris / 1e5);
+    }
+    return m;
+}
 
 // Calls f(geometry, world matrix) for every geometry the LOD and Switch selection shows from `cam`
 // (no frustum tests): the reference set a cull may only shrink.

@@ -1,4 +1,5 @@
 // LodBudgetPlanner alone: the work of an LOD's children (kept per image version) and the plan's choices.
+#include "TestUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
@@ -50,23 +51,6 @@ std::vector<uint32_t> lodEntries(const FlatImage& img) {
     return out;
 }
 
-Camera lookingAlongY() {
-    Camera cam;
-    cam.setViewport(400, 300);
-    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 1000.0);
-    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
-    return cam;
-}
-
-// 1 ms per frame plus 10 ms per 100,000 triangles, items free.
-DrawCostModel trained() {
-    DrawCostModel m;
-    for (int f = 0; f < 200; ++f) {
-        const double tris = 1000.0 * (f % 50 + 1), items = double((f * 7) % 40);
-        m.update({tris, items, 0.0}, 1.0 + 10.0 * tris / 1e5);
-    }
-    return m;
-}
 }  // namespace
 
 TEST(LodBudgetPlanner, WorksOutEachChildsTrianglesAndDetail) {
@@ -108,7 +92,7 @@ TEST(LodBudgetPlanner, ChoosesLevelsThatFitTheBudgetNearestFirst) {
     const FlatImage& img = s.image();
     const std::vector<uint32_t> lods = lodEntries(img);
     ASSERT_EQ(lods.size(), 20u);
-    const DrawCostModel model = trained();
+    const DrawCostModel model = testutil::trainedCostModel();
     LodBudgetSettings b;
     b.enabled = true;
     b.model = &model;
@@ -121,7 +105,7 @@ TEST(LodBudgetPlanner, ChoosesLevelsThatFitTheBudgetNearestFirst) {
         planner.clear();
         for (uint32_t i : lods) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
         CullStats stats;
-        planner.plan(img, s.version(), lookingAlongY(), b, {}, history, stats);
+        planner.plan(img, s.version(), testutil::lookingAlongY(), b, {}, history, stats);
         return stats;
     };
 

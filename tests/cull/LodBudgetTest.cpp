@@ -1,5 +1,6 @@
 // The LOD budget inside the cull: every visible LOD planned at once, within the budget, nearer (larger)
 // objects first when the budget is short, levels valued by their errors when the LOD has them.
+#include "TestUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
@@ -44,22 +45,6 @@ struct Row {
         }
     }
 };
-Camera lookingAlongY() {
-    Camera cam;
-    cam.setViewport(400, 300);
-    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 1000.0);
-    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
-    return cam;
-}
-// A model that knows the machine: 1 ms per frame plus 10 ms per 100,000 triangles, items free.
-DrawCostModel trained() {
-    DrawCostModel m;
-    for (int f = 0; f < 200; ++f) {
-        const double tris = 1000.0 * (f % 50 + 1), items = double((f * 7) % 40);
-        m.update({tris, items, 0.0}, 1.0 + 10.0 * tris / 1e5);
-    }
-    return m;
-}
 CullSettings budgeted(const DrawCostModel& model, double ms) {
     CullSettings set;
     set.lodBudget.enabled = true;
@@ -75,7 +60,7 @@ struct Frame {
 Frame cull(const Scene& s, const Row& row, CullSettings set) {
     Frame f;
     DrawList l;
-    CullTraversal().cull(s, lookingAlongY(), set, l, f.stats);
+    CullTraversal().cull(s, testutil::lookingAlongY(), set, l, f.stats);
     for (auto& it : l.items) {
         if (it.mesh == row.fine.get()) {
             f.fine++;
@@ -91,7 +76,7 @@ TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
     Row row(false);
     Scene s(row.root);
     s.update();
-    const DrawCostModel model = trained();
+    const DrawCostModel model = testutil::trainedCostModel();
     CullSettings set = budgeted(model, 100.0);  // room for everything: all fine (the ranges would say the same)
     Frame f = cull(s, row, set);
     EXPECT_EQ(f.fine, 20);
@@ -129,7 +114,7 @@ TEST(LodBudget, LevelErrorsTellWhereDetailPays) {
         Row row(errors);
         Scene s(row.root);
         s.update();
-        const DrawCostModel model = trained();
+        const DrawCostModel model = testutil::trainedCostModel();
         const Frame f = cull(s, row, budgeted(model, 2.0));
         EXPECT_EQ(f.fine + f.coarse, 20);
         EXPECT_GT(f.fine, 0);
@@ -151,7 +136,7 @@ TEST(LodBudget, KnownZeroErrorsMakeTheCoarseLevelAsGoodAsTheFine) {
             }
         Scene s(row.root);
         s.update();
-        const DrawCostModel model = trained();
+        const DrawCostModel model = testutil::trainedCostModel();
         const Frame f = cull(s, row, budgeted(model, 100.0));
         EXPECT_EQ(f.fine + f.coarse, 20);
         EXPECT_EQ(f.coarse, known ? 20 : 0) << "errors known " << known;
@@ -164,13 +149,13 @@ TEST(LodBudget, AMeshChangedBetweenFramesIsPricedAfresh) {
     Row row(false);
     Scene s(row.root);
     s.update();
-    const DrawCostModel model = trained();
+    const DrawCostModel model = testutil::trainedCostModel();
     const CullSettings set = budgeted(model, 4.0);  // 20 fine levels (24,000 triangles) fit: 3.4 ms
     CullTraversal t;
     auto shown = [&](const Mesh* mesh) {
         DrawList l;
         CullStats st;
-        t.cull(s, lookingAlongY(), set, l, st);
+        t.cull(s, testutil::lookingAlongY(), set, l, st);
         int n = 0;
         for (auto& it : l.items) n += it.mesh == mesh;
         return n;

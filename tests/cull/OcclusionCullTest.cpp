@@ -1,4 +1,5 @@
 // The occlusion pass inside the cull: which occluders it uses, what it culls, when it runs at all.
+#include "TestUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/Occluder.h"
@@ -24,14 +25,6 @@ ref_ptr<Transform> wall(double w = 10.0) {
     o->setBox(b);
     t->addChild(o);
     return t;
-}
-
-Camera lookingAlongY() {
-    Camera cam;
-    cam.setViewport(400, 300);
-    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 500.0);
-    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
-    return cam;
 }
 
 struct Culled {
@@ -65,7 +58,7 @@ TEST(OcclusionCull, WallHidesWhatIsBehindItOnly) {
     root->addChild(front);
     Scene s(root);
     s.update();
-    const Culled r = cull(s, lookingAlongY());
+    const Culled r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_TRUE(r.stats.occlusionRan);
     EXPECT_EQ(r.stats.occludersUsed, 1u);
     EXPECT_FALSE(r.drew(behind->mesh()));
@@ -75,11 +68,11 @@ TEST(OcclusionCull, WallHidesWhatIsBehindItOnly) {
         r.drew(static_cast<Geometry*>(static_cast<Transform*>(root->child(0))->child(0))->mesh()));  // the wall itself
     EXPECT_GE(r.stats.culledOcclusion, 1u);
     // Off, or the reference (no culling): the box behind is drawn.
-    EXPECT_TRUE(cull(s, lookingAlongY(), OcclusionMode::Off).drew(behind->mesh()));
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY(500.0), OcclusionMode::Off).drew(behind->mesh()));
     Culled none;
     CullSettings ref;
     ref.strategy = CullStrategy::None;
-    CullTraversal().cull(s, lookingAlongY(), ref, none.list, none.stats);
+    CullTraversal().cull(s, testutil::lookingAlongY(500.0), ref, none.list, none.stats);
     EXPECT_TRUE(none.drew(behind->mesh()));
     EXPECT_FALSE(none.stats.occlusionRan);
 }
@@ -97,12 +90,12 @@ TEST(OcclusionCull, TwoNeighboursTogetherHideWhatNeitherHidesAlone) {
     root->addChild(behind);
     Scene s(root);
     s.update();
-    const Culled r = cull(s, lookingAlongY());
+    const Culled r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_EQ(r.stats.occludersUsed, 2u);
     EXPECT_FALSE(r.drew(behind->mesh()));
     static_cast<Occluder*>(root->child(1))->setBox(Box{dvec3(0, 20, -10), dvec3(10, 21, 0)});  // now a gap above
     s.update();
-    EXPECT_TRUE(cull(s, lookingAlongY()).drew(behind->mesh()));
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
 }
 
 TEST(OcclusionCull, NoOccludersNoPass) {
@@ -110,7 +103,7 @@ TEST(OcclusionCull, NoOccludersNoPass) {
     root->addChild(boxGeom(dvec3(-1, 40, -1), dvec3(1, 42, 1)));
     Scene s(root);
     s.update();
-    const Culled r = cull(s, lookingAlongY());
+    const Culled r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_FALSE(r.stats.occlusionRan);
     EXPECT_EQ(r.stats.occlusionTests, 0u);
     // Occluders behind the eye: in the scene, not in view; no tree, no tests.
@@ -118,7 +111,7 @@ TEST(OcclusionCull, NoOccludersNoPass) {
     t->setTranslation(dvec3(0, -60, 0));
     root->addChild(t);
     s.update();
-    const Culled r2 = cull(s, lookingAlongY());
+    const Culled r2 = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_EQ(r2.stats.occluderCandidates, 0u);
     EXPECT_EQ(r2.stats.occlusionTests, 0u);
 }
@@ -133,7 +126,7 @@ TEST(OcclusionCull, OccludersThatMayNotBeDrawnAreNotUsed) {
     root->addChild(behind);
     Scene s(root);
     s.update();
-    Culled r = cull(s, lookingAlongY());
+    Culled r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_EQ(r.stats.occluderCandidates, 0u);
     EXPECT_TRUE(r.drew(behind->mesh()));
     // Moved out of the Switch: used.
@@ -141,11 +134,11 @@ TEST(OcclusionCull, OccludersThatMayNotBeDrawnAreNotUsed) {
     sw->removeChild(size_t(0));
     root->addChild(w);
     s.update();
-    EXPECT_FALSE(cull(s, lookingAlongY()).drew(behind->mesh()));
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
     // Masked: not used.
     w->setNodeMask(0x1);
     s.update();
-    r = cull(s, lookingAlongY());
+    r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_TRUE(r.drew(behind->mesh()));
     EXPECT_EQ(r.stats.occluderCandidates, 0u);
 }
@@ -158,17 +151,17 @@ TEST(OcclusionCull, MovedOccluderIsFollowedByTheRefit) {
     root->addChild(behind);
     Scene s(root);
     s.update();
-    EXPECT_FALSE(cull(s, lookingAlongY()).drew(behind->mesh()));
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
     w->setTranslation(dvec3(25, 0, 0));  // slides aside
     s.update();
     EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
-    EXPECT_TRUE(cull(s, lookingAlongY()).drew(behind->mesh()));
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
     // Back in front, turned half a turn about its own centre: the same box through a general matrix.
     w->setMatrix(glm::translate(dmat4(1.0), dvec3(0, 20.5, 0)) *
                  glm::rotate(dmat4(1.0), glm::pi<double>(), dvec3(0, 0, 1)) *
                  glm::translate(dmat4(1.0), dvec3(0, -20.5, 0)));
     s.update();
-    EXPECT_FALSE(cull(s, lookingAlongY()).drew(behind->mesh()));
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
 }
 
 TEST(OcclusionCull, PolygonOccluderUnderARotation) {
@@ -187,7 +180,7 @@ TEST(OcclusionCull, PolygonOccluderUnderARotation) {
     root->addChild(beside);
     Scene s(root);
     s.update();
-    const Culled r = cull(s, lookingAlongY());
+    const Culled r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_EQ(r.stats.occludersUsed, 1u);
     EXPECT_FALSE(r.drew(behind->mesh()));
     EXPECT_TRUE(r.drew(beside->mesh()));
@@ -209,7 +202,7 @@ TEST(OcclusionCull, HiddenInstancePlacementIsCulled) {
     root->addChild(shown);
     Scene s(root);
     s.update();
-    const Culled r = cull(s, lookingAlongY());
+    const Culled r = cull(s, testutil::lookingAlongY(500.0));
     size_t n = 0;
     for (auto& it : r.list.items) n += it.mesh == geom->mesh();
     EXPECT_EQ(n, 1u);
@@ -223,7 +216,7 @@ TEST(OcclusionCull, AutoModeBacksOffWhenThePassDoesNotPay) {
     Scene s(root);
     s.update();
     CullTraversal t;
-    const Camera cam = lookingAlongY();
+    const Camera cam = testutil::lookingAlongY(500.0);
     Culled r = cull(s, cam, OcclusionMode::Auto, &t);
     EXPECT_TRUE(r.stats.occlusionRan);
     int skipped = 0;
@@ -255,7 +248,7 @@ TEST(OcclusionCull, OrthographicCameraRunsNoPass) {
     root->addChild(behind);
     Scene s(root);
     s.update();
-    Camera cam = lookingAlongY();
+    Camera cam = testutil::lookingAlongY(500.0);
     cam.setProjection(glm::ortho(-50.0, 50.0, -40.0, 40.0, 0.5, 500.0));
     const Culled r = cull(s, cam);
     EXPECT_FALSE(r.stats.occlusionRan);

@@ -1,4 +1,5 @@
 // OcclusionPass alone: the tree it builds from a scene's occluders, its test of one entry, the Auto back-off.
+#include "TestUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
@@ -10,14 +11,6 @@
 using namespace sg;
 
 namespace {
-Camera lookingAlongY() {
-    Camera cam;
-    cam.setViewport(400, 300);
-    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 500.0);
-    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
-    return cam;
-}
-
 // A wall (box occluder) across the view at y = 20..21, a box behind it and a box in front of it.
 struct Walled {
     ref_ptr<Group> root = make<Group>();
@@ -52,7 +45,7 @@ TEST(OcclusionPass, CullsTheBoxBehindTheOccluderNotTheOneInFront) {
     Walled w;
     Scene s(w.root);
     s.update();
-    const Camera cam = lookingAlongY();
+    const Camera cam = testutil::lookingAlongY(500.0);
     const FlatImage& img = s.image();
     OcclusionPass pass;
     CullStats stats;
@@ -73,7 +66,7 @@ TEST(OcclusionPass, CullsTheBoxBehindTheOccluderNotTheOneInFront) {
 }
 
 TEST(OcclusionPass, DoesNothingWithoutOccludersOrWhenOff) {
-    const Camera cam = lookingAlongY();
+    const Camera cam = testutil::lookingAlongY(500.0);
     {
         Walled w(false);
         Scene s(w.root);
@@ -118,7 +111,7 @@ TEST(OcclusionPass, AutoSkipsTheFramesOfItsBackOffThenRunsAgain) {
     Walled w;
     Scene s(w.root);
     s.update();
-    const Camera cam = lookingAlongY();
+    const Camera cam = testutil::lookingAlongY(500.0);
     const CullSettings set = mode(OcclusionMode::Auto);
     OcclusionPass pass;
     pass.recordGain(0.0, set.occlusion.autoMinGain);
