@@ -1,7 +1,8 @@
 // sgbench lod: frame time against a budget, and image error against full detail, for three ways of
 // choosing LOD levels: static ranges, Performer's stress (one range scale driven by the load), and the
 // time budget (every visible LOD planned together with a draw-cost model fitted online). Headless,
-// 1280x720, city's orbit path (docs/scenes.md); each frame's image is compared with the same view at full detail.
+// 1280x720, the city's orbit or street path or the factory's orbit (docs/scenes.md); each frame's image is
+// compared with the same view at full detail.
 #include "nodes/LOD.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
@@ -10,6 +11,7 @@
 #include "sg/lod/LodStress.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
+#include "testbed/Factory.h"
 
 #include <chrono>
 #include <cmath>
@@ -51,11 +53,16 @@ void setLevelErrorsToZero(sg::Node& n) {
 
 int runLod(const Args& a) {
     const std::string sceneName = a.str("scene", "city");
-    if (sceneName != "city") throw std::invalid_argument("sgbench lod: --scene must be city (got '" + sceneName + "')");
+    if (sceneName != "city" && sceneName != "factory")
+        throw std::invalid_argument("sgbench lod: --scene must be city or factory (got '" + sceneName + "')");
     const int n = int(a.num("n", 100));
     if (n < 1 || n > 1000) throw std::invalid_argument("sgbench lod: --n " + std::to_string(n) + " is not in 1..1000");
     const std::string path = a.str("path", "orbit");
     if (path != "orbit" && path != "street") throw std::invalid_argument("sgbench lod: --path must be orbit or street");
+    if (sceneName == "factory" && path != "orbit")
+        throw std::invalid_argument("sgbench lod: the factory has only the orbit path (got --path " + path + ")");
+    if (sceneName == "factory" && a.flag("guess-accuracy"))
+        throw std::invalid_argument("sgbench lod: --guess-accuracy is for the city (the factory's errors are known)");
     const double budget = double(a.num("budget-ms", 33));
     if (!(budget > 0)) throw std::invalid_argument("sgbench lod: --budget-ms must be positive");
     const std::string method = a.str("method", "budget");
@@ -64,18 +71,26 @@ int runLod(const Args& a) {
     const int every = int(a.num("every", 1));
     if (every < 1) throw std::invalid_argument("sgbench lod: --every must be at least 1");
 
-    sg::ref_ptr<sg::Node> city = scenes::buildCity({n, false});
+    const bool factory = sceneName == "factory";
+    // The factory's levels carry the simplifier's errors (sg::makeLod); --n does not apply to it.
+    sg::ref_ptr<sg::Node> root = factory ? sg::ref_ptr<sg::Node>(scenes::buildFactory().root)
+                                         : sg::ref_ptr<sg::Node>(scenes::buildCity({n, false}));
     // The city's two levels are the same box (10 x 10 quads per face, or one): their geometric error is 0,
     // which tells the budget that the coarse level shows the same. --guess-accuracy leaves the errors unset
     // (the budget then values levels by their triangle counts).
-    if (!a.flag("guess-accuracy")) setLevelErrorsToZero(*city);
-    sg::Scene scene(city);
+    if (!factory && !a.flag("guess-accuracy")) setLevelErrorsToZero(*root);
+    sg::Scene scene(root);
     scene.update();
     std::vector<sg::Camera> cams;
-    const int frames = path == "orbit" ? scenes::kOrbitFrames : scenes::kStreetFrames;
-    for (int f = 0; f < frames; f += every)
-        cams.push_back(path == "orbit" ? scenes::cityOrbitCamera(n, a.flag("same-view") ? 0 : f)
-                                       : scenes::cityStreetCamera(n, f));
+    const int frames = factory           ? scenes::kFactoryOrbitFrames
+                       : path == "orbit" ? scenes::kOrbitFrames
+                                         : scenes::kStreetFrames;
+    for (int f = 0; f < frames; f += every) {
+        const int view = a.flag("same-view") ? 0 : f;
+        cams.push_back(factory           ? scenes::factoryOrbitCamera(view)
+                       : path == "orbit" ? scenes::cityOrbitCamera(n, view)
+                                         : scenes::cityStreetCamera(n, f));
+    }
 
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
@@ -147,7 +162,11 @@ int runLod(const Args& a) {
     double mean = 0;
     for (double t : total) mean += t / k;
     Json j;
-    j.add("command", "lod").add("scene", "city").addInt("n", n).add("path", path).add("method", method);
+    j.add("command", "lod")
+        .add("scene", sceneName)
+        .addInt("n", factory ? 0 : n)
+        .add("path", path)
+        .add("method", method);
     j.add("budget_ms", budget).addInt("frames", long(cams.size())).add("may_drop", a.flag("may-drop") ? "yes" : "no");
     j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known")
         .add("same_view", a.flag("same-view") ? "yes" : "no");
@@ -157,7 +176,8 @@ int runLod(const Args& a) {
     j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
     if (!predErr.empty()) {
         j.add("model_abs_error_ms_median", median(predErr));
-        for (int l = 0; l < 2; ++l) j.add("level" + std::to_string(l) + "_mean", levels[l] / k);  // the city has two
+        for (int l = 0; l < 2; ++l)
+            j.add("level" + std::to_string(l) + "_mean", levels[l] / k);  // the city and the factory have two
     }
     j.print(a);
     return 0;

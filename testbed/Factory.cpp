@@ -1,0 +1,730 @@
+#include "testbed/Factory.h"
+
+#include "nodes/Billboard.h"
+#include "nodes/Geometry.h"
+#include "nodes/Instance.h"
+#include "sg/lod/LodGenerator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+namespace scenes {
+
+using namespace sg;
+
+namespace {
+
+// mt19937 is specified exactly; the standard distributions are not, so uniforms are made here.
+struct Rng {
+    std::mt19937 g;
+    explicit Rng(uint32_t seed) : g(seed) {}
+    double uniform(double a = 0.0, double b = 1.0) { return a + (b - a) * double(g() >> 8) * (1.0 / 16777216.0); }
+};
+
+// Texture coordinate of a pure white texel in every generated texture: parts that are not walls sample it
+// and take their colour from their vertices.
+const vec2 kWhiteUv(0.5f / 64.0f, 0.5f / 64.0f);
+
+// Triangles appended one shape at a time; every triangle is wound so that it faces its intended normal.
+struct MeshBuilder {
+    std::vector<vec3> p, n;
+    std::vector<vec2> uv;
+    std::vector<vec4> c;
+    std::vector<uint32_t> idx;
+
+    uint32_t vertex(const dvec3& pos, const dvec3& nrm, const vec2& t, const vec4& col) {
+        p.emplace_back(pos);
+        n.emplace_back(glm::normalize(nrm));
+        uv.push_back(t);
+        c.push_back(col);
+        return uint32_t(p.size() - 1);
+    }
+    void tri(uint32_t a, uint32_t b, uint32_t d, const dvec3& facing) {
+        const vec3 g = glm::cross(p[b] - p[a], p[d] - p[a]);
+        if (glm::dot(dvec3(g), facing) < 0.0) std::swap(b, d);
+        idx.insert(idx.end(), {a, b, d});
+    }
+    // Corners in order around the quad; uv per corner.
+    void quad(const dvec3 q[4], const dvec3& nrm, const vec2 t[4], const vec4& col) {
+        uint32_t v[4];
+        for (int k = 0; k < 4; ++k) v[k] = vertex(q[k], nrm, t[k], col);
+        tri(v[0], v[1], v[2], nrm);
+        tri(v[0], v[2], v[3], nrm);
+    }
+    void box(const dvec3& mn, const dvec3& mx, const vec4& col) {
+        const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+        for (int axis = 0; axis < 3; ++axis)
+            for (int side = 0; side < 2; ++side) {
+                const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+                dvec3 nrm(0.0);
+                nrm[axis] = side ? 1.0 : -1.0;
+                dvec3 q[4];
+                for (int k = 0; k < 4; ++k) {
+                    q[k][axis] = side ? mx[axis] : mn[axis];
+                    q[k][u] = (k == 1 || k == 2) ? mx[u] : mn[u];
+                    q[k][w] = (k >= 2) ? mx[w] : mn[w];
+                }
+                quad(q, nrm, t, col);
+            }
+    }
+    // A frustum from a (radius r0) to b (radius r1) with `segs` sides; a radius of 0 makes a cone tip. Caps
+    // close the ends that have a radius.
+    void frustum(const dvec3& a, const dvec3& b, double r0, double r1, int segs, const vec4& col) {
+        const dvec3 axis = glm::normalize(b - a);
+        const dvec3 helper = std::abs(axis.z) < 0.9 ? dvec3(0, 0, 1) : dvec3(1, 0, 0);
+        const dvec3 e1 = glm::normalize(glm::cross(axis, helper)), e2 = glm::cross(axis, e1);
+        auto dir = [&](int k) {
+            const double t = 2.0 * M_PI * k / segs;
+            return e1 * std::cos(t) + e2 * std::sin(t);
+        };
+        std::vector<uint32_t> lo, hi;
+        for (int k = 0; k < segs; ++k) {
+            lo.push_back(vertex(a + r0 * dir(k), dir(k), kWhiteUv, col));
+            hi.push_back(vertex(b + r1 * dir(k), dir(k), kWhiteUv, col));
+        }
+        for (int k = 0; k < segs; ++k) {
+            const int k1 = (k + 1) % segs;
+            const dvec3 out = dir(k) + dir(k1);
+            if (r0 > 0.0) tri(lo[k], lo[k1], hi[k], out);
+            if (r1 > 0.0) tri(hi[k], lo[k1], hi[k1], out);
+        }
+        auto cap = [&](const dvec3& centre, double r, const dvec3& facing) {
+            std::vector<uint32_t> ring;
+            for (int k = 0; k < segs; ++k) ring.push_back(vertex(centre + r * dir(k), facing, kWhiteUv, col));
+            for (int k = 1; k + 1 < segs; ++k) tri(ring[0], ring[k], ring[k + 1], facing);
+        };
+        if (r0 > 0.0) cap(a, r0, -axis);
+        if (r1 > 0.0) cap(b, r1, axis);
+    }
+    uint32_t triangles() const { return uint32_t(idx.size() / 3); }
+    ref_ptr<Mesh> build() {
+        auto m = make<Mesh>();
+        m->set(std::move(p), std::move(n), std::move(idx), std::move(uv), std::move(c));
+        return m;
+    }
+};
+
+vec4 rgb(int r, int g, int b) { return vec4(r / 255.0f, g / 255.0f, b / 255.0f, 1.0f); }
+
+// 64x64 wall texture: one bay of one storey, white wall with faint mortar lines (tinted by the vertex
+// colours) and a window at u in [0.25, 0.75], v in [0.3, 0.8]. Texel (0, 0) stays pure white.
+ref_ptr<Texture> windowTexture() {
+    std::vector<uint8_t> px(64 * 64 * 4);
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) {
+            uint8_t* q = &px[size_t(j * 64 + i) * 4];
+            int r = 255, g = 255, b = 255;
+            if (j > 1 && (j % 8 == 0 || (i + (j / 8) * 8) % 16 == 0)) r = g = b = 225;
+            const bool window = i >= 16 && i < 48 && j >= 19 && j < 51;
+            if (window) {
+                const bool frame = i == 16 || i == 47 || j == 19 || j == 50 || i == 31 || i == 32 || j == 34;
+                if (frame)
+                    r = g = b = 235;
+                else {
+                    r = 70 + (j - 19);
+                    g = 95 + (j - 19);
+                    b = 120 + (j - 19);
+                }
+            }
+            q[0] = uint8_t(r), q[1] = uint8_t(g), q[2] = uint8_t(b), q[3] = 255;
+        }
+    return make<Texture>(64, 64, std::move(px));
+}
+
+// 64x64 tree: a trunk and a round crown, opaque inside their outline and alpha 0 outside (alpha-cut
+// coordinates for a renderer that tests alpha; the billboard's polygon follows the same outline).
+ref_ptr<Texture> treeTexture(uint32_t seed) {
+    Rng rng(seed);
+    std::vector<uint8_t> px(64 * 64 * 4, 0);
+    for (int j = 0; j < 64; ++j)
+        for (int i = 0; i < 64; ++i) {
+            uint8_t* q = &px[size_t(j * 64 + i) * 4];
+            const double x = (i + 0.5) / 64.0, v = (j + 0.5) / 64.0;  // v = 0 at the crown's top
+            const double dx = (x - 0.5) / 0.45, dy = (v - 0.4) / 0.4;
+            const double n = rng.uniform();
+            if (dx * dx + dy * dy < 1.0) {
+                q[0] = uint8_t(40 + 40 * n), q[1] = uint8_t(100 + 70 * n), q[2] = uint8_t(35 + 30 * n), q[3] = 255;
+            } else if (std::abs(x - 0.5) < 0.06 && v > 0.6) {
+                q[0] = uint8_t(90 + 30 * n), q[1] = uint8_t(65 + 20 * n), q[2] = uint8_t(40), q[3] = 255;
+            }
+        }
+    return make<Texture>(64, 64, std::move(px));
+}
+
+struct BuildingSpec {
+    const char* kind;
+    dvec3 centre;        // ground centre
+    double w, d, h;      // extent along x, y, and wall height
+    double storey, bay;  // window grid
+    vec4 wall, roof;
+    bool sawtooth;  // workshops: north-light roof prisms
+};
+
+// The detailed model of a building, in its frame (ground centre at the origin): a quad per wall with
+// window coordinates, a roof slab with a parapet, window sills, lintels and jambs, pilasters, doors,
+// roof vents (and north-light prisms on workshops).
+ref_ptr<Mesh> buildingMesh(const BuildingSpec& s) {
+    MeshBuilder mb;
+    const double hw = s.w / 2, hd = s.d / 2, h = s.h;
+    const vec4 trim = rgb(225, 222, 214), dark = rgb(70, 58, 48), grey = rgb(140, 140, 140);
+    // Walls: one quad each, outward; u counts bays, v counts storeys.
+    struct Wall {
+        dvec3 a, b, nrm;
+    };
+    const Wall walls[4] = {{dvec3(-hw, -hd, 0), dvec3(hw, -hd, 0), dvec3(0, -1, 0)},
+                           {dvec3(hw, -hd, 0), dvec3(hw, hd, 0), dvec3(1, 0, 0)},
+                           {dvec3(hw, hd, 0), dvec3(-hw, hd, 0), dvec3(0, 1, 0)},
+                           {dvec3(-hw, hd, 0), dvec3(-hw, -hd, 0), dvec3(-1, 0, 0)}};
+    for (const Wall& wl : walls) {
+        const double len = glm::length(wl.b - wl.a);
+        const float bays = float(std::round(len / s.bay)), storeys = float(h / s.storey);
+        const dvec3 q[4] = {wl.a, wl.b, wl.b + dvec3(0, 0, h), wl.a + dvec3(0, 0, h)};
+        const vec2 t[4] = {vec2(0, storeys), vec2(bays, storeys), vec2(bays, 0), vec2(0, 0)};
+        // v runs down the texture as z runs up: texture row 0 is the top of a storey.
+        mb.quad(q, wl.nrm, t, s.wall);
+        const int nb = int(bays), ns = int(std::round(storeys));
+        const double bw = len / nb;
+        const dvec3 along = (wl.b - wl.a) / len, out = wl.nrm;
+        // Window details per bay and storey, matching the texture's window (u 0.25..0.75, v 0.3..0.8 from the
+        // top of the storey).
+        for (int i = 0; i < nb; ++i)
+            for (int k = 0; k < ns; ++k) {
+                const double u0 = (i + 0.25) * bw, u1 = (i + 0.75) * bw;
+                const double z1 = (k + 1) * s.storey - 0.3 * s.storey, z0 = (k + 1) * s.storey - 0.8 * s.storey;
+                auto piece = [&](double ua, double ub, double za, double zb, double depth) {
+                    const dvec3 p0 = wl.a + along * ua + dvec3(0, 0, za),
+                                p1 = wl.a + along * ub + dvec3(0, 0, zb) + out * depth;
+                    mb.box(glm::min(p0, p1), glm::max(p0, p1), trim);
+                };
+                piece(u0 - 0.1, u1 + 0.1, z0 - 0.12, z0, 0.18);  // sill
+                piece(u0 - 0.1, u1 + 0.1, z1, z1 + 0.1, 0.1);    // lintel
+                piece(u0 - 0.08, u0, z0, z1, 0.08);              // jambs
+                piece(u1, u1 + 0.08, z0, z1, 0.08);
+            }
+        // Pilasters between bays, and at the corners.
+        for (int i = 0; i <= nb; ++i) {
+            const dvec3 p0 = wl.a + along * (i * bw - 0.2),
+                        p1 = wl.a + along * (i * bw + 0.2) + out * 0.15 + dvec3(0, 0, h);
+            mb.box(glm::min(p0, p1), glm::max(p0, p1), s.wall * vec4(0.9f, 0.9f, 0.9f, 1.0f));
+        }
+    }
+    // Roof slab and parapet.
+    mb.box(dvec3(-hw, -hd, h - 0.2), dvec3(hw, hd, h), s.roof);
+    mb.box(dvec3(-hw, -hd, h), dvec3(hw, -hd + 0.3, h + 0.6), trim);
+    mb.box(dvec3(-hw, hd - 0.3, h), dvec3(hw, hd, h + 0.6), trim);
+    mb.box(dvec3(-hw, -hd, h), dvec3(-hw + 0.3, hd, h + 0.6), trim);
+    mb.box(dvec3(hw - 0.3, -hd, h), dvec3(hw, hd, h + 0.6), trim);
+    if (s.sawtooth) {
+        // North-light prisms across the roof: a vertical glazed face towards +y, a slope towards -y.
+        for (double x = -hw + 4.0; x + 4.0 <= hw; x += 6.0) {
+            MeshBuilder& m = mb;
+            const double y0 = -hd + 1.0, y1 = hd - 1.0, z0 = h, z1 = h + 2.5;
+            for (double y = y0; y < y1 - 0.1; y += 4.0) {
+                const double ya = y, yb = std::min(y + 3.5, y1);
+                const dvec3 base0(x, ya, z0), base1(x + 4.0, ya, z0), top0(x, yb, z1), top1(x + 4.0, yb, z1),
+                    foot0(x, yb, z0), foot1(x + 4.0, yb, z0);
+                const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+                const dvec3 slope[4] = {base0, base1, top1, top0};
+                m.quad(slope, glm::cross(base1 - base0, top0 - base0), t, s.roof * vec4(0.85f, 0.85f, 0.85f, 1.0f));
+                const dvec3 glass[4] = {foot0, foot1, top1, top0};
+                m.quad(glass, dvec3(0, 1, 0), t, rgb(90, 115, 140));
+                const uint32_t a0 = m.vertex(base0, dvec3(-1, 0, 0), kWhiteUv, s.roof),
+                               a1 = m.vertex(foot0, dvec3(-1, 0, 0), kWhiteUv, s.roof),
+                               a2 = m.vertex(top0, dvec3(-1, 0, 0), kWhiteUv, s.roof);
+                m.tri(a0, a1, a2, dvec3(-1, 0, 0));
+                const uint32_t b0 = m.vertex(base1, dvec3(1, 0, 0), kWhiteUv, s.roof),
+                               b1 = m.vertex(foot1, dvec3(1, 0, 0), kWhiteUv, s.roof),
+                               b2 = m.vertex(top1, dvec3(1, 0, 0), kWhiteUv, s.roof);
+                m.tri(b0, b1, b2, dvec3(1, 0, 0));
+            }
+        }
+    }
+    // Roof vents along the middle.
+    for (double x = -hw + 3.0; x < hw - 2.0; x += std::max(6.0, s.w / 5.0))
+        mb.frustum(dvec3(x, s.sawtooth ? -hd + 0.5 : 0.0, h), dvec3(x, s.sawtooth ? -hd + 0.5 : 0.0, h + 1.2), 0.4, 0.4,
+                   12, grey);
+    // Doors: a recessed-looking leaf with a frame, in the middle of the south and north walls.
+    for (double side : {-1.0, 1.0}) {
+        const double y = side * hd, dw = s.sawtooth ? 2.5 : 1.0, dh = s.sawtooth ? 4.0 : 2.4;
+        const double y0 = std::min(y, y + side * 0.12), y1 = std::max(y, y + side * 0.12);
+        mb.box(dvec3(-dw, y0, 0.0), dvec3(dw, y1, dh), dark);
+        const double f0 = std::min(y, y + side * 0.25), f1 = std::max(y, y + side * 0.25);
+        mb.box(dvec3(-dw - 0.25, f0, 0.0), dvec3(-dw, f1, dh + 0.25), trim);
+        mb.box(dvec3(dw, f0, 0.0), dvec3(dw + 0.25, f1, dh + 0.25), trim);
+        mb.box(dvec3(-dw - 0.25, f0, dh), dvec3(dw + 0.25, f1, dh + 0.25), trim);
+        mb.box(dvec3(-dw - 0.4, y0 - (side < 0 ? 0.8 : 0.0), 0.0), dvec3(dw + 0.4, y1 + (side > 0 ? 0.8 : 0.0), 0.15),
+               grey);  // step
+    }
+    return mb.build();
+}
+
+// One machine group (a making-and-packing line section), 6 m along x, 2.4 m across, on the floor at z = 0:
+// a plinth, cabinets, rollers, hoppers, a motor, pipes and a control panel, of exactly `target` triangles.
+ref_ptr<Mesh> machineMesh(uint32_t seed, uint32_t target) {
+    Rng rng(seed);
+    MeshBuilder mb;
+    const vec4 body = rgb(120, 160, 140), steel = rgb(180, 185, 190), yellow = rgb(220, 180, 40),
+               blue = rgb(50, 80, 150), panel = rgb(90, 95, 100), red = rgb(200, 40, 30);
+    mb.box(dvec3(-3.0, -1.2, 0.0), dvec3(3.0, 1.2, 0.35), panel);
+    double x = -2.9;
+    while (x < 2.6) {
+        const double w = rng.uniform(0.6, 1.3), hgt = rng.uniform(0.8, 1.9), dep = rng.uniform(0.8, 1.2);
+        const double x1 = std::min(x + w, 2.9);
+        mb.box(dvec3(x, -dep, 0.35), dvec3(x1, dep * 0.4, 0.35 + hgt), body);
+        // A roller across each cabinet's top and a hopper above every other one.
+        mb.frustum(dvec3((x + x1) / 2, -dep, 0.45 + hgt), dvec3((x + x1) / 2, dep * 0.4, 0.45 + hgt), 0.1, 0.1, 16,
+                   steel);
+        if (rng.uniform() < 0.6)
+            mb.frustum(dvec3((x + x1) / 2, -0.3, 0.55 + hgt), dvec3((x + x1) / 2, -0.3, 1.2 + hgt), 0.08,
+                       rng.uniform(0.25, 0.4), 14, yellow);
+        x = x1 + 0.05;
+    }
+    // Conveyor rollers along the front edge.
+    for (double rx = -2.8; rx <= 2.8; rx += 0.35)
+        mb.frustum(dvec3(rx, 0.55, 0.9), dvec3(rx, 1.15, 0.9), 0.06, 0.06, 10, steel);
+    mb.box(dvec3(-2.9, 0.5, 0.35), dvec3(2.9, 0.55, 0.9), body);
+    mb.box(dvec3(-2.9, 1.15, 0.35), dvec3(2.9, 1.2, 0.9), body);
+    // Motor and its pipes.
+    mb.frustum(dvec3(2.95, -0.4, 0.8), dvec3(3.6, -0.4, 0.8), 0.35, 0.35, 24, blue);
+    for (int k = 0; k < 3; ++k)
+        mb.frustum(dvec3(-2.9, -1.1 + 0.15 * k, 2.4 + 0.1 * k), dvec3(2.9, -1.1 + 0.15 * k, 2.4 + 0.1 * k), 0.05, 0.05,
+                   8, steel);
+    // Control panel with buttons until the count is reached; single-sided placards take the last pairs.
+    mb.box(dvec3(-3.6, -0.5, 0.0), dvec3(-3.1, 0.5, 1.5), panel);
+    int button = 0;
+    while (mb.triangles() + 12 <= target) {
+        const double bz = 0.8 + 0.12 * (button % 5), by = -0.4 + 0.1 * ((button / 5) % 9);
+        const double bx = -3.6 - 0.03 - 0.01 * (button / 45);
+        mb.box(dvec3(bx, by, bz), dvec3(bx + 0.03, by + 0.05, bz + 0.05), button % 3 ? steel : red);
+        ++button;
+    }
+    while (mb.triangles() + 2 <= target) {
+        const double py = -1.21 - 0.001 * mb.triangles(), px = -2.5 + 0.3 * (target - mb.triangles());
+        const dvec3 q[4] = {dvec3(px, py, 0.5), dvec3(px + 0.25, py, 0.5), dvec3(px + 0.25, py, 0.7),
+                            dvec3(px, py, 0.7)};
+        const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+        mb.quad(q, dvec3(0, -1, 0), t, rgb(240, 240, 230));
+    }
+    return mb.build();
+}
+
+void fail(const std::string& what) { throw std::invalid_argument("scenes::buildFactory(): " + what); }
+
+// Triangles under `n` with every switch on and every LOD at its finest level: each placement counted
+// (drawn; an Instance's one child is its prototype), or each distinct mesh once (stored).
+struct TriangleCount {
+    std::set<const Mesh*> meshes;
+    uint64_t drawn = 0, stored = 0;
+    void walk(Node& n) {
+        if (n.kind() == NodeKind::Geometry) {
+            const Mesh* m = static_cast<Geometry&>(n).mesh();
+            if (!m) return;
+            drawn += m->triangleCount();
+            if (meshes.insert(m).second) stored += m->triangleCount();
+            return;
+        }
+        if (n.kind() == NodeKind::LOD) {
+            if (n.numChildren() > 0) walk(*n.child(0));
+            return;
+        }
+        for (size_t i = 0; i < n.numChildren(); ++i) walk(*n.child(i));
+    }
+};
+
+}  // namespace
+
+Factory buildFactory(const FactoryParams& prm) {
+    auto finitePositive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    if (!finitePositive(prm.siteSize) || prm.siteSize < 600.0)
+        fail("siteSize " + std::to_string(prm.siteSize) + " must be finite and at least 600 (the yard's size)");
+    if (prm.terrainCells <= 0 || prm.terrainTiles <= 0 || prm.terrainCells % prm.terrainTiles != 0)
+        fail("terrainCells " + std::to_string(prm.terrainCells) + " must be a positive multiple of terrainTiles " +
+             std::to_string(prm.terrainTiles));
+    if (prm.machinesPerWorkshop < 0 || prm.machinesPerWorkshop > 21)
+        fail("machinesPerWorkshop " + std::to_string(prm.machinesPerWorkshop) + " is not in 0..21 (three rows of 7)");
+    if (prm.trees < 0) fail("trees " + std::to_string(prm.trees) + " is negative");
+    if (prm.cars < 0 || prm.cars > 64)
+        fail("cars " + std::to_string(prm.cars) + " is not in 0..64 (the car park's bays)");
+    if (!finitePositive(prm.pixelError)) fail("pixelError " + std::to_string(prm.pixelError) + " must be positive");
+    if (!(prm.fadeFraction >= 0.0 && prm.fadeFraction < 1.0))
+        fail("fadeFraction " + std::to_string(prm.fadeFraction) + " is not in [0, 1)");
+
+    Factory f;
+    f.root = make<Group>();
+    f.root->setName("factory");
+    f.outside = make<Switch>();
+    f.outside->setName("outside");
+    auto outside = make<Group>();
+    f.outside->addChild(outside, true);
+    f.root->addChild(f.outside);
+    auto occluders = make<Group>();
+    occluders->setName("occluders");
+    f.root->addChild(occluders);
+    auto interiors = make<Group>();
+    interiors->setName("interiors");
+    f.root->addChild(interiors);
+
+    const auto white = make<Material>(vec4(1.0f));
+    auto solid = [](const vec4& c) { return make<Material>(c); };
+
+    // --- Terrain: a flat yard (radius ~210 m) in rolling hills, a stream channel cut through both.
+    Rng rng(prm.seed);
+    const double ph[4] = {rng.uniform(0, 6.28), rng.uniform(0, 6.28), rng.uniform(0, 6.28), rng.uniform(0, 6.28)};
+    auto streamX = [](double y) { return 175.0 + 15.0 * std::sin(y / 50.0); };
+    auto hills = [ph](double x, double y) {
+        const double r = std::hypot(x, y - 10.0);
+        const double t = std::clamp((r - 210.0) / 130.0, 0.0, 1.0);
+        const double w = t * t * (3.0 - 2.0 * t);
+        const double hgt = 16.0 + 9.0 * std::sin(x / 70.0 + ph[0]) * std::cos(y / 90.0 + ph[1]) +
+                           6.0 * std::sin((x + y) / 45.0 + ph[2]) + 4.0 * std::cos(x / 33.0 - y / 51.0 + ph[3]);
+        return w * hgt;
+    };
+    auto ground = [&](double x, double y) {
+        const double dx = (x - streamX(y)) / 8.0;
+        const double cut = std::abs(dx) < 1.0 ? 1.8 * (1.0 - dx * dx) * (1.0 - dx * dx) : 0.0;
+        return hills(x, y) - cut;
+    };
+    const int N = prm.terrainCells;
+    const double half = prm.siteSize / 2.0, cell = prm.siteSize / N;
+    auto heights = std::make_shared<std::vector<double>>(size_t(N + 1) * size_t(N + 1));
+    for (int j = 0; j <= N; ++j)
+        for (int i = 0; i <= N; ++i) (*heights)[size_t(j) * (N + 1) + i] = ground(-half + i * cell, -half + j * cell);
+    auto H = [heights, N](int i, int j) { return (*heights)[size_t(j) * (N + 1) + size_t(i)]; };
+    // Each cell is split along its (i, j)-(i+1, j+1) diagonal; the height function interpolates the same way.
+    f.terrainHeight = [H, N, half, cell](double x, double y) {
+        double gx = (x + half) / cell, gy = (y + half) / cell;
+        // Vertices are stored in float: one on the edge may land a rounding step outside it.
+        const double slack = 1e-5 * N;
+        if (!(gx >= -slack && gy >= -slack && gx <= N + slack && gy <= N + slack)) return 0.0;
+        gx = std::clamp(gx, 0.0, double(N));
+        gy = std::clamp(gy, 0.0, double(N));
+        const int i = std::min(int(gx), N - 1), j = std::min(int(gy), N - 1);
+        const double u = gx - i, v = gy - j;
+        const double h00 = H(i, j), h10 = H(i + 1, j), h01 = H(i, j + 1), h11 = H(i + 1, j + 1);
+        return u >= v ? h00 + u * (h10 - h00) + v * (h11 - h10) : h00 + v * (h01 - h00) + u * (h11 - h01);
+    };
+    f.terrain = make<Group>();
+    f.terrain->setName("terrain");
+    const int per = N / prm.terrainTiles;
+    for (int tj = 0; tj < prm.terrainTiles; ++tj)
+        for (int ti = 0; ti < prm.terrainTiles; ++ti) {
+            std::vector<vec3> pos, nrm;
+            std::vector<vec2> uvs;
+            std::vector<vec4> col;
+            std::vector<uint32_t> idx;
+            for (int j = tj * per; j <= (tj + 1) * per; ++j)
+                for (int i = ti * per; i <= (ti + 1) * per; ++i) {
+                    const double x = -half + i * cell, y = -half + j * cell, z = H(i, j);
+                    pos.emplace_back(x, y, z);
+                    const double dzx = H(std::min(i + 1, N), j) - H(std::max(i - 1, 0), j);
+                    const double dzy = H(i, std::min(j + 1, N)) - H(i, std::max(j - 1, 0));
+                    nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * cell)));
+                    uvs.push_back(kWhiteUv);
+                    // Grass, darker in the hollows, browner on the stream banks and the high ground.
+                    const float g = float(std::clamp(z / 30.0, -0.1, 1.0));
+                    const float bank = z < -0.3 ? 1.0f : 0.0f;
+                    col.push_back(glm::mix(vec4(0.33f + 0.15f * g, 0.55f - 0.1f * g, 0.22f, 1.0f),
+                                           vec4(0.45f, 0.38f, 0.25f, 1.0f), bank));
+                }
+            const uint32_t row = uint32_t(per + 1);
+            for (int j = 0; j < per; ++j)
+                for (int i = 0; i < per; ++i) {
+                    const uint32_t a = uint32_t(j) * row + uint32_t(i), b = a + 1, c = a + row + 1, d = a + row;
+                    idx.insert(idx.end(), {a, b, c, a, c, d});
+                }
+            auto mesh = make<Mesh>();
+            mesh->set(std::move(pos), std::move(nrm), std::move(idx), std::move(uvs), std::move(col));
+            f.terrain->addChild(make<Geometry>(mesh, white));
+        }
+    outside->addChild(f.terrain);
+
+    // --- Roads and the car park: flat quads just above the yard.
+    {
+        MeshBuilder mb;
+        const vec4 road = rgb(95, 95, 100), park = rgb(120, 120, 125);
+        const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+        auto flat = [&](double x0, double y0, double x1, double y1, const vec4& c, double z = 0.03) {
+            const dvec3 q[4] = {dvec3(x0, y0, z), dvec3(x1, y0, z), dvec3(x1, y1, z), dvec3(x0, y1, z)};
+            mb.quad(q, dvec3(0, 0, 1), t, c);
+        };
+        const double bridgeX = streamX(-20.0);
+        flat(-160, -24, bridgeX - 10, -16, road);  // main road, west of the bridge
+        flat(bridgeX + 10, -24, 200, -16, road);   // and east of it, out to the hills
+        flat(-74, -16, -66, 100, road);            // between the workshop columns
+        flat(16, -16, 24, 100, road);              // east of the workshops
+        flat(-160, 100, 24, 108, road);            // north ring
+        flat(95, 15, 155, 85, park);               // car park
+        flat(24, 46, 95, 54, road);                // to the car park
+        for (int r = 0; r < 4; ++r)
+            for (int k = 0; k <= 16; ++k) {  // parking lines
+                const double x = 100.0 + 3.0 * k, y = 22.0 + 16.0 * r;
+                flat(x - 0.06, y, x + 0.06, y + 5.0, rgb(230, 230, 230), 0.05);
+            }
+        outside->addChild(make<Geometry>(mb.build(), white));
+    }
+
+    // --- The stream (a water strip in its channel) and the bridge carrying the main road over it.
+    {
+        MeshBuilder mb;
+        const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+        for (double y = -half; y < half - 1e-9; y += 8.0) {
+            const double y1 = std::min(y + 8.0, half);
+            const double z0 = hills(streamX(y), y) - 0.9, z1 = hills(streamX(y1), y1) - 0.9;
+            const dvec3 q[4] = {dvec3(streamX(y) - 5.5, y, z0), dvec3(streamX(y) + 5.5, y, z0),
+                                dvec3(streamX(y1) + 5.5, y1, z1), dvec3(streamX(y1) - 5.5, y1, z1)};
+            mb.quad(q, dvec3(0, 0, 1), t, rgb(60, 110, 160));
+        }
+        outside->addChild(make<Geometry>(mb.build(), white));
+        MeshBuilder br;
+        const double bx = streamX(-20.0);
+        const vec4 concrete = rgb(175, 170, 160);
+        br.box(dvec3(bx - 11, -24.5, 0.0), dvec3(bx + 11, -15.5, 0.35), concrete);  // deck
+        for (double y : {-24.5, -15.8}) {
+            br.box(dvec3(bx - 11, y, 0.35), dvec3(bx + 11, y + 0.3, 1.3), concrete);  // parapets
+            for (double x = bx - 10; x <= bx + 10; x += 2.5)
+                br.box(dvec3(x, y, 1.3), dvec3(x + 0.25, y + 0.3, 1.45), concrete);
+        }
+        for (double x : {bx - 9.0, bx + 9.0}) br.box(dvec3(x - 0.8, -24, -1.8), dvec3(x + 0.8, -16, 0.0), concrete);
+        outside->addChild(make<Geometry>(br.build(), white));
+    }
+
+    // --- The boiler house chimney.
+    {
+        MeshBuilder mb;
+        mb.frustum(dvec3(70, -45, 0), dvec3(70, -45, 45), 3.0, 1.8, 32, rgb(150, 80, 60));
+        for (double z : {15.0, 30.0, 43.0})
+            mb.frustum(dvec3(70, -45, z), dvec3(70, -45, z + 0.8), 2.2, 2.2, 32, rgb(110, 110, 110));
+        outside->addChild(make<Geometry>(mb.build(), white));
+    }
+
+    // --- Buildings.
+    const std::vector<BuildingSpec> specs = {
+        {"workshop", dvec3(-115, 75, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
+        {"workshop", dvec3(-25, 75, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
+        {"workshop", dvec3(-115, 25, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
+        {"workshop", dvec3(-25, 25, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
+        {"auxiliary", dvec3(-130, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
+        {"auxiliary", dvec3(-90, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
+        {"auxiliary", dvec3(-50, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
+        {"auxiliary", dvec3(-10, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
+        {"auxiliary", dvec3(40, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
+        {"technology", dvec3(55, 75, 0), 30, 20, 17.5, 3.5, 3, rgb(215, 200, 170), rgb(100, 100, 105), false},
+        {"office", dvec3(60, 30, 0), 40, 16, 21, 3.5, 3, rgb(230, 228, 220), rgb(100, 100, 105), false},
+    };
+    const auto wallMat = make<Material>(vec4(1.0f), windowTexture());
+    for (const BuildingSpec& s : specs) {
+        FactoryBuilding b;
+        b.kind = s.kind;
+        b.place = make<Transform>();
+        b.place->setTranslation(s.centre);
+        b.lod = makeLod(buildingMesh(s), wallMat, {0.06f}, prm.pixelError);
+        b.lod->setTransition(float(prm.fadeFraction * b.lod->range(1).min));
+        b.place->addChild(b.lod);
+        // Inside the walls, below the roof: never larger than the building it stands for. Outside the
+        // Switch, since the occlusion pass uses only occluders that are there whatever the frame.
+        b.occluder = make<Occluder>();
+        b.occluder->setBox(Box{s.centre + dvec3(-s.w / 2 + 0.3, -s.d / 2 + 0.3, 0.0),
+                               s.centre + dvec3(s.w / 2 - 0.3, s.d / 2 - 0.3, s.h - 0.3)});
+        occluders->addChild(b.occluder);
+        b.box = Box{s.centre + dvec3(-s.w / 2, -s.d / 2, 0.0), s.centre + dvec3(s.w / 2, s.d / 2, s.h)};
+        outside->addChild(b.place);
+        f.buildings.push_back(b);
+    }
+
+    // --- Trees: axial billboards (one shared crown-and-trunk polygon per kind) around the yard and along
+    // the north road.
+    {
+        auto treeMat = make<Material>(vec4(1.0f), treeTexture(prm.seed));
+        ref_ptr<Mesh> kinds[2];
+        for (int k = 0; k < 2; ++k) {
+            const double hgt = k ? 11.0 : 7.5, wid = hgt * 0.75;
+            MeshBuilder mb;
+            const dvec3 facing(0, -1, 0);
+            auto at = [&](double u, double v) {  // texture coordinates -> billboard plane (faces -y)
+                return dvec3((u - 0.5) * wid, 0.0, (1.0 - v) * hgt);
+            };
+            const vec4 c(1.0f);
+            // Crown: a 12-sided fan inside the texture's ellipse; trunk: a quad inside the texture's trunk.
+            const uint32_t centre = mb.vertex(at(0.5, 0.4), facing, vec2(0.5f, 0.4f), c);
+            std::vector<uint32_t> ring;
+            for (int s = 0; s < 12; ++s) {
+                const double a = 2.0 * M_PI * s / 12;
+                const double u = 0.5 + 0.43 * std::cos(a), v = 0.4 + 0.38 * std::sin(a);
+                ring.push_back(mb.vertex(at(u, v), facing, vec2(float(u), float(v)), c));
+            }
+            for (int s = 0; s < 12; ++s) mb.tri(centre, ring[size_t(s)], ring[size_t((s + 1) % 12)], facing);
+            const double tu[4] = {0.45, 0.55, 0.55, 0.45}, tv[4] = {1.0, 1.0, 0.7, 0.7};
+            dvec3 q[4];
+            vec2 t[4];
+            for (int s = 0; s < 4; ++s) q[s] = at(tu[s], tv[s]), t[s] = vec2(float(tu[s]), float(tv[s]));
+            mb.quad(q, facing, t, c);
+            kinds[k] = mb.build();
+        }
+        auto plant = [&](double x, double y, int kind) {
+            auto t = make<Transform>();
+            t->setTranslation(dvec3(x, y, f.terrainHeight(x, y) - 0.2));
+            auto bb = make<Billboard>();
+            bb->setMode(Billboard::Mode::Axial);
+            bb->setAxis(dvec3(0, 0, 1));
+            bb->addChild(make<Geometry>(kinds[kind], treeMat));
+            t->addChild(bb);
+            outside->addChild(t);
+            ++f.trees;
+        };
+        for (int k = 0; k < prm.trees; ++k) {
+            for (int tries = 0; tries < 100; ++tries) {
+                const double a = rng.uniform(0, 2 * M_PI), r = rng.uniform(200.0, std::min(half - 10.0, 360.0));
+                const double x = r * std::cos(a), y = 10.0 + r * std::sin(a);
+                if (std::abs(x - streamX(y)) < 12.0 || (std::abs(y + 20.0) < 8.0 && x > 150.0)) continue;
+                plant(x, y, int(rng.uniform() < 0.5));
+                break;
+            }
+        }
+        for (double x = -150.0; x <= 20.0; x += 10.0) plant(x, 114.0, 0);
+    }
+
+    // --- Cars: one model (body, cabin, wheels) placed by Instance in the car park.
+    {
+        MeshBuilder body, wheels;
+        body.box(dvec3(-2.1, -0.9, 0.3), dvec3(2.1, 0.9, 1.0), rgb(180, 40, 35));
+        body.box(dvec3(-1.2, -0.8, 1.0), dvec3(0.9, 0.8, 1.5), rgb(150, 170, 190));
+        for (double x : {-1.4, 1.4})
+            for (double y : {-0.95, 0.75})
+                wheels.frustum(dvec3(x, y, 0.33), dvec3(x, y + 0.2, 0.33), 0.33, 0.33, 10, rgb(30, 30, 30));
+        auto car = make<Group>();
+        car->setName("car");
+        car->addChild(make<Geometry>(body.build(), white));
+        car->addChild(make<Geometry>(wheels.build(), white));
+        std::vector<int> slots;
+        for (int s = 0; s < 64; ++s) slots.push_back(s);
+        for (int k = 0; k < prm.cars; ++k) {  // a deterministic shuffle picks the occupied slots
+            const int pick = k + int(rng.uniform() * (slots.size() - size_t(k)));
+            std::swap(slots[size_t(k)], slots[size_t(std::min<int>(pick, int(slots.size()) - 1))]);
+            const int s = slots[size_t(k)], row = s / 16, col = s % 16;
+            const dmat4 m = glm::translate(dmat4(1.0), dvec3(101.5 + 3.0 * col, 24.5 + 16.0 * row, 0.05)) *
+                            glm::rotate(dmat4(1.0), M_PI / 2, dvec3(0, 0, 1));
+            outside->addChild(make<Instance>(car, m));
+            ++f.cars;
+        }
+    }
+
+    // --- Workshop interiors: 17 instances of one machine group, conveyors, pillars, inner walls.
+    f.machineMesh = machineMesh(prm.seed ^ 0x5eedu, 2886);
+    f.machine = makeLod(f.machineMesh, white, {0.08f}, prm.pixelError);
+    f.machine->setTransition(float(prm.fadeFraction * f.machine->range(1).min));
+    f.machine->setName("machine group");
+    {
+        MeshBuilder pil, conv;
+        pil.box(dvec3(-0.25, -0.25, 0.0), dvec3(0.25, 0.25, 9.5), rgb(160, 160, 155));
+        conv.box(dvec3(-24.0, -0.4, 0.8), dvec3(24.0, 0.4, 0.9), rgb(60, 60, 60));  // belt
+        for (double x = -23.5; x <= 23.5; x += 4.7) {
+            conv.box(dvec3(x - 0.05, -0.4, 0.0), dvec3(x + 0.05, -0.3, 0.8), rgb(90, 90, 90));
+            conv.box(dvec3(x - 0.05, 0.3, 0.0), dvec3(x + 0.05, 0.4, 0.8), rgb(90, 90, 90));
+        }
+        for (double x : {-24.0, 24.0})
+            conv.frustum(dvec3(x, -0.45, 0.85), dvec3(x, 0.45, 0.85), 0.12, 0.12, 12, rgb(180, 185, 190));
+        const ref_ptr<Mesh> pillar = pil.build(), conveyor = conv.build();
+        for (int w = 0; w < 4; ++w) {
+            const BuildingSpec& s = specs[size_t(w)];
+            FactoryWorkshop ws;
+            ws.building = w;
+            ws.interior = make<Switch>();
+            ws.interior->setName("workshop interior");
+            ws.interiorGroup = make<Group>();
+            auto place = make<Transform>();
+            place->setTranslation(s.centre);
+            // Floor, inner wall faces (inwards, 0.35 m inside the outer walls) and the ceiling.
+            MeshBuilder shell;
+            const double hw = s.w / 2 - 0.35, hd = s.d / 2 - 0.35, hc = s.h - 0.5;
+            const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+            const dvec3 floorQ[4] = {dvec3(-hw, -hd, 0.02), dvec3(hw, -hd, 0.02), dvec3(hw, hd, 0.02),
+                                     dvec3(-hw, hd, 0.02)};
+            shell.quad(floorQ, dvec3(0, 0, 1), t, rgb(150, 150, 145));
+            const dvec3 ceilQ[4] = {dvec3(-hw, -hd, hc), dvec3(hw, -hd, hc), dvec3(hw, hd, hc), dvec3(-hw, hd, hc)};
+            shell.quad(ceilQ, dvec3(0, 0, -1), t, rgb(200, 200, 195));
+            const dvec3 corners[4] = {dvec3(-hw, -hd, 0), dvec3(hw, -hd, 0), dvec3(hw, hd, 0), dvec3(-hw, hd, 0)};
+            for (int k = 0; k < 4; ++k) {
+                const dvec3 a = corners[k], b = corners[(k + 1) % 4];
+                const dvec3 q[4] = {a, b, b + dvec3(0, 0, hc), a + dvec3(0, 0, hc)};
+                shell.quad(q, -glm::normalize(dvec3((a + b).x, (a + b).y, 0.0)), t, rgb(215, 212, 200));
+            }
+            ws.interiorGroup->addChild(make<Geometry>(shell.build(), white));
+            for (double x = -hw + 5.0; x < hw - 1.0; x += 10.0)
+                for (double y : {-hd + 2.0, hd - 2.0}) {
+                    auto tp = make<Transform>();
+                    tp->setTranslation(dvec3(x, y, 0.0));
+                    tp->addChild(make<Geometry>(pillar, white));
+                    ws.interiorGroup->addChild(tp);
+                }
+            for (double y : {-4.5, 4.5}) {
+                auto tc = make<Transform>();
+                tc->setTranslation(dvec3(0.0, y, 0.0));
+                tc->addChild(make<Geometry>(conveyor, white));
+                ws.interiorGroup->addChild(tc);
+            }
+            // Three rows along the hall; the middle row turned round so that every line faces a conveyor.
+            const int n = prm.machinesPerWorkshop, perRow = (n + 2) / 3;
+            for (int k = 0; k < n; ++k) {
+                const int row = k / perRow, col = k % perRow;
+                const double x = -hw + 4.5 + col * ((2.0 * hw - 9.0) / std::max(1, perRow - 1));
+                const double y = (row - 1) * 9.0;
+                dmat4 m = glm::translate(dmat4(1.0), dvec3(x, y, 0.0));
+                if (row == 1) m = m * glm::rotate(dmat4(1.0), M_PI, dvec3(0, 0, 1));
+                ws.interiorGroup->addChild(make<Instance>(f.machine, m));
+                ++f.machines;
+            }
+            place->addChild(ws.interiorGroup);
+            ws.interior->addChild(place, false);
+            interiors->addChild(ws.interior);
+            f.workshops.push_back(ws);
+        }
+    }
+
+    TriangleCount tc;
+    tc.walk(*f.root);
+    f.drawnTriangles = tc.drawn;
+    f.storedTriangles = tc.stored;
+    return f;
+}
+
+int factoryWorkshopAt(const Factory& f, const dvec3& eye) {
+    for (size_t k = 0; k < f.workshops.size(); ++k)
+        if (f.buildings[size_t(f.workshops[k].building)].box.contains(eye)) return int(k);
+    return -1;
+}
+
+void setFactoryEye(Factory& f, int workshop) {
+    if (workshop >= int(f.workshops.size()))
+        throw std::out_of_range("scenes::setFactoryEye(): workshop " + std::to_string(workshop) + " of " +
+                                std::to_string(f.workshops.size()));
+    f.outside->setAll(workshop < 0);
+    for (size_t k = 0; k < f.workshops.size(); ++k) f.workshops[k].interior->setAll(int(k) == workshop);
+}
+
+Camera factoryOrbitCamera(int frame, int width, int height) {
+    const double a = 2.0 * M_PI * frame / kFactoryOrbitFrames;
+    const dvec3 target(-20.0, 20.0, 0.0);
+    const dvec3 eye = target + dvec3(300.0 * std::cos(a), 300.0 * std::sin(a), 90.0);
+    Camera cam;
+    cam.setViewport(width, height);
+    cam.setPerspective(60.0, double(width) / height, 1.0, 3000.0);
+    cam.setLookAt(eye, target, dvec3(0, 0, 1));
+    return cam;
+}
+
+Camera factoryWorkshopCamera(const Factory& f, int workshop, int width, int height) {
+    const Box& b = f.buildings.at(size_t(f.workshops.at(size_t(workshop)).building)).box;
+    const dvec3 eye(b.min.x + 2.0, b.center().y - 2.0, 1.7);
+    Camera cam;
+    cam.setViewport(width, height);
+    cam.setPerspective(60.0, double(width) / height, 0.1, 500.0);
+    cam.setLookAt(eye, eye + dvec3(1.0, 0.05, -0.08), dvec3(0, 0, 1));
+    return cam;
+}
+
+}  // namespace scenes
