@@ -89,7 +89,8 @@ Options parseOptions(int argc, const char* const* argv) {
             o.overlay = true;
         else if (a == "--scene") {
             o.scene = value();
-            if (o.scene != "city" && o.scene != "office") bad(a, o.scene, "the built-in scenes are city and office");
+            if (o.scene != "city" && o.scene != "office" && o.scene != "factory")
+                bad(a, o.scene, "the built-in scenes are city, office and factory");
         } else if (a == "--n") {
             o.n = parseInt(a, value(), 1, 1000);
             n = true;
@@ -129,7 +130,8 @@ Options parseOptions(int argc, const char* const* argv) {
             o.files.push_back(a);
     }
     if (o.help) return o;
-    if (o.files.empty() && o.scene.empty()) throw UsageError("nothing to show: give FILE... or --scene city|office");
+    if (o.files.empty() && o.scene.empty())
+        throw UsageError("nothing to show: give FILE... or --scene city|office|factory");
     if (!o.files.empty() && !o.scene.empty()) throw UsageError("give either FILE... or --scene, not both");
     if (n && o.scene.empty()) throw UsageError("--n sizes a built-in scene: it needs --scene");
     if (out && !o.headless && !frames)
@@ -148,11 +150,12 @@ Options parseOptions(int argc, const char* const* argv) {
 }
 
 const char* usageText() {
-    return "usage: sgview FILE... | --scene city|office [--n N]\n"
+    return "usage: sgview FILE... | --scene city|office|factory [--n N]\n"
            "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together\n"
-           "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6)\n"
+           "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6);\n"
+           "                     factory: the walkthrough site (--n is not used)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"
            "  --overlay          headless: draw the stats overlay into the picture\n"
            "  --frames K         headless: frames rendered (default 1); window: quit after K frames\n"

@@ -22,7 +22,7 @@ struct CameraSpec {
 
 struct Options {
     std::vector<std::string> files;
-    std::string scene;  // "city" or "office" (testbed/, docs/scenes.md) when no files are given
+    std::string scene;  // "city" or "office" or "factory" (testbed/, docs/scenes.md) when no files are given
     int n = 0;          // city: N x N cells (default 32); office: R x R rooms (default 6)
     bool headless = false, info = false, overlay = false, help = false;
     int frames = 0;   // headless: frames rendered (default 1); window: quit after this many (0: run until closed)

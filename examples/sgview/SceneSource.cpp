@@ -2,6 +2,7 @@
 #include "nodes/Group.h"
 #include "sgview/LoadScene.h"
 #include "testbed/City.h"
+#include "testbed/Factory.h"
 #include "testbed/Office.h"
 
 #include <filesystem>
@@ -13,7 +14,7 @@ namespace sgview {
 #ifdef SGVIEW_NO_GLTF
 LoadedScene loadSceneFile(const std::string& path) {
     throw UsageError("'" + path +
-                     "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office works");
+                     "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory works");
 }
 void saveSceneFile(const LoadedScene&, const std::string& path) {
     throw UsageError("--save '" + path + "': sgview was built without the glTF loader (sgkit::loaders)");
@@ -36,6 +37,7 @@ LoadedScene loadScene(const Options& o) {
     const std::string size = std::to_string(o.n) + "x" + std::to_string(o.n);
     if (o.scene == "city") return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + size};
     if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
+    if (o.scene == "factory") return {scenes::buildFactory().root, {}, {0.0, 0.0, 1.0}, "factory"};
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
     auto load = [](const std::string& f) {
         try {
