@@ -219,6 +219,8 @@ struct Converter {
         }
         auto mat = make<Material>(c, tex);
         mat->unlit = gm.extensions.count("KHR_materials_unlit") != 0;
+        // MASK: alpha below the cutoff is cut away, the rest is opaque; BLEND is drawn opaque as before.
+        if (gm.alphaMode == "MASK") mat->alphaCutoff = float(gm.alphaCutoff);
         materials[size_t(i)] = mat;
         return mat;
     }

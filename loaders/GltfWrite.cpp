@@ -112,6 +112,10 @@ struct Writer {
         pbr.metallicFactor = 0.0;  // sgkit's materials are plain diffuse colours
         pbr.roughnessFactor = 1.0;
         if (mat->texture) pbr.baseColorTexture.index = texture(*mat->texture);
+        if (mat->alphaCutoff > 0.0f) {
+            gm.alphaMode = "MASK";
+            gm.alphaCutoff = double(mat->alphaCutoff);
+        }
         if (mat->unlit) {
             gm.extensions["KHR_materials_unlit"] = Value(Value::Object{});
             if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), "KHR_materials_unlit") ==

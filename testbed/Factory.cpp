@@ -136,8 +136,8 @@ ref_ptr<Texture> windowTexture() {
     return make<Texture>(64, 64, std::move(px));
 }
 
-// 64x64 tree: a trunk and a round crown, opaque inside their outline and alpha 0 outside (alpha-cut
-// coordinates for a renderer that tests alpha; the billboard's polygon follows the same outline).
+// 64x64 tree: a trunk and a round crown, opaque inside their outline and alpha 0 outside (cut by the
+// material's alphaCutoff; the billboard's polygon follows the same outline).
 ref_ptr<Texture> treeTexture(uint32_t seed) {
     Rng rng(seed);
     std::vector<uint8_t> px(64 * 64 * 4, 0);
@@ -540,6 +540,7 @@ Factory buildFactory(const FactoryParams& prm) {
     // the north road.
     {
         auto treeMat = make<Material>(vec4(1.0f), treeTexture(prm.seed));
+        treeMat->alphaCutoff = 0.5f;  // cut at the texture outline: no fringe where filtering reaches alpha 0
         ref_ptr<Mesh> kinds[2];
         for (int k = 0; k < 2; ++k) {
             const double hgt = k ? 11.0 : 7.5, wid = hgt * 0.75;

@@ -29,6 +29,7 @@ inline ref_ptr<Group> allKindsScene() {
     auto red = make<Material>(vec4(0.9f, 0.2f, 0.1f, 1.0f));
     auto green = make<Material>(vec4(0.1f, 0.8f, 0.3f, 0.5f));
     green->unlit = true;
+    green->alphaCutoff = 0.3f;
     auto root = make<Group>();
     root->setName("scene");
 
@@ -178,8 +179,8 @@ inline bool sameGraph(const Node& a, const Node& b, std::map<const Node*, const 
                 return differ("mesh data");
             const Material *ta = ga.material(), *tb = gb.material();
             if (!ta != !tb) return differ("material presence");
-            if (ta && (ta->baseColor != tb->baseColor || ta->unlit != tb->unlit || !ta->texture != !tb->texture ||
-                       (ta->texture && ta->texture->rgba() != tb->texture->rgba())))
+            if (ta && (ta->baseColor != tb->baseColor || ta->unlit != tb->unlit || ta->alphaCutoff != tb->alphaCutoff ||
+                       !ta->texture != !tb->texture || (ta->texture && ta->texture->rgba() != tb->texture->rgba())))
                 return differ("material");
             break;
         }

@@ -27,6 +27,9 @@ public:
     vec4 baseColor;
     ref_ptr<Texture> texture;
     bool unlit = false;  // billboards and maps are often drawn without lighting
+    // Fragments whose alpha (base colour x texture x vertex colour) is below this are discarded, the rest
+    // drawn opaque: cut-out foliage and fences without sorting or blending. 0: off.
+    float alphaCutoff = 0.0f;
     uint32_t id() const { return id_; }
 
 private:

@@ -5,6 +5,8 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -46,6 +48,7 @@ uniform bool uUseTexture;
 uniform bool uUseColor;
 uniform bool uLit;
 uniform sampler2D uTexture;
+uniform float uAlphaCutoff;  // Material::alphaCutoff
 uniform float uFade;  // DrawList::fades: 1 opaque; f > 0 keeps pattern < f; f < 0 keeps pattern >= 1 + f
 out vec4 fragColor;
 void main() {
@@ -57,6 +60,7 @@ void main() {
     vec4 c = uBaseColor;
     if (uUseTexture) c *= texture(uTexture, vUv);
     if (uUseColor) c *= vColor;
+    if (c.a < uAlphaCutoff) discard;
     if (uLit) {
         float len = length(vNormal);
         float d = len > 0.0 ? abs(dot(vNormal / len, uLightDir)) : 1.0;
@@ -99,6 +103,65 @@ inline void checkGl(const char*, const char*) {}
 inline void drainGl() {}
 #endif
 
+// The texels with alpha 0 take the colour of their nearest visible texels, ring by ring (the average of
+// the neighbours filled before them): filtering and mipmaps at a cut edge then mix only colours of the
+// picture, never the hidden ones, which are often black or white.
+std::vector<uint8_t> bleedIntoTransparent(const Texture& t) {
+    const int w = t.width(), h = t.height();
+    std::vector<uint8_t> px = t.rgba();
+    std::vector<int> ring;
+    std::vector<char> filled(size_t(w) * size_t(h));
+    for (size_t i = 0; i < filled.size(); ++i) filled[i] = px[i * 4 + 3] != 0;
+    auto edge = [&](int x, int y) {
+        if (filled[size_t(y) * size_t(w) + size_t(x)]) return false;
+        return (x > 0 && filled[size_t(y) * size_t(w) + size_t(x - 1)]) ||
+               (x + 1 < w && filled[size_t(y) * size_t(w) + size_t(x + 1)]) ||
+               (y > 0 && filled[size_t(y - 1) * size_t(w) + size_t(x)]) ||
+               (y + 1 < h && filled[size_t(y + 1) * size_t(w) + size_t(x)]);
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            if (edge(x, y)) ring.push_back(y * w + x);
+    std::vector<int> next;
+    std::vector<std::array<uint8_t, 3>> colour;
+    while (!ring.empty()) {
+        colour.clear();
+        for (int i : ring) {
+            const int x = i % w, y = i / w;
+            int sum[3] = {0, 0, 0}, n = 0;
+            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const size_t j = size_t(ny) * size_t(w) + size_t(nx);
+                if (!filled[j]) continue;
+                for (int c = 0; c < 3; ++c) sum[c] += px[j * 4 + size_t(c)];
+                ++n;
+            }
+            colour.push_back(
+                {uint8_t((sum[0] + n / 2) / n), uint8_t((sum[1] + n / 2) / n), uint8_t((sum[2] + n / 2) / n)});
+        }
+        for (size_t k = 0; k < ring.size(); ++k) {
+            const size_t i = size_t(ring[k]);
+            filled[i] = 1;
+            for (size_t c = 0; c < 3; ++c) px[i * 4 + c] = colour[k][c];
+        }
+        next.clear();
+        for (int i : ring) {
+            const int x = i % w, y = i / w;
+            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
+                const int nx = x + dx, ny = y + dy;
+                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+                const int j = ny * w + nx;
+                if (!filled[size_t(j)]) next.push_back(j);
+            }
+        }
+        std::sort(next.begin(), next.end());
+        next.erase(std::unique(next.begin(), next.end()), next.end());
+        ring.swap(next);
+    }
+    return px;
+}
+
 }  // namespace
 
 Renderer::Renderer() {
@@ -117,6 +180,7 @@ Renderer::Renderer() {
     uUseColor_ = glGetUniformLocation(program_, "uUseColor");
     uLit_ = glGetUniformLocation(program_, "uLit");
     uFade_ = glGetUniformLocation(program_, "uFade");
+    uAlphaCutoff_ = glGetUniformLocation(program_, "uAlphaCutoff");
     uTexture_ = glGetUniformLocation(program_, "uTexture");
     glUseProgram(program_);
     glUniform1i(uTexture_, 0);
@@ -207,9 +271,10 @@ Renderer::GpuMesh& Renderer::mesh(const Mesh* m) {
     return meshes_.emplace(m, std::move(g)).first->second;
 }
 
-Renderer::GpuTexture& Renderer::texture(const Texture* t) {
-    auto it = textures_.find(t);
-    if (it != textures_.end()) {
+Renderer::GpuTexture& Renderer::texture(const Texture* t, bool cut) {
+    auto& cache = cut ? cutTextures_ : textures_;
+    auto it = cache.find(t);
+    if (it != cache.end()) {
         it->second.lastFrame = frame_;
         return it->second;
     }
@@ -220,13 +285,15 @@ Renderer::GpuTexture& Renderer::texture(const Texture* t) {
     glBindTexture(GL_TEXTURE_2D, g.id);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // The first row of the RGBA array is v = 0.
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE, t->rgba().data());
+    const std::vector<uint8_t> bled = cut ? bleedIntoTransparent(*t) : std::vector<uint8_t>{};
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 cut ? bled.data() : t->rgba().data());
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    return textures_.emplace(t, std::move(g)).first->second;
+    return cache.emplace(t, std::move(g)).first->second;
 }
 
 void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
@@ -298,11 +365,13 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
             const vec4 base = r.material ? r.material->baseColor : vec4(1.0f);
             glUniform4f(uBaseColor_, base.r, base.g, base.b, base.a);
             const Texture* tex = r.material && g.uvs ? r.material->texture.get() : nullptr;
-            if (tex) glBindTexture(GL_TEXTURE_2D, texture(tex).id);
+            const float cutoff = r.material ? r.material->alphaCutoff : 0.0f;
+            if (tex) glBindTexture(GL_TEXTURE_2D, texture(tex, cutoff > 0.0f).id);
             glUniform1i(uUseTexture_, tex ? 1 : 0);
             glUniform1i(uUseColor_, g.colors ? 1 : 0);
             glUniform1i(uLit_, (!r.material || !r.material->unlit) && g.normals ? 1 : 0);
             glUniform1f(uFade_, r.fade);
+            glUniform1f(uAlphaCutoff_, cutoff);
             glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
             stats_.drawCalls++;
             stats_.instances += r.count;
@@ -355,21 +424,24 @@ void Renderer::releaseUnused() {
         destroy(it->second);
         it = meshes_.erase(it);
     }
-    for (auto it = textures_.begin(); it != textures_.end();) {
-        if (it->second.lastFrame == frame_) {
-            ++it;
-            continue;
+    for (auto* cache : {&textures_, &cutTextures_})
+        for (auto it = cache->begin(); it != cache->end();) {
+            if (it->second.lastFrame == frame_) {
+                ++it;
+                continue;
+            }
+            glDeleteTextures(1, &it->second.id);
+            it = cache->erase(it);
         }
-        glDeleteTextures(1, &it->second.id);
-        it = textures_.erase(it);
-    }
 }
 
 void Renderer::clear() {
     for (auto& [m, g] : meshes_) destroy(g);
     meshes_.clear();
-    for (auto& [t, g] : textures_) glDeleteTextures(1, &g.id);
-    textures_.clear();
+    for (auto* cache : {&textures_, &cutTextures_}) {
+        for (auto& [t, g] : *cache) glDeleteTextures(1, &g.id);
+        cache->clear();
+    }
 }
 
 }  // namespace sg

@@ -34,7 +34,8 @@ public:
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
     // material pointers become one instanced draw call. Colour: base colour (white without a material)
     // x texture (when the mesh has UVs) x vertex colour, lit by a two-sided headlight unless the
-    // material is unlit or the mesh has no normals. Throws std::out_of_range for an order index past the
+    // material is unlit or the mesh has no normals; fragments whose alpha is below the material's
+    // alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order index past the
     // items; in debug builds std::runtime_error on a GL error.
     void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
     const RenderStats& lastStats() const { return stats_; }
@@ -51,7 +52,8 @@ public:
     void releaseUnused();
     void clear();
     size_t cachedMeshes() const { return meshes_.size(); }
-    size_t cachedTextures() const { return textures_.size(); }
+    // A texture drawn with an alpha cutoff has its own copy, with colour bled under its transparent texels.
+    size_t cachedTextures() const { return textures_.size() + cutTextures_.size(); }
 
 private:
     struct GpuMesh {
@@ -68,14 +70,14 @@ private:
         uint64_t lastFrame = 0;
     };
     GpuMesh& mesh(const Mesh* m);
-    GpuTexture& texture(const Texture* t);
+    GpuTexture& texture(const Texture* t, bool cut);
     static void destroy(GpuMesh& g);
 
     unsigned program_ = 0, instanceVbo_ = 0;
     int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
-        uTexture_ = -1;
+        uAlphaCutoff_ = -1, uTexture_ = -1;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;
-    std::unordered_map<const Texture*, GpuTexture> textures_;
+    std::unordered_map<const Texture*, GpuTexture> textures_, cutTextures_;
     struct Run {
         const Mesh* mesh;
         const Material* material;

@@ -348,3 +348,66 @@ TEST_F(RendererTest, LodFadeSharesThePixelsBetweenTheTwoLevels) {
         EXPECT_NEAR(double(r) / covered, (11.0 - dist) / 2.0, 0.03) << dist;
     }
 }
+
+// Alpha cut-out: a quad whose texture is transparent (black underneath) in its left half and red in its
+// right half, magnified (16 texels) and minified (256 texels, sampled from the mipmaps).
+TEST_F(RendererTest, AlphaCutoffCutsTheTransparentHalfWithoutAFringe) {
+    const std::array<int, 3> red{200, 40, 60};
+    auto mesh = make<Mesh>();
+    mesh->set({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}},
+              {0, 1, 2, 0, 2, 3}, {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    auto rgbIs = [](const std::array<int, 4>& p, const std::array<int, 3>& c, int tol) {
+        for (size_t i = 0; i < 3; ++i)
+            if (std::abs(p[i] - c[i]) > tol) return false;
+        return true;
+    };
+    for (int size : {16, 256}) {
+        SCOPED_TRACE(size);
+        std::vector<uint8_t> px;
+        for (int j = 0; j < size; ++j)
+            for (int i = 0; i < size; ++i)
+                px.insert(px.end(), i < size / 2 ? std::initializer_list<uint8_t>{0, 0, 0, 0}
+                                                 : std::initializer_list<uint8_t>{200, 40, 60, 255});
+        auto mat = make<Material>(vec4(1.0f), make<Texture>(size, size, px));
+        mat->unlit = true;
+        auto root = make<Group>();
+        root->addChild(make<Geometry>(mesh, mat));
+        const DrawList list = cull(root, cam);
+
+        // Off (the default): the whole quad is drawn, the transparent half with its own hidden colour.
+        renderer.draw(list, cam, kClear);
+        const Image whole = renderer.readColor();
+        EXPECT_TRUE(rgbIs(pixel(whole, kW / 2 - 15, kH / 2), {0, 0, 0}, 0));
+        EXPECT_TRUE(rgbIs(pixel(whole, kW / 2 + 15, kH / 2), red, 0));
+
+        mat->alphaCutoff = 0.5f;
+        renderer.draw(list, cam, kClear);
+        const Image cut = renderer.readColor();
+        if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_alphacut_" + std::to_string(size) + ".png", cut);
+        EXPECT_EQ(pixel(cut, kW / 2 - 15, kH / 2), kClear8);
+        EXPECT_TRUE(rgbIs(pixel(cut, kW / 2 + 15, kH / 2), red, 0));
+        // Every pixel is the background exactly or the texture's red: none mixes in the hidden black,
+        // also along the cut where filtering and the mipmaps sample both halves.
+        int background = 0, texture = 0, other = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                const auto p = pixel(cut, x, y);
+                if (p == kClear8)
+                    ++background;
+                else if (rgbIs(p, red, 2))
+                    ++texture;
+                else
+                    ++other;
+            }
+        EXPECT_EQ(other, 0);
+        // The quad spans about 58 x 58 pixels: half of it is left.
+        EXPECT_GT(texture, 1400);
+        EXPECT_LT(texture, 1900);
+        EXPECT_EQ(background + texture, kW * kH);
+        // Off again: the same pixels as the first draw.
+        mat->alphaCutoff = 0.0f;
+        renderer.draw(list, cam, kClear);
+        EXPECT_EQ(countDifferingPixels(whole, renderer.readColor(), 0), 0u);
+    }
+}

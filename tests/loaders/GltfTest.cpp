@@ -205,6 +205,46 @@ TEST(Gltf, BaseColourTextureIsLoaded) {
     EXPECT_EQ(m->texture->rgba(), px);
 }
 
+TEST(Gltf, MaskedMaterialsCarryTheirAlphaCutoff) {
+    // MASK with and without a cutoff (glTF's default is 0.5); OPAQUE and BLEND ignore alphaCutoff.
+    Doc d;
+    d.json = R"("scene": 0, "scenes": [{"nodes": [0, 1, 2, 3]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1}, {"mesh": 2}, {"mesh": 3}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]},
+                   {"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 1}]},
+                   {"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 2}]},
+                   {"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 3}]}],
+        "materials": [{"alphaMode": "MASK", "alphaCutoff": 0.25}, {"alphaMode": "MASK"},
+                      {"alphaCutoff": 0.75}, {"alphaMode": "BLEND", "alphaCutoff": 0.75}])";
+    const GltfScene s = d.load();
+    ASSERT_EQ(s.root->numChildren(), 4u);
+    auto cutoff = [&](size_t i) {
+        const Node* g = s.root->child(i);
+        while (g->kind() != NodeKind::Geometry) g = static_cast<const Group*>(g)->child(0);
+        const Material* m = static_cast<const Geometry*>(g)->material();
+        return m ? m->alphaCutoff : -1.0f;
+    };
+    EXPECT_EQ(cutoff(0), 0.25f);
+    EXPECT_EQ(cutoff(1), 0.5f);
+    EXPECT_EQ(cutoff(2), 0.0f);
+    EXPECT_EQ(cutoff(3), 0.0f);
+
+    // Written back as MASK with the cutoff (also when it is glTF's default), and not at all when off.
+    auto root = make<Group>();
+    auto box = makeBoxMesh(dvec3(-1), dvec3(1));
+    for (float c : {0.0f, 0.5f, 0.3f}) {
+        auto mat = make<Material>();
+        mat->alphaCutoff = c;
+        root->addChild(make<Geometry>(box, mat));
+    }
+    const GltfScene back = roundTrip(*root, ".gltf");
+    ASSERT_EQ(back.root->numChildren(), 3u);
+    for (size_t i = 0; i < 3; ++i)
+        EXPECT_EQ(static_cast<Geometry*>(back.root->child(i))->material()->alphaCutoff,
+                  static_cast<Geometry*>(root->child(i))->material()->alphaCutoff)
+            << i;
+}
+
 // --- malformed files: one per error class, each with its JSON path and reason
 
 struct BadCase {
