@@ -8,6 +8,7 @@
 #include "sg/gl/OsmesaContext.h"
 #include "sg/io/ImageIO.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -76,12 +77,14 @@ int main(int argc, char** argv) {
         for (LodMode m : {LodMode::Static, LodMode::Budget, LodMode::Stress}) {
             const auto tm = Clock::now();
             std::fprintf(stderr, "factory: %s run...\n", modeName(m));
-            std::function<void(int, const sg::Image&)> save;
-            if (m == LodMode::Static)
-                save = [&](int i, const sg::Image& img) {
-                    const auto it = pictures.find(i);
-                    if (it != pictures.end()) sg::savePng((std::filesystem::path(o.outDir) / it->second).string(), img);
-                };
+            const int n = int(path.frames.size());
+            const auto save = [&](int i, const sg::Image& img) {
+                if ((i + 1) % std::max(1, n / 4) == 0 && i + 1 < n)
+                    std::fprintf(stderr, "factory: %s %d/%d frames\n", modeName(m), i + 1, n);
+                const auto it = pictures.find(i);
+                if (m == LodMode::Static && it != pictures.end())
+                    sg::savePng((std::filesystem::path(o.outDir) / it->second).string(), img);
+            };
             runs.push_back(walk.run(m, o.budgetMs, true, save));
             s.modes.push_back(summarize(runs.back()));
             std::fprintf(stderr, "factory: %s run in %.1f s\n", modeName(m), secondsSince(tm));
