@@ -63,16 +63,6 @@ sg::Image Walkthrough::render(int frame, const sg::CullSettings& set, sg::CullSt
     return renderer_.readColor();
 }
 
-uint64_t Walkthrough::differingFromNoCull(int frame) {
-    sg::CullStats st;
-    sg::CullSettings set;
-    const sg::Image culled = render(frame, set, st);
-    set.strategy = sg::CullStrategy::None;
-    uint64_t differing = 0;
-    meanAbsError(culled, render(frame, set, st), &differing);
-    return differing;
-}
-
 std::vector<double> Walkthrough::sameView(int frame, int draws) {
     const PathFrame& p = path_.frames.at(size_t(frame));
     showWorkshop(p.workshop);

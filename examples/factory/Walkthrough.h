@@ -41,9 +41,6 @@ public:
     std::vector<double> sameView(int frame, int draws);
     // Path frame `frame` with `set` (Switch state as the path has it): its picture and cull counts.
     sg::Image render(int frame, const sg::CullSettings& set, sg::CullStats& stats);
-    // Pixels that differ between frame `frame` culled with the static settings and the same frame drawn
-    // with CullStrategy::None and otherwise the same settings.
-    uint64_t differingFromNoCull(int frame);
     sg::Renderer& renderer() { return renderer_; }
 
 private:
