@@ -46,12 +46,6 @@ double aisleY(const scenes::Factory& f, double halfDepth) {
         }
     return best;
 }
-// Local x halfway between the two middle machine columns (where the walk enters from the south).
-double doorX(double halfWidth) {
-    // Six columns from -halfWidth + 4.5 to halfWidth - 4.5: the gap between the third and the fourth.
-    const double step = (2.0 * halfWidth - 9.0) / 5.0;
-    return -halfWidth + 4.5 + 2.5 * step;
-}
 }  // namespace
 
 void makeWorkshopWallsPassable(scenes::Factory& f) {
@@ -73,7 +67,8 @@ WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames) {
     const sg::Box box = f.buildings[size_t(f.workshops[size_t(path.workshop)].building)].box;
     const dvec3 c = box.center();
     const double hw = 0.5 * (box.max.x - box.min.x) - 0.35, hd = 0.5 * (box.max.y - box.min.y) - 0.35;
-    const double xd = c.x + doorX(hw), ya = c.y + aisleY(f, hd);
+    // In through the south door, in the middle of the wall (between the middle machine columns).
+    const double xd = c.x, ya = c.y + aisleY(f, hd);
     auto ground = [&](double x, double y) { return dvec3(x, y, f.terrainHeight(x, y) + 1.7); };
     auto mix = [](const dvec3& a, const dvec3& b, double s) { return a + (b - a) * s; };
     const dvec3 A = ground(xd, box.min.y - 95.0), B = ground(xd, box.min.y - 2.0), C = ground(xd, ya);
@@ -135,7 +130,7 @@ WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames) {
             p.walking = leg.walking;
             p.segment = leg.name;
             if (leg.walking) {
-                // Look where the walk goes, turning smoothly (a tenth of the way per frame).
+                // Look where the walk goes, turning smoothly (15% of the way per frame).
                 dvec3 go = want - from;
                 go.z = 0.0;
                 if (glm::length(go) > 1e-6) dir = glm::normalize(dir + 0.15 * (glm::normalize(go) - dir));
