@@ -1,0 +1,121 @@
+#include "factory/Report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace factory {
+
+double percentile(std::vector<double> v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t k = size_t(std::ceil(q * double(v.size())));
+    return v[std::min(v.size() - 1, k > 0 ? k - 1 : 0)];
+}
+double medianOf(const std::vector<double>& v) {
+    if (v.empty()) return 0.0;
+    std::vector<double> s = v;
+    std::sort(s.begin(), s.end());
+    const size_t n = s.size();
+    return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+}
+double jitterP95(const std::vector<double>& frameMs) {
+    const double m = medianOf(frameMs);
+    std::vector<double> d;
+    for (double t : frameMs) d.push_back(std::abs(t - m));
+    return percentile(d, 0.95);
+}
+
+ModeSummary summarize(const ModeRun& run) {
+    ModeSummary s;
+    s.name = modeName(run.mode);
+    s.budgetMs = run.budgetMs;
+    std::vector<double> frame, fps, dev;
+    double draw = 0, tris = 0, verts = 0, mae = 0;
+    int compared = 0;
+    for (const FrameRecord& r : run.frames) {
+        frame.push_back(r.frameMs);
+        fps.push_back(1000.0 / std::max(1e-6, r.frameMs));
+        dev.push_back(std::abs(r.frameMs - run.budgetMs));
+        draw += r.drawMs;
+        tris += double(r.triangles);
+        verts += double(r.vertices);
+        if (r.mae >= 0) {
+            mae += r.mae;
+            ++compared;
+        }
+    }
+    const double n = std::max<double>(1.0, double(run.frames.size()));
+    s.fpsMedian = medianOf(fps);
+    s.frameMsMedian = medianOf(frame);
+    for (double t : frame) s.frameMsMean += t / n;
+    s.frameMsP95 = percentile(frame, 0.95);
+    s.drawMsMean = draw / n;
+    s.trianglesMean = tris / n;
+    s.verticesMean = verts / n;
+    s.imageMae = compared ? mae / compared : -1.0;
+    s.budgetAbsDevP95 = percentile(dev, 0.95);
+    return s;
+}
+
+void writeCsv(const std::string& file, const WalkPath& path, const std::vector<ModeRun>& runs) {
+    std::FILE* f = std::fopen(file.c_str(), "w");
+    if (!f) throw std::runtime_error("cannot write " + file);
+    std::fprintf(f,
+                 "mode,frame,segment,workshop,eye_x,eye_y,eye_z,triangles,vertices,geometries,cull_ms,draw_ms,"
+                 "frame_ms,image_mae\n");
+    for (const ModeRun& run : runs)
+        for (const FrameRecord& r : run.frames) {
+            const PathFrame& p = path.frames[size_t(r.frame)];
+            std::fprintf(f, "%s,%d,%s,%d,%.3f,%.3f,%.3f,%llu,%llu,%llu,%.3f,%.3f,%.3f,%.4f\n", modeName(run.mode),
+                         r.frame, p.segment.c_str(), p.workshop, p.eye.x, p.eye.y, p.eye.z,
+                         (unsigned long long)r.triangles, (unsigned long long)r.vertices,
+                         (unsigned long long)r.geometries, r.cullMs, r.drawMs, r.frameMs, r.mae);
+        }
+    if (std::fclose(f) != 0) throw std::runtime_error("cannot write " + file);
+}
+
+void printTable(std::FILE* out, const Summary& s) {
+    std::fprintf(out, "factory walkthrough: %d frames at %dx%d, site %llu triangles stored\n", s.frames, s.width,
+                 s.height, (unsigned long long)s.trianglesTotal);
+    std::fprintf(out, "  eye inside a workshop %d frames, collision penetrations %d, same-view jitter p95 %.2f ms\n",
+                 s.switchInsideFrames, s.penetrations, s.sameViewJitterP95Ms);
+    std::fprintf(out, "%-30s %10s %10s %10s %10s %8s %10s %9s\n", "", "visible", "visible", "draw", "frame", "frame",
+                 "frame p95", "image");
+    std::fprintf(out, "%-30s %10s %10s %10s %10s %8s %10s %9s\n", "", "triangles", "vertices", "ms (mean)", "ms (mean)",
+                 "rate/s", "ms", "MAE");
+    for (const ModeSummary& m : s.modes) {
+        const std::string label =
+            m.name == "budget" ? "budget " + std::to_string(int(std::lround(m.budgetMs))) + " ms" : m.name;
+        std::fprintf(out, "%-30s %10.0f %10.0f %10.1f %10.1f %8.1f %10.1f %9.3f\n", ("sgkit " + label).c_str(),
+                     m.trianglesMean, m.verticesMean, m.drawMsMean, m.frameMsMean, m.fpsMedian, m.frameMsP95,
+                     m.imageMae);
+    }
+    // Table 1 of the paper: the factory site on an SGI Indigo2/Extreme, 1070x865, two measured views.
+    std::fprintf(out, "%-30s %10d %10d %10.1f %10.1f %8.1f %10s %9s\n", "paper (Indigo2/Extreme)", 3817, 7071, 57.6,
+                 68.9, 14.2, "-", "-");
+    std::fprintf(out, "%-30s %10d %10d %10.1f %10.1f %8.1f %10s %9s\n", "paper (Indigo2/Extreme)", 5243, 9889, 71.5,
+                 83.0, 11.8, "-", "-");
+    std::fprintf(out, "  (sgkit: means over the path; frame rate is the median of 1000 / frame time)\n");
+}
+
+void printJson(std::FILE* out, const Summary& s) {
+    std::fprintf(out, "{\"width\": %d, \"height\": %d, \"frames\": %d, \"triangles_total\": %llu, ", s.width, s.height,
+                 s.frames, (unsigned long long)s.trianglesTotal);
+    std::fprintf(out, "\"penetrations\": %d, \"switch_inside_frames\": %d, \"same_view_jitter_p95_ms\": %.4f",
+                 s.penetrations, s.switchInsideFrames, s.sameViewJitterP95Ms);
+    for (const ModeSummary& m : s.modes) {
+        std::fprintf(out,
+                     ", \"%s\": {\"fps_median\": %.3f, \"frame_ms_median\": %.4f, \"frame_ms_mean\": %.4f, "
+                     "\"frame_ms_p95\": %.4f, \"draw_ms_mean\": %.4f, \"triangles_visible_mean\": %.1f, "
+                     "\"vertices_visible_mean\": %.1f, \"image_mae\": %.5f",
+                     m.name.c_str(), m.fpsMedian, m.frameMsMedian, m.frameMsMean, m.frameMsP95, m.drawMsMean,
+                     m.trianglesMean, m.verticesMean, m.imageMae);
+        if (m.name == "budget")
+            std::fprintf(out, ", \"budget_ms\": %.3f, \"budget_abs_dev_p95_ms\": %.4f", m.budgetMs, m.budgetAbsDevP95);
+        std::fprintf(out, "}");
+    }
+    std::fprintf(out, "}\n");
+}
+
+}  // namespace factory

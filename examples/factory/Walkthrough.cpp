@@ -1,0 +1,143 @@
+#include "factory/Walkthrough.h"
+
+#include "sg/lod/LodStress.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+
+namespace factory {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+uint64_t vertices(const sg::DrawList& list) {
+    uint64_t n = 0;
+    for (const sg::DrawItem& it : list.items) n += it.mesh->positions().size();
+    return n;
+}
+}  // namespace
+
+const char* modeName(LodMode m) {
+    switch (m) {
+        case LodMode::Static: return "static";
+        case LodMode::Budget: return "budget";
+        case LodMode::Stress: return "stress";
+    }
+    return "?";
+}
+
+double meanAbsError(const sg::Image& a, const sg::Image& b, uint64_t* differing) {
+    double sum = 0.0;
+    uint64_t differ = 0;
+    const size_t n = std::min(a.rgba.size(), b.rgba.size());
+    for (size_t p = 0; p + 3 < n; p += 4) {
+        int d = 0;
+        for (int k = 0; k < 3; ++k) {
+            const int x = std::abs(int(a.rgba[p + k]) - int(b.rgba[p + k]));
+            sum += x;
+            d |= x;
+        }
+        differ += d != 0;
+    }
+    if (differing) *differing = differ + (a.rgba.size() != b.rgba.size() ? 1 : 0);
+    return n ? sum / (3.0 * double(n / 4)) : 0.0;
+}
+
+Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height)
+    : f_(f), scene_(scene), path_(path), width_(width), height_(height) {}
+
+void Walkthrough::showWorkshop(int workshop) {
+    if (workshop == shown_) return;
+    scenes::setFactoryEye(f_, workshop);
+    scene_.update();
+    shown_ = workshop;
+}
+
+sg::Image Walkthrough::render(int frame, const sg::CullSettings& set, sg::CullStats& stats) {
+    const PathFrame& p = path_.frames.at(size_t(frame));
+    showWorkshop(p.workshop);
+    const sg::Camera cam = pathCamera(p, width_, height_);
+    refCull_.cull(scene_, cam, set, list_, stats);
+    renderer_.draw(list_, cam);
+    return renderer_.readColor();
+}
+
+std::vector<double> Walkthrough::sameView(int frame, int draws) {
+    const PathFrame& p = path_.frames.at(size_t(frame));
+    showWorkshop(p.workshop);
+    const sg::Camera cam = pathCamera(p, width_, height_);
+    sg::CullSettings set;
+    sg::CullStats st;
+    std::vector<double> ms;
+    for (int i = 0; i < draws + 3; ++i) {  // the first draws upload meshes: not timed
+        const auto t0 = Clock::now();
+        cull_.cull(scene_, cam, set, list_, st);
+        renderer_.draw(list_, cam);
+        renderer_.finish();
+        if (i >= 3) ms.push_back(msSince(t0));
+    }
+    return ms;
+}
+
+ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
+                         const std::function<void(int, const sg::Image&)>& onFrame) {
+    ModeRun out;
+    out.mode = mode;
+    out.budgetMs = budgetMs;
+    sg::DrawCostModel model;
+    sg::LodStress::Params sp;
+    sp.budgetMs = budgetMs;
+    sg::LodStress stress(sp);
+    sg::CullSettings full;  // the reference: every LOD at its finest level
+    full.lodScale = 1e-9;
+    double lastCullMs = 0.0;
+    sg::CullStats st;
+    // One frame: switch state, cull, draw, finish; then the method learns from the measured time.
+    auto frame = [&](int i, FrameRecord& r) {
+        const PathFrame& p = path_.frames[size_t(i)];
+        const sg::Camera cam = pathCamera(p, width_, height_);
+        sg::CullSettings set;
+        if (mode == LodMode::Stress) set.lodScale = stress.scale();
+        if (mode == LodMode::Budget) {
+            set.lodBudget.enabled = true;
+            set.lodBudget.model = &model;
+            set.lodBudget.budgetMs = std::max(1.0, budgetMs - lastCullMs);  // the cull's own time comes off
+        }
+        const auto t0 = Clock::now();
+        showWorkshop(p.workshop);
+        cull_.cull(scene_, cam, set, list_, st);
+        r.cullMs = msSince(t0);
+        const auto t1 = Clock::now();
+        renderer_.draw(list_, cam);
+        renderer_.finish();
+        r.drawMs = msSince(t1);
+        r.frameMs = msSince(t0);
+        lastCullMs = r.cullMs;
+        if (mode == LodMode::Stress) stress.update(r.frameMs);
+        model.update({double(st.triangles), double(st.geometries), st.lodPixels}, r.drawMs);
+        r.frame = i;
+        r.triangles = st.triangles;
+        r.geometries = st.geometries;
+        r.vertices = vertices(list_);
+    };
+    const int n = int(path_.frames.size());
+    FrameRecord warm;
+    for (int i = 0; i < std::min(n, 40); ++i) frame(i, warm);
+    for (int i = 0; i < n; ++i) {
+        FrameRecord r;
+        frame(i, r);
+        if (compare || onFrame) {
+            const sg::Image got = renderer_.readColor();
+            if (onFrame) onFrame(i, got);
+            if (compare) {
+                sg::CullStats rs;
+                r.mae = meanAbsError(got, render(i, full, rs));
+            }
+        }
+        out.frames.push_back(r);
+    }
+    return out;
+}
+
+}  // namespace factory

@@ -1,0 +1,61 @@
+// The walkthrough's run loop: draws the path's frames with one of three ways of choosing LOD levels
+// (static ranges, Performer's stress, the time budget), timing each frame and counting what it drew.
+#pragma once
+#include "factory/WalkPath.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/Renderer.h"
+#include "sg/lod/DrawCostModel.h"
+
+#include <functional>
+#include <vector>
+
+namespace factory {
+
+enum class LodMode { Static, Budget, Stress };
+const char* modeName(LodMode m);
+
+struct FrameRecord {
+    int frame = 0;
+    double cullMs = 0.0, drawMs = 0.0, frameMs = 0.0;  // frame: switch update + cull + draw until finished
+    uint64_t triangles = 0, vertices = 0, geometries = 0;
+    double mae = -1.0;  // against the full-detail render of the same view (0-255), -1 when not compared
+};
+
+struct ModeRun {
+    LodMode mode = LodMode::Static;
+    double budgetMs = 0.0;
+    std::vector<FrameRecord> frames;
+};
+
+class Walkthrough {
+public:
+    // Needs a current OpenGL context of width x height (the renderer's); keeps references to its arguments.
+    Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height);
+
+    // The whole path once in `mode` (after a warm-up on its first frames, so that the stress scale and the
+    // draw-cost model have settled). With compare, each frame is also drawn at full detail for image_mae.
+    // onFrame(i, image) sees every timed frame's picture when set (it costs a read-back).
+    ModeRun run(LodMode mode, double budgetMs, bool compare,
+                const std::function<void(int, const sg::Image&)>& onFrame = nullptr);
+    // Path frame `frame` drawn `draws` times with the static settings: the frame times.
+    std::vector<double> sameView(int frame, int draws);
+    // Path frame `frame` with `set` (Switch state as the path has it): its picture and cull counts.
+    sg::Image render(int frame, const sg::CullSettings& set, sg::CullStats& stats);
+    sg::Renderer& renderer() { return renderer_; }
+
+private:
+    void showWorkshop(int workshop);
+    scenes::Factory& f_;
+    sg::Scene& scene_;
+    const WalkPath& path_;
+    int width_, height_;
+    int shown_ = -1;
+    sg::Renderer renderer_;
+    sg::CullTraversal cull_, refCull_;
+    sg::DrawList list_;
+};
+
+// Mean absolute difference per channel over RGB (0-255), and the number of pixels that differ at all.
+double meanAbsError(const sg::Image& a, const sg::Image& b, uint64_t* differing = nullptr);
+
+}  // namespace factory

@@ -1,0 +1,165 @@
+// The factory walkthrough (examples/factory): a short path's invariants in process (Switch state inside the
+// workshop, no collision penetrations, visible triangles below the site's total, the machine mesh stored
+// once, frames equal to their no-cull references), and the program itself (JSON, pictures, bad options).
+#include "factory/Walkthrough.h"
+#include "sg/gl/OsmesaContext.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+using namespace factory;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kFrames = 40, kW = 320, kH = 240;
+
+struct Site {
+    scenes::Factory f = scenes::buildFactory();
+    sg::Scene scene{f.root};
+    WalkPath path;
+    Site() {
+        scene.update();
+        path = buildWalkPath(f, scene, kFrames);
+    }
+};
+Site& site() {
+    static Site s;
+    return s;
+}
+
+TEST(FactoryRun, PathEntersAWorkshopWithoutPenetrating) {
+    Site& s = site();
+    ASSERT_EQ(int(s.path.frames.size()), kFrames);
+    EXPECT_EQ(s.path.penetrations, 0);
+    EXPECT_GT(s.path.insideFrames, 0);
+    EXPECT_LT(s.path.insideFrames, kFrames);  // it also walks outside
+    const sg::Box& box = s.f.buildings[size_t(s.f.workshops[size_t(s.path.workshop)].building)].box;
+    for (const PathFrame& p : s.path.frames) {
+        EXPECT_EQ(p.workshop >= 0, box.contains(p.eye)) << p.segment;
+        if (p.walking) {
+            EXPECT_NEAR(p.eye.z, s.f.terrainHeight(p.eye.x, p.eye.y) + 1.7, 0.05) << p.segment;
+        }
+    }
+}
+
+TEST(FactoryRun, MachineMeshStoredOnce) {
+    scenes::FactoryParams fewer;
+    fewer.machinesPerWorkshop = 5;
+    const scenes::Factory small = scenes::buildFactory(fewer);
+    const scenes::Factory& full = site().f;
+    // 12 more placements per workshop draw 12 more machines but store nothing more.
+    EXPECT_EQ(full.storedTriangles, small.storedTriangles);
+    EXPECT_EQ(full.drawnTriangles - small.drawnTriangles, uint64_t(4 * 12 * full.machineMesh->triangleCount()));
+    EXPECT_EQ(full.machineMesh->triangleCount(), 2886u);
+}
+
+TEST(FactoryRun, StaticRunDrawsLessThanTheSiteAndSwitchesInside) {
+    Site& s = site();
+    sg::OsmesaContext ctx(kW, kH);
+    Walkthrough walk(s.f, s.scene, s.path, kW, kH);
+    const ModeRun run = walk.run(LodMode::Static, 33.0, false);
+    ASSERT_EQ(int(run.frames.size()), kFrames);
+    for (const FrameRecord& r : run.frames) {
+        EXPECT_GT(r.triangles, 0u);
+        EXPECT_LT(r.triangles, s.f.storedTriangles) << "frame " << r.frame;
+        EXPECT_GT(r.vertices, 0u);
+    }
+    for (int i = 0; i < kFrames; ++i) {
+        const int k = s.path.frames[size_t(i)].workshop;
+        sg::CullStats st;
+        walk.render(i, sg::CullSettings{}, st);
+        EXPECT_EQ(s.f.outside->isOn(0), k < 0) << "frame " << i;
+        for (size_t w = 0; w < s.f.workshops.size(); ++w)
+            EXPECT_EQ(s.f.workshops[w].interior->isOn(0), int(w) == k) << "frame " << i << " workshop " << w;
+    }
+}
+
+TEST(FactoryRun, FramesEqualTheirNoCullReferences) {
+    Site& s = site();
+    sg::OsmesaContext ctx(kW, kH);
+    Walkthrough walk(s.f, s.scene, s.path, kW, kH);
+    sg::CullSettings none;  // the same LOD settings, nothing culled (occlusion included)
+    none.strategy = sg::CullStrategy::None;
+    int compared[2] = {}, culledSome[2] = {};  // outside, inside
+    for (int i = 0; i < kFrames; ++i) {
+        const int in = s.path.frames[size_t(i)].workshop >= 0 ? 1 : 0;
+        sg::CullStats culled, all;
+        const sg::Image got = walk.render(i, sg::CullSettings{}, culled);
+        uint64_t differing = 0;
+        meanAbsError(got, walk.render(i, none, all), &differing);
+        EXPECT_EQ(differing, 0u) << "frame " << i << " (" << s.path.frames[size_t(i)].segment << ")";
+        ++compared[in];
+        culledSome[in] += culled.geometries < all.geometries;
+    }
+    EXPECT_GE(compared[0], 6);
+    EXPECT_GE(compared[1], 6);
+    // The comparison means something only where the cull left things out, inside and outside.
+    EXPECT_GT(culledSome[0], 0);
+    EXPECT_GT(culledSome[1], 0);
+}
+
+struct Result {
+    int code = -1;
+    std::string out, err;
+};
+std::string slurp(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+fs::path scratch() {
+    const auto* t = testing::UnitTest::GetInstance()->current_test_info();
+    const fs::path dir = fs::temp_directory_path() / (std::string("factory_") + t->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+Result runFactory(const std::string& args) {
+    const fs::path dir = scratch();
+    const int status =
+        std::system(("cd '" + dir.string() + "' && '" FACTORY_EXE "' " + args + " > out.txt 2> err.txt").c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(dir / "out.txt");
+    r.err = slurp(dir / "err.txt");
+    return r;
+}
+
+TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
+    const Result r = runFactory("--headless --json --frames 40 --size 160x120 --jitter-draws 5 --out-dir pics");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* key :
+         {"\"triangles_total\": ", "\"penetrations\": 0,",
+          "\"switch_inside_frames\": ", "\"same_view_jitter_p95_ms\": ", "\"static\": {", "\"budget\": {",
+          "\"stress\": {", "\"fps_median\": ", "\"image_mae\": ", "\"budget_ms\": 33.000",
+          "\"budget_abs_dev_p95_ms\": ", "\"triangles_visible_mean\": ", "\"vertices_visible_mean\": "})
+        EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
+    EXPECT_EQ(r.out.find("\"switch_inside_frames\": 0,"), std::string::npos) << r.out;
+    const fs::path dir = fs::temp_directory_path() / "factory_ProgramPrintsJsonAndWritesPictures" / "pics";
+    for (const char* file : {"factory-outside.png", "factory-inside.png", "factory-frames.csv"})
+        EXPECT_TRUE(fs::exists(dir / file)) << file;
+    // A header and one row per mode and frame.
+    const std::string csv = slurp(dir / "factory-frames.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 40);
+}
+
+TEST(FactoryRun, BadOptionsExitWithCode2) {
+    for (const char* bad :
+         {"--size 0x0", "--size 100", "--frames abc", "--frames 3", "--budget-ms -1", "--bogus", "--frames"}) {
+        const Result r = runFactory(bad);
+        EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
+        const std::string option = std::string(bad).substr(0, std::string(bad).find(' '));
+        EXPECT_NE(r.err.find(option), std::string::npos) << bad << ": " << r.err;
+    }
+}
+
+}  // namespace
