@@ -1,0 +1,72 @@
+// VertexLightBaker: view-independent lighting (a sun with soft shadows, ambient occlusion) computed per
+// vertex by casting segments through a Scene, stored as vertex colours, and cached on disk.
+#pragma once
+#include "sg/core/Mesh.h"
+#include "sg/intersect/Intersect.h"
+#include "sg/scene/Scene.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sg {
+
+// A mesh placed once in the world: its vertices are lit where `world` puts them.
+struct BakeTarget {
+    ref_ptr<Mesh> mesh;
+    dmat4 world{1.0};
+};
+
+struct VertexLightParams {
+    dvec3 sunDirection = dvec3(0.0, 0.0, 1.0);  // toward the sun (need not be unit)
+    double sunAngularRadius = 0.02;             // radians: the width of the penumbra
+    int sunSamples = 16;                        // jittered rays toward the sun's disc per vertex
+    int aoSamples = 32;                         // cosine-weighted hemisphere rays per vertex
+    double aoDistance = 8.0;                    // an occluder further than this does not darken
+    double sunDistance = 2000.0;                // sun rays stop here (beyond the scene)
+    double offset = 0.05;                       // ray origins lifted along the normal (no self-hits)
+    // Each vertex samples the light this share of the way toward the mean centroid of its triangles, at
+    // most insetMax (mesh units) from it: the corner of a large face is not what the whole face sees.
+    double insetFraction = 0.3;
+    double insetMax = 1.5;
+    float ambient = 0.45f, direct = 0.75f;  // colour = albedo * (ambient * ao + direct * sun)
+    QueryOptions query;                     // what the rays see (mask, LOD choice)
+    int threads = 2;
+};
+
+// Per vertex of one target, both in [0, 1].
+struct VertexLight {
+    std::vector<float> sun;  // share of the sun rays that escape, times max(0, n.l)
+    std::vector<float> ao;   // share of the hemisphere rays that escape within aoDistance
+};
+
+class VertexLightBaker {
+public:
+    // Bumped whenever what a bake produces changes: older cache files are then ignored.
+    static constexpr uint32_t kVersion = 1;
+
+    // `scene` must be updated and hold what casts shadows. Deterministic: the jitter depends only on the
+    // vertex and sample index. Throws std::invalid_argument naming the function for a null mesh, a zero or
+    // non-finite sun direction, negative counts or distances.
+    static std::vector<VertexLight> compute(const Scene& scene, const std::vector<BakeTarget>& targets,
+                                            const VertexLightParams& params);
+    // colours = albedo * (ambient * ao + direct * sun), the albedo being the mesh's colours (white when it
+    // has none); alpha kept.
+    static std::vector<vec4> shade(const Mesh& mesh, const VertexLight& light, const VertexLightParams& params);
+    // Replaces the mesh's colours, keeping its other arrays.
+    static void setColors(Mesh& mesh, std::vector<vec4> colors);
+
+    // Bakes every target and sets its colours, reading them from `dir` when a file there matches (key,
+    // kVersion, the parameters, the targets' vertex counts and albedo); otherwise computes them and writes
+    // the file. A corrupt or mismatched file is recomputed and overwritten. Returns true when the cache was
+    // used. An empty `dir` disables the cache; an unwritable one only costs the next start a bake.
+    static bool bakeCached(const Scene& scene, const std::vector<BakeTarget>& targets, const VertexLightParams& params,
+                           uint64_t key, const std::string& dir);
+    // The file bakeCached() reads and writes for these inputs.
+    static std::string cachePath(const std::vector<BakeTarget>& targets, const VertexLightParams& params, uint64_t key,
+                                 const std::string& dir);
+    // $XDG_CACHE_HOME/sgkit, else $HOME/.cache/sgkit, else empty (no cache).
+    static std::string defaultCacheDir();
+};
+
+}  // namespace sg

@@ -1,0 +1,159 @@
+// VertexLightBaker: a box on a ground plate, lit by a sun from +x at 45 degrees: shadow, ambient
+// occlusion at the box's foot, no direct light on faces turned away, determinism, the disk cache.
+#include "nodes/Geometry.h"
+#include "nodes/Group.h"
+#include "sg/intersect/VertexLightBaker.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+using namespace sg;
+
+namespace {
+struct Site {
+    ref_ptr<Mesh> ground = makeBoxMesh(dvec3(-10, -10, -1), dvec3(10, 10, 0), 20);
+    ref_ptr<Mesh> box = makeBoxMesh(dvec3(-1, -1, 0), dvec3(1, 1, 2), 2);
+    ref_ptr<Group> root = make<Group>();
+    Scene scene{root};
+    Site() {
+        root->addChild(make<Geometry>(ground, make<Material>()));
+        root->addChild(make<Geometry>(box, make<Material>()));
+        scene.update();
+    }
+    std::vector<BakeTarget> targets() const { return {{ground, dmat4(1.0)}, {box, dmat4(1.0)}}; }
+};
+
+VertexLightParams params() {
+    VertexLightParams p;
+    p.sunDirection = dvec3(1, 0, 1);
+    p.sunSamples = 8;
+    p.aoSamples = 32;
+    p.aoDistance = 3.0;
+    return p;
+}
+
+// The vertex at `pos` whose normal is `nrm`.
+size_t vertexAt(const Mesh& m, const vec3& pos, const vec3& nrm) {
+    for (size_t i = 0; i < m.positions().size(); ++i)
+        if (glm::length(m.positions()[i] - pos) < 1e-5f && glm::length(m.normals()[i] - nrm) < 1e-5f) return i;
+    ADD_FAILURE() << "no vertex at " << pos.x << " " << pos.y << " " << pos.z;
+    return 0;
+}
+
+std::filesystem::path freshDir(const std::string& name) {
+    const auto d = std::filesystem::temp_directory_path() / ("sgkit-vlb-" + name);
+    std::filesystem::remove_all(d);
+    return d;
+}
+}  // namespace
+
+TEST(VertexLightBaker, ShadowAwayFromTheSunAndOcclusionAtTheFoot) {
+    Site s;
+    const auto light = VertexLightBaker::compute(s.scene, s.targets(), params());
+    ASSERT_EQ(light.size(), 2u);
+    const Mesh& g = *s.ground;
+    const vec3 up(0, 0, 1);
+    const size_t shadowed = vertexAt(g, vec3(-2, 0, 0), up), lit = vertexAt(g, vec3(6, 0, 0), up);
+    const size_t foot = vertexAt(g, vec3(2, 0, 0), up), far = vertexAt(g, vec3(8, 8, 0), up);
+    // Open ground sees the whole sun at 45 degrees: n.l = cos 45.
+    EXPECT_NEAR(light[0].sun[lit], std::sqrt(0.5), 1e-6);
+    EXPECT_LT(light[0].sun[shadowed], 0.2f);
+    // Sunlit but beside the wall: the box hides part of the sky.
+    EXPECT_NEAR(light[0].sun[foot], std::sqrt(0.5), 1e-6);
+    EXPECT_LT(light[0].ao[foot], light[0].ao[far] - 0.1f);
+    EXPECT_FLOAT_EQ(light[0].ao[far], 1.0f);
+    // The box's -x face looks away from the sun; its +x face gets it all.
+    const size_t back = vertexAt(*s.box, vec3(-1, 0, 1), vec3(-1, 0, 0));
+    const size_t front = vertexAt(*s.box, vec3(1, 0, 1), vec3(1, 0, 0));
+    EXPECT_EQ(light[1].sun[back], 0.0f);
+    EXPECT_NEAR(light[1].sun[front], std::sqrt(0.5), 1e-6);
+}
+
+TEST(VertexLightBaker, DeterministicWhateverTheThreads) {
+    Site s;
+    VertexLightParams p = params();
+    const auto a = VertexLightBaker::compute(s.scene, s.targets(), p);
+    p.threads = 1;
+    const auto b = VertexLightBaker::compute(s.scene, s.targets(), p);
+    for (size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].sun, b[i].sun);
+        EXPECT_EQ(a[i].ao, b[i].ao);
+    }
+}
+
+TEST(VertexLightBaker, ShadeMultipliesTheAlbedo) {
+    Site s;
+    const VertexLightParams p = params();
+    const auto light = VertexLightBaker::compute(s.scene, s.targets(), p);
+    const auto c = VertexLightBaker::shade(*s.ground, light[0], p);
+    const size_t shadowed = vertexAt(*s.ground, vec3(-2, 0, 0), vec3(0, 0, 1));
+    const size_t lit = vertexAt(*s.ground, vec3(6, 0, 0), vec3(0, 0, 1));
+    EXPECT_NEAR(c[lit].r, p.ambient * light[0].ao[lit] + p.direct * light[0].sun[lit], 1e-6);
+    EXPECT_LT(c[shadowed].g, c[lit].g);
+    EXPECT_EQ(c[lit].a, 1.0f);
+}
+
+TEST(VertexLightBaker, BadInputRefused) {
+    Site s;
+    VertexLightParams p = params();
+    p.sunDirection = dvec3(0.0);
+    try {
+        VertexLightBaker::compute(s.scene, s.targets(), p);
+        FAIL() << "no exception for a zero sun direction";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("VertexLightBaker::compute(): ", 0), 0u) << e.what();
+    }
+    EXPECT_THROW(VertexLightBaker::compute(s.scene, {{nullptr, dmat4(1.0)}}, params()), std::invalid_argument);
+}
+
+TEST(VertexLightBaker, CacheRoundTripsAndCorruptFilesAreRebaked) {
+    const auto dir = freshDir("cache").string();
+    std::vector<vec4> ground, box;
+    std::string path;
+    {
+        Site s;
+        path = VertexLightBaker::cachePath(s.targets(), params(), 7, dir);
+        EXPECT_FALSE(VertexLightBaker::bakeCached(s.scene, s.targets(), params(), 7, dir));
+        ground = s.ground->colors();
+        box = s.box->colors();
+        ASSERT_EQ(ground.size(), s.ground->positions().size());
+        ASSERT_TRUE(std::filesystem::exists(path));
+    }
+    {
+        Site s;
+        EXPECT_TRUE(VertexLightBaker::bakeCached(s.scene, s.targets(), params(), 7, dir));
+        EXPECT_EQ(s.ground->colors(), ground);
+        EXPECT_EQ(s.box->colors(), box);
+    }
+    {  // another key or other parameters: another file
+        Site s;
+        EXPECT_NE(VertexLightBaker::cachePath(s.targets(), params(), 8, dir), path);
+        VertexLightParams p = params();
+        p.aoSamples = 16;
+        EXPECT_NE(VertexLightBaker::cachePath(s.targets(), p, 7, dir), path);
+    }
+    {  // flipped bytes in the colours: rebaked, the same colours, the file repaired
+        std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(200);
+        const char junk[8] = {'\x7f', '\x7f', '\x7f', '\x7f', '\x7f', '\x7f', '\x7f', '\x7f'};
+        f.write(junk, 8);
+    }
+    {
+        Site s;
+        EXPECT_FALSE(VertexLightBaker::bakeCached(s.scene, s.targets(), params(), 7, dir));
+        EXPECT_EQ(s.ground->colors(), ground);
+    }
+    {
+        Site s;
+        EXPECT_TRUE(VertexLightBaker::bakeCached(s.scene, s.targets(), params(), 7, dir));
+    }
+    std::filesystem::resize_file(path, 100);  // truncated
+    {
+        Site s;
+        EXPECT_FALSE(VertexLightBaker::bakeCached(s.scene, s.targets(), params(), 7, dir));
+        EXPECT_EQ(s.box->colors(), box);
+    }
+    std::filesystem::remove_all(dir);
+}
