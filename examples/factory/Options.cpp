@@ -22,7 +22,8 @@ long integer(const std::string& name, const std::string& v, long lo, long hi) {
 }  // namespace
 
 const char* usage() {
-    return "usage: factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]\n";
+    return "usage: factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]\n"
+           "               [--cache-dir DIR] [--no-lighting]\n";
 }
 
 Options parseOptions(int argc, char** argv) {
@@ -53,6 +54,11 @@ Options parseOptions(int argc, char** argv) {
         } else if (k == "--out-dir") {
             o.outDir = value(argc, argv, i);
             if (o.outDir.empty()) throw OptionError("--out-dir is empty");
+        } else if (k == "--cache-dir") {
+            o.cacheDir = value(argc, argv, i);
+            if (o.cacheDir.empty()) throw OptionError("--cache-dir is empty");
+        } else if (k == "--no-lighting") {
+            o.lighting = false;
         } else if (k == "--jitter-draws") {
             o.jitterDraws = int(integer(k, value(argc, argv, i), 2, 10000));
         } else {

@@ -13,6 +13,8 @@ struct Options {
     bool json = false;
     bool headless = true;  // the only way it runs so far; the flag is accepted for the documented command
     int jitterDraws = 60;  // the fixed view drawn this many times for the same-view jitter
+    bool lighting = true;  // the baked sun and ambient occlusion (scenes::bakeFactoryLighting)
+    std::string cacheDir;  // where the bake is cached; empty: sg::VertexLightBaker::defaultCacheDir()
 };
 
 // A bad command line: what() names the option; the program exits with code 2.

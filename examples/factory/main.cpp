@@ -7,6 +7,7 @@
 #include "factory/Report.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/io/ImageIO.h"
+#include "testbed/FactoryLighting.h"
 
 #include <algorithm>
 #include <chrono>
@@ -48,6 +49,14 @@ int main(int argc, char** argv) {
         const auto t0 = Clock::now();
         std::fprintf(stderr, "factory: building the site...\n");
         scenes::Factory f = scenes::buildFactory();
+        if (o.lighting) {
+            std::fprintf(stderr, "factory: lighting (sun, soft shadows, ambient occlusion)...\n");
+            const std::string dir = o.cacheDir.empty() ? sg::VertexLightBaker::defaultCacheDir() : o.cacheDir;
+            const scenes::FactoryLightingStats ls = scenes::bakeFactoryLighting(f, dir);
+            std::fprintf(stderr, "factory: lighting %s in %.1f s (%llu vertices of %d meshes; cache %s)\n",
+                         ls.cached ? "read from the cache" : "baked", ls.ms / 1000.0, (unsigned long long)ls.vertices,
+                         ls.targets, dir.c_str());
+        }
         sg::Scene scene(f.root);
         scene.update();
         std::fprintf(stderr, "factory: site built in %.1f s; walking the path (%d frames)...\n", secondsSince(t0),

@@ -135,7 +135,8 @@ Result runFactory(const std::string& args) {
 }
 
 TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
-    const Result r = runFactory("--headless --json --frames 40 --size 160x120 --jitter-draws 5 --out-dir pics");
+    const Result r =
+        runFactory("--headless --json --frames 40 --size 160x120 --jitter-draws 5 --out-dir pics --cache-dir cache");
     ASSERT_EQ(r.code, 0) << r.err;
     for (const char* key :
          {"\"triangles_total\": ", "\"penetrations\": 0,",
@@ -144,6 +145,7 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
           "\"budget_abs_dev_p95_ms\": ", "\"triangles_visible_mean\": ", "\"vertices_visible_mean\": "})
         EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
     EXPECT_EQ(r.out.find("\"switch_inside_frames\": 0,"), std::string::npos) << r.out;
+    EXPECT_NE(r.err.find("factory: lighting baked"), std::string::npos) << r.err;  // a new cache directory
     const fs::path dir = fs::temp_directory_path() / "factory_ProgramPrintsJsonAndWritesPictures" / "pics";
     for (const char* file : {"factory-outside.png", "factory-inside.png", "factory-frames.csv"})
         EXPECT_TRUE(fs::exists(dir / file)) << file;
@@ -153,8 +155,8 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
 }
 
 TEST(FactoryRun, BadOptionsExitWithCode2) {
-    for (const char* bad :
-         {"--size 0x0", "--size 100", "--frames abc", "--frames 3", "--budget-ms -1", "--bogus", "--frames"}) {
+    for (const char* bad : {"--size 0x0", "--size 100", "--frames abc", "--frames 3", "--budget-ms -1", "--bogus",
+                            "--frames", "--cache-dir"}) {
         const Result r = runFactory(bad);
         EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
         const std::string option = std::string(bad).substr(0, std::string(bad).find(' '));
