@@ -25,23 +25,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// Mean absolute difference per channel (0-255) over RGB, and the share of pixels that differ.
-void imageError(const sg::Image& a, const sg::Image& b, double& mae, double& pct) {
-    double sum = 0.0;
-    size_t differ = 0;
-    for (size_t p = 0; p + 3 < a.rgba.size(); p += 4) {
-        int d = 0;
-        for (int k = 0; k < 3; ++k) {
-            const int x = std::abs(int(a.rgba[p + k]) - int(b.rgba[p + k]));
-            sum += x;
-            d |= x;
-        }
-        differ += d != 0;
-    }
-    const double n = double(a.rgba.size() / 4);
-    mae = sum / (3.0 * n);
-    pct = 100.0 * double(differ) / n;
-}
 void setLevelErrorsToZero(sg::Node& n) {
     if (n.kind() == sg::NodeKind::LOD) {
         auto& lod = static_cast<sg::LOD&>(n);
@@ -153,10 +136,9 @@ int runLod(const Args& a) {
         sg::CullStats rs;
         refCull.cull(scene, cam, full, list, rs);
         renderer.draw(list, cam);
-        double m = 0, p = 0;
-        imageError(got, renderer.readColor(), m, p);
-        mae += m;
-        pct += p;
+        const sg::Image ref = renderer.readColor();
+        mae += sg::meanAbsoluteError(got, ref);
+        pct += 100.0 * double(sg::countDifferingPixels(got, ref)) / double(got.width * got.height);
     }
     const double k = double(cams.size());
     double mean = 0;

@@ -27,23 +27,6 @@ const char* modeName(LodMode m) {
     return "?";
 }
 
-double meanAbsError(const sg::Image& a, const sg::Image& b, uint64_t* differing) {
-    double sum = 0.0;
-    uint64_t differ = 0;
-    const size_t n = std::min(a.rgba.size(), b.rgba.size());
-    for (size_t p = 0; p + 3 < n; p += 4) {
-        int d = 0;
-        for (int k = 0; k < 3; ++k) {
-            const int x = std::abs(int(a.rgba[p + k]) - int(b.rgba[p + k]));
-            sum += x;
-            d |= x;
-        }
-        differ += d != 0;
-    }
-    if (differing) *differing = differ + (a.rgba.size() != b.rgba.size() ? 1 : 0);
-    return n ? sum / (3.0 * double(n / 4)) : 0.0;
-}
-
 Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height)
     : f_(f), scene_(scene), path_(path), width_(width), height_(height) {}
 
@@ -132,7 +115,7 @@ ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
             if (onFrame) onFrame(i, got);
             if (compare) {
                 sg::CullStats rs;
-                r.mae = meanAbsError(got, render(i, full, rs));
+                r.mae = sg::meanAbsoluteError(got, render(i, full, rs));
             }
         }
         out.frames.push_back(r);

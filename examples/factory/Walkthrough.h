@@ -55,7 +55,4 @@ private:
     sg::DrawList list_;
 };
 
-// Mean absolute difference per channel over RGB (0-255), and the number of pixels that differ at all.
-double meanAbsError(const sg::Image& a, const sg::Image& b, uint64_t* differing = nullptr);
-
 }  // namespace factory

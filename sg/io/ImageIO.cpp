@@ -26,11 +26,17 @@ Image loadPng(const std::string& path) {
     return img;
 }
 
-size_t countDifferingPixels(const Image& a, const Image& b, int tol) {
+namespace {
+void checkSameSize(const char* fn, const Image& a, const Image& b) {
     if (a.width != b.width || a.height != b.height || a.rgba.size() != b.rgba.size())
-        throw std::invalid_argument("countDifferingPixels(): sizes differ (" + std::to_string(a.width) + "x" +
+        throw std::invalid_argument(std::string(fn) + ": sizes differ (" + std::to_string(a.width) + "x" +
                                     std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" +
                                     std::to_string(b.height) + ")");
+}
+}  // namespace
+
+size_t countDifferingPixels(const Image& a, const Image& b, int tol) {
+    checkSameSize("countDifferingPixels()", a, b);
     size_t n = 0;
     for (size_t i = 0; i < a.rgba.size(); i += 4) {
         bool differ = false;
@@ -38,6 +44,15 @@ size_t countDifferingPixels(const Image& a, const Image& b, int tol) {
         n += differ;
     }
     return n;
+}
+
+double meanAbsoluteError(const Image& a, const Image& b) {
+    checkSameSize("meanAbsoluteError()", a, b);
+    double sum = 0.0;
+    for (size_t i = 0; i < a.rgba.size(); i += 4)
+        for (size_t c = 0; c < 3; ++c) sum += std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c]));
+    const size_t pixels = a.rgba.size() / 4;
+    return pixels ? sum / (3.0 * double(pixels)) : 0.0;
 }
 
 }  // namespace sg

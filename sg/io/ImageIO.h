@@ -18,5 +18,8 @@ Image loadPng(const std::string& path);
 // Pixels whose RGB differs by more than `tolerance` in any channel. Throws std::invalid_argument when
 // the sizes differ.
 size_t countDifferingPixels(const Image& a, const Image& b, int tolerance = 0);
+// Mean absolute difference per channel over RGB (0-255 scale): how far an approximate render is from its
+// reference. Throws std::invalid_argument when the sizes differ.
+double meanAbsoluteError(const Image& a, const Image& b);
 
 }  // namespace sg
