@@ -3,7 +3,7 @@
 #pragma once
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/Renderer.h"
-#include "sgview/Overlay.h"
+#include "sg/gl/TextOverlay.h"
 
 #include <string>
 
@@ -16,7 +16,7 @@ struct FrameStats {
 
 class View {
 public:
-    // Needs a current OpenGL 3.3 core context; same exceptions as sg::Renderer and Overlay.
+    // Needs a current OpenGL 3.3 core context; same exceptions as sg::Renderer and sg::TextOverlay.
     View(const sg::Scene& scene, std::string title);
 
     // Culls the (updated) scene with `settings` and draws it; then the stats overlay when `overlay` is set.
@@ -37,7 +37,7 @@ private:
     sg::DrawList list_;
     sg::CullStats cullStats_;
     sg::Renderer renderer_;
-    Overlay overlay_;
+    sg::TextOverlay overlay_;
 };
 
 // Bounds culled by any test (frustum, the sphere and centre pre-tests, small features, occlusion).

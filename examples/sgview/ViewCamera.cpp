@@ -14,13 +14,6 @@ Box sceneBound(const Scene& scene, bool* valid) {
     return ok ? img.box(0) : Box{dvec3(-1.0), dvec3(1.0)};
 }
 
-void clipPlanes(const Box& bound, const dvec3& eye, double& zNear, double& zFar) {
-    const double r = std::max(glm::length(bound.halfExtent()), 1e-6);
-    const double d = glm::length(eye - bound.center());
-    zFar = (d + r) * 1.01;
-    zNear = std::max((d - r) * 0.99, zFar * 1e-4);
-}
-
 Camera autoCamera(const Box& bound, const dvec3& up, int width, int height) {
     const bool zUp = std::abs(up.z) >= std::abs(up.y);
     const dvec3 u = zUp ? dvec3(0, 0, 1) : dvec3(0, 1, 0);
@@ -43,13 +36,7 @@ Camera autoCamera(const Box& bound, const dvec3& up, int width, int height) {
 }
 
 Camera specCamera(const CameraSpec& spec, const Box& bound, int width, int height) {
-    double zNear = 0.0, zFar = 0.0;
-    clipPlanes(bound, spec.eye, zNear, zFar);
-    Camera cam;
-    cam.setViewport(width, height);
-    cam.setPerspective(kFovY, double(width) / double(height), zNear, zFar);
-    cam.setLookAt(spec.eye, spec.center, spec.up);
-    return cam;
+    return common::fittedCamera(spec.eye, spec.center, spec.up, bound, width, height);
 }
 
 Camera startCamera(const Options& o, const Box& bound, const dvec3& up) {

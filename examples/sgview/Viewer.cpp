@@ -1,8 +1,9 @@
 // The window: GLFW input drives the Navigator; each frame is culled and drawn through View.
+#include "common/MoveKeyEvents.h"
+#include "common/Navigator.h"
 #include "sg/gl/GlfwWindow.h"
 #include "sg/io/ImageIO.h"
 #include "sgview/Modes.h"
-#include "sgview/Navigator.h"
 #include "sgview/Pick.h"
 #include "sgview/View.h"
 #include "sgview/ViewCamera.h"
@@ -18,6 +19,7 @@
 namespace sgview {
 
 using namespace sg;
+using namespace common;
 
 namespace {
 
@@ -102,18 +104,7 @@ int Viewer::run() {
 }
 
 void Viewer::onKey(int key, int action, int) {
-    const bool down = action != GLFW_RELEASE;
-    switch (key) {  // held keys
-        case GLFW_KEY_W: keys_.forward = down; break;
-        case GLFW_KEY_S: keys_.back = down; break;
-        case GLFW_KEY_A: keys_.left = down; break;
-        case GLFW_KEY_D: keys_.right = down; break;
-        case GLFW_KEY_Q: keys_.down = down; break;
-        case GLFW_KEY_E: keys_.up = down; break;
-        case GLFW_KEY_LEFT_SHIFT:
-        case GLFW_KEY_RIGHT_SHIFT: keys_.fast = down; break;
-        default: break;
-    }
+    setMoveKey(keys_, key, action != GLFW_RELEASE);  // held keys
     if (action != GLFW_PRESS) return;
     switch (key) {
         case GLFW_KEY_ESCAPE: window_.close(); break;

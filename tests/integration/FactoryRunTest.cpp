@@ -2,16 +2,13 @@
 // workshop, no collision penetrations, visible triangles below the site's total, the machine mesh stored
 // once, frames equal to their no-cull references), and the program itself (JSON, pictures, bad options).
 #include "factory/Walkthrough.h"
+#include "integration/ProgramRun.h"
 #include "sg/gl/OsmesaContext.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 using namespace factory;
@@ -105,33 +102,16 @@ TEST(FactoryRun, FramesEqualTheirNoCullReferences) {
     EXPECT_GT(culledSome[1], 0);
 }
 
-struct Result {
-    int code = -1;
-    std::string out, err;
-};
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+using Result = ProgramRun;
+
+// This test's own directory, emptied: a new bake cache each run.
 fs::path scratch() {
-    const auto* t = testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path dir = fs::temp_directory_path() / (std::string("factory_") + t->name());
+    const fs::path dir = testDirectory("factory_");
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;
 }
-Result runFactory(const std::string& args) {
-    const fs::path dir = scratch();
-    const int status =
-        std::system(("cd '" + dir.string() + "' && '" FACTORY_EXE "' " + args + " > out.txt 2> err.txt").c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(dir / "out.txt");
-    r.err = slurp(dir / "err.txt");
-    return r;
-}
+Result runFactory(const std::string& args) { return runProgram(scratch(), "'" FACTORY_EXE "' " + args); }
 
 TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
     const Result r =
@@ -145,11 +125,11 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
         EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
     EXPECT_EQ(r.out.find("\"switch_inside_frames\": 0,"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("factory: lighting baked"), std::string::npos) << r.err;  // a new cache directory
-    const fs::path dir = fs::temp_directory_path() / "factory_ProgramPrintsJsonAndWritesPictures" / "pics";
+    const fs::path dir = testDirectory("factory_") / "pics";
     for (const char* file : {"factory-outside.png", "factory-inside.png", "factory-frames.csv"})
         EXPECT_TRUE(fs::exists(dir / file)) << file;
     // A header and one row per mode and frame.
-    const std::string csv = slurp(dir / "factory-frames.csv");
+    const std::string csv = slurpFile(dir / "factory-frames.csv");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 40);
 }
 

@@ -1,5 +1,6 @@
 // The sgview program itself: its headless pictures against the library's own render (OSMesa, in this process),
 // the overlay's pixels, --info's counts, and bad input (exit code 2 and a message naming the option).
+#include "integration/ProgramRun.h"
 #include "testbed/City.h"
 #ifdef SGVIEW_TEST_GLTF
 #include "loaders/Gltf.h"
@@ -13,14 +14,11 @@
 #include "sgview/ViewCamera.h"
 
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <string>
 
 using namespace sg;
@@ -28,36 +26,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-    int code = -1;  // exit code; 128 + signal when killed (a crash)
-    std::string out, err;
-};
+using Result = ProgramRun;
 
 // A directory of this test's own (tests run in parallel).
-fs::path scratch() {
-    const auto* t = testing::UnitTest::GetInstance()->current_test_info();
-    const fs::path dir = fs::temp_directory_path() / (std::string("sgview_") + t->test_suite_name() + "_" + t->name());
-    fs::create_directories(dir);
-    return dir;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream f(p);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+fs::path scratch() { return testDirectory("sgview_"); }
 
 // Runs `command` in this test's directory; its output goes to out.txt and err.txt there.
-Result run(const std::string& command) {
-    const fs::path dir = scratch();
-    const int status = std::system(("cd '" + dir.string() + "' && " + command + " > out.txt 2> err.txt").c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    r.out = slurp(dir / "out.txt");
-    r.err = slurp(dir / "err.txt");
-    return r;
-}
+Result run(const std::string& command) { return runProgram(scratch(), command); }
 
 Result runSgview(const std::string& args) { return run("'" SGVIEW_EXE "' " + args); }
 

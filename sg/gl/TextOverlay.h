@@ -1,19 +1,19 @@
-// Overlay: lines of text drawn over the frame at the top left, on a translucent panel (stb_easy_font's
-// quads through one small GL 3.3 core shader).
+// TextOverlay: lines of text drawn over the frame at the top left, on a translucent panel (stb_easy_font's
+// quads through one small GL 3.3 core shader), for a viewer's stats and help.
 #pragma once
 #include <string>
 #include <vector>
 
-namespace sgview {
+namespace sg {
 
-class Overlay {
+class TextOverlay {
 public:
     // Needs a current OpenGL 3.3 core context. Throws std::runtime_error with the GLSL log when the shader
     // does not build.
-    Overlay();
-    ~Overlay();
-    Overlay(const Overlay&) = delete;
-    Overlay& operator=(const Overlay&) = delete;
+    TextOverlay();
+    ~TextOverlay();
+    TextOverlay(const TextOverlay&) = delete;
+    TextOverlay& operator=(const TextOverlay&) = delete;
 
     // Draws `text` ('\n' between lines, ASCII) into the current framebuffer of width x height pixels, each font
     // pixel `scale` pixels wide. Leaves depth test on and blending off, as the renderer expects them.
@@ -29,4 +29,4 @@ private:
     std::vector<char> scratch_;    // stb_easy_font's output
 };
 
-}  // namespace sgview
+}  // namespace sg

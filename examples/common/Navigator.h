@@ -1,4 +1,4 @@
-// Navigator: the viewer's eye under trackball, fly and walk navigation (no window or GL: driven by events).
+// Navigator: a viewer's eye under trackball, fly and walk navigation (no window or GL: driven by events).
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/core/Math.h"
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <functional>
 
-namespace sgview {
+namespace common {
 
 enum class NavMode : uint8_t { Trackball, Fly, Walk };
 const char* navModeName(NavMode m);
@@ -47,6 +47,8 @@ public:
     sg::dvec3 right() const;
     const sg::dvec3& up() const { return up_; }
     double speed() const { return speed_; }
+    // Fly and walk: units per second, kept within what scroll() allows (10^-4 to 10 times the bound's radius).
+    void setSpeed(double unitsPerSecond);
     double distance() const { return distance_; }
     // Walk steps go through this when set: the eye moves from `from` to what it returns for the wanted step.
     using Mover = std::function<sg::dvec3(const sg::dvec3& from, const sg::dvec3& step)>;
@@ -73,4 +75,4 @@ Navigator::Mover collidingWalk(const sg::Scene& scene, sg::ViewpointCollider& co
 // radius 0.3 m), scaled down for scenes smaller than 50 units across.
 sg::ViewpointSettings walkSettings(const sg::Box& bound, const sg::dvec3& up);
 
-}  // namespace sgview
+}  // namespace common

@@ -1,4 +1,4 @@
-#include "sgview/Overlay.h"
+#include "sg/gl/TextOverlay.h"
 
 #include "sg/gl/GlProgram.h"
 
@@ -13,7 +13,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace sgview {
+namespace sg {
 
 namespace {
 
@@ -38,8 +38,8 @@ constexpr float kMargin = 6.0f;  // panel edge to text, in font pixels
 
 }  // namespace
 
-Overlay::Overlay() {
-    program_ = sg::buildGlProgram(kVertex, kFragment, "Overlay::Overlay()");
+TextOverlay::TextOverlay() {
+    program_ = buildGlProgram(kVertex, kFragment, "TextOverlay::TextOverlay()");
     uViewport_ = glGetUniformLocation(program_, "uViewport");
     glGenVertexArrays(1, &vao_);
     glGenBuffers(1, &vbo_);
@@ -53,20 +53,20 @@ Overlay::Overlay() {
     glBindVertexArray(0);
 }
 
-Overlay::~Overlay() {
+TextOverlay::~TextOverlay() {
     glDeleteBuffers(1, &vbo_);
     glDeleteVertexArrays(1, &vao_);
     glDeleteProgram(program_);
 }
 
-void Overlay::panelSize(const std::string& text, float scale, int& width, int& height) {
+void TextOverlay::panelSize(const std::string& text, float scale, int& width, int& height) {
     std::vector<char> t(text.begin(), text.end());
     t.push_back('\0');
     width = int(std::ceil((float(stb_easy_font_width(t.data())) + 2 * kMargin) * scale));
     height = int(std::ceil((float(stb_easy_font_height(t.data())) + 2 * kMargin) * scale));
 }
 
-void Overlay::draw(const std::string& text, int width, int height, float scale) {
+void TextOverlay::draw(const std::string& text, int width, int height, float scale) {
     std::vector<char> t(text.begin(), text.end());
     t.push_back('\0');
     vertices_.clear();
@@ -104,4 +104,4 @@ void Overlay::draw(const std::string& text, int width, int height, float scale) 
     glEnable(GL_DEPTH_TEST);
 }
 
-}  // namespace sgview
+}  // namespace sg

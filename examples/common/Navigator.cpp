@@ -1,12 +1,12 @@
-#include "sgview/Navigator.h"
+#include "common/Navigator.h"
 
-#include "sgview/ViewCamera.h"
+#include "common/FittedCamera.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace sgview {
+namespace common {
 
 using namespace sg;
 
@@ -73,9 +73,13 @@ void Navigator::drag(int button, double dx, double dy, int height) {
     if (mode_ == NavMode::Trackball) eye_ = c - distance_ * forward();  // orbit: the centre stays
 }
 
+void Navigator::setSpeed(double unitsPerSecond) {
+    if (std::isfinite(unitsPerSecond)) speed_ = std::clamp(unitsPerSecond, 1e-4 * size_, 10.0 * size_);
+}
+
 void Navigator::scroll(double steps) {
     if (mode_ != NavMode::Trackball) {
-        speed_ = std::clamp(speed_ * std::pow(1.25, steps), 1e-4 * size_, 10.0 * size_);
+        setSpeed(speed_ * std::pow(1.25, steps));
         return;
     }
     const dvec3 c = center();
@@ -116,7 +120,7 @@ ViewpointSettings walkSettings(const Box& bound, const dvec3& up) {
 }
 
 Camera Navigator::camera(int width, int height) const {
-    return specCamera({eye_, eye_ + forward(), up_}, bound_, width, height);
+    return fittedCamera(eye_, eye_ + forward(), up_, bound_, width, height);
 }
 
-}  // namespace sgview
+}  // namespace common
