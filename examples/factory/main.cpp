@@ -1,17 +1,20 @@
-// factory: the headless walkthrough of the factory site (testbed/Factory.h) after the Performer paper. A
-// scripted path (approach, into a workshop, along its machines, out, round the site, up to an overview) with
-// the viewpoint collider, drawn once per LOD method (static, time budget, stress); writes PNG frames, a
-// per-frame CSV, and prints the paper's table 1 columns beside its figures (or --json).
-//   factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]
+// factory: the walkthrough of the factory site (testbed/Factory.h) after the Performer paper. In a window
+// (factory-window) without --headless; with it, a scripted path (approach, into a workshop, along its machines, out,
+// round the site, up to an overview) with the viewpoint collider, drawn once per LOD method (static, time budget,
+// stress); writes PNG frames, a per-frame CSV, and prints the paper's table 1 columns beside its figures (or --json).
+//   factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]; --help lists all
 #include "factory/Options.h"
 #include "factory/Report.h"
+#include "factory/Site.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/io/ImageIO.h"
-#include "testbed/FactoryLighting.h"
 
+#include <unistd.h>
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 
@@ -31,32 +34,34 @@ int frameOf(const WalkPath& p, const std::string& name, double share) {
         }
     return first < 0 ? -1 : first + std::min(count - 1, int(share * count));
 }
+
+// Without --headless: the window, a program of its own (factory-window, beside this one). It draws through the
+// system libGL, which must not meet the OSMesa GL of the headless run in one process. Returns only on failure.
+int runWindowProgram(char** argv) {
+#ifdef FACTORY_WINDOW_PROGRAM
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::string exe =
+        ((ec ? std::filesystem::path(argv[0]) : self).parent_path() / FACTORY_WINDOW_PROGRAM).string();
+    argv[0] = const_cast<char*>(exe.c_str());
+    execv(exe.c_str(), argv);
+    std::fprintf(stderr, "factory: cannot start the window program %s: %s\n", exe.c_str(), std::strerror(errno));
+    return 1;
+#else
+    (void)argv;
+    std::fprintf(stderr, "factory: built without GLFW, so there is no window; --headless walks the site offscreen\n");
+    return 2;
+#endif
+}
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
-    try {
-        o = parseOptions(argc, argv);
-        std::filesystem::create_directories(o.outDir);
-    } catch (const OptionError& e) {
-        std::fprintf(stderr, "factory: %s\n%s", e.what(), usage());
-        return 2;
-    } catch (const std::filesystem::filesystem_error& e) {
-        std::fprintf(stderr, "factory: --out-dir '%s' cannot be created: %s\n", o.outDir.c_str(), e.what());
-        return 2;
-    }
+    if (const int code = readCommandLine(argc, argv, o); code >= 0) return code;
+    if (!o.headless) return runWindowProgram(argv);
     try {
         const auto t0 = Clock::now();
-        std::fprintf(stderr, "factory: building the site...\n");
-        scenes::Factory f = scenes::buildFactory();
-        if (o.lighting) {
-            std::fprintf(stderr, "factory: lighting (sun, soft shadows, ambient occlusion)...\n");
-            const std::string dir = o.cacheDir.empty() ? sg::VertexLightBaker::defaultCacheDir() : o.cacheDir;
-            const scenes::FactoryLightingStats ls = scenes::bakeFactoryLighting(f, dir);
-            std::fprintf(stderr, "factory: lighting %s in %.1f s (%llu vertices of %d meshes; cache %s)\n",
-                         ls.cached ? "read from the cache" : "baked", ls.ms / 1000.0, (unsigned long long)ls.vertices,
-                         ls.targets, dir.c_str());
-        }
+        scenes::Factory f = buildSite(o);
         sg::Scene scene(f.root);
         scene.update();
         std::fprintf(stderr, "factory: site built in %.1f s; walking the path (%d frames)...\n", secondsSince(t0),

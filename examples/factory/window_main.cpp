@@ -1,0 +1,294 @@
+// factory-window: the factory site in a GLFW window (what `factory` without --headless runs). Walk (the
+// viewpoint collider, the eye 1.7 m over the ground, workshop walls passable, the outside switched off inside a
+// workshop) or fly; the LOD choice of the walkthrough (static, time budget, stress) and the occlusion pass
+// toggled by keys; a stats overlay; screenshots. --frames and --keys replay input without a person.
+#include "common/MoveKeyEvents.h"
+#include "common/Navigator.h"
+#include "factory/KeyScript.h"
+#include "factory/Site.h"
+#include "factory/Walkthrough.h"
+#include "sg/gl/GlfwWindow.h"
+#include "sg/gl/TextOverlay.h"
+#include "sg/io/ImageIO.h"
+#include "sg/lod/LodStress.h"
+
+#include <GLFW/glfw3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+
+using namespace factory;
+using common::Navigator;
+using common::NavMode;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+constexpr double kWalkSpeed = 4.0, kFlySpeed = 30.0;  // metres a second
+constexpr double kScriptStep = 1.0 / 30.0;            // seconds a replayed frame moves
+
+class FactoryWindow {
+public:
+    FactoryWindow(const Options& o, scenes::Factory& f, sg::Scene& scene, const PathFrame& start)
+        : o_(o),
+          f_(f),
+          scene_(scene),
+          window_(o.width, o.height, "factory"),
+          nav_(scene.image().box(0), sg::dvec3(0, 0, 1)),
+          collider_(colliderSettings()),
+          script_(parseKeyScript(o.keys)) {
+        nav_.lookAt(o.camera ? o.eye : start.eye, o.camera ? o.center : start.target);
+        nav_.setMode(NavMode::Walk);
+        nav_.setSpeed(kWalkSpeed);
+        // Walking: each step is swept through the collider towards the ground height + 1.7 where it ends.
+        nav_.setWalkMover([this](const sg::dvec3& from, const sg::dvec3& step) {
+            sg::dvec3 want = from + step;
+            want.z = f_.terrainHeight(want.x, want.y) + 1.7;
+            return collider_.move(scene_, from, want - from);
+        });
+        occlusion_ = set0_.occlusion.mode;
+        window_.setKeyCallback([this](int key, int action, int) { onKey(key, action); });
+        window_.setMouseButtonCallback([this](int button, int action, int) {
+            if (button == GLFW_MOUSE_BUTTON_LEFT) dragging_ = action == GLFW_PRESS;
+        });
+        window_.setCursorCallback([this](double x, double y) {
+            if (dragging_) nav_.drag(Navigator::kLeft, x - x_, y - y_, window_.height());
+            x_ = x;
+            y_ = y;
+        });
+        window_.setScrollCallback([this](double, double dy) { nav_.scroll(dy); });
+    }
+
+    int run();
+
+private:
+    static sg::ViewpointSettings colliderSettings() {
+        sg::ViewpointSettings s;
+        s.radius = WalkPath{}.eyeRadius;  // the scripted walk's sphere
+        return s;
+    }
+    void onKey(int key, int action);
+    void press(Key k);
+    void showWorkshop();
+    std::string statsText() const;
+    void screenshot(const std::string& name, const sg::Image& img);
+
+    const Options& o_;
+    scenes::Factory& f_;
+    sg::Scene& scene_;
+    sg::GlfwWindow window_;
+    Navigator nav_;
+    sg::ViewpointCollider collider_;
+    std::vector<ScriptFrame> script_;
+    common::MoveKeys keys_;
+    bool dragging_ = false, overlay_ = true, wantShot_ = false;
+    double x_ = 0.0, y_ = 0.0;
+    double walkSpeed_ = kWalkSpeed, flySpeed_ = kFlySpeed;
+    LodMode mode_ = LodMode::Static;
+    sg::CullSettings set0_;  // the walkthrough's settings: what occlusion "on" is
+    sg::OcclusionMode occlusion_;
+    int workshop_ = -1;
+    // The last frame, for the overlay.
+    double fps_ = 0.0, frameMs_ = 0.0, cullMs_ = 0.0, drawMs_ = 0.0;
+    sg::CullStats stats_;
+};
+
+void FactoryWindow::onKey(int key, int action) {
+    common::setMoveKey(keys_, key, action != GLFW_RELEASE);  // held keys
+    if (action != GLFW_PRESS) return;
+    switch (key) {
+        case GLFW_KEY_F: press(Key::FlyWalk); break;
+        case GLFW_KEY_M: press(Key::LodMode); break;
+        case GLFW_KEY_O: press(Key::Occlusion); break;
+        case GLFW_KEY_P:
+        case GLFW_KEY_F12: press(Key::Screenshot); break;
+        case GLFW_KEY_H: press(Key::Overlay); break;
+        case GLFW_KEY_ESCAPE: press(Key::Quit); break;
+        default: break;
+    }
+}
+
+void FactoryWindow::press(Key k) {
+    switch (k) {
+        case Key::FlyWalk: {
+            const bool walking = nav_.mode() == NavMode::Walk;
+            (walking ? walkSpeed_ : flySpeed_) = nav_.speed();  // each mode keeps the speed it was left at
+            nav_.setMode(walking ? NavMode::Fly : NavMode::Walk);
+            nav_.setSpeed(walking ? flySpeed_ : walkSpeed_);
+            std::printf("navigation: %s\n", common::navModeName(nav_.mode()));
+            break;
+        }
+        case Key::LodMode:
+            mode_ = mode_ == LodMode::Static   ? LodMode::Budget
+                    : mode_ == LodMode::Budget ? LodMode::Stress
+                                               : LodMode::Static;
+            std::printf("lod: %s\n", modeName(mode_));
+            break;
+        case Key::Occlusion:
+            occlusion_ = occlusion_ == sg::OcclusionMode::Off ? set0_.occlusion.mode : sg::OcclusionMode::Off;
+            std::printf("occlusion: %s\n", occlusion_ == sg::OcclusionMode::Off ? "off" : "on");
+            break;
+        case Key::Screenshot: wantShot_ = true; break;
+        case Key::Overlay: overlay_ = !overlay_; break;
+        case Key::Quit: window_.close(); break;
+        default: break;
+    }
+    std::fflush(stdout);
+}
+
+// Inside a workshop only its interior is on; outside, the defaults (what the walkthrough does at each step).
+void FactoryWindow::showWorkshop() {
+    const int k = scenes::factoryWorkshopAt(f_, nav_.eye());
+    if (k == workshop_) return;
+    scenes::setFactoryEye(f_, k);
+    scene_.update();
+    workshop_ = k;
+}
+
+std::string FactoryWindow::statsText() const {
+    char where[32] = "outside";
+    if (workshop_ >= 0) std::snprintf(where, sizeof where, "inside workshop %d", workshop_);
+    char fps[32] = "-";
+    if (fps_ > 0.0) std::snprintf(fps, sizeof fps, "%.1f", fps_);
+    char buf[640];
+    std::snprintf(buf, sizeof buf,
+                  "factory  [%s]  %s\n"
+                  "fps %s   frame %.2f ms   cull %.2f ms   draw %.2f ms\n"
+                  "triangles %llu   geometries %llu\n"
+                  "LOD %s [M]   budget %.0f ms   occlusion %s [O]\n"
+                  "W/A/S/D + drag move/look   F walk/fly   M LOD mode\n"
+                  "O occlusion   P/F12 screenshot   H overlay   Esc quits",
+                  common::navModeName(nav_.mode()), where, fps, frameMs_, cullMs_, drawMs_,
+                  (unsigned long long)stats_.triangles, (unsigned long long)stats_.geometries, modeName(mode_),
+                  o_.budgetMs, occlusion_ == sg::OcclusionMode::Off ? "off" : "on");
+    return buf;
+}
+
+void FactoryWindow::screenshot(const std::string& name, const sg::Image& img) {
+    const std::string file = (std::filesystem::path(o_.outDir) / name).string();
+    try {
+        sg::savePng(file, img);
+        std::printf("screenshot: %s\n", file.c_str());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "factory: screenshot: %s\n", e.what());
+    }
+    std::fflush(stdout);
+}
+
+int FactoryWindow::run() {
+    sg::Renderer renderer;
+    sg::TextOverlay overlay;
+    sg::CullTraversal cull;
+    sg::DrawList list;
+    // The walkthrough's LOD choice (Walkthrough::run): the same model, stress and budget settings.
+    sg::DrawCostModel model;
+    sg::LodStress::Params sp;
+    sp.budgetMs = o_.budgetMs;
+    sg::LodStress stress(sp);
+    double lastCullMs = 0.0;
+    int shown = 0, counted = 0, shots = 0;
+    double last = window_.time(), since = last;
+    while (!window_.shouldClose() && (!o_.framesGiven || shown < o_.frames)) {
+        window_.pollEvents();
+        const double now = window_.time();
+        double dt = now - last;
+        last = now;
+        if (size_t(shown) < script_.size()) {  // replayed input moves by a fixed step: the same every run
+            const ScriptFrame& s = script_[size_t(shown)];
+            for (Key k : s.pressed) press(k);
+            keys_.forward = s.forward;
+            keys_.back = s.back;
+            keys_.left = s.left;
+            keys_.right = s.right;
+            if (s.dragX != 0.0 || s.dragY != 0.0) nav_.drag(Navigator::kLeft, s.dragX, s.dragY, window_.height());
+        } else if (size_t(shown) == script_.size() && !script_.empty()) {
+            keys_ = common::MoveKeys{};
+        }
+        if (o_.framesGiven) dt = kScriptStep;
+        if (window_.shouldClose()) break;
+        const int w = window_.width(), h = window_.height();
+        if (w <= 0 || h <= 0) {  // minimized: nothing to draw until it comes back
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            continue;
+        }
+        nav_.move(keys_, dt);
+        PathFrame view;
+        view.eye = nav_.eye();
+        view.target = nav_.eye() + 10.0 * nav_.forward();
+        view.walking = nav_.mode() == NavMode::Walk;
+        const sg::Camera cam = pathCamera(view, w, h);
+
+        sg::CullSettings set = set0_;
+        set.occlusion.mode = occlusion_;
+        if (mode_ == LodMode::Stress) set.lodScale = stress.scale();
+        if (mode_ == LodMode::Budget) {
+            set.lodBudget.enabled = true;
+            set.lodBudget.model = &model;
+            set.lodBudget.budgetMs = std::max(1.0, o_.budgetMs - lastCullMs);
+        }
+        const auto t0 = Clock::now();
+        showWorkshop();
+        stats_ = sg::CullStats{};
+        cull.cull(scene_, cam, set, list, stats_);
+        cullMs_ = msSince(t0);
+        const auto t1 = Clock::now();
+        renderer.draw(list, cam);
+        renderer.finish();
+        drawMs_ = msSince(t1);
+        frameMs_ = msSince(t0);
+        lastCullMs = cullMs_;
+        if (mode_ == LodMode::Stress) stress.update(frameMs_);
+        model.update({double(stats_.triangles), double(stats_.geometries), stats_.lodPixels}, drawMs_);
+
+        if (overlay_) overlay.draw(statsText(), w, h, w >= 960 && h >= 480 ? 2.0f : 1.0f);
+        if (wantShot_) {
+            wantShot_ = false;
+            char name[32];
+            do std::snprintf(name, sizeof name, "factory-%04d.png", ++shots);
+            while (std::filesystem::exists(std::filesystem::path(o_.outDir) / name));
+            screenshot(name, renderer.readColor());
+        }
+        if (o_.framesGiven && shown + 1 == o_.frames) screenshot("factory-window.png", renderer.readColor());
+        window_.swapBuffers();
+        ++shown;
+        ++counted;
+        if (now - since >= 0.5) {  // the rate over the last half second
+            fps_ = counted / (now - since);
+            counted = 0;
+            since = now;
+        }
+    }
+    const sg::dvec3 e = nav_.eye();
+    std::printf("factory: %d frames; eye (%.6f, %.6f, %.6f); %s; lod %s; occlusion %s; workshop %d; triangles %llu\n",
+                shown, e.x, e.y, e.z, common::navModeName(nav_.mode()), modeName(mode_),
+                occlusion_ == sg::OcclusionMode::Off ? "off" : "on", workshop_, (unsigned long long)stats_.triangles);
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    if (const int code = readCommandLine(argc, argv, o); code >= 0) return code;
+    if (o.headless) {
+        std::fprintf(stderr, "factory: --headless is the factory program's: factory-window is the window\n");
+        return 2;
+    }
+    try {
+        scenes::Factory f = buildSite(o);
+        sg::Scene scene(f.root);
+        scene.update();
+        // The start: the scripted walk's first frame (south of its workshop, looking at it); its walls passable.
+        const PathFrame start = buildWalkPath(f, scene, 10).frames.front();
+        FactoryWindow window(o, f, scene, start);
+        return window.run();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "factory: %s\n", e.what());
+        return 1;
+    }
+}
