@@ -218,6 +218,7 @@ TEST(FactoryWindow, MCyclesTheLodMethodShown) {
 }
 
 TEST(FactoryWindow, OverlayShowsTheModeAndPSavesAScreenshot) {
+    for (const char* d : {"a", "b"}) fs::remove_all(scratch() / d);  // the screenshot numbers start at 1
     const Result a = runWindow("--out-dir a", 10, "P");
     const Result b = runWindow("--out-dir b", 10, "M");
     ASSERT_EQ(a.code, 0) << a.err;
