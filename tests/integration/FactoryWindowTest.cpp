@@ -105,8 +105,8 @@ constexpr int kW = 400, kH = 300;
 Result runWindow(const std::string& args, int frames, const std::string& keys) {
     char size[32];
     std::snprintf(size, sizeof size, " --size %dx%d", kW, kH);
-    return run("'" XVFB_RUN "' -a -s '-screen 0 1024x768x24' '" FACTORY_EXE "' --no-lighting --frames " +
-               std::to_string(frames) + size + " --keys '" + keys + "' " + args);
+    return run(xvfbRun(XVFB_RUN) + " '" FACTORY_EXE "' --no-lighting --frames " + std::to_string(frames) + size +
+               " --keys '" + keys + "' " + args);
 }
 
 std::string cameraArg(const sg::dvec3& eye, const sg::dvec3& center) {

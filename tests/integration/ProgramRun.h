@@ -3,10 +3,12 @@
 #pragma once
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 
@@ -39,4 +41,14 @@ inline ProgramRun runProgram(const std::filesystem::path& dir, const std::string
     r.out = slurpFile(dir / "out.txt");
     r.err = slurpFile(dir / "err.txt");
     return r;
+}
+
+// `xvfb-run -n N -a` for this test: a virtual X server whose display number is searched from a start of the
+// test's own. Plain -a starts every search at :99, and xvfb-runs started together can take the same number (one
+// window then fails to open its display); searches starting far apart do not meet.
+inline std::string xvfbRun(const char* xvfbRunPath) {
+    const auto* t = testing::UnitTest::GetInstance()->current_test_info();
+    const size_t h = std::hash<std::string>{}(std::string(t->test_suite_name()) + "." + t->name());
+    const int start = 200 + int((h + size_t(getpid()) * 7919u) % 5000u);
+    return "'" + std::string(xvfbRunPath) + "' -n " + std::to_string(start) + " -a -s '-screen 0 1024x768x24'";
 }

@@ -217,8 +217,7 @@ TEST(SgviewRun, TheWindowShowsWhatHeadlessRenders) {
     GTEST_SKIP() << "xvfb-run was not found: no window without a display";
 #else
     const std::string view = std::string("--scene city --n 8 --size 400x300 --camera ") + kCamera;
-    const Result w =
-        run("'" XVFB_RUN "' -a -s '-screen 0 1024x768x24' '" SGVIEW_EXE "' " + view + " --frames 3 --out window.png");
+    const Result w = run(xvfbRun(XVFB_RUN) + " '" SGVIEW_EXE "' " + view + " --frames 3 --out window.png");
     ASSERT_EQ(w.code, 0) << w.err;
     EXPECT_NE(w.out.find("sgview: 3 frames"), std::string::npos) << w.out;
     ASSERT_EQ(runSgview("--headless --out headless.png " + view).code, 0);
