@@ -45,18 +45,20 @@ Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& p
     // the door, coarse levels as the eye draws away), and those frames stall.
     std::set<std::pair<const sg::Mesh*, const sg::Material*>> all;
     allGeometry(*f_.root, all);
-    for (const auto& [mesh, material] : all) {
-        sg::DrawItem it;
-        it.mesh = mesh;
-        it.material = material;
-        list_.add(it);
-    }
     // Drawn looking at the sky through a sliver of depth: uploaded, and next to nothing rasterised.
     sg::Camera sky;
     sky.setViewport(width_, height_);
     sky.setPerspective(60.0, double(width_) / height_, 0.1, 0.2);
     sky.setLookAt(sg::dvec3(0.0, 0.0, 1e4), sg::dvec3(0.0, 0.0, 2e4), sg::dvec3(0.0, 1.0, 0.0));
-    renderer_.draw(list_, sky);
+    // One mesh per draw: the whole site in one draw left the software rasteriser slower on every later frame.
+    for (const auto& [mesh, material] : all) {
+        sg::DrawItem it;
+        it.mesh = mesh;
+        it.material = material;
+        list_.clear();
+        list_.add(it);
+        renderer_.draw(list_, sky);
+    }
     renderer_.finish();
     list_.clear();
 }
