@@ -3,6 +3,7 @@
 #include "nodes/Billboard.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "sg/core/Assert.h"
 #include "sg/lod/LodGenerator.h"
 
 #include <algorithm>
@@ -28,6 +29,8 @@ struct Rng {
 
 // Texture coordinate of a pure white texel in every generated texture: parts that are not walls sample it
 // and take their colour from their vertices.
+using glm::ivec2;
+
 const vec2 kWhiteUv(0.5f / 64.0f, 0.5f / 64.0f);
 
 // Triangles appended one shape at a time; every triangle is wound so that it faces its intended normal.
@@ -313,6 +316,166 @@ ref_ptr<Mesh> machineMesh(uint32_t seed, uint32_t target) {
     return mb.build();
 }
 
+// The terrain's height field: heights at the (n + 1)^2 points of a grid of n x n cells over the square
+// [-half, half]^2, each cell split along its (i, j)-(i+1, j+1) diagonal.
+struct HeightField {
+    int n = 0;
+    double half = 0.0, cell = 0.0;
+    std::vector<double> h;
+    double at(int i, int j) const { return h[size_t(j) * size_t(n + 1) + size_t(i)]; }
+    // At grid coordinates (gx, gy) in [0, n]^2: the plane of the cell's triangle that holds the point.
+    double interpolate(double gx, double gy) const {
+        const int i = std::min(int(gx), n - 1), j = std::min(int(gy), n - 1);
+        const double u = gx - i, v = gy - j;
+        const double h00 = at(i, j), h10 = at(i + 1, j), h01 = at(i, j + 1), h11 = at(i + 1, j + 1);
+        return u >= v ? h00 + u * (h10 - h00) + v * (h11 - h10) : h00 + v * (h01 - h00) + u * (h11 - h01);
+    }
+};
+
+// Grass, darker in the hollows, browner on the stream banks and the high ground.
+vec4 grassColor(double z) {
+    const float g = float(std::clamp(z / 30.0, -0.1, 1.0));
+    const float bank = z < -0.3 ? 1.0f : 0.0f;
+    return glm::mix(vec4(0.33f + 0.15f * g, 0.55f - 0.1f * g, 0.22f, 1.0f), vec4(0.45f, 0.38f, 0.25f, 1.0f), bank);
+}
+
+// Cells per side of a tile's levels: the full grid, then 2, 4 and 8 times coarser (fewer levels for a tile
+// too small to have them all).
+std::vector<int> terrainLevelCells(int per) {
+    std::vector<int> cells{per};
+    for (int step : {2, 4, 8}) {
+        const int c = std::max(2, (per + step - 1) / step);
+        if (c < cells.back()) cells.push_back(c);
+    }
+    return cells;
+}
+
+// Tile (ti, tj) of the terrain, `per` x `per` cells of the height field, at `cells` cells per side. With
+// cells == per it is the full grid. Coarser, it is a grid through every (per / cells)-th point inside the
+// tile, stitched by fans to the tile's border kept at full resolution: every level of every tile has the
+// same border as the finest, so neighbours at any levels meet without cracks. Every vertex is a point of
+// the height field and has the same attributes at every level.
+ref_ptr<Mesh> terrainTileMesh(const HeightField& g, int ti, int tj, int per, int cells) {
+    SG_ASSERT(cells >= 2 && cells <= per, "terrainTileMesh(): cells out of 2..per");
+    const int i0 = ti * per, j0 = tj * per, side = per + 1;
+    // The sample points inside the tile: per / cells apart, rounded to the grid.
+    std::vector<int> at(size_t(cells) + 1);
+    for (int k = 0; k <= cells; ++k) at[size_t(k)] = int(std::lround(double(k) * per / cells));
+    std::vector<char> used(size_t(side) * size_t(side), 0);
+    auto use = [&](int li, int lj) { used[size_t(lj) * size_t(side) + size_t(li)] = 1; };
+    for (int k = 0; k <= per; ++k) use(k, 0), use(k, per), use(0, k), use(per, k);
+    for (int b = 1; b < cells; ++b)
+        for (int a = 1; a < cells; ++a) use(at[size_t(a)], at[size_t(b)]);
+    // Vertices in row order (the full grid's order at full resolution).
+    std::vector<vec3> pos, nrm;
+    std::vector<vec2> uvs;
+    std::vector<vec4> col;
+    std::vector<uint32_t> id(used.size(), 0), idx;
+    const int N = g.n;
+    for (int lj = 0; lj <= per; ++lj)
+        for (int li = 0; li <= per; ++li) {
+            if (!used[size_t(lj) * size_t(side) + size_t(li)]) continue;
+            const int i = i0 + li, j = j0 + lj;
+            const double x = -g.half + i * g.cell, y = -g.half + j * g.cell, z = g.at(i, j);
+            id[size_t(lj) * size_t(side) + size_t(li)] = uint32_t(pos.size());
+            pos.emplace_back(x, y, z);
+            const double dzx = g.at(std::min(i + 1, N), j) - g.at(std::max(i - 1, 0), j);
+            const double dzy = g.at(i, std::min(j + 1, N)) - g.at(i, std::max(j - 1, 0));
+            nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * g.cell)));
+            uvs.push_back(kWhiteUv);
+            col.push_back(grassColor(z));
+        }
+    // A triangle of grid points, wound to face up.
+    auto tri = [&](ivec2 p, ivec2 q, ivec2 r) {
+        if ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x) < 0) std::swap(q, r);
+        for (const ivec2& v : {p, q, r}) idx.push_back(id[size_t(v.y) * size_t(side) + size_t(v.x)]);
+    };
+    auto quad = [&](int ia, int ib, int ja, int jb) {  // split along the (ia, ja)-(ib, jb) diagonal
+        tri({ia, ja}, {ib, ja}, {ib, jb});
+        tri({ia, ja}, {ib, jb}, {ia, jb});
+    };
+    if (cells == per) {
+        for (int j = 0; j < per; ++j)
+            for (int i = 0; i < per; ++i) quad(i, i + 1, j, j + 1);
+    } else {
+        for (int b = 1; b + 1 < cells; ++b)
+            for (int a = 1; a + 1 < cells; ++a)
+                quad(at[size_t(a)], at[size_t(a + 1)], at[size_t(b)], at[size_t(b + 1)]);
+        // The ring between the inner grid's outline and the border, one side at a time (counter-clockwise):
+        // both chains run along the side; the one whose next edge ends nearer the start advances.
+        const int lo = at[1], hi = at[size_t(cells - 1)], m = cells - 2;
+        for (int s = 0; s < 4; ++s) {
+            // Point k of the border (0..per) and of the inner chain (0..m) on side s, and their position along it.
+            auto outer = [&](int k) -> ivec2 {
+                const ivec2 v[4] = {{k, 0}, {per, k}, {per - k, per}, {0, per - k}};
+                return v[s];
+            };
+            auto inner = [&](int k) -> ivec2 {
+                const int c = at[size_t(k + 1)], r = at[size_t(cells - 1 - k)];
+                const ivec2 v[4] = {{c, lo}, {hi, c}, {r, hi}, {lo, r}};
+                return v[s];
+            };
+            auto innerAlong = [&](int k) { return double(at[size_t(k + 1)]); };
+            int a = 0, b = 0;
+            while (a < per || b < m) {
+                const bool advanceOuter = b == m || (a < per && a + 0.5 <= 0.5 * (innerAlong(b) + innerAlong(b + 1)));
+                if (advanceOuter) {
+                    tri(outer(a), outer(a + 1), inner(b));
+                    ++a;
+                } else {
+                    tri(outer(a), inner(b + 1), inner(b));
+                    ++b;
+                }
+            }
+        }
+    }
+    auto mesh = make<Mesh>();
+    mesh->set(std::move(pos), std::move(nrm), std::move(idx), std::move(uvs), std::move(col));
+    return mesh;
+}
+
+// The largest vertical distance between a level's surface and the full height field over the level's
+// triangles. Both are linear on every piece of their overlay, so the largest lies at a height-field point
+// inside a triangle or where a triangle's edge crosses a cell's edge (x, y or x - y an integer).
+double tileLevelError(const HeightField& g, const Mesh& m) {
+    const std::vector<vec3>& p = m.positions();
+    auto gridOf = [&](uint32_t v) {
+        return ivec2(int(std::lround((p[v].x + g.half) / g.cell)), int(std::lround((p[v].y + g.half) / g.cell)));
+    };
+    double err = 0.0;
+    for (size_t t = 0; t + 2 < m.indexCount(); t += 3) {
+        const ivec2 c[3] = {gridOf(m.index(t)), gridOf(m.index(t + 1)), gridOf(m.index(t + 2))};
+        const double hc[3] = {g.at(c[0].x, c[0].y), g.at(c[1].x, c[1].y), g.at(c[2].x, c[2].y)};
+        const double area = double((c[1].x - c[0].x) * (c[2].y - c[0].y) - (c[1].y - c[0].y) * (c[2].x - c[0].x));
+        if (area == 0.0) continue;
+        const ivec2 mn = glm::min(c[0], glm::min(c[1], c[2])), mx = glm::max(c[0], glm::max(c[1], c[2]));
+        for (int j = mn.y; j <= mx.y; ++j)
+            for (int i = mn.x; i <= mx.x; ++i) {
+                auto edge = [&](const ivec2& a, const ivec2& b) {
+                    return double((b.x - a.x) * (j - a.y) - (b.y - a.y) * (i - a.x)) / area;
+                };
+                const double w0 = edge(c[1], c[2]), w1 = edge(c[2], c[0]), w2 = edge(c[0], c[1]);
+                if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
+                err = std::max(err, std::abs(g.at(i, j) - (w0 * hc[0] + w1 * hc[1] + w2 * hc[2])));
+            }
+        for (int e = 0; e < 3; ++e) {
+            const ivec2 a = c[e], b = c[(e + 1) % 3];
+            const double ha = hc[e], hb = hc[(e + 1) % 3];
+            auto crossings = [&](int va, int vb) {  // where a linear function of the edge passes an integer
+                for (int k = std::min(va, vb) + 1; k < std::max(va, vb); ++k) {
+                    const double s = double(k - va) / double(vb - va);
+                    const double x = a.x + s * (b.x - a.x), y = a.y + s * (b.y - a.y);
+                    err = std::max(err, std::abs(g.interpolate(x, y) - (ha + s * (hb - ha))));
+                }
+            };
+            crossings(a.x, b.x);
+            crossings(a.y, b.y);
+            crossings(a.x - a.y, b.x - b.y);
+        }
+    }
+    return err;
+}
+
 void fail(const std::string& what) { throw std::invalid_argument("scenes::buildFactory(): " + what); }
 
 // Triangles under `n` with every switch on and every LOD at its finest level: each placement counted
@@ -389,57 +552,61 @@ Factory buildFactory(const FactoryParams& prm) {
         const double cut = std::abs(dx) < 1.0 ? 1.8 * (1.0 - dx * dx) * (1.0 - dx * dx) : 0.0;
         return hills(x, y) - cut;
     };
-    const int N = prm.terrainCells;
-    const double half = prm.siteSize / 2.0, cell = prm.siteSize / N;
-    auto heights = std::make_shared<std::vector<double>>(size_t(N + 1) * size_t(N + 1));
+    auto field = std::make_shared<HeightField>();
+    field->n = prm.terrainCells;
+    field->half = prm.siteSize / 2.0;
+    field->cell = prm.siteSize / field->n;
+    const int N = field->n;
+    const double half = field->half, cell = field->cell;
+    field->h.resize(size_t(N + 1) * size_t(N + 1));
     for (int j = 0; j <= N; ++j)
-        for (int i = 0; i <= N; ++i) (*heights)[size_t(j) * (N + 1) + i] = ground(-half + i * cell, -half + j * cell);
-    auto H = [heights, N](int i, int j) { return (*heights)[size_t(j) * (N + 1) + size_t(i)]; };
-    // Each cell is split along its (i, j)-(i+1, j+1) diagonal; the height function interpolates the same way.
-    f.terrainHeight = [H, N, half, cell](double x, double y) {
-        double gx = (x + half) / cell, gy = (y + half) / cell;
+        for (int i = 0; i <= N; ++i) field->h[size_t(j) * (N + 1) + i] = ground(-half + i * cell, -half + j * cell);
+    // The finest level's surface: each cell split along its (i, j)-(i+1, j+1) diagonal, as the mesh is.
+    f.terrainHeight = [field](double x, double y) {
+        const int n = field->n;
+        double gx = (x + field->half) / field->cell, gy = (y + field->half) / field->cell;
         // Vertices are stored in float: one on the edge may land a rounding step outside it.
-        const double slack = 1e-5 * N;
-        if (!(gx >= -slack && gy >= -slack && gx <= N + slack && gy <= N + slack)) return 0.0;
-        gx = std::clamp(gx, 0.0, double(N));
-        gy = std::clamp(gy, 0.0, double(N));
-        const int i = std::min(int(gx), N - 1), j = std::min(int(gy), N - 1);
-        const double u = gx - i, v = gy - j;
-        const double h00 = H(i, j), h10 = H(i + 1, j), h01 = H(i, j + 1), h11 = H(i + 1, j + 1);
-        return u >= v ? h00 + u * (h10 - h00) + v * (h11 - h10) : h00 + v * (h01 - h00) + u * (h11 - h01);
+        const double slack = 1e-5 * n;
+        if (!(gx >= -slack && gy >= -slack && gx <= n + slack && gy <= n + slack)) return 0.0;
+        return field->interpolate(std::clamp(gx, 0.0, double(n)), std::clamp(gy, 0.0, double(n)));
     };
+    // Each tile is an LOD: the full grid, then grids 2, 4 and 8 times coarser. Level i is shown from the
+    // distance where its error (vertical, against the full height field) projects to pixelError pixels
+    // from the tile's nearest point: the LOD measures from the tile's centre, so its radius is added.
     f.terrain = make<Group>();
     f.terrain->setName("terrain");
     const int per = N / prm.terrainTiles;
     for (int tj = 0; tj < prm.terrainTiles; ++tj)
         for (int ti = 0; ti < prm.terrainTiles; ++ti) {
-            std::vector<vec3> pos, nrm;
-            std::vector<vec2> uvs;
-            std::vector<vec4> col;
-            std::vector<uint32_t> idx;
-            for (int j = tj * per; j <= (tj + 1) * per; ++j)
-                for (int i = ti * per; i <= (ti + 1) * per; ++i) {
-                    const double x = -half + i * cell, y = -half + j * cell, z = H(i, j);
-                    pos.emplace_back(x, y, z);
-                    const double dzx = H(std::min(i + 1, N), j) - H(std::max(i - 1, 0), j);
-                    const double dzy = H(i, std::min(j + 1, N)) - H(i, std::max(j - 1, 0));
-                    nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * cell)));
-                    uvs.push_back(kWhiteUv);
-                    // Grass, darker in the hollows, browner on the stream banks and the high ground.
-                    const float g = float(std::clamp(z / 30.0, -0.1, 1.0));
-                    const float bank = z < -0.3 ? 1.0f : 0.0f;
-                    col.push_back(glm::mix(vec4(0.33f + 0.15f * g, 0.55f - 0.1f * g, 0.22f, 1.0f),
-                                           vec4(0.45f, 0.38f, 0.25f, 1.0f), bank));
-                }
-            const uint32_t row = uint32_t(per + 1);
-            for (int j = 0; j < per; ++j)
-                for (int i = 0; i < per; ++i) {
-                    const uint32_t a = uint32_t(j) * row + uint32_t(i), b = a + 1, c = a + row + 1, d = a + row;
-                    idx.insert(idx.end(), {a, b, c, a, c, d});
-                }
-            auto mesh = make<Mesh>();
-            mesh->set(std::move(pos), std::move(nrm), std::move(idx), std::move(uvs), std::move(col));
-            f.terrain->addChild(make<Geometry>(mesh, white));
+            std::vector<ref_ptr<Mesh>> levels{terrainTileMesh(*field, ti, tj, per, per)};
+            std::vector<double> errors{0.0};
+            for (int cells : terrainLevelCells(per)) {
+                if (cells == per) continue;
+                levels.push_back(terrainTileMesh(*field, ti, tj, per, cells));
+                // Never more accurate than a finer level: distances stay in order.
+                errors.push_back(std::max(errors.back(), tileLevelError(*field, *levels.back())));
+            }
+            const Box box = levels[0]->box();
+            const double radius = 0.5 * glm::length(box.max - box.min);
+            const float kFar = std::numeric_limits<float>::max();
+            std::vector<float> from(levels.size(), 0.0f);
+            for (size_t i = 1; i < levels.size(); ++i) {
+                const double d = errors[i] * kDefaultPixelsPerRadian / prm.pixelError + radius;
+                float v = float(d);
+                if (double(v) < d) v = std::nextafter(v, kFar);  // at the switch, at most pixelError
+                from[i] = v;
+            }
+            auto lod = make<LOD>();
+            lod->setName("terrain tile");
+            lod->setCenter(box.center());
+            for (size_t i = 0; i < levels.size(); ++i) {
+                // A level as accurate as the next coarser one is never needed: an empty range.
+                const float to = i + 1 < levels.size() ? from[i + 1] : kFar;
+                lod->addChild(make<Geometry>(levels[i], white), from[i], to);
+                lod->setError(i, float(errors[i]));
+            }
+            lod->setTransition(float(prm.fadeFraction * lod->range(0).max));
+            f.terrain->addChild(lod);
         }
     outside->addChild(f.terrain);
 
@@ -691,6 +858,44 @@ Factory buildFactory(const FactoryParams& prm) {
     f.drawnTriangles = tc.drawn;
     f.storedTriangles = tc.stored;
     return f;
+}
+
+void shareTerrainColors(Factory& f) {
+    for (size_t t = 0; t < f.terrain->numChildren(); ++t) {
+        Node& tile = *f.terrain->child(t);
+        const Mesh& fine = *static_cast<Geometry&>(*tile.child(0)).mesh();
+        const std::vector<vec3>& fp = fine.positions();
+        const std::vector<vec4>& fc = fine.colors();
+        const int side = int(std::lround(std::sqrt(double(fp.size())))), per = side - 1;
+        const std::vector<int> cells = terrainLevelCells(per);
+        if (per < 1 || fc.size() != fp.size() || cells.size() != tile.numChildren())
+            throw std::invalid_argument("scenes::shareTerrainColors(): terrain tile " + std::to_string(t) +
+                                        " is not as buildFactory() made it");
+        const double x0 = fp[0].x, y0 = fp[0].y, step = (double(fp[size_t(per)].x) - x0) / per;
+        for (size_t level = 1; level < tile.numChildren(); ++level) {
+            Mesh& m = *static_cast<Geometry&>(*tile.child(level)).mesh();
+            // Half the level's spacing, in cells: the neighbourhood an inner vertex stands for.
+            const int r = int(std::lround(0.5 * per / cells[level]));
+            std::vector<vec4> col(m.positions().size());
+            for (size_t v = 0; v < col.size(); ++v) {
+                const int li = int(std::lround((m.positions()[v].x - x0) / step)),
+                          lj = int(std::lround((m.positions()[v].y - y0) / step));
+                if (li == 0 || lj == 0 || li == per || lj == per) {  // the shared border: exactly the finest
+                    col[v] = fc[size_t(lj * side + li)];
+                    continue;
+                }
+                vec4 sum(0.0f);
+                int n = 0;
+                for (int j = std::max(0, lj - r); j <= std::min(per, lj + r); ++j)
+                    for (int i = std::max(0, li - r); i <= std::min(per, li + r); ++i, ++n)
+                        sum += fc[size_t(j * side + i)];
+                col[v] = sum / float(n);
+            }
+            std::vector<uint32_t> idx(m.indexCount());
+            for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
+            m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));
+        }
+    }
 }
 
 int factoryWorkshopAt(const Factory& f, const dvec3& eye) {

@@ -20,7 +20,7 @@ struct FactoryParams {
     uint32_t seed = 1996;          // hills, trees and car placement
     double siteSize = 800.0;       // side of the square terrain, metres, centred on the origin
     int terrainCells = 248;        // height-field cells per side (3.2 m each)
-    int terrainTiles = 8;          // Geometry pieces per side (must divide terrainCells; 100 m each)
+    int terrainTiles = 8;          // LOD pieces per side (must divide terrainCells; 100 m each)
     int machinesPerWorkshop = 17;  // Instances of the machine group in each workshop
     int trees = 140;               // axial billboards around the yard (plus a row along its north edge)
     int cars = 24;                 // Instances of the car model in the car park (at most 64, the bays)
@@ -52,7 +52,9 @@ struct Factory {
     std::vector<FactoryWorkshop> workshops;
     sg::ref_ptr<sg::LOD> machine;       // the machine group: the prototype every machine Instance places
     sg::ref_ptr<sg::Mesh> machineMesh;  // its detailed level
-    sg::ref_ptr<sg::Group> terrain;     // one Geometry per tile
+    // One LOD per tile: child 0 the full grid, then coarser grids stitched to the same full-resolution
+    // border (so no cracks between tiles at different levels), each shown where its error is below a pixel.
+    sg::ref_ptr<sg::Group> terrain;
     // Ground height at (x, y): the terrain mesh's own surface (the height field interpolated over its
     // triangles), the ground level outside the site. For walking: eye height = terrainHeight + 1.7.
     std::function<double(double, double)> terrainHeight;
@@ -66,6 +68,12 @@ struct Factory {
 // negative count, more than 64 cars or 21 machines per workshop (three rows of 7), a pixel error that is
 // not positive and finite, or a fade fraction outside [0, 1).
 Factory buildFactory(const FactoryParams& params = {});
+
+// Gives the coarse levels of every terrain tile colours from its finest level, after those have changed (baked
+// light): a border vertex, shared with the neighbours, takes the finest colour at its point; an inner vertex
+// the mean of the finest colours within half its level's spacing (a coarse level stands for that area).
+// Throws std::invalid_argument naming the function for a terrain that buildFactory() did not make.
+void shareTerrainColors(Factory& f);
 
 // The workshop whose box holds `eye`, or -1.
 int factoryWorkshopAt(const Factory& f, const sg::dvec3& eye);

@@ -44,7 +44,10 @@ FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir
         }
         g->setMaterial(m);
     };
-    for (size_t i = 0; i < f.terrain->numChildren(); ++i) add(f.terrain->child(i), dmat4(1.0));
+    // The finest level of every tile is baked; its coarse levels take their light from it afterwards. Rays of
+    // their own would start under the ground wherever a coarse surface dips below the fine one (black
+    // patches), and a shadow caught by one coarse vertex would spread over its whole fan.
+    for (size_t i = 0; i < f.terrain->numChildren(); ++i) add(f.terrain->child(i)->child(0), dmat4(1.0));
     for (const FactoryBuilding& b : f.buildings)
         for (size_t i = 0; i < b.lod->numChildren(); ++i) add(b.lod->child(i), b.place->matrix());
     FactoryLightingStats st;
@@ -55,6 +58,15 @@ FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir
     Scene scene(f.root);
     scene.update();
     st.cached = VertexLightBaker::bakeCached(scene, targets, factoryLightParams(), seed, cacheDir);
+    shareTerrainColors(f);
+    for (size_t i = 0; i < f.terrain->numChildren(); ++i) {
+        Node* tile = f.terrain->child(i);
+        for (size_t k = 1; k < tile->numChildren(); ++k) {
+            auto* g = static_cast<Geometry*>(tile->child(k));
+            g->setMaterial(static_cast<Geometry*>(tile->child(0))->material());
+            st.vertices += g->mesh()->positions().size();
+        }
+    }
     st.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return st;
 }

@@ -1,5 +1,6 @@
 // The factory site's baked lighting: a sun at 40 degrees with soft shadows and ambient occlusion in the
-// vertex colours of the terrain tiles and of both levels of every building model.
+// vertex colours of the terrain tiles (baked on the finest level, shared with the coarse ones) and of both levels
+// of every building model.
 #pragma once
 #include "sg/intersect/VertexLightBaker.h"
 #include "testbed/Factory.h"
@@ -11,7 +12,7 @@ namespace scenes {
 struct FactoryLightingStats {
     bool cached = false;    // the colours came from the cache file
     double ms = 0.0;        // wall time of the whole call (bake or read)
-    uint64_t vertices = 0;  // vertices lit
+    uint64_t vertices = 0;  // vertices lit (the coarse terrain levels' too)
     int targets = 0;        // meshes lit
 };
 

@@ -1,16 +1,27 @@
 #include "factory/Walkthrough.h"
 
+#include "nodes/Geometry.h"
 #include "sg/lod/LodStress.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <set>
+#include <utility>
 
 namespace factory {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+// Every (mesh, material) under `n`: all children of Switches and LODs, and Instances' prototypes.
+void allGeometry(sg::Node& n, std::set<std::pair<const sg::Mesh*, const sg::Material*>>& out) {
+    if (n.kind() == sg::NodeKind::Geometry) {
+        const auto& g = static_cast<const sg::Geometry&>(n);
+        if (g.mesh()) out.insert({g.mesh(), g.material()});
+    }
+    for (size_t i = 0; i < n.numChildren(); ++i) allGeometry(*n.child(i), out);
+}
 uint64_t vertices(const sg::DrawList& list) {
     uint64_t n = 0;
     for (const sg::DrawItem& it : list.items) n += it.mesh->positions().size();
@@ -28,7 +39,29 @@ const char* modeName(LodMode m) {
 }
 
 Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height)
-    : f_(f), scene_(scene), path_(path), width_(width), height_(height) {}
+    : f_(f), scene_(scene), path_(path), width_(width), height_(height) {
+    // Every mesh and texture the path may draw goes to the GPU now, as an application loads its database
+    // before it walks it: else each is uploaded in the first frame that sees it (the workshop's interior at
+    // the door, coarse levels as the eye draws away), and those frames stall.
+    std::set<std::pair<const sg::Mesh*, const sg::Material*>> all;
+    allGeometry(*f_.root, all);
+    // Drawn looking at the sky through a sliver of depth: uploaded, and next to nothing rasterised.
+    sg::Camera sky;
+    sky.setViewport(width_, height_);
+    sky.setPerspective(60.0, double(width_) / height_, 0.1, 0.2);
+    sky.setLookAt(sg::dvec3(0.0, 0.0, 1e4), sg::dvec3(0.0, 0.0, 2e4), sg::dvec3(0.0, 1.0, 0.0));
+    // One mesh per draw: the whole site in one draw left the software rasteriser slower on every later frame.
+    for (const auto& [mesh, material] : all) {
+        sg::DrawItem it;
+        it.mesh = mesh;
+        it.material = material;
+        list_.clear();
+        list_.add(it);
+        renderer_.draw(list_, sky);
+    }
+    renderer_.finish();
+    list_.clear();
+}
 
 void Walkthrough::showWorkshop(int workshop) {
     if (workshop == shown_) return;

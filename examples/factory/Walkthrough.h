@@ -30,6 +30,7 @@ struct ModeRun {
 class Walkthrough {
 public:
     // Needs a current OpenGL context of width x height (the renderer's); keeps references to its arguments.
+    // Uploads every mesh and texture of the site (all levels, switched-off interiors) before any frame.
     Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height);
 
     // The whole path once in `mode` (after a warm-up on its first frames, so that the stress scale and the

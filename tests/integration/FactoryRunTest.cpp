@@ -3,12 +3,14 @@
 // once, frames equal to their no-cull references), and the program itself (JSON, pictures, bad options).
 #include "factory/Walkthrough.h"
 #include "integration/ProgramRun.h"
+#include "nodes/Geometry.h"
 #include "sg/gl/OsmesaContext.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <set>
 #include <string>
 
 using namespace factory;
@@ -77,6 +79,25 @@ TEST(FactoryRun, StaticRunDrawsLessThanTheSiteAndSwitchesInside) {
         for (size_t w = 0; w < s.f.workshops.size(); ++w)
             EXPECT_EQ(s.f.workshops[w].interior->isOn(0), int(w) == k) << "frame " << i << " workshop " << w;
     }
+}
+
+// Distinct meshes under `n`, every Switch and LOD child and Instance prototype included.
+void meshesUnder(sg::Node& n, std::set<const sg::Mesh*>& out) {
+    if (n.kind() == sg::NodeKind::Geometry && static_cast<sg::Geometry&>(n).mesh())
+        out.insert(static_cast<sg::Geometry&>(n).mesh());
+    for (size_t i = 0; i < n.numChildren(); ++i) meshesUnder(*n.child(i), out);
+}
+
+TEST(FactoryRun, EveryMeshIsUploadedBeforeTheFirstFrame) {
+    Site& s = site();
+    std::set<const sg::Mesh*> meshes;
+    meshesUnder(*s.f.root, meshes);
+    sg::OsmesaContext ctx(kW, kH);
+    Walkthrough walk(s.f, s.scene, s.path, kW, kH);
+    // The interiors, off until the door, and every coarse level are there already: no frame uploads one.
+    EXPECT_EQ(walk.renderer().cachedMeshes(), meshes.size());
+    walk.run(LodMode::Static, 33.0, false);
+    EXPECT_EQ(walk.renderer().cachedMeshes(), meshes.size());
 }
 
 TEST(FactoryRun, FramesEqualTheirNoCullReferences) {

@@ -10,12 +10,17 @@
 using namespace sg;
 
 namespace {
-// Colour over albedo (green channel) of the terrain vertex nearest (x, y).
+// Level `level` of terrain tile `t`.
+Geometry& tileLevel(const scenes::Factory& f, size_t t, size_t level) {
+    return static_cast<Geometry&>(*f.terrain->child(t)->child(level));
+}
+
+// Colour over albedo (green channel) of the terrain vertex nearest (x, y), on the tiles' finest level.
 float lightAt(const scenes::Factory& lit, const scenes::Factory& plain, double x, double y) {
     float best = 1e30f, ratio = 0.0f;
     for (size_t i = 0; i < lit.terrain->numChildren(); ++i) {
-        const Mesh& m = *static_cast<Geometry*>(lit.terrain->child(i))->mesh();
-        const Mesh& a = *static_cast<Geometry*>(plain.terrain->child(i))->mesh();
+        const Mesh& m = *tileLevel(lit, i, 0).mesh();
+        const Mesh& a = *tileLevel(plain, i, 0).mesh();
         for (size_t v = 0; v < m.positions().size(); ++v) {
             const float d = glm::length(vec2(m.positions()[v]) - vec2(float(x), float(y)));
             if (d < best) {
@@ -40,15 +45,20 @@ TEST(FactoryLighting, ShadowsFallAwayFromTheSunAndTheCacheRestoresThem) {
     const float shadow = lightAt(f, plain, -100.0, 94.0), westSide = lightAt(f, plain, -152.0, 75.0);
     EXPECT_LT(shadow, westSide - 0.2f) << shadow << " vs " << westSide;
     // Geometries that were lit draw unlit: the colours carry the light.
-    EXPECT_TRUE(static_cast<Geometry*>(f.terrain->child(0))->material()->unlit);
+    // Every level of every tile is lit, the coarse ones too: not left in their albedo.
+    for (size_t i = 0; i < f.terrain->numChildren(); ++i)
+        for (size_t level = 0; level < f.terrain->child(i)->numChildren(); ++level) {
+            EXPECT_TRUE(tileLevel(f, i, level).material()->unlit);
+            EXPECT_NE(tileLevel(f, i, level).mesh()->colors(), tileLevel(plain, i, level).mesh()->colors()) << i;
+        }
 
     scenes::Factory again = scenes::buildFactory();
     const scenes::FactoryLightingStats second = scenes::bakeFactoryLighting(again, dir);
     EXPECT_TRUE(second.cached);
     EXPECT_LT(second.ms, 2000.0);
     for (size_t i = 0; i < f.terrain->numChildren(); ++i)
-        EXPECT_EQ(static_cast<Geometry*>(f.terrain->child(i))->mesh()->colors(),
-                  static_cast<Geometry*>(again.terrain->child(i))->mesh()->colors());
+        for (size_t level = 0; level < f.terrain->child(i)->numChildren(); ++level)
+            EXPECT_EQ(tileLevel(f, i, level).mesh()->colors(), tileLevel(again, i, level).mesh()->colors());
     EXPECT_EQ(static_cast<Geometry*>(f.buildings[9].lod->child(1))->mesh()->colors(),
               static_cast<Geometry*>(again.buildings[9].lod->child(1))->mesh()->colors());
     std::filesystem::remove_all(dir);

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <set>
 
 using namespace sg;
@@ -27,6 +28,11 @@ void instancesUnder(Node& n, std::vector<Instance*>& out) {
 Mesh* levelMesh(const LOD& lod, size_t level) {
     EXPECT_EQ(lod.child(level)->kind(), NodeKind::Geometry);
     return static_cast<Geometry*>(lod.child(level))->mesh();
+}
+// Terrain tile t: an LOD of its levels.
+LOD& tile(const scenes::Factory& f, size_t t) {
+    EXPECT_EQ(f.terrain->child(t)->kind(), NodeKind::LOD);
+    return static_cast<LOD&>(*f.terrain->child(t));
 }
 Box translated(const Box& b, const dvec3& t) { return Box{b.min + t, b.max + t}; }
 bool inside(const Box& inner, const Box& outer) { return outer.contains(inner.min) && outer.contains(inner.max); }
@@ -157,15 +163,14 @@ TEST(Factory, TerrainHeightAgreesWithTheTerrainMesh) {
     // Every vertex of every tile.
     size_t vertices = 0;
     double lo = kInf, hi = -kInf;
-    for (size_t t = 0; t < f.terrain->numChildren(); ++t) {
-        const Mesh* m = static_cast<Geometry*>(f.terrain->child(t))->mesh();
-        for (const vec3& p : m->positions()) {
-            ASSERT_NEAR(f.terrainHeight(p.x, p.y), p.z, 1e-4) << p.x << " " << p.y;
-            lo = std::min(lo, double(p.z));
-            hi = std::max(hi, double(p.z));
-            ++vertices;
-        }
-    }
+    for (size_t t = 0; t < f.terrain->numChildren(); ++t)
+        for (size_t level = 0; level < tile(f, t).numChildren(); ++level)  // coarse levels stand on it too
+            for (const vec3& p : levelMesh(tile(f, t), level)->positions()) {
+                ASSERT_NEAR(f.terrainHeight(p.x, p.y), p.z, 1e-4) << p.x << " " << p.y;
+                lo = std::min(lo, double(p.z));
+                hi = std::max(hi, double(p.z));
+                vertices += level == 0;
+            }
     EXPECT_EQ(vertices, 8u * 8u * 32u * 32u);
     EXPECT_GT(hi - lo, 20.0);                          // hills, not a plane
     EXPECT_NEAR(f.terrainHeight(-25, 25), 0.0, 1e-9);  // the yard is flat
@@ -227,7 +232,7 @@ TEST(Factory, CullsFromOutsideAndFromInsideAWorkshop) {
     scene.update();
     std::set<const Mesh*> terrain, machine;
     for (size_t t = 0; t < f.terrain->numChildren(); ++t)
-        terrain.insert(static_cast<Geometry*>(f.terrain->child(t))->mesh());
+        for (size_t level = 0; level < tile(f, t).numChildren(); ++level) terrain.insert(levelMesh(tile(f, t), level));
     for (size_t k = 0; k < f.machine->numChildren(); ++k) machine.insert(levelMesh(*f.machine, k));
     auto count = [](const DrawList& l, const std::set<const Mesh*>& s) {
         size_t n = 0;
@@ -255,4 +260,184 @@ TEST(Factory, CullsFromOutsideAndFromInsideAWorkshop) {
     EXPECT_GE(count(list, machine), 10u);
     EXPECT_EQ(count(list, terrain), 0u);
     EXPECT_LT(st.triangles, 17u * 2886u + 5000u);
+}
+
+TEST(Factory, TerrainTilesHaveCoarseLevelsSwitchedWhereTheirErrorIsAPixel) {
+    const auto& f = factory();
+    ASSERT_EQ(f.terrain->numChildren(), 64u);
+    int hilly = 0, flat = 0;
+    for (size_t t = 0; t < 64; ++t) {
+        const LOD& lod = tile(f, t);
+        ASSERT_EQ(lod.numChildren(), 4u);
+        const uint32_t fine = levelMesh(lod, 0)->triangleCount();
+        EXPECT_EQ(fine, 31u * 31u * 2u);
+        for (size_t i = 1; i < 4; ++i) {
+            EXPECT_LT(levelMesh(lod, i)->triangleCount(), levelMesh(lod, i - 1)->triangleCount()) << t;
+            // Same per-vertex arrays as the full grid.
+            EXPECT_EQ(levelMesh(lod, i)->normals().size(), levelMesh(lod, i)->positions().size());
+            EXPECT_EQ(levelMesh(lod, i)->uvs().size(), levelMesh(lod, i)->positions().size());
+            EXPECT_EQ(levelMesh(lod, i)->colors().size(), levelMesh(lod, i)->positions().size());
+        }
+        EXPECT_LE(levelMesh(lod, 3)->triangleCount() * 10u, fine) << t;  // an order of magnitude
+        // Level i from where its error projects to one pixel from the tile's nearest point: the centre's
+        // distance less the tile's radius.
+        const Box b = levelMesh(lod, 0)->box();
+        const double radius = 0.5 * glm::length(b.max - b.min);
+        EXPECT_EQ(lod.center(), b.center());
+        EXPECT_EQ(lod.range(0).min, 0.0f);
+        for (size_t i = 1; i < 4; ++i) {
+            EXPECT_GE(lod.error(i), lod.error(i - 1));
+            EXPECT_NEAR(lod.range(i).min, lod.error(i) * kDefaultPixelsPerRadian + radius, 1e-3 * lod.range(i).min);
+            EXPECT_GE((lod.range(i).min - radius) / kDefaultPixelsPerRadian, lod.error(i) * (1.0 - 1e-6));
+            EXPECT_EQ(lod.range(i - 1).max, lod.range(i).min);
+        }
+        EXPECT_EQ(lod.range(3).max, std::numeric_limits<float>::max());
+        EXPECT_NEAR(lod.transition(), 0.1f * lod.range(0).max, 1e-3f * lod.range(0).max);
+        hilly += lod.error(1) > 0.05f;
+        flat += lod.error(3) == 0.0f;  // the yard: every level exact
+    }
+    EXPECT_GE(hilly, 40);
+    EXPECT_GE(flat, 4);
+}
+
+TEST(Factory, TerrainLevelErrorsBoundTheirDistanceToTheFullGrid) {
+    const auto& f = factory();
+    IntersectTraversal it;
+    QueryOptions q;
+    q.traversalMask = ~0u;
+    for (size_t t : {0u, 7u, 21u, 45u, 63u}) {  // hills, the stream (21, 45), the yard's edge
+        const LOD& lod = tile(f, t);
+        const Box b = levelMesh(lod, 0)->box();
+        for (size_t level = 1; level < lod.numChildren(); ++level) {
+            auto root = make<Group>();
+            root->addChild(make<Geometry>(ref_ptr<Mesh>(levelMesh(lod, level)), make<Material>(vec4(1.0f))));
+            Scene scene(root);
+            scene.update();
+            double worst = 0.0;
+            for (int k = 0; k < 1500; ++k) {
+                const double x = b.min.x + (b.max.x - b.min.x) * std::fmod(0.5 + k * 0.618034, 1.0),
+                             y = b.min.y + (b.max.y - b.min.y) * std::fmod(0.5 + k * 0.7548777, 1.0);
+                Hit hit;
+                ASSERT_TRUE(it.intersect(scene, Ray{dvec3(x, y, 500.0), dvec3(0, 0, -1), 1000.0}, q, hit));
+                worst = std::max(worst, std::abs(hit.point.z - f.terrainHeight(x, y)));
+            }
+            EXPECT_LE(worst, lod.error(level) + 1e-3) << t << " level " << level;
+            // Not a loose bound either: samples come near it.
+            EXPECT_GE(worst, 0.5 * lod.error(level)) << t << " level " << level;
+        }
+    }
+}
+
+TEST(Factory, TerrainTilesSwitchLevelAtTheirRanges) {
+    const auto& f = factory();
+    Scene scene(f.terrain);
+    scene.update();
+    const size_t t = 7;  // a corner tile in the hills
+    const LOD& lod = tile(f, t);
+    ASSERT_GT(lod.range(1).max, lod.range(1).min + lod.transition());
+    CullTraversal cull;
+    DrawList list;
+    CullStats st;
+    // Straight above the tile's centre, looking down: which of its levels is drawn.
+    auto drawn = [&](double height) {
+        Camera cam;
+        cam.setViewport(640, 480);
+        cam.setPerspective(60.0, 640.0 / 480.0, 1.0, 5000.0);
+        const dvec3 c = lod.center();
+        cam.setLookAt(c + dvec3(0, 0, height), c, dvec3(0, 1, 0));
+        cull.cull(scene, cam, CullSettings{}, list, st);
+        std::set<size_t> levels;
+        for (const DrawItem& item : list.items)
+            for (size_t i = 0; i < lod.numChildren(); ++i)
+                if (item.mesh == levelMesh(lod, i)) levels.insert(i);
+        return levels;
+    };
+    const double d = lod.range(1).min, w = lod.transition();
+    EXPECT_EQ(drawn(d - w / 2 - 1.0), std::set<size_t>{0});
+    EXPECT_EQ(drawn(d), (std::set<size_t>{0, 1}));  // fading across
+    EXPECT_EQ(drawn(d + w / 2 + 1.0), std::set<size_t>{1});
+}
+
+TEST(Factory, NoCracksBetweenTerrainTilesAtDifferentLevels) {
+    auto f = scenes::buildFactory();
+    // East of x = 200 every tile at its coarsest level, west of it at its finest.
+    for (size_t t = 0; t < f.terrain->numChildren(); ++t) {
+        LOD& lod = tile(f, t);
+        const bool coarse = lod.center().x > 200.0;
+        const size_t shown = coarse ? lod.numChildren() - 1 : 0;
+        lod.setTransition(0.0f);
+        for (size_t i = 0; i < lod.numChildren(); ++i)
+            lod.setRange(i, 0.0f, i == shown ? std::numeric_limits<float>::max() : 0.0f);
+    }
+    Scene scene(f.terrain);
+    scene.update();
+    // Looking across the border between tiles 5 and 6 of a row in the hills, from either side, down at 25
+    // degrees: every ray must meet the ground (a crack would let one through, to the sky).
+    IntersectTraversal it;
+    int misses = 0, east = 0, west = 0;
+    for (const double side : {-1.0, 1.0}) {
+        const dvec3 eye(200.0 + 40.0 * side, 230.0, f.terrainHeight(200.0 + 40.0 * side, 230.0) + 20.0);
+        const dvec3 fwd = glm::normalize(dvec3(-side * std::cos(0.44), 0.0, -std::sin(0.44)));
+        const dvec3 right = glm::normalize(glm::cross(fwd, dvec3(0, 0, 1))), up = glm::cross(right, fwd);
+        Camera cam;
+        cam.setViewport(300, 200);
+        cam.setPerspective(40.0, 1.5, 0.5, 3000.0);
+        cam.setLookAt(eye, eye + fwd, dvec3(0, 0, 1));
+        QueryOptions q;
+        q.traversalMask = ~0u;
+        q.lod = LodChoice::AsDrawn;
+        q.camera = &cam;
+        const double th = std::tan(20.0 * M_PI / 180.0);
+        for (int py = 0; py < 200; ++py)
+            for (int px = 0; px < 300; ++px) {
+                const double sx = (2.0 * (px + 0.5) / 300 - 1.0) * th * 1.5, sy = (1.0 - 2.0 * (py + 0.5) / 200) * th;
+                Hit hit;
+                if (!it.intersect(scene, Ray{eye, glm::normalize(fwd + sx * right + sy * up), 3000.0}, q, hit)) {
+                    ++misses;
+                    continue;
+                }
+                (hit.point.x > 200.0 ? east : west) += 1;
+            }
+    }
+    EXPECT_EQ(misses, 0);
+    // Both levels are in view, each over a good share of it.
+    EXPECT_GT(east, 2 * 300 * 200 / 5);
+    EXPECT_GT(west, 2 * 300 * 200 / 5);
+}
+
+TEST(Factory, CoarseTerrainLevelsTakeTheirColoursFromTheFinest) {
+    auto f = scenes::buildFactory();
+    // Finest colours: red a checkerboard of the grid points, green rising along x.
+    for (size_t t = 0; t < f.terrain->numChildren(); ++t) {
+        Mesh& m = *levelMesh(tile(f, t), 0);
+        std::vector<vec4> col;
+        for (const vec3& p : m.positions()) {
+            const long i = std::lround((p.x + 400.0) / 3.2258064516), j = std::lround((p.y + 400.0) / 3.2258064516);
+            col.emplace_back(float((i + j) % 2), float((p.x + 400.0) / 800.0), 0.0f, 1.0f);
+        }
+        std::vector<uint32_t> idx(m.indexCount());
+        for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
+        m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));
+    }
+    scenes::shareTerrainColors(f);
+    for (size_t t = 0; t < f.terrain->numChildren(); ++t) {
+        const LOD& lod = tile(f, t);
+        const Box b = levelMesh(lod, 0)->box();
+        for (size_t level = 1; level < lod.numChildren(); ++level) {
+            const Mesh& m = *levelMesh(lod, level);
+            ASSERT_EQ(m.colors().size(), m.positions().size());
+            for (size_t v = 0; v < m.positions().size(); ++v) {
+                const vec3 p = m.positions()[v];
+                const vec4 c = m.colors()[v];
+                // Green is linear in x: a mean over a window centred on the vertex keeps the vertex's value.
+                EXPECT_NEAR(c.g, (p.x + 400.0) / 800.0, 1e-5);
+                const bool border = p.x == b.min.x || p.x == b.max.x || p.y == b.min.y || p.y == b.max.y;
+                const long i = std::lround((p.x + 400.0) / 3.2258064516), j = std::lround((p.y + 400.0) / 3.2258064516);
+                if (border)
+                    ASSERT_EQ(c.r, float((i + j) % 2)) << t << " level " << level;  // the neighbours' colour
+                else
+                    ASSERT_TRUE(c.r > 0.3f && c.r < 0.7f) << c.r;  // the checkerboard averaged out
+            }
+        }
+    }
 }
