@@ -15,8 +15,9 @@ public:
     int width() const { return w_; }
     int height() const { return h_; }
     const std::vector<uint8_t>& rgba() const { return rgba_; }
-    // The most anisotropic filtering the renderer may use for it, where GL offers it (1: trilinear only):
-    // ground seen at grazing angles stays sharp without the cost on textures that are never oblique.
+    // The most anisotropic filtering the renderer may use for it, where GL offers it cheaply (a GPU, not a
+    // software rasterizer; 1: trilinear only): ground seen at grazing angles stays sharp without the cost
+    // on textures that are never oblique.
     float maxAnisotropy = 1.0f;
 
 private:

@@ -85,7 +85,7 @@ private:
     int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
         uAlphaCutoff_ = -1, uTexture_ = -1, uHeadlight_ = -1, uAmbient_ = -1, uLightColor_ = -1, uBakedLight_ = -1,
         uSpecular_ = -1, uShininess_ = -1;
-    float maxAnisotropy_ = 1.0f;  // 1 when GL has no anisotropic filtering
+    float maxAnisotropy_ = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     DirectionalLight light_;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;
     std::unordered_map<const Texture*, GpuTexture> textures_, cutTextures_;
