@@ -1,5 +1,7 @@
 #include "testbed/Factory.h"
 
+#include "testbed/FactoryTextures.h"
+
 #include "nodes/Billboard.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
@@ -27,11 +29,11 @@ struct Rng {
     double uniform(double a = 0.0, double b = 1.0) { return a + (b - a) * double(g() >> 8) * (1.0 / 16777216.0); }
 };
 
-// Texture coordinate of a pure white texel in every generated texture: parts that are not walls sample it
-// and take their colour from their vertices.
 using glm::ivec2;
 
-const vec2 kWhiteUv(0.5f / 64.0f, 0.5f / 64.0f);
+// The pure white corner of the wall textures: parts of a building that are not wall sample it and take
+// their colour from their vertices.
+const vec2 kWhiteUv(kFactoryWhiteUv, kFactoryWhiteUv);
 
 // Triangles appended one shape at a time; every triangle is wound so that it faces its intended normal.
 struct MeshBuilder {
@@ -114,51 +116,6 @@ struct MeshBuilder {
 
 vec4 rgb(int r, int g, int b) { return vec4(r / 255.0f, g / 255.0f, b / 255.0f, 1.0f); }
 
-// 64x64 wall texture: one bay of one storey, white wall with faint mortar lines (tinted by the vertex
-// colours) and a window at u in [0.25, 0.75], v in [0.3, 0.8]. Texel (0, 0) stays pure white.
-ref_ptr<Texture> windowTexture() {
-    std::vector<uint8_t> px(64 * 64 * 4);
-    for (int j = 0; j < 64; ++j)
-        for (int i = 0; i < 64; ++i) {
-            uint8_t* q = &px[size_t(j * 64 + i) * 4];
-            int r = 255, g = 255, b = 255;
-            if (j > 1 && (j % 8 == 0 || (i + (j / 8) * 8) % 16 == 0)) r = g = b = 225;
-            const bool window = i >= 16 && i < 48 && j >= 19 && j < 51;
-            if (window) {
-                const bool frame = i == 16 || i == 47 || j == 19 || j == 50 || i == 31 || i == 32 || j == 34;
-                if (frame)
-                    r = g = b = 235;
-                else {
-                    r = 70 + (j - 19);
-                    g = 95 + (j - 19);
-                    b = 120 + (j - 19);
-                }
-            }
-            q[0] = uint8_t(r), q[1] = uint8_t(g), q[2] = uint8_t(b), q[3] = 255;
-        }
-    return make<Texture>(64, 64, std::move(px));
-}
-
-// 64x64 tree: a trunk and a round crown, opaque inside their outline and alpha 0 outside (cut by the
-// material's alphaCutoff; the billboard's polygon follows the same outline).
-ref_ptr<Texture> treeTexture(uint32_t seed) {
-    Rng rng(seed);
-    std::vector<uint8_t> px(64 * 64 * 4, 0);
-    for (int j = 0; j < 64; ++j)
-        for (int i = 0; i < 64; ++i) {
-            uint8_t* q = &px[size_t(j * 64 + i) * 4];
-            const double x = (i + 0.5) / 64.0, v = (j + 0.5) / 64.0;  // v = 0 at the crown's top
-            const double dx = (x - 0.5) / 0.45, dy = (v - 0.4) / 0.4;
-            const double n = rng.uniform();
-            if (dx * dx + dy * dy < 1.0) {
-                q[0] = uint8_t(40 + 40 * n), q[1] = uint8_t(100 + 70 * n), q[2] = uint8_t(35 + 30 * n), q[3] = 255;
-            } else if (std::abs(x - 0.5) < 0.06 && v > 0.6) {
-                q[0] = uint8_t(90 + 30 * n), q[1] = uint8_t(65 + 20 * n), q[2] = uint8_t(40), q[3] = 255;
-            }
-        }
-    return make<Texture>(64, 64, std::move(px));
-}
-
 struct BuildingSpec {
     const char* kind;
     dvec3 centre;        // ground centre
@@ -166,6 +123,7 @@ struct BuildingSpec {
     double storey, bay;  // window grid
     vec4 wall, roof;
     bool sawtooth;  // workshops: north-light roof prisms
+    bool brick;     // brick walls (their colour in the texture) rather than rendered ones tinted by `wall`
 };
 
 // The detailed model of a building, in its frame (ground centre at the origin): a quad per wall with
@@ -189,7 +147,7 @@ ref_ptr<Mesh> buildingMesh(const BuildingSpec& s) {
         const dvec3 q[4] = {wl.a, wl.b, wl.b + dvec3(0, 0, h), wl.a + dvec3(0, 0, h)};
         const vec2 t[4] = {vec2(0, storeys), vec2(bays, storeys), vec2(bays, 0), vec2(0, 0)};
         // v runs down the texture as z runs up: texture row 0 is the top of a storey.
-        mb.quad(q, wl.nrm, t, s.wall);
+        mb.quad(q, wl.nrm, t, s.brick ? vec4(1.0f) : s.wall);
         const int nb = int(bays), ns = int(std::round(storeys));
         const double bw = len / nb;
         const dvec3 along = (wl.b - wl.a) / len, out = wl.nrm;
@@ -216,7 +174,7 @@ ref_ptr<Mesh> buildingMesh(const BuildingSpec& s) {
             mb.box(glm::min(p0, p1), glm::max(p0, p1), s.wall * vec4(0.9f, 0.9f, 0.9f, 1.0f));
         }
     }
-    // Roof slab and parapet.
+    // Roof slab and parapet (the slab keeps the simplified level closed; roofMesh() covers its top).
     mb.box(dvec3(-hw, -hd, h - 0.2), dvec3(hw, hd, h), s.roof);
     mb.box(dvec3(-hw, -hd, h), dvec3(hw, -hd + 0.3, h + 0.6), trim);
     mb.box(dvec3(-hw, hd - 0.3, h), dvec3(hw, hd, h + 0.6), trim);
@@ -263,6 +221,27 @@ ref_ptr<Mesh> buildingMesh(const BuildingSpec& s) {
         mb.box(dvec3(-dw - 0.4, y0 - (side < 0 ? 0.8 : 0.0), 0.0), dvec3(dw + 0.4, y1 + (side > 0 ? 0.8 : 0.0), 0.15),
                grey);  // step
     }
+    return mb.build();
+}
+
+// The roof of a building, in its frame: corrugated metal textured in world metres, 5 cm over the slab of
+// buildingMesh() and hidden at its edges by the parapet; a grid of cells about 2.5 m wide, since the baked
+// light is per vertex and the parapet's and the prisms' shadows need vertices to fall on.
+ref_ptr<Mesh> roofMesh(const BuildingSpec& s) {
+    MeshBuilder mb;
+    const double hw = s.w / 2, hd = s.d / 2, z = s.h + 0.05;
+    const int nx = std::max(1, int(std::round(s.w / 2.5))), ny = std::max(1, int(std::round(s.d / 2.5)));
+    for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) {
+            const dvec3 q(-hw + s.w * i / nx, -hd + s.d * j / ny, z);
+            mb.vertex(q, dvec3(0, 0, 1), vec2(float(q.x), float(q.y)) / kFactoryRoofMetres, s.roof);
+        }
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            const uint32_t a = uint32_t(j * (nx + 1) + i), b = a + 1, c = b + uint32_t(nx + 1), d = c - 1;
+            mb.tri(a, b, c, dvec3(0, 0, 1));
+            mb.tri(a, c, d, dvec3(0, 0, 1));
+        }
     return mb.build();
 }
 
@@ -382,7 +361,7 @@ ref_ptr<Mesh> terrainTileMesh(const HeightField& g, int ti, int tj, int per, int
             const double dzx = g.at(std::min(i + 1, N), j) - g.at(std::max(i - 1, 0), j);
             const double dzy = g.at(i, std::min(j + 1, N)) - g.at(i, std::max(j - 1, 0));
             nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * g.cell)));
-            uvs.push_back(kWhiteUv);
+            uvs.push_back(vec2(float(x), float(y)) / kFactoryGrassMetres);
             col.push_back(grassColor(z));
         }
     // A triangle of grid points, wound to face up.
@@ -533,7 +512,21 @@ Factory buildFactory(const FactoryParams& prm) {
     f.root->addChild(interiors);
 
     const auto white = make<Material>(vec4(1.0f));
-    auto solid = [](const vec4& c) { return make<Material>(c); };
+    // One material per texture, shared by every mesh that shows it: the draw batches stay per mesh.
+    auto textured = [](ref_ptr<Texture> tex, float anisotropy, float specular = 0.0f, float shininess = 32.0f) {
+        tex->maxAnisotropy = anisotropy;
+        auto m = make<Material>(vec4(1.0f), std::move(tex));
+        m->specular = specular;
+        m->shininess = shininess;
+        return m;
+    };
+    // Painted and metal surfaces catch the sun; the rest stays matt.
+    auto glossy = [](float specular, float shininess) {
+        auto m = make<Material>(vec4(1.0f));
+        m->specular = specular;
+        m->shininess = shininess;
+        return m;
+    };
 
     // --- Terrain: a flat yard (radius ~210 m) in rolling hills, a stream channel cut through both.
     Rng rng(prm.seed);
@@ -575,6 +568,7 @@ Factory buildFactory(const FactoryParams& prm) {
     // from the tile's nearest point: the LOD measures from the tile's centre, so its radius is added.
     f.terrain = make<Group>();
     f.terrain->setName("terrain");
+    const auto grass = textured(factoryGrassTexture(prm.seed), 8.0f);
     const int per = N / prm.terrainTiles;
     for (int tj = 0; tj < prm.terrainTiles; ++tj)
         for (int ti = 0; ti < prm.terrainTiles; ++ti) {
@@ -602,7 +596,7 @@ Factory buildFactory(const FactoryParams& prm) {
             for (size_t i = 0; i < levels.size(); ++i) {
                 // A level as accurate as the next coarser one is never needed: an empty range.
                 const float to = i + 1 < levels.size() ? from[i + 1] : kFar;
-                lod->addChild(make<Geometry>(levels[i], white), from[i], to);
+                lod->addChild(make<Geometry>(levels[i], grass), from[i], to);
                 lod->setError(i, float(errors[i]));
             }
             lod->setTransition(float(prm.fadeFraction * lod->range(0).max));
@@ -610,29 +604,42 @@ Factory buildFactory(const FactoryParams& prm) {
         }
     outside->addChild(f.terrain);
 
-    // --- Roads and the car park: flat quads just above the yard.
+    // --- Roads and the car park: flat quads just above the yard, asphalt in world metres, painted lines.
     {
         MeshBuilder mb;
-        const vec4 road = rgb(95, 95, 100), park = rgb(120, 120, 125);
-        const vec2 t[4] = {kWhiteUv, kWhiteUv, kWhiteUv, kWhiteUv};
+        const vec4 road = rgb(80, 80, 84), park = rgb(92, 92, 96), paint = rgb(235, 235, 228);
         auto flat = [&](double x0, double y0, double x1, double y1, const vec4& c, double z = 0.03) {
             const dvec3 q[4] = {dvec3(x0, y0, z), dvec3(x1, y0, z), dvec3(x1, y1, z), dvec3(x0, y1, z)};
+            vec2 t[4];
+            for (int k = 0; k < 4; ++k) t[k] = vec2(float(q[k].x), float(q[k].y)) / kFactoryAsphaltMetres;
             mb.quad(q, dvec3(0, 0, 1), t, c);
         };
+        // A road and its dashed centre line (3 m dashes, 3 m gaps, 12 cm wide).
+        auto roadStrip = [&](double x0, double y0, double x1, double y1) {
+            flat(x0, y0, x1, y1, road);
+            const bool alongX = x1 - x0 > y1 - y0;
+            const double a0 = alongX ? x0 : y0, a1 = alongX ? x1 : y1, mid = alongX ? (y0 + y1) / 2 : (x0 + x1) / 2;
+            for (double a = a0 + 1.5; a + 3.0 <= a1 - 1.5; a += 6.0) {
+                if (alongX)
+                    flat(a, mid - 0.06, a + 3.0, mid + 0.06, paint, 0.05);
+                else
+                    flat(mid - 0.06, a, mid + 0.06, a + 3.0, paint, 0.05);
+            }
+        };
         const double bridgeX = streamX(-20.0);
-        flat(-160, -24, bridgeX - 10, -16, road);  // main road, west of the bridge
-        flat(bridgeX + 10, -24, 200, -16, road);   // and east of it, out to the hills
-        flat(-74, -16, -66, 100, road);            // between the workshop columns
-        flat(16, -16, 24, 100, road);              // east of the workshops
-        flat(-160, 100, 24, 108, road);            // north ring
-        flat(95, 15, 155, 85, park);               // car park
-        flat(24, 46, 95, 54, road);                // to the car park
+        roadStrip(-160, -24, bridgeX - 10, -16);  // main road, west of the bridge
+        roadStrip(bridgeX + 10, -24, 200, -16);   // and east of it, out to the hills
+        roadStrip(-74, -16, -66, 100);            // between the workshop columns
+        roadStrip(16, -16, 24, 100);              // east of the workshops
+        roadStrip(-160, 100, 24, 108);            // north ring
+        flat(95, 15, 155, 85, park);              // car park
+        roadStrip(24, 46, 95, 54);                // to the car park
         for (int r = 0; r < 4; ++r)
             for (int k = 0; k <= 16; ++k) {  // parking lines
                 const double x = 100.0 + 3.0 * k, y = 22.0 + 16.0 * r;
-                flat(x - 0.06, y, x + 0.06, y + 5.0, rgb(230, 230, 230), 0.05);
+                flat(x - 0.06, y, x + 0.06, y + 5.0, paint, 0.05);
             }
-        outside->addChild(make<Geometry>(mb.build(), white));
+        outside->addChild(make<Geometry>(mb.build(), textured(factoryAsphaltTexture(prm.seed), 8.0f)));
     }
 
     // --- The stream (a water strip in its channel) and the bridge carrying the main road over it.
@@ -671,27 +678,31 @@ Factory buildFactory(const FactoryParams& prm) {
 
     // --- Buildings.
     const std::vector<BuildingSpec> specs = {
-        {"workshop", dvec3(-115, 75, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
-        {"workshop", dvec3(-25, 75, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
-        {"workshop", dvec3(-115, 25, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
-        {"workshop", dvec3(-25, 25, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true},
-        {"auxiliary", dvec3(-130, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
-        {"auxiliary", dvec3(-90, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
-        {"auxiliary", dvec3(-50, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
-        {"auxiliary", dvec3(-10, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
-        {"auxiliary", dvec3(40, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(90, 60, 55), false},
-        {"technology", dvec3(55, 75, 0), 30, 20, 17.5, 3.5, 3, rgb(215, 200, 170), rgb(100, 100, 105), false},
-        {"office", dvec3(60, 30, 0), 40, 16, 21, 3.5, 3, rgb(230, 228, 220), rgb(100, 100, 105), false},
+        {"workshop", dvec3(-115, 75, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true, false},
+        {"workshop", dvec3(-25, 75, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true, false},
+        {"workshop", dvec3(-115, 25, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true, false},
+        {"workshop", dvec3(-25, 25, 0), 60, 30, 10, 5, 4, rgb(205, 205, 200), rgb(120, 125, 130), true, false},
+        {"auxiliary", dvec3(-130, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(120, 80, 70), false, true},
+        {"auxiliary", dvec3(-90, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(120, 80, 70), false, true},
+        {"auxiliary", dvec3(-50, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(120, 80, 70), false, true},
+        {"auxiliary", dvec3(-10, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(120, 80, 70), false, true},
+        {"auxiliary", dvec3(40, -45, 0), 20, 15, 6, 3, 3, rgb(170, 90, 70), rgb(120, 80, 70), false, true},
+        {"technology", dvec3(55, 75, 0), 30, 20, 17.5, 3.5, 3, rgb(215, 200, 170), rgb(100, 100, 105), false, false},
+        {"office", dvec3(60, 30, 0), 40, 16, 21, 3.5, 3, rgb(230, 228, 220), rgb(100, 100, 105), false, false},
     };
-    const auto wallMat = make<Material>(vec4(1.0f), windowTexture());
+    const auto wallMat = make<Material>(vec4(1.0f), factoryWindowTexture());
+    const auto brickMat = make<Material>(vec4(1.0f), factoryBrickTexture(prm.seed));
+    const auto roofMat = textured(factoryRoofTexture(prm.seed), 4.0f, 0.45f, 48.0f);
     for (const BuildingSpec& s : specs) {
         FactoryBuilding b;
         b.kind = s.kind;
         b.place = make<Transform>();
         b.place->setTranslation(s.centre);
-        b.lod = makeLod(buildingMesh(s), wallMat, {0.06f}, prm.pixelError);
+        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.06f}, prm.pixelError);
         b.lod->setTransition(float(prm.fadeFraction * b.lod->range(1).min));
         b.place->addChild(b.lod);
+        b.roof = make<Geometry>(roofMesh(s), roofMat);
+        b.place->addChild(b.roof);
         // Inside the walls, below the roof: never larger than the building it stands for. Outside the
         // Switch, since the occlusion pass uses only occluders that are there whatever the frame.
         b.occluder = make<Occluder>();
@@ -706,7 +717,7 @@ Factory buildFactory(const FactoryParams& prm) {
     // --- Trees: axial billboards (one shared crown-and-trunk polygon per kind) around the yard and along
     // the north road.
     {
-        auto treeMat = make<Material>(vec4(1.0f), treeTexture(prm.seed));
+        auto treeMat = make<Material>(vec4(1.0f), factoryTreeTexture(prm.seed));
         treeMat->alphaCutoff = 0.5f;  // cut at the texture outline: no fringe where filtering reaches alpha 0
         ref_ptr<Mesh> kinds[2];
         for (int k = 0; k < 2; ++k) {
@@ -766,7 +777,7 @@ Factory buildFactory(const FactoryParams& prm) {
                 wheels.frustum(dvec3(x, y, 0.33), dvec3(x, y + 0.2, 0.33), 0.33, 0.33, 10, rgb(30, 30, 30));
         auto car = make<Group>();
         car->setName("car");
-        car->addChild(make<Geometry>(body.build(), white));
+        car->addChild(make<Geometry>(body.build(), glossy(0.6f, 64.0f)));
         car->addChild(make<Geometry>(wheels.build(), white));
         std::vector<int> slots;
         for (int s = 0; s < 64; ++s) slots.push_back(s);
@@ -783,7 +794,7 @@ Factory buildFactory(const FactoryParams& prm) {
 
     // --- Workshop interiors: 17 instances of one machine group, conveyors, pillars, inner walls.
     f.machineMesh = machineMesh(prm.seed ^ 0x5eedu, 2886);
-    f.machine = makeLod(f.machineMesh, white, {0.08f}, prm.pixelError);
+    f.machine = makeLod(f.machineMesh, glossy(0.5f, 40.0f), {0.08f}, prm.pixelError);
     f.machine->setTransition(float(prm.fadeFraction * f.machine->range(1).min));
     f.machine->setName("machine group");
     {

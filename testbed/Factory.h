@@ -1,6 +1,7 @@
 // The `factory` scene: a procedural factory site after the Performer walkthrough paper (hills, roads, a
 // stream, workshops with instanced machines behind switches), as docs/scenes.md describes it.
 #pragma once
+#include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
@@ -33,6 +34,7 @@ struct FactoryBuilding {
     std::string kind;  // "workshop", "auxiliary", "technology" or "office"
     sg::ref_ptr<sg::Transform> place;
     sg::ref_ptr<sg::LOD> lod;            // child 0 the detailed model, child 1 the simplified one
+    sg::ref_ptr<sg::Geometry> roof;      // the roofing over the model's slab, beside the LOD (its own texture)
     sg::ref_ptr<sg::Occluder> occluder;  // world box, under the root's "occluders" group (not switched)
     sg::Box box;                         // world box of the walls and roof (what an eye is "inside")
 };

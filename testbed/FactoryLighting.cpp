@@ -20,27 +20,40 @@ VertexLightParams factoryLightParams() {
     p.aoDistance = 10.0;
     p.sunDistance = 2000.0;
     p.offset = 0.05;
-    p.ambient = 0.55f;
-    p.direct = 0.65f;
     return p;
+}
+
+DirectionalLight factoryLight(int workshop) {
+    if (workshop < 0) {
+        // Daylight: a warm sun, and a bluish sky for the ambient term (the baked occlusion scales it).
+        return DirectionalLight::sun(vec3(factoryLightParams().sunDirection), vec3(0.50f, 0.54f, 0.62f),
+                                     vec3(0.78f, 0.74f, 0.66f));
+    }
+    // Inside a workshop: the north-light glazing of the sawtooth roof, from above and the north, cooler
+    // and softer than the sun; no baked shadows there (nothing inside is baked).
+    return DirectionalLight::sun(vec3(0.0f, 0.5f, 0.87f), vec3(0.48f, 0.5f, 0.54f), vec3(0.55f, 0.56f, 0.58f));
 }
 
 FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir, uint32_t seed) {
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<BakeTarget> targets;
-    // The baked colours hold all the light: drawn unlit, else the renderer's own light would shade them
-    // twice. One unlit copy per material keeps the draw batches as they were.
-    std::map<Material*, ref_ptr<Material>> unlit;
+    // The colours now carry occlusion and sun visibility, which only a bakedLight material reads so. One
+    // copy per material keeps the draw batches as they were.
+    std::map<Material*, ref_ptr<Material>> baked;
     auto add = [&](Node* n, const dmat4& world) {
         if (n->kind() != NodeKind::Geometry) return;
         auto* g = static_cast<Geometry*>(n);
         targets.push_back({ref_ptr<Mesh>(g->mesh()), world});
         if (!g->material()) return;
-        ref_ptr<Material>& m = unlit[g->material()];
+        ref_ptr<Material>& m = baked[g->material()];
         if (!m) {
-            m = make<Material>(g->material()->baseColor, g->material()->texture);
-            m->alphaCutoff = g->material()->alphaCutoff;
-            m->unlit = true;
+            const Material& from = *g->material();
+            m = make<Material>(from.baseColor, from.texture);
+            m->unlit = from.unlit;
+            m->alphaCutoff = from.alphaCutoff;
+            m->specular = from.specular;
+            m->shininess = from.shininess;
+            m->bakedLight = true;
         }
         g->setMaterial(m);
     };
@@ -48,8 +61,10 @@ FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir
     // their own would start under the ground wherever a coarse surface dips below the fine one (black
     // patches), and a shadow caught by one coarse vertex would spread over its whole fan.
     for (size_t i = 0; i < f.terrain->numChildren(); ++i) add(f.terrain->child(i)->child(0), dmat4(1.0));
-    for (const FactoryBuilding& b : f.buildings)
+    for (const FactoryBuilding& b : f.buildings) {
         for (size_t i = 0; i < b.lod->numChildren(); ++i) add(b.lod->child(i), b.place->matrix());
+        add(b.roof.get(), b.place->matrix());
+    }
     FactoryLightingStats st;
     st.targets = int(targets.size());
     for (const BakeTarget& t : targets) st.vertices += t.mesh->positions().size();

@@ -1,7 +1,8 @@
-// The factory site's baked lighting: a sun at 40 degrees with soft shadows and ambient occlusion in the
-// vertex colours of the terrain tiles (baked on the finest level, shared with the coarse ones) and of both levels
-// of every building model.
+// The factory site's lighting: a sun at 40 degrees whose soft shadows and ambient occlusion are baked into
+// the vertex colours of the terrain tiles (the finest level, shared with the coarse ones), both levels of every
+// building model and the roofs, and the run-time light (diffuse and highlights per fragment) that goes with them.
 #pragma once
+#include "sg/core/DirectionalLight.h"
 #include "sg/intersect/VertexLightBaker.h"
 #include "testbed/Factory.h"
 
@@ -19,8 +20,13 @@ struct FactoryLightingStats {
 // The parameters the factory is baked with: the sun from the south-west at 40 degrees elevation.
 sg::VertexLightParams factoryLightParams();
 
-// Bakes (or reads from `cacheDir`, keyed by `seed`; empty: no cache) the factory's lighting into its
-// meshes, and gives the lit geometries unlit copies of their materials (the colours hold all the light).
+// The renderer's light for the eye outside (workshop -1): the baked sun, warm, over a bluish sky; inside
+// workshop k: the light of its north-light roof, from above and the north. Renderer::setLight() it
+// whenever setFactoryEye() changes the workshop.
+sg::DirectionalLight factoryLight(int workshop);
+
+// Bakes (or reads from `cacheDir`, keyed by `seed`; empty: no cache) the factory's sun visibility and
+// ambient occlusion into its meshes, and gives the baked geometries bakedLight copies of their materials.
 // Call once, right after buildFactory(params) with the same seed, before making the Scene that draws it;
 // the machines, cars and trees, whose meshes many placements share, keep their colours.
 FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir, uint32_t seed = 1996);

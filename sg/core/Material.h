@@ -1,4 +1,4 @@
-// Material: base colour and an optional RGBA8 texture; shared between geometries.
+// Material: base colour, an optional RGBA8 texture and how light meets the surface; shared between geometries.
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Ref.h"
@@ -15,6 +15,10 @@ public:
     int width() const { return w_; }
     int height() const { return h_; }
     const std::vector<uint8_t>& rgba() const { return rgba_; }
+    // The most anisotropic filtering the renderer may use for it, where GL offers it cheaply (a GPU, not a
+    // software rasterizer; 1: trilinear only): ground seen at grazing angles stays sharp without the cost
+    // on textures that are never oblique.
+    float maxAnisotropy = 1.0f;
 
 private:
     int w_, h_;
@@ -30,6 +34,12 @@ public:
     // Fragments whose alpha (base colour x texture x vertex colour) is below this are discarded, the rest
     // drawn opaque: cut-out foliage and fences without sorting or blending. 0: off.
     float alphaCutoff = 0.0f;
+    // Blinn-Phong highlight of a directional light: strength (0: none) and exponent. The headlight draws none.
+    float specular = 0.0f;
+    float shininess = 32.0f;
+    // The vertex colours carry VertexLightBaker's output rather than plain colour: rgb the albedo times the
+    // ambient occlusion, alpha the share of the sun that reaches the vertex (which dims the direct light only).
+    bool bakedLight = false;
     uint32_t id() const { return id_; }
 
 private:

@@ -1,6 +1,7 @@
 // Renderer: draws a DrawList with OpenGL 3.3 core, batching runs of equal state into instanced draws.
 #pragma once
 #include "sg/core/Camera.h"
+#include "sg/core/DirectionalLight.h"
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"
 #include "sg/core/Ref.h"
@@ -34,11 +35,18 @@ public:
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
     // material pointers become one instanced draw call. Colour: base colour (white without a material)
     // x texture (when the mesh has UVs) x vertex colour, lit by a two-sided headlight unless the
-    // material is unlit or the mesh has no normals; fragments whose alpha is below the material's
-    // alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order index past the
-    // items; in debug builds std::runtime_error on a GL error.
+    // material is unlit or the mesh has no normals, or by the light setLight() gave (see there); fragments whose alpha
+    // is below the material's alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order
+    // index past the items; in debug builds std::runtime_error on a GL error.
     void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
     const RenderStats& lastStats() const { return stats_; }
+    // The light of the next draws. A sun shades a lit fragment with albedo x (ambient + color x sun x
+    // max(0, n.l)) + color x sun x specular x max(0, n.h)^shininess (Blinn-Phong, n turned toward the eye,
+    // h halfway between the light and the eye), where sun is the vertex alpha for a bakedLight material
+    // and 1 otherwise. The default headlight gives albedo x (0.35 + 0.65 |n.l| x sun), no highlight. Throws
+    // std::invalid_argument for a sun whose direction is zero or not finite.
+    void setLight(const DirectionalLight& light);
+    const DirectionalLight& light() const { return light_; }
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
 
@@ -75,7 +83,10 @@ private:
 
     unsigned program_ = 0, instanceVbo_ = 0;
     int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
-        uAlphaCutoff_ = -1, uTexture_ = -1;
+        uAlphaCutoff_ = -1, uTexture_ = -1, uHeadlight_ = -1, uAmbient_ = -1, uLightColor_ = -1, uBakedLight_ = -1,
+        uSpecular_ = -1, uShininess_ = -1;
+    float maxAnisotropy_ = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
+    DirectionalLight light_;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;
     std::unordered_map<const Texture*, GpuTexture> textures_, cutTextures_;
     struct Run {

@@ -56,8 +56,6 @@ uint64_t inputHash(const std::vector<BakeTarget>& targets, const VertexLightPara
     f.pod(p.offset);
     f.pod(p.insetFraction);
     f.pod(p.insetMax);
-    f.pod(p.ambient);
-    f.pod(p.direct);
     f.pod(p.query.traversalMask);
     f.pod(p.query.lod);
     for (const BakeTarget& t : targets) {
@@ -232,7 +230,7 @@ std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std
                         const dvec3 d = glm::normalize(L + rad * (std::cos(phi) * lt + std::sin(phi) * lb));
                         if (!it.intersect(scene, Ray{O, d, p.sunDistance}, p.query, hit)) ++free;
                     }
-                    result[ti].sun[v] = float(cosL * free / p.sunSamples);
+                    result[ti].sun[v] = float(free) / float(p.sunSamples);
                 }
                 if (p.aoSamples > 0 && p.aoDistance > 0.0) {
                     dvec3 t, b;
@@ -259,17 +257,17 @@ std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std
     return result;
 }
 
-std::vector<vec4> VertexLightBaker::shade(const Mesh& mesh, const VertexLight& light, const VertexLightParams& p) {
+std::vector<vec4> VertexLightBaker::shade(const Mesh& mesh, const VertexLight& light) {
     const size_t n = mesh.positions().size();
     if (light.sun.size() != n || light.ao.size() != n)
         throw std::invalid_argument("VertexLightBaker::shade(): light has " + std::to_string(light.sun.size()) +
-                                    " values for " + std::to_string(n) + " vertices");
+                                    " and " + std::to_string(light.ao.size()) + " values for " + std::to_string(n) +
+                                    " vertices");
     std::vector<vec4> out(n);
     const bool hasAlbedo = mesh.colors().size() == n;
     for (size_t i = 0; i < n; ++i) {
         const vec4 albedo = hasAlbedo ? mesh.colors()[i] : vec4(1.0f);
-        const float k = p.ambient * light.ao[i] + p.direct * light.sun[i];
-        out[i] = vec4(vec3(albedo) * k, albedo.a);
+        out[i] = vec4(vec3(albedo) * light.ao[i], light.sun[i]);
     }
     return out;
 }
@@ -307,7 +305,7 @@ bool VertexLightBaker::bakeCached(const Scene& scene, const std::vector<BakeTarg
     if (!cached) {
         const std::vector<VertexLight> light = compute(scene, targets, params);
         colors.resize(targets.size());
-        for (size_t i = 0; i < targets.size(); ++i) colors[i] = shade(*targets[i].mesh, light[i], params);
+        for (size_t i = 0; i < targets.size(); ++i) colors[i] = shade(*targets[i].mesh, light[i]);
         if (!path.empty()) writeCache(path, hash, colors);
     }
     for (size_t i = 0; i < targets.size(); ++i) setColors(*targets[i].mesh, std::move(colors[i]));

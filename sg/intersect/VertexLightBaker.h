@@ -1,5 +1,13 @@
-// VertexLightBaker: view-independent lighting (a sun with soft shadows, ambient occlusion) computed per
-// vertex by casting segments through a Scene, stored as vertex colours, and cached on disk.
+// VertexLightBaker: the view-independent part of lighting (how much of the sun and of the sky reach each
+// vertex: soft shadows, ambient occlusion) computed by casting segments through a Scene, stored in the
+// vertex colours, and cached on disk.
+//
+// Only visibility is baked; n.l, the light's colours and the highlight are the renderer's, per fragment,
+// so that a sun can be dimmed or recoloured without a bake and highlights follow the eye. The vertex
+// colours carry it (rgb the albedo times the occlusion, alpha the sun's visibility; Material::bakedLight
+// tells the renderer) because they already travel with every mesh, its LOD levels and the GPU upload:
+// no new array for Mesh. The price: five values in four channels, the occlusion also dims the sun's
+// diffuse light, which only matters where a sunlit surface has a tall neighbour within aoDistance.
 #pragma once
 #include "sg/core/Mesh.h"
 #include "sg/intersect/Intersect.h"
@@ -29,30 +37,30 @@ struct VertexLightParams {
     // most insetMax (mesh units) from it: the corner of a large face is not what the whole face sees.
     double insetFraction = 0.3;
     double insetMax = 1.5;
-    float ambient = 0.45f, direct = 0.75f;  // colour = albedo * (ambient * ao + direct * sun)
-    QueryOptions query;                     // what the rays see (mask, LOD choice)
+    QueryOptions query;  // what the rays see (mask, LOD choice)
     int threads = 2;
 };
 
 // Per vertex of one target, both in [0, 1].
 struct VertexLight {
-    std::vector<float> sun;  // share of the sun rays that escape, times max(0, n.l)
+    std::vector<float> sun;  // share of the sun rays that escape; 0 where the normal faces away from the sun
     std::vector<float> ao;   // share of the hemisphere rays that escape within aoDistance
 };
 
 class VertexLightBaker {
 public:
     // Bumped whenever what a bake produces changes: older cache files are then ignored.
-    static constexpr uint32_t kVersion = 1;
+    static constexpr uint32_t kVersion = 2;
 
     // `scene` must be updated and hold what casts shadows. Deterministic: the jitter depends only on the
     // vertex and sample index. Throws std::invalid_argument naming the function for a null mesh, a zero or
     // non-finite sun direction, negative counts or distances.
     static std::vector<VertexLight> compute(const Scene& scene, const std::vector<BakeTarget>& targets,
                                             const VertexLightParams& params);
-    // colours = albedo * (ambient * ao + direct * sun), the albedo being the mesh's colours (white when it
-    // has none); alpha kept.
-    static std::vector<vec4> shade(const Mesh& mesh, const VertexLight& light, const VertexLightParams& params);
+    // The colours a bakedLight material draws: rgb = albedo * ao, alpha = sun, the albedo being the mesh's
+    // colours (white when it has none). Throws std::invalid_argument when the light's sizes are not the
+    // mesh's vertex count.
+    static std::vector<vec4> shade(const Mesh& mesh, const VertexLight& light);
     // Replaces the mesh's colours, keeping its other arrays.
     static void setColors(Mesh& mesh, std::vector<vec4> colors);
 

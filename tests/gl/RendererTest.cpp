@@ -411,3 +411,122 @@ TEST_F(RendererTest, AlphaCutoffCutsTheTransparentHalfWithoutAFringe) {
         EXPECT_EQ(countDifferingPixels(whole, renderer.readColor(), 0), 0u);
     }
 }
+
+namespace {
+// A 20 x 20 quad in the z = 0 plane, normal +z, with vertex colour `c` (for bakedLight: rgb albedo x
+// occlusion, alpha sun visibility).
+ref_ptr<Group> floorQuad(const ref_ptr<Material>& mat, const vec4& c = vec4(1.0f)) {
+    auto mesh = make<Mesh>();
+    const vec3 n(0, 0, 1);
+    mesh->set({{-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}}, {n, n, n, n}, {0, 1, 2, 0, 2, 3}, {},
+              {c, c, c, c});
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(mesh, mat));
+    return root;
+}
+}  // namespace
+
+TEST_F(RendererTest, SunLightFollowsNDotL) {
+    const auto root = floorQuad(make<Material>(vec4(1.0f)));
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    const DrawList list = cull(root, cam);
+    // From overhead to grazing, then from below the surface: ambient + color x max(0, n.l).
+    for (double deg : {0.0, 30.0, 60.0, 80.0, 120.0}) {
+        const double a = glm::radians(deg);
+        renderer.setLight(
+            DirectionalLight::sun(vec3(float(std::sin(a)), 0.0f, float(std::cos(a))), vec3(0.2f), vec3(0.7f)));
+        renderer.draw(list, cam, kClear);
+        const float expected = 0.2f + 0.7f * float(std::max(0.0, std::cos(a)));
+        EXPECT_TRUE(near(pixel(renderer.readColor(), kW / 2, kH / 2), vec4(vec3(expected), 1.0f), 2))
+            << deg << " degrees: " << pixel(renderer.readColor(), kW / 2, kH / 2)[0] << " for " << expected * 255;
+    }
+}
+
+TEST_F(RendererTest, HighlightWhereTheReflectionMeetsTheEyeOnly) {
+    auto shiny = make<Material>(vec4(1.0f));
+    shiny->specular = 0.5f;
+    shiny->shininess = 400.0f;
+    const auto root = floorQuad(shiny);
+    // The eye 45 degrees up in -x, looking at the origin: the sun 45 degrees up in +x mirrors into it there.
+    const Camera cam = lookingAt(dvec3(-3, 0, 3), dvec3(0.0));
+    const DrawList list = cull(root, cam);
+    const float diffuse = 0.2f + 0.6f * std::sqrt(0.5f);
+    auto brightest = [](const Image& img, int cx, int cy) {
+        int best = 0;
+        for (int y = cy - 2; y <= cy + 2; ++y)
+            for (int x = cx - 2; x <= cx + 2; ++x) best = std::max(best, pixel(img, x, y)[0]);
+        return best;
+    };
+    renderer.setLight(DirectionalLight::sun(vec3(1, 0, 1), vec3(0.2f), vec3(0.6f)));
+    renderer.draw(list, cam, kClear);
+    Image img = renderer.readColor();
+    EXPECT_NEAR(brightest(img, kW / 2, kH / 2), std::lround((diffuse + 0.6f * 0.5f) * 255.0f), 3);
+    // Off the mirror direction the highlight is gone: the surface has its diffuse colour.
+    EXPECT_TRUE(near(pixel(img, 8, kH / 2), vec4(vec3(diffuse), 1.0f), 2)) << pixel(img, 8, kH / 2)[0];
+    EXPECT_TRUE(near(pixel(img, kW / 2, 8), vec4(vec3(diffuse), 1.0f), 2)) << pixel(img, kW / 2, 8)[0];
+    // The sun behind the eye lights the surface as much (same n.l) but reflects away from the eye.
+    renderer.setLight(DirectionalLight::sun(vec3(-1, 0, 1), vec3(0.2f), vec3(0.6f)));
+    renderer.draw(list, cam, kClear);
+    img = renderer.readColor();
+    EXPECT_TRUE(near(pixel(img, kW / 2, kH / 2), vec4(vec3(diffuse), 1.0f), 2)) << pixel(img, kW / 2, kH / 2)[0];
+    // The headlight draws no highlight, whatever the material says.
+    renderer.setLight(DirectionalLight{});
+    renderer.draw(list, cam, kClear);
+    EXPECT_TRUE(
+        near(pixel(renderer.readColor(), kW / 2, kH / 2), vec4(vec3(0.35f + 0.65f * std::sqrt(0.5f)), 1.0f), 2));
+}
+
+TEST_F(RendererTest, BakedSunVisibilityDimsTheDirectLightAndOcclusionTheColour) {
+    auto baked = make<Material>(vec4(1.0f));
+    baked->bakedLight = true;
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    renderer.setLight(DirectionalLight::sun(vec3(0, 0, 1), vec3(0.3f), vec3(0.6f)));
+    auto centre = [&](const vec4& c) {
+        renderer.draw(cull(floorQuad(baked, c), cam), cam, kClear);
+        return pixel(renderer.readColor(), kW / 2, kH / 2);
+    };
+    EXPECT_TRUE(near(centre(vec4(1, 1, 1, 1)), vec4(vec3(0.9f), 1.0f), 2));
+    // In full shadow only the ambient term is left; the alpha is visibility, not opacity.
+    EXPECT_TRUE(near(centre(vec4(1, 1, 1, 0)), vec4(vec3(0.3f), 1.0f), 2));
+    EXPECT_TRUE(near(centre(vec4(1, 1, 1, 0.5f)), vec4(vec3(0.6f), 1.0f), 2));
+    // Occlusion (in the colour) scales what the surface reflects.
+    EXPECT_TRUE(near(centre(vec4(0.5f, 0.5f, 0.5f, 0)), vec4(vec3(0.15f), 1.0f), 2));
+    // A material that is not bakedLight reads the same colours as plain colour with alpha 0 (not cut).
+    EXPECT_TRUE(near(pixel(
+                         [&] {
+                             renderer.draw(cull(floorQuad(make<Material>(vec4(1.0f)), vec4(1, 1, 1, 0)), cam), cam,
+                                           kClear);
+                             return renderer.readColor();
+                         }(),
+                         kW / 2, kH / 2),
+                     vec4(0.9f, 0.9f, 0.9f, 0.0f), 2));
+}
+
+TEST_F(RendererTest, DefaultLightIsTheHeadlightAndComesBackPixelForPixel) {
+    EXPECT_TRUE(renderer.light().headlight);
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(makeBoxMesh(dvec3(-0.5), dvec3(0.5), 2), make<Material>(vec4(0.8f, 0.5f, 0.3f, 1))));
+    const Camera cam = lookingAt(dvec3(2, 1.5, 3), dvec3(0.0));
+    const DrawList list = cull(root, cam);
+    renderer.draw(list, cam, kClear);
+    const Image before = renderer.readColor();
+    renderer.setLight(DirectionalLight::sun(vec3(0, 1, 0), vec3(0.3f), vec3(0.7f)));
+    renderer.draw(list, cam, kClear);
+    EXPECT_GT(countDifferingPixels(before, renderer.readColor(), 2), 100u);
+    renderer.setLight(DirectionalLight{});
+    renderer.draw(list, cam, kClear);
+    EXPECT_EQ(countDifferingPixels(before, renderer.readColor(), 0), 0u);
+}
+
+TEST_F(RendererTest, SetLightRefusesASunWithoutDirection) {
+    for (const vec3& d : {vec3(0.0f), vec3(std::nanf(""), 0.0f, 1.0f)}) {
+        try {
+            renderer.setLight(DirectionalLight::sun(d, vec3(0.3f), vec3(0.7f)));
+            FAIL() << "no exception";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("Renderer::setLight(): ", 0), 0u) << e.what();
+        }
+    }
+    EXPECT_TRUE(renderer.light().headlight);
+    EXPECT_NO_THROW(renderer.setLight(DirectionalLight{}));  // the headlight has no direction of its own
+}

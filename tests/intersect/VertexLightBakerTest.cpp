@@ -57,18 +57,18 @@ TEST(VertexLightBaker, ShadowAwayFromTheSunAndOcclusionAtTheFoot) {
     const vec3 up(0, 0, 1);
     const size_t shadowed = vertexAt(g, vec3(-2, 0, 0), up), lit = vertexAt(g, vec3(6, 0, 0), up);
     const size_t foot = vertexAt(g, vec3(2, 0, 0), up), far = vertexAt(g, vec3(8, 8, 0), up);
-    // Open ground sees the whole sun at 45 degrees: n.l = cos 45.
-    EXPECT_NEAR(light[0].sun[lit], std::sqrt(0.5), 1e-6);
+    // Open ground sees the whole sun (n.l is the renderer's, per fragment).
+    EXPECT_EQ(light[0].sun[lit], 1.0f);
     EXPECT_LT(light[0].sun[shadowed], 0.2f);
     // Sunlit but beside the wall: the box hides part of the sky.
-    EXPECT_NEAR(light[0].sun[foot], std::sqrt(0.5), 1e-6);
+    EXPECT_EQ(light[0].sun[foot], 1.0f);
     EXPECT_LT(light[0].ao[foot], light[0].ao[far] - 0.1f);
     EXPECT_FLOAT_EQ(light[0].ao[far], 1.0f);
     // The box's -x face looks away from the sun; its +x face gets it all.
     const size_t back = vertexAt(*s.box, vec3(-1, 0, 1), vec3(-1, 0, 0));
     const size_t front = vertexAt(*s.box, vec3(1, 0, 1), vec3(1, 0, 0));
     EXPECT_EQ(light[1].sun[back], 0.0f);
-    EXPECT_NEAR(light[1].sun[front], std::sqrt(0.5), 1e-6);
+    EXPECT_EQ(light[1].sun[front], 1.0f);
 }
 
 TEST(VertexLightBaker, DeterministicWhateverTheThreads) {
@@ -83,16 +83,23 @@ TEST(VertexLightBaker, DeterministicWhateverTheThreads) {
     }
 }
 
-TEST(VertexLightBaker, ShadeMultipliesTheAlbedo) {
+TEST(VertexLightBaker, ShadeKeepsOcclusionInTheColourAndTheSunInAlpha) {
     Site s;
-    const VertexLightParams p = params();
-    const auto light = VertexLightBaker::compute(s.scene, s.targets(), p);
-    const auto c = VertexLightBaker::shade(*s.ground, light[0], p);
+    const auto light = VertexLightBaker::compute(s.scene, s.targets(), params());
+    const auto c = VertexLightBaker::shade(*s.ground, light[0]);
     const size_t shadowed = vertexAt(*s.ground, vec3(-2, 0, 0), vec3(0, 0, 1));
-    const size_t lit = vertexAt(*s.ground, vec3(6, 0, 0), vec3(0, 0, 1));
-    EXPECT_NEAR(c[lit].r, p.ambient * light[0].ao[lit] + p.direct * light[0].sun[lit], 1e-6);
-    EXPECT_LT(c[shadowed].g, c[lit].g);
-    EXPECT_EQ(c[lit].a, 1.0f);
+    const size_t foot = vertexAt(*s.ground, vec3(2, 0, 0), vec3(0, 0, 1));
+    const size_t far = vertexAt(*s.ground, vec3(8, 8, 0), vec3(0, 0, 1));
+    // The ground has no colours: its albedo is white.
+    EXPECT_FLOAT_EQ(c[far].r, 1.0f);
+    EXPECT_FLOAT_EQ(c[foot].g, light[0].ao[foot]);
+    EXPECT_LT(c[foot].g, 0.95f);
+    EXPECT_EQ(c[foot].a, 1.0f);
+    EXPECT_LT(c[shadowed].a, 0.2f);
+    EXPECT_EQ(c[shadowed].a, light[0].sun[shadowed]);
+    VertexLight wrong = light[0];
+    wrong.ao.pop_back();
+    EXPECT_THROW(VertexLightBaker::shade(*s.ground, wrong), std::invalid_argument);
 }
 
 TEST(VertexLightBaker, BadInputRefused) {
