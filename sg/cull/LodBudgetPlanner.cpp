@@ -100,7 +100,7 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
     const double fixed = model.predict(fixedWork);
     const LodSelector::Selection& sel =
         selector_.select(objects_, std::max(0.0, b.budgetMs - fixed), b.hysteresis,
-                         b.mayDrop ? LodSelector::Floor::Nothing : LodSelector::Floor::Cheapest);
+                         b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest);
     chosen_ = sel.level;
     for (size_t k = 0; k < n; ++k) {
         history.show(deferred_[k].entry, LodHistory::child(chosen_[k]));
