@@ -23,7 +23,7 @@ long integer(const std::string& name, const std::string& v, long lo, long hi) {
 
 const char* usage() {
     return "usage: factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]\n"
-           "               [--cache-dir DIR] [--no-lighting]\n";
+           "               [--cache-dir DIR] [--no-lighting] [--background-load none|spin]\n";
 }
 
 Options parseOptions(int argc, char** argv) {
@@ -59,6 +59,13 @@ Options parseOptions(int argc, char** argv) {
             if (o.cacheDir.empty()) throw OptionError("--cache-dir is empty");
         } else if (k == "--no-lighting") {
             o.lighting = false;
+        } else if (k == "--background-load") {
+            const std::string v = value(argc, argv, i);
+            try {
+                o.backgroundLoad = scenes::BackgroundLoad::parse(v);
+            } catch (const std::invalid_argument&) {
+                throw OptionError("--background-load '" + v + "' is not none or spin");
+            }
         } else if (k == "--jitter-draws") {
             o.jitterDraws = int(integer(k, value(argc, argv, i), 2, 10000));
         } else {

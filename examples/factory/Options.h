@@ -1,5 +1,7 @@
 // The factory walkthrough's command line: window size, path length, budget, outputs.
 #pragma once
+#include "testbed/BackgroundLoad.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -14,6 +16,8 @@ struct Options {
     bool headless = true;  // the only way it runs so far; the flag is accepted for the documented command
     int jitterDraws = 60;  // the fixed view drawn this many times for the same-view jitter
     bool lighting = true;  // the baked sun and ambient occlusion (scenes::bakeFactoryLighting)
+    // A thread spinning on another core for the whole run (jitter and every method): the busy machine.
+    scenes::BackgroundLoad::Kind backgroundLoad = scenes::BackgroundLoad::Kind::None;
     std::string cacheDir;  // where the bake is cached; empty: sg::VertexLightBaker::defaultCacheDir()
 };
 
