@@ -75,8 +75,9 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     if (set_.method == LodMethod::Stress) stress_.update(last_.frameMs);
     const sg::CullStats& st = last_.stats;
     model_.update({double(st.triangles), double(st.geometries), st.lodPixels}, last_.drawMs);
-    // The plan's own prediction against the measured time: the loop closes on what the budget planned.
-    if (set_.method == LodMethod::Budget) model_.correct(st.lodPredictedMs, last_.drawMs);
+    // The plan's own prediction against the measured time: the loop closes on what the budget planned
+    // (a frame with no LOD in view was not planned).
+    if (set_.method == LodMethod::Budget && st.lodObjects > 0) model_.correct(st.lodPredictedMs, last_.drawMs);
     return last_;
 }
 
