@@ -62,6 +62,7 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
         set.lodBudget.model = &model_;
         set.lodBudget.budgetMs = std::max(1.0, set_.budgetMs - last_.cullMs);  // the cull's own time comes off
         set.lodBudget.mayDrop = set_.mayDrop;
+        set.lodBudget.coarsestScale = stress_.params().maxScale;  // never a worse picture than stress's
     }
     const auto t0 = Clock::now();
     if (prepare) prepare();
