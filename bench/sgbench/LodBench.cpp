@@ -136,11 +136,12 @@ int runLod(const Args& a) {
     j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
-    j.add("background_load", scenes::BackgroundLoad::name(load.kind()));
+    if (load.kind() != scenes::BackgroundLoad::Kind::None)
+        j.add("background_load", scenes::BackgroundLoad::name(load.kind()));
     if (!same.empty())
         j.add("same_view_jitter_p95_ms", percentile(sameDev, 0.95))
             .add("same_view_median_ms", sameMedian)
-            .add("same_view_jitter_p95_pct", 100.0 * percentile(sameDev, 0.95) / sameMedian);
+            .add("same_view_jitter_p95_ratio", percentile(sameDev, 0.95) / sameMedian);
     j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
     if (!predErr.empty()) {
         j.add("model_abs_error_ms_median", median(predErr));
