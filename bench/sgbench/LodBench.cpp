@@ -7,13 +7,12 @@
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
-#include "sg/lod/DrawCostModel.h"
-#include "sg/lod/LodStress.h"
 #include "sgbench/Bench.h"
+#include "testbed/BackgroundLoad.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
+#include "testbed/LodRun.h"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -22,8 +21,6 @@
 namespace bench {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 void setLevelErrorsToZero(sg::Node& n) {
     if (n.kind() == sg::NodeKind::LOD) {
@@ -77,69 +74,53 @@ int runLod(const Args& a) {
 
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
-    sg::CullTraversal cull, refCull;
+    sg::CullTraversal refCull;
     sg::DrawList list;
-    sg::CullStats st;
-    sg::DrawCostModel model;
-    sg::LodStress::Params sp;
-    sp.budgetMs = budget;
-    sg::LodStress stress(sp);
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
+    scenes::LodRun run(renderer, {scenes::parseLodMethod(method), budget, a.flag("may-drop"), sg::CullSettings{}});
+    // The load runs from before the same-view draws to the end, so that both see the same machine.
+    const scenes::BackgroundLoad load(scenes::BackgroundLoad::parse(a.str("background-load", "none")));
+    renderer.draw(list, cams[0]);  // uploads
 
-    double lastCullMs = 0.0;
-    // One frame of the method: cull, draw, finish; then the method learns from the measured time.
-    auto frame = [&](const sg::Camera& cam, double& cullMs, double& drawMs) {
-        sg::CullSettings set;
-        if (method == "stress") set.lodScale = stress.scale();
-        if (method == "budget") {
-            set.lodBudget.enabled = true;
-            set.lodBudget.model = &model;
-            set.lodBudget.budgetMs = std::max(1.0, budget - lastCullMs);  // the cull's own time comes off
-            set.lodBudget.mayDrop = a.flag("may-drop");
-        }
-        const auto t0 = Clock::now();
-        cull.cull(scene, cam, set, list, st);
-        cullMs = msSince(t0);
-        const auto t1 = Clock::now();
-        renderer.draw(list, cam);
-        renderer.finish();
-        drawMs = msSince(t1);
-        const double total = cullMs + drawMs;
-        lastCullMs = cullMs;
-        if (method == "stress") stress.update(total);
-        model.update({double(st.triangles), double(st.geometries), st.lodPixels}, drawMs);
-        return total;
-    };
-    double cm = 0, dm = 0;
-    renderer.draw(list, cams[0]);                     // uploads
-    for (const auto& cam : cams) frame(cam, cm, dm);  // warm-up: stress and the model settle on the path
+    // The machine's own spread: the first view drawn again and again with the static ranges.
+    const std::vector<double> same = scenes::timeSameView(renderer, scene, cams[0], int(a.num("jitter-draws", 60)));
+    const double sameMedian = median(same);
+    std::vector<double> sameDev;
+    for (double t : same) sameDev.push_back(std::abs(t - sameMedian));
 
     std::vector<double> total, dev, select, predErr;
     double mae = 0, pct = 0, tris = 0, dropped = 0, levels[4] = {};
-    for (const auto& cam : cams) {
-        const double t = frame(cam, cm, dm);
-        if (a.flag("trace"))
-            std::fprintf(
-                stderr,
-                "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu dropped %5llu\n",
-                t, cm, dm, st.lodPredictedMs, (unsigned long long)st.triangles, (unsigned long long)st.geometries,
-                (unsigned long long)st.lodObjects, (unsigned long long)st.lodDropped);
-        total.push_back(t);
-        dev.push_back(std::abs(t - budget));
-        select.push_back(st.lodSelectMs);
-        if (method == "budget") predErr.push_back(std::abs(dm - st.lodPredictedMs));  // predicted before drawing
-        tris += double(st.triangles);
-        dropped += double(st.lodDropped);
-        for (int l = 0; l < 4; ++l) levels[l] += double(st.lodLevels[l]);
-        const sg::Image got = renderer.readColor();
-        sg::CullStats rs;
-        refCull.cull(scene, cam, full, list, rs);
-        renderer.draw(list, cam);
-        const sg::Image ref = renderer.readColor();
-        mae += sg::meanAbsoluteError(got, ref);
-        pct += 100.0 * double(sg::countDifferingPixels(got, ref)) / double(got.width * got.height);
-    }
+    const int count = int(cams.size());
+    // Warm-up: one pass over the path, so that stress and the model settle on it.
+    run.run(
+        scene, count, count, [&](int i) { return cams[size_t(i)]; }, nullptr,
+        [&](int i, const scenes::LodFrame& f) {
+            const sg::CullStats& st = f.stats;
+            const double t = f.frameMs;
+            if (a.flag("trace"))
+                std::fprintf(stderr,
+                             "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu "
+                             "dropped %5llu\n",
+                             t, f.cullMs, f.drawMs, st.lodPredictedMs, (unsigned long long)st.triangles,
+                             (unsigned long long)st.geometries, (unsigned long long)st.lodObjects,
+                             (unsigned long long)st.lodDropped);
+            total.push_back(t);
+            dev.push_back(std::abs(t - budget));
+            select.push_back(st.lodSelectMs);
+            if (method == "budget") predErr.push_back(std::abs(f.drawMs - st.lodPredictedMs));  // before drawing
+            tris += double(st.triangles);
+            dropped += double(st.lodDropped);
+            for (int l = 0; l < 4; ++l) levels[l] += double(st.lodLevels[l]);
+            const sg::Image got = renderer.readColor();
+            const sg::Camera& cam = cams[size_t(i)];
+            sg::CullStats rs;
+            refCull.cull(scene, cam, full, list, rs);
+            renderer.draw(list, cam);
+            const sg::Image ref = renderer.readColor();
+            mae += sg::meanAbsoluteError(got, ref);
+            pct += 100.0 * double(sg::countDifferingPixels(got, ref)) / double(got.width * got.height);
+        });
     const double k = double(cams.size());
     double mean = 0;
     for (double t : total) mean += t / k;
@@ -155,6 +136,12 @@ int runLod(const Args& a) {
     j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
+    if (load.kind() != scenes::BackgroundLoad::Kind::None)
+        j.add("background_load", scenes::BackgroundLoad::name(load.kind()));
+    if (!same.empty())
+        j.add("same_view_jitter_p95_ms", percentile(sameDev, 0.95))
+            .add("same_view_median_ms", sameMedian)
+            .add("same_view_jitter_p95_ratio", percentile(sameDev, 0.95) / sameMedian);
     j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
     if (!predErr.empty()) {
         j.add("model_abs_error_ms_median", median(predErr));

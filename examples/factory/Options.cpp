@@ -27,7 +27,8 @@ long integer(const std::string& name, const std::string& v, long lo, long hi) {
 
 const char* usage() {
     return "usage: factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]\n"
-           "               [--cache-dir DIR] [--no-lighting] [--camera ex,ey,ez,cx,cy,cz] [--keys \"...\"] [--help]\n"
+           "               [--cache-dir DIR] [--no-lighting] [--camera ex,ey,ez,cx,cy,cz] [--keys \"...\"]\n"
+           "               [--background-load none|spin] [--help]\n"
            "  --headless         the scripted walkthrough offscreen: pictures, per-frame CSV, the paper's table\n"
            "                     (without it: the site in a window, 1070x865 by default; needs a display or xvfb-run)\n"
            "  --frames N         headless: the path's length (default 480); window: quit after N frames, writing\n"
@@ -36,6 +37,7 @@ const char* usage() {
            "  --budget-ms MS     the frame time the budget and stress LOD methods aim at (default 33)\n"
            "  --out-dir DIR      pictures, CSV and screenshots (default .)   --json  headless: the summary as JSON\n"
            "  --cache-dir DIR    where the baked lighting is kept   --no-lighting  the site unlit (no bake)\n"
+           "  --background-load spin  a thread busy on another core all along: the walkthrough on a busy machine\n"
            "  --camera E,C       window: start at eye E looking at centre C (+Z up; default: the walk's start)\n"
            "  --keys \"...\"       window: keys replayed, a token a frame: W A S D (W*30: held 30 frames), F M O P\n"
            "                     H Esc, drag:DX,DY, wait*N\n"
@@ -79,6 +81,13 @@ Options parseOptions(int argc, char** argv) {
             if (o.cacheDir.empty()) throw OptionError("--cache-dir is empty");
         } else if (k == "--no-lighting") {
             o.lighting = false;
+        } else if (k == "--background-load") {
+            const std::string v = value(argc, argv, i);
+            try {
+                o.backgroundLoad = scenes::BackgroundLoad::parse(v);
+            } catch (const std::invalid_argument&) {
+                throw OptionError("--background-load '" + v + "' is not none or spin");
+            }
         } else if (k == "--jitter-draws") {
             o.jitterDraws = int(integer(k, value(argc, argv, i), 2, 10000));
         } else if (k == "--help" || k == "-h") {  // the window's options: --help, --camera, --keys

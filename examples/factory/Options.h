@@ -2,6 +2,7 @@
 // and replayed keys.
 #pragma once
 #include "sg/core/Math.h"
+#include "testbed/BackgroundLoad.h"
 
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,8 @@ struct Options {
     int jitterDraws = 60;   // the fixed view drawn this many times for the same-view jitter
     bool lighting = true;   // the baked sun and ambient occlusion (scenes::bakeFactoryLighting)
     std::string cacheDir;   // where the bake is cached; empty: sg::VertexLightBaker::defaultCacheDir()
+    // A thread spinning on another core for the whole run (jitter and every method): the busy machine.
+    scenes::BackgroundLoad::Kind backgroundLoad = scenes::BackgroundLoad::Kind::None;
     bool help = false;
     // The window: quit after `frames` when framesGiven (writing the last one to outDir/factory-window.png),
     // the keys of `keys` replayed one frame after another (parseKeyScript), the start view from --camera.

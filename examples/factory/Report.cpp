@@ -102,8 +102,10 @@ void printTable(std::FILE* out, const Summary& s) {
 void printJson(std::FILE* out, const Summary& s) {
     std::fprintf(out, "{\"width\": %d, \"height\": %d, \"frames\": %d, \"triangles_total\": %llu, ", s.width, s.height,
                  s.frames, (unsigned long long)s.trianglesTotal);
-    std::fprintf(out, "\"penetrations\": %d, \"switch_inside_frames\": %d, \"same_view_jitter_p95_ms\": %.4f",
-                 s.penetrations, s.switchInsideFrames, s.sameViewJitterP95Ms);
+    std::fprintf(out,
+                 "\"penetrations\": %d, \"switch_inside_frames\": %d, \"same_view_jitter_p95_ms\": %.4f, "
+                 "\"background_load\": \"%s\"",
+                 s.penetrations, s.switchInsideFrames, s.sameViewJitterP95Ms, s.backgroundLoad.c_str());
     for (const ModeSummary& m : s.modes) {
         std::fprintf(out,
                      ", \"%s\": {\"fps_median\": %.3f, \"frame_ms_median\": %.4f, \"frame_ms_mean\": %.4f, "

@@ -21,6 +21,7 @@ struct Summary {
     uint64_t trianglesTotal = 0;  // the site as stored (every distinct mesh once, at its finest level)
     int penetrations = 0, switchInsideFrames = 0;
     double sameViewJitterP95Ms = 0.0;
+    std::string backgroundLoad = "none";  // BackgroundLoad::name() of the load the run competed with
     std::vector<ModeSummary> modes;
 };
 

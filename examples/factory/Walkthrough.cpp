@@ -1,10 +1,10 @@
 #include "factory/Walkthrough.h"
 
 #include "nodes/Geometry.h"
-#include "sg/lod/LodStress.h"
+#include "sg/io/ImageIO.h"
+#include "testbed/FactoryLighting.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdlib>
 #include <set>
 #include <utility>
@@ -12,8 +12,6 @@
 namespace factory {
 
 namespace {
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 // Every (mesh, material) under `n`: all children of Switches and LODs, and Instances' prototypes.
 void allGeometry(sg::Node& n, std::set<std::pair<const sg::Mesh*, const sg::Material*>>& out) {
     if (n.kind() == sg::NodeKind::Geometry) {
@@ -29,14 +27,7 @@ uint64_t vertices(const sg::DrawList& list) {
 }
 }  // namespace
 
-const char* modeName(LodMode m) {
-    switch (m) {
-        case LodMode::Static: return "static";
-        case LodMode::Budget: return "budget";
-        case LodMode::Stress: return "stress";
-    }
-    return "?";
-}
+const char* modeName(LodMode m) { return scenes::lodMethodName(m); }
 
 Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height)
     : f_(f), scene_(scene), path_(path), width_(width), height_(height) {
@@ -61,11 +52,13 @@ Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& p
     }
     renderer_.finish();
     list_.clear();
+    renderer_.setLight(scenes::factoryLight(-1));
 }
 
 void Walkthrough::showWorkshop(int workshop) {
     if (workshop == shown_) return;
     scenes::setFactoryEye(f_, workshop);
+    renderer_.setLight(scenes::factoryLight(workshop));
     scene_.update();
     shown_ = workshop;
 }
@@ -82,18 +75,7 @@ sg::Image Walkthrough::render(int frame, const sg::CullSettings& set, sg::CullSt
 std::vector<double> Walkthrough::sameView(int frame, int draws) {
     const PathFrame& p = path_.frames.at(size_t(frame));
     showWorkshop(p.workshop);
-    const sg::Camera cam = pathCamera(p, width_, height_);
-    sg::CullSettings set;
-    sg::CullStats st;
-    std::vector<double> ms;
-    for (int i = 0; i < draws + 3; ++i) {  // the first draws upload meshes: not timed
-        const auto t0 = Clock::now();
-        cull_.cull(scene_, cam, set, list_, st);
-        renderer_.draw(list_, cam);
-        renderer_.finish();
-        if (i >= 3) ms.push_back(msSince(t0));
-    }
-    return ms;
+    return scenes::timeSameView(renderer_, scene_, pathCamera(p, width_, height_), draws);
 }
 
 ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
@@ -101,48 +83,21 @@ ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
     ModeRun out;
     out.mode = mode;
     out.budgetMs = budgetMs;
-    sg::DrawCostModel model;
-    sg::LodStress::Params sp;
-    sp.budgetMs = budgetMs;
-    sg::LodStress stress(sp);
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
-    double lastCullMs = 0.0;
-    sg::CullStats st;
-    // One frame: switch state, cull, draw, finish; then the method learns from the measured time.
-    auto frame = [&](int i, FrameRecord& r) {
-        const PathFrame& p = path_.frames[size_t(i)];
-        const sg::Camera cam = pathCamera(p, width_, height_);
-        sg::CullSettings set;
-        if (mode == LodMode::Stress) set.lodScale = stress.scale();
-        if (mode == LodMode::Budget) {
-            set.lodBudget.enabled = true;
-            set.lodBudget.model = &model;
-            set.lodBudget.budgetMs = std::max(1.0, budgetMs - lastCullMs);  // the cull's own time comes off
-        }
-        const auto t0 = Clock::now();
-        showWorkshop(p.workshop);
-        cull_.cull(scene_, cam, set, list_, st);
-        r.cullMs = msSince(t0);
-        const auto t1 = Clock::now();
-        renderer_.draw(list_, cam);
-        renderer_.finish();
-        r.drawMs = msSince(t1);
-        r.frameMs = msSince(t0);
-        lastCullMs = r.cullMs;
-        if (mode == LodMode::Stress) stress.update(r.frameMs);
-        model.update({double(st.triangles), double(st.geometries), st.lodPixels}, r.drawMs);
-        r.frame = i;
-        r.triangles = st.triangles;
-        r.geometries = st.geometries;
-        r.vertices = vertices(list_);
-    };
+    scenes::LodRun lodRun(renderer_, {mode, budgetMs, false, sg::CullSettings{}});
+    const auto camera = [&](int i) { return pathCamera(path_.frames[size_t(i)], width_, height_); };
+    const auto prepare = [&](int i) { showWorkshop(path_.frames[size_t(i)].workshop); };
     const int n = int(path_.frames.size());
-    FrameRecord warm;
-    for (int i = 0; i < std::min(n, 40); ++i) frame(i, warm);
-    for (int i = 0; i < n; ++i) {
+    lodRun.run(scene_, n, 40, camera, prepare, [&](int i, const scenes::LodFrame& f) {
         FrameRecord r;
-        frame(i, r);
+        r.frame = i;
+        r.cullMs = f.cullMs;
+        r.drawMs = f.drawMs;
+        r.frameMs = f.frameMs;
+        r.triangles = f.stats.triangles;
+        r.geometries = f.stats.geometries;
+        r.vertices = vertices(lodRun.list());
         if (compare || onFrame) {
             const sg::Image got = renderer_.readColor();
             if (onFrame) onFrame(i, got);
@@ -152,7 +107,7 @@ ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
             }
         }
         out.frames.push_back(r);
-    }
+    });
     return out;
 }
 

@@ -4,14 +4,14 @@
 #include "factory/WalkPath.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/Renderer.h"
-#include "sg/lod/DrawCostModel.h"
+#include "testbed/LodRun.h"
 
 #include <functional>
 #include <vector>
 
 namespace factory {
 
-enum class LodMode { Static, Budget, Stress };
+using LodMode = scenes::LodMethod;
 const char* modeName(LodMode m);
 
 struct FrameRecord {
@@ -52,7 +52,7 @@ private:
     int width_, height_;
     int shown_ = -1;
     sg::Renderer renderer_;
-    sg::CullTraversal cull_, refCull_;
+    sg::CullTraversal refCull_;
     sg::DrawList list_;
 };
 

@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
 
         sg::OsmesaContext ctx(o.width, o.height);
         Walkthrough walk(f, scene, path, o.width, o.height);
+        const scenes::BackgroundLoad load(o.backgroundLoad);
         Summary s;
         s.width = o.width;
         s.height = o.height;
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
         s.trianglesTotal = f.storedTriangles;
         s.penetrations = path.penetrations;
         s.switchInsideFrames = path.insideFrames;
+        s.backgroundLoad = scenes::BackgroundLoad::name(o.backgroundLoad);
         const int fixedView = frameOf(path, "circle", 0.4);
         s.sameViewJitterP95Ms = jitterP95(walk.sameView(fixedView, o.jitterDraws));
 

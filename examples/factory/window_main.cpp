@@ -10,7 +10,8 @@
 #include "sg/gl/GlfwWindow.h"
 #include "sg/gl/TextOverlay.h"
 #include "sg/io/ImageIO.h"
-#include "sg/lod/LodStress.h"
+#include "testbed/FactoryLighting.h"
+#include "testbed/LodRun.h"
 
 #include <GLFW/glfw3.h>
 
@@ -25,9 +26,6 @@ using common::Navigator;
 using common::NavMode;
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 constexpr double kWalkSpeed = 4.0, kFlySpeed = 30.0;  // metres a second
 constexpr double kScriptStep = 1.0 / 30.0;            // seconds a replayed frame moves
@@ -183,14 +181,9 @@ void FactoryWindow::screenshot(const std::string& name, const sg::Image& img) {
 int FactoryWindow::run() {
     sg::Renderer renderer;
     sg::TextOverlay overlay;
-    sg::CullTraversal cull;
-    sg::DrawList list;
-    // The walkthrough's LOD choice (Walkthrough::run): the same model, stress and budget settings.
-    sg::DrawCostModel model;
-    sg::LodStress::Params sp;
-    sp.budgetMs = o_.budgetMs;
-    sg::LodStress stress(sp);
-    double lastCullMs = 0.0;
+    renderer.setLight(scenes::factoryLight(workshop_));
+    // The walkthrough's LOD choice (the same frame loop as the headless run), switched by the M key.
+    scenes::LodRun lod(renderer, {mode_, o_.budgetMs, false, set0_});
     int shown = 0, counted = 0, shots = 0;
     double last = window_.time(), since = last;
     while (!window_.shouldClose() && (!o_.framesGiven || shown < o_.frames)) {
@@ -223,27 +216,16 @@ int FactoryWindow::run() {
         view.walking = nav_.mode() == NavMode::Walk;
         const sg::Camera cam = pathCamera(view, w, h);
 
-        sg::CullSettings set = set0_;
-        set.occlusion.mode = occlusion_;
-        if (mode_ == LodMode::Stress) set.lodScale = stress.scale();
-        if (mode_ == LodMode::Budget) {
-            set.lodBudget.enabled = true;
-            set.lodBudget.model = &model;
-            set.lodBudget.budgetMs = std::max(1.0, o_.budgetMs - lastCullMs);
-        }
-        const auto t0 = Clock::now();
-        showWorkshop();
-        stats_ = sg::CullStats{};
-        cull.cull(scene_, cam, set, list, stats_);
-        cullMs_ = msSince(t0);
-        const auto t1 = Clock::now();
-        renderer.draw(list, cam);
-        renderer.finish();
-        drawMs_ = msSince(t1);
-        frameMs_ = msSince(t0);
-        lastCullMs = cullMs_;
-        if (mode_ == LodMode::Stress) stress.update(frameMs_);
-        model.update({double(stats_.triangles), double(stats_.geometries), stats_.lodPixels}, drawMs_);
+        lod.settings().method = mode_;
+        lod.settings().cull.occlusion.mode = occlusion_;
+        const scenes::LodFrame& fr = lod.frame(scene_, cam, [&] {
+            showWorkshop();
+            renderer.setLight(scenes::factoryLight(workshop_));  // the sun outside, the roof's light inside
+        });
+        stats_ = fr.stats;
+        cullMs_ = fr.cullMs;
+        drawMs_ = fr.drawMs;
+        frameMs_ = fr.frameMs;
 
         if (overlay_) overlay.draw(statsText(), w, h, w >= 960 && h >= 480 ? 2.0f : 1.0f);
         if (wantShot_) {

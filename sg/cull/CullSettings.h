@@ -52,8 +52,15 @@ struct LodBudgetSettings {
     double hysteresis = 0.1;               // last frame's choice ranks (1 + this) times higher
     const DrawCostModel* model = nullptr;  // required when enabled; feed it measured frames
     // Whether a visible LOD may be left out to fit: off, every one is drawn at least at its cheapest level
-    // (a coarse object reads better than a hole), and the budget buys the upgrades.
+    // (a coarse object reads better than a hole), and the budget buys the upgrades. On, LODs are left out
+    // only when their cheapest levels alone overrun the budget, those showing least per millisecond first,
+    // and then no LOD is drawn finer than its cheapest (LodSelector::Floor::CheapestFirst).
     bool mayDrop = false;
+    // Above 0: no LOD drawn coarser than its ranges show it at this LOD scale (CullSettings::lodScale), e.g.
+    // stress's largest (LodStress::Params::maxScale), so that when the budget cannot be met the picture is
+    // no worse than stress's at its coarsest and the frame runs over as stress's does. An LOD these ranges
+    // leave out is not limited. 0: any level.
+    double coarsestScale = 0.0;
 };
 
 struct CullSettings {

@@ -1,5 +1,7 @@
 #include "sg/cull/LodBudgetPlanner.h"
 
+#include "sg/scene/LodValue.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -48,6 +50,19 @@ uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, uint32_t i) {
     return uint32_t(at);
 }
 
+// The options the budget may choose from: children 0 .. the last that the ranges show at `scale`; all of
+// them when the ranges show none there.
+int LodBudgetPlanner::finestAllowed(const FlatImage& img, uint32_t i, const dvec3& eyeImg, const Camera& cam,
+                                    double scale, int count) {
+    const double value = lodValue(img, i, true, eyeImg, dmat4(1.0), 1.0, &cam, scale);
+    const FlatImage::Lod& lod = img.lods[img.aux[i]];
+    const FlatImage::Range* rg = &img.ranges[lod.firstRange];
+    int last = -1;
+    for (int c = 0; c < count; ++c)
+        if (value >= rg[c].min && value < rg[c].max) last = c;
+    return last < 0 ? count : last + 1;
+}
+
 void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
                             const DrawCostModel::Work& fixedWork, LodHistory& history, CullStats& stats) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -90,8 +105,9 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
             const double acc = lod.hasErrors ? 1.0 / (1.0 + rg[c].error * pxPerUnit) : ch.detail;
             op[c] = {std::max(0.0, cost), area * acc};
         }
+        if (b.coarsestScale > 0.0) obj.count = finestAllowed(img, i, eyeImg, cam, b.coarsestScale, obj.count);
         obj.options = op;
-        op += obj.count;
+        op += work->count;
         area_[k] = area;
         const uint8_t last = history.last(i);
         obj.last = last != LodHistory::kNone && last < obj.count ? int(last) : -1;
@@ -100,7 +116,7 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
     const double fixed = model.predict(fixedWork);
     const LodSelector::Selection& sel =
         selector_.select(objects_, std::max(0.0, b.budgetMs - fixed), b.hysteresis,
-                         b.mayDrop ? LodSelector::Floor::Nothing : LodSelector::Floor::Cheapest);
+                         b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest);
     chosen_ = sel.level;
     for (size_t k = 0; k < n; ++k) {
         history.show(deferred_[k].entry, LodHistory::child(chosen_[k]));

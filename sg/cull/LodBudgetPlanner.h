@@ -55,6 +55,8 @@ private:
     };
     uint32_t workIndex(const FlatImage& img, uint32_t i);  // its header's index in work_
     void track(const FlatImage& img, uint64_t version);
+    static int finestAllowed(const FlatImage& img, uint32_t i, const dvec3& eyeImg, const Camera& cam, double scale,
+                             int count);
 
     std::vector<Deferred> deferred_;
     std::vector<int> chosen_;   // per deferred LOD: the child shown, -1: none

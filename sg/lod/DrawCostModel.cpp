@@ -11,8 +11,11 @@ namespace {
 // Feature scales: a frame draws ~1e5 triangles, ~1e3 items, ~1e6 pixels; scaled to order 1 the fit is
 // well conditioned.
 constexpr double kTri = 1e-5, kItems = 1e-3, kPixels = 1e-6;
-constexpr double kPrior = 100.0;   // initial P = kPrior * I: the prior is weak, data take over at once
-constexpr double kMaxTrace = 1e6;  // P grows as 1/lambda^n when frames repeat: bound it
+constexpr double kPrior = 100.0;               // initial P = kPrior * I: the prior is weak, data take over at once
+constexpr double kMaxTrace = 1e6;              // P grows as 1/lambda^n when frames repeat: bound it
+constexpr double kCorrectionFrames = 4.0;      // the correction's time constant, frames
+constexpr double kMinCorrection = 1.0 / 16.0;  // a frame can be this much faster or slower than the fit
+constexpr double kMaxCorrection = 16.0;
 }  // namespace
 
 DrawCostModel::DrawCostModel(double forgetting) : lambda_(forgetting) {
@@ -27,21 +30,25 @@ std::array<double, 4> DrawCostModel::features(const Work& w) const {
     return {1.0, w.triangles * kTri, w.items * kItems, w.pixels * kPixels};
 }
 
-double DrawCostModel::predict(const Work& w) const {
+double DrawCostModel::fit(const Work& w) const {
     const auto x = features(w);
     double y = 0.0;
     for (int i = 0; i < kN; ++i) y += w_[i] * x[i];
-    return std::max(0.0, y);
+    return y;
 }
+
+double DrawCostModel::predict(const Work& w) const { return std::max(0.0, correction_ * fit(w)); }
 
 double DrawCostModel::marginal(const Work& w) const {
     const auto x = features(w);
     double y = 0.0;
     for (int i = 1; i < kN; ++i) y += w_[i] * x[i];
-    return std::max(0.0, y);
+    return std::max(0.0, correction_ * y);
 }
 
-DrawCostModel::Rates DrawCostModel::rates() const { return {w_[1] * kTri, w_[2] * kItems, w_[3] * kPixels}; }
+DrawCostModel::Rates DrawCostModel::rates() const {
+    return {correction_ * w_[1] * kTri, correction_ * w_[2] * kItems, correction_ * w_[3] * kPixels};
+}
 
 void DrawCostModel::update(const Work& work, double ms) {
     for (double v : {work.triangles, work.items, work.pixels, ms})
@@ -57,7 +64,7 @@ void DrawCostModel::update(const Work& work, double ms) {
     double pred = 0.0;
     for (int i = 0; i < kN; ++i) pred += w_[i] * x[i];
     const double e = ms - pred;
-    lastError_ = ms - std::max(0.0, pred);
+    lastError_ = ms - correction_ * pred;
     for (int i = 0; i < kN; ++i) w_[i] += px[i] / denom * e;
     double trace = 0.0;
     for (int i = 0; i < kN; ++i)
@@ -71,6 +78,16 @@ void DrawCostModel::update(const Work& work, double ms) {
         for (auto& row : p_)
             for (double& v : row) v *= kMaxTrace / trace;
     samples_++;
+}
+
+void DrawCostModel::correct(double plannedMs, double measuredMs) {
+    for (double v : {plannedMs, measuredMs})
+        if (!(v >= 0.0 && std::isfinite(v)))
+            throw std::invalid_argument("DrawCostModel::correct(): " + std::to_string(v) + " is not a time");
+    // In ratios, smoothed: one slow frame moves the prices by a quarter of its excess at most (in logs), a
+    // load that doubles every frame's time doubles them within a few frames.
+    const double ratio = std::clamp(measuredMs / std::max(plannedMs, 1e-3), 0.25, 4.0);
+    correction_ = std::clamp(correction_ * std::pow(ratio, 1.0 / kCorrectionFrames), kMinCorrection, kMaxCorrection);
 }
 
 }  // namespace sg

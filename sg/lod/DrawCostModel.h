@@ -1,7 +1,11 @@
 // DrawCostModel: predicts the draw time of what a frame draws (triangles, draw items, covered pixels) with
 // a linear model fitted online to measured times, so that a time budget can be planned before drawing.
 // Recursive least squares with a forgetting factor: this machine's speed drifts by tens of percent over
-// seconds, so old frames count less than recent ones.
+// seconds, so old frames count less than recent ones. On top of the fit, a correction factor closes the
+// loop on what a plan predicted: the budget plans with the fit's prices, the frame takes what it takes,
+// and their ratio, smoothed over a few frames, scales every price. The fit follows the machine over
+// ~1 / (1 - forgetting) frames and mixes its parts up when frames repeat (the fixed part and the rates are
+// then told apart by noise); the correction follows a background load within a few frames both ways.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -33,17 +37,25 @@ public:
     // One frame: the work it drew and its measured draw time. Throws std::invalid_argument for a negative
     // or non-finite value.
     void update(const Work& w, double measuredMs);
+    // One planned frame: it was to take plannedMs by this model's prices (predict() of what it drew) and
+    // took measuredMs. Every price is multiplied by the correction, which moves by their ratio: a quarter
+    // of it per frame in logs (a time constant of 4 frames), ratios beyond 4x counted as 4x, the
+    // correction within 1/16..16. Throws std::invalid_argument for a negative or non-finite time.
+    void correct(double plannedMs, double measuredMs);
     uint64_t samples() const { return samples_; }
-    double lastError() const { return lastError_; }  // measured minus predicted, ms, of the last update
+    double correction() const { return correction_; }  // 1 until correct() is called
+    double lastError() const { return lastError_; }    // measured minus predicted (before it), ms, of the last update
 
 private:
     static constexpr int kN = 4;  // 1, triangles, items, pixels (each scaled to order 1)
     std::array<double, kN> features(const Work& w) const;
+    double fit(const Work& w) const;  // the fit alone, without the correction
     double lambda_;
     std::array<double, kN> w_;
     std::array<std::array<double, kN>, kN> p_;  // inverse correlation, kept symmetric and bounded
     uint64_t samples_ = 0;
     double lastError_ = 0.0;
+    double correction_ = 1.0;
 };
 
 }  // namespace sg

@@ -2,6 +2,7 @@
 
 #include "sg/core/Assert.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -77,6 +78,20 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
     }
     std::size_t nSteps = 0;
     double spent = 0.0;
+    // CheapestFirst: the cheapest options alone decide which of the two it is (a NaN sum fails the test;
+    // the loop below names the culprit).
+    bool onlyCheapest = false;
+    if (floor == Floor::CheapestFirst) {
+        double cheapest = 0.0;
+        for (const Object& obj : objects) {
+            if (obj.count <= 0 || !obj.options) continue;
+            double c = obj.options[0].costMs;
+            for (int i = 1; i < obj.count; ++i) c = std::min(c, obj.options[i].costMs);
+            cheapest += c;
+        }
+        onlyCheapest = !(cheapest <= budgetMs);
+        floor = onlyCheapest ? Floor::Nothing : Floor::Cheapest;
+    }
 
     for (std::size_t o = 0; o < n; ++o) {
         const Object& obj = objects[o];
@@ -87,7 +102,6 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
         if (obj.count == 0) continue;
         if (cand_.size() < std::size_t(obj.count)) cand_.resize(obj.count);
         Candidate* cand = cand_.data();
-        const std::size_t m = obj.count;
         // One test per object: a negative value fails `ok`, a NaN or infinity makes the sum so; the culprit
         // is looked for only then (a sum that overflows finds none and goes on).
         bool ok = true;
@@ -105,7 +119,7 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
                 if (!amount(op.benefit)) refuse(at, i, "benefit", op.benefit, "is negative or not finite");
             }
         // Cheapest first, the better of equal costs first. Insertion sort: a handful of levels.
-        for (std::size_t i = 1; i < m; ++i) {
+        for (std::size_t i = 1; i < std::size_t(obj.count); ++i) {
             const Candidate c = cand[i];
             std::size_t j = i;
             for (; j > 0 && (cand[j - 1].cost > c.cost || (cand[j - 1].cost == c.cost && cand[j - 1].rank < c.rank));
@@ -113,6 +127,8 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
                 cand[j] = cand[j - 1];
             cand[j] = c;
         }
+        const std::size_t m =
+            onlyCheapest ? 1 : std::size_t(obj.count);  // cand[0]: the cheapest, the best of equal costs
         Candidate base{0.0, 0.0, -1};
         std::size_t first = 0;
         if (floor == Floor::Cheapest) {

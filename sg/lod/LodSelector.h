@@ -26,8 +26,11 @@ public:
         int last = -1;  // the option chosen last frame, or -1 for nothing
     };
     // Whether an object may be left out: Nothing lets the budget drop it; Cheapest draws every object at
-    // least at its cheapest option, even when those alone overrun the budget.
-    enum class Floor { Nothing, Cheapest };
+    // least at its cheapest option, even when those alone overrun the budget. CheapestFirst drops last:
+    // when every object's cheapest option fits, as Cheapest; else no upgrade at all, and only cheapest
+    // options are bought, the most benefit per cost first, so that no object is left out while another is
+    // drawn finer than its cheapest.
+    enum class Floor { Nothing, Cheapest, CheapestFirst };
     struct Selection {
         std::vector<int> level;  // per object: the index of the chosen option, or -1 for nothing
         double costMs = 0.0;     // the chosen costs, summed as chosen; <= the budget unless the floor overran it

@@ -134,3 +134,34 @@ TEST(LodBudgetPlanner, ChoosesLevelsThatFitTheBudgetNearestFirst) {
         EXPECT_EQ(history.last(lods[k]), LodHistory::kNone);
     }
 }
+
+// coarsestScale: no LOD drawn coarser than its ranges show it at that scale, however tight the budget; an
+// LOD the ranges leave out at that scale is not limited.
+TEST(LodBudgetPlanner, NoLevelCoarserThanTheRangesShowAtTheCoarsestScale) {
+    Row row(20);
+    Scene s(row.root);
+    s.update();
+    const FlatImage& img = s.image();
+    const std::vector<uint32_t> lods = lodEntries(img);
+    const DrawCostModel model = testutil::trainedCostModel();
+    LodBudgetSettings b;
+    b.enabled = true;
+    b.model = &model;
+    b.budgetMs = 1.3;  // most LODs coarse without the limit (as in ChoosesLevelsThatFitTheBudgetNearestFirst)
+    LodHistory history;
+    history.track(img, s.structureVersion());
+    LodBudgetPlanner planner;
+    auto plan = [&](double coarsestScale) {
+        b.coarsestScale = coarsestScale;
+        planner.clear();
+        for (uint32_t i : lods) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
+        CullStats stats;
+        planner.plan(img, s.version(), testutil::lookingAlongY(), b, {}, history, stats);
+        return stats;
+    };
+    EXPECT_GE(plan(0.0).lodLevels[1], 10u);  // off: the budget goes coarse
+    const CullStats limited = plan(16.0);    // 20-210 m times 16 is still in the fine range, [0, 1e6)
+    EXPECT_EQ(limited.lodLevels[0], 20u);
+    EXPECT_GT(limited.lodPredictedMs, 1.3);  // over the budget, as stress at its largest scale would be
+    EXPECT_GE(plan(1e5).lodLevels[1], 10u);  // 2e6 and beyond: the ranges show nothing there, no limit
+}

@@ -29,6 +29,16 @@ double worstRelativeError(const DrawCostModel& m, const Machine& truth, std::mt1
     }
     return worst;
 }
+// Predicted over measured time, summed over many frames: how far off the model is on the whole.
+double overallRatio(const DrawCostModel& m, const Machine& truth, std::mt19937_64& g) {
+    double predicted = 0.0, measured = 0.0;
+    for (int k = 0; k < 200; ++k) {
+        const auto w = randomWork(g);
+        predicted += m.predict(w);
+        measured += truth.ms(w);
+    }
+    return predicted / measured;
+}
 }  // namespace
 
 TEST(DrawCostModel, LearnsTheMachineFromNoisyFrames) {
@@ -94,4 +104,48 @@ TEST(DrawCostModel, BadInputIsRefused) {
     EXPECT_THROW(m.update({1, 0, std::numeric_limits<double>::infinity()}, 1.0), std::invalid_argument);
     EXPECT_EQ(m.samples(), 0u);
     EXPECT_GT(m.predict({1e5, 0, 0}), 0.0);  // the prior
+}
+
+// A background load doubles every frame's time, then ends: with the measured time set against what each
+// frame was planned to take, the predictions are back within 10% of the machine overall a dozen frames
+// after either change (the fit's split into parts is still off then); the fit alone is not.
+TEST(DrawCostModel, CorrectionFollowsABackgroundLoadAndItsEnd) {
+    std::mt19937_64 g(7);
+    Machine truth;
+    DrawCostModel corrected, fitOnly;
+    for (int f = 0; f < 300; ++f) {
+        const auto w = randomWork(g);
+        corrected.update(w, truth.ms(w));
+        fitOnly.update(w, truth.ms(w));
+    }
+    auto frames = [&](int count) {
+        for (int f = 0; f < count; ++f) {
+            const auto w = randomWork(g);
+            const double planned = corrected.predict(w), ms = truth.ms(w);
+            corrected.update(w, ms);
+            corrected.correct(planned, ms);
+            fitOnly.update(w, ms);
+        }
+    };
+    constexpr int kFrames = 12;
+    truth.speed = 2.0;
+    frames(kFrames);
+    EXPECT_NEAR(overallRatio(corrected, truth, g), 1.0, 0.1);
+    EXPECT_LT(overallRatio(fitOnly, truth, g), 0.8);
+    EXPECT_GT(corrected.correction(), 1.2);
+    frames(100);  // the fit learns the load too
+    truth.speed = 1.0;
+    frames(kFrames);
+    EXPECT_NEAR(overallRatio(corrected, truth, g), 1.0, 0.1);
+    EXPECT_GT(overallRatio(fitOnly, truth, g), 1.2);
+    EXPECT_LT(corrected.correction(), 0.8);
+}
+
+TEST(DrawCostModel, CorrectionRefusesBadTimes) {
+    DrawCostModel m;
+    EXPECT_THROW(m.correct(-1.0, 1.0), std::invalid_argument);
+    EXPECT_THROW(m.correct(1.0, std::nan("")), std::invalid_argument);
+    EXPECT_EQ(m.correction(), 1.0);
+    m.correct(0.0, 5.0);  // nothing was predicted: counted as the largest step, not a division by 0
+    EXPECT_NEAR(m.correction(), std::pow(4.0, 0.25), 1e-12);
 }

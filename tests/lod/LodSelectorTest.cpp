@@ -255,3 +255,26 @@ TEST(LodSelector, BadInputIsRefusedByName) {
     EXPECT_THROW(sel.select({{nullptr, 2, -1}}, 5.0, 0.1), std::invalid_argument);
     EXPECT_EQ(sel.select({{nullptr, 0, -1}}, 5.0, 0.1).level[0], -1);  // no levels: nothing to draw
 }
+
+// CheapestFirst leaves an object out only when the cheapest options alone overrun the budget, and then
+// upgrades none; Nothing, on the same objects, buys a good upgrade and drops an object for it.
+TEST(LodSelector, CheapestFirstDropsOnlyWhenTheCheapestDoNotFit) {
+    Instance in;
+    in.options = {{{1.0, 10.0}, {2.0, 40.0}},  // its upgrade is the best buy per ms
+                  {{1.0, 2.0}, {3.0, 3.0}},
+                  {{1.0, 1.0}, {3.0, 1.5}}};
+    LodSelector sel;
+    // 3 ms: the three cheapest fit; Nothing spends a ms on the upgrade and drops the least worth object.
+    const std::vector<int> nothing = sel.select(in.objects(), 3.0, 0.0, LodSelector::Floor::Nothing).level;
+    EXPECT_EQ(nothing, (std::vector<int>{1, 0, -1}));
+    const std::vector<int> first = sel.select(in.objects(), 3.0, 0.0, LodSelector::Floor::CheapestFirst).level;
+    EXPECT_EQ(first, (std::vector<int>{0, 0, 0}));
+    // 4 ms: every cheapest and the best upgrade, as Cheapest would.
+    const std::vector<int> room = sel.select(in.objects(), 4.0, 0.0, LodSelector::Floor::CheapestFirst).level;
+    EXPECT_EQ(room, sel.select(in.objects(), 4.0, 0.0, LodSelector::Floor::Cheapest).level);
+    EXPECT_EQ(room, (std::vector<int>{1, 0, 0}));
+    // 2.5 ms: the cheapest overrun; the least worth per ms is left out and nobody is upgraded.
+    const auto& tight = sel.select(in.objects(), 2.5, 0.0, LodSelector::Floor::CheapestFirst);
+    EXPECT_EQ(tight.level, (std::vector<int>{0, 0, -1}));
+    EXPECT_LE(tight.costMs, 2.5);
+}

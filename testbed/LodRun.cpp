@@ -1,0 +1,100 @@
+#include "testbed/LodRun.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace scenes {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+sg::LodStress::Params stressFor(double budgetMs) {
+    if (!(budgetMs > 0.0 && std::isfinite(budgetMs)))
+        throw std::invalid_argument("LodRun::LodRun(): budget " + std::to_string(budgetMs) +
+                                    " ms is not a positive time");
+    sg::LodStress::Params p;
+    p.budgetMs = budgetMs;
+    return p;
+}
+}  // namespace
+
+const char* lodMethodName(LodMethod m) {
+    switch (m) {
+        case LodMethod::Static: return "static";
+        case LodMethod::Stress: return "stress";
+        case LodMethod::Budget: return "budget";
+    }
+    return "?";
+}
+
+LodMethod parseLodMethod(const std::string& name) {
+    for (LodMethod m : {LodMethod::Static, LodMethod::Stress, LodMethod::Budget})
+        if (name == lodMethodName(m)) return m;
+    throw std::invalid_argument("parseLodMethod(): '" + name + "' is not a method (static, stress, budget)");
+}
+
+std::vector<double> timeSameView(sg::Renderer& renderer, sg::Scene& scene, const sg::Camera& cam, int draws) {
+    sg::CullTraversal cull;
+    sg::DrawList list;
+    sg::CullStats st;
+    std::vector<double> ms;
+    for (int i = 0; i < draws + 3; ++i) {
+        const auto t0 = Clock::now();
+        cull.cull(scene, cam, sg::CullSettings{}, list, st);
+        renderer.draw(list, cam);
+        renderer.finish();
+        if (i >= 3) ms.push_back(msSince(t0));
+    }
+    return ms;
+}
+
+LodRun::LodRun(sg::Renderer& renderer, const Settings& s)
+    : renderer_(renderer), set_(s), stress_(stressFor(s.budgetMs)) {}
+
+const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std::function<void()>& prepare) {
+    if (!(set_.budgetMs > 0.0) || !std::isfinite(set_.budgetMs))
+        throw std::invalid_argument("LodRun::frame(): the budget is not a positive number of milliseconds");
+    sg::CullSettings set = set_.cull;
+    if (set_.method == LodMethod::Stress) set.lodScale = stress_.scale();
+    if (set_.method == LodMethod::Budget) {
+        set.lodBudget.enabled = true;
+        set.lodBudget.model = &model_;
+        set.lodBudget.budgetMs = std::max(1.0, set_.budgetMs - last_.cullMs);  // the cull's own time comes off
+        set.lodBudget.mayDrop = set_.mayDrop;
+        set.lodBudget.coarsestScale = stress_.params().maxScale;  // never a worse picture than stress's
+    }
+    const auto t0 = Clock::now();
+    if (prepare) prepare();
+    cull_.cull(scene, cam, set, list_, last_.stats);
+    last_.cullMs = msSince(t0);
+    const auto t1 = Clock::now();
+    renderer_.draw(list_, cam);
+    renderer_.finish();
+    last_.drawMs = msSince(t1);
+    last_.frameMs = last_.cullMs + last_.drawMs;
+    if (set_.method == LodMethod::Stress) stress_.update(last_.frameMs);
+    const sg::CullStats& st = last_.stats;
+    model_.update({double(st.triangles), double(st.geometries), st.lodPixels}, last_.drawMs);
+    // The plan's own prediction against the measured time: the loop closes on what the budget planned
+    // (a frame with no LOD in view was not planned).
+    if (set_.method == LodMethod::Budget && st.lodObjects > 0) model_.correct(st.lodPredictedMs, last_.drawMs);
+    return last_;
+}
+
+void LodRun::run(sg::Scene& scene, int count, int warmup, const std::function<sg::Camera(int)>& cameraAt,
+                 const std::function<void(int)>& prepare, const std::function<void(int, const LodFrame&)>& recorded) {
+    auto one = [&](int i) -> const LodFrame& {
+        if (!prepare) return frame(scene, cameraAt(i));
+        return frame(scene, cameraAt(i), [&] { prepare(i); });
+    };
+    for (int i = 0; i < std::min(count, warmup); ++i) one(i);
+    for (int i = 0; i < count; ++i) {
+        const LodFrame& f = one(i);
+        if (recorded) recorded(i, f);
+    }
+}
+
+}  // namespace scenes

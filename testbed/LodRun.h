@@ -1,0 +1,72 @@
+// LodRun: the frame loop of the LOD methods (static ranges, Performer's stress, the time budget) shared by
+// sgbench lod and the factory walkthrough: each frame culled, drawn and finished, timed, and the method fed
+// the measured time (the stress scale, the budget's draw-cost model) before the next frame is chosen.
+#pragma once
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/Renderer.h"
+#include "sg/lod/DrawCostModel.h"
+#include "sg/lod/LodStress.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace scenes {
+
+enum class LodMethod { Static, Stress, Budget };
+const char* lodMethodName(LodMethod m);
+// Throws std::invalid_argument listing the valid names ("static", "stress", "budget").
+LodMethod parseLodMethod(const std::string& name);
+
+// The machine's own spread: `cam`'s view of `scene` culled with the static ranges, drawn and finished `draws`
+// times (after three untimed draws that upload the meshes); the frame times, ms.
+std::vector<double> timeSameView(sg::Renderer& renderer, sg::Scene& scene, const sg::Camera& cam, int draws);
+
+// One frame as the method drew it.
+struct LodFrame {
+    double cullMs = 0.0, drawMs = 0.0;  // cull: prepare() included
+    double frameMs = 0.0;               // cull + draw until finished
+    sg::CullStats stats;                // lodPredictedMs, lodDropped... for the budget
+};
+
+class LodRun {
+public:
+    struct Settings {
+        LodMethod method = LodMethod::Budget;
+        double budgetMs = 33.0;  // the frame time aimed at: stress's load is measured against it too
+        bool mayDrop = false;    // LodBudgetSettings::mayDrop
+        sg::CullSettings cull;   // what every frame starts from (strategy, occlusion); the method sets its LOD part
+    };
+    // Draws with `renderer` (its context current). Throws std::invalid_argument for a budget that is not a
+    // positive number of milliseconds.
+    LodRun(sg::Renderer& renderer, const Settings& s);
+
+    // One frame of `scene` seen by `cam`: prepare() (the scene's state for the frame, e.g. switches) and the
+    // cull, then the draw until finished; the method learns from the measured times. The picture stays in
+    // the renderer's buffer until the next draw.
+    const LodFrame& frame(sg::Scene& scene, const sg::Camera& cam, const std::function<void()>& prepare = nullptr);
+
+    // frames(0 .. count): the first `warmup` of them once untimed (the stress scale and the model settle
+    // on the path), then all of them, each handed to recorded(i, frame) right after it is drawn.
+    // cameraAt(i) is frame i's camera; prepare(i), when set, runs in frame i before its cull.
+    void run(sg::Scene& scene, int count, int warmup, const std::function<sg::Camera(int)>& cameraAt,
+             const std::function<void(int)>& prepare, const std::function<void(int, const LodFrame&)>& recorded);
+
+    const Settings& settings() const { return set_; }
+    // Changed between frames (a viewer's keys): the next frame uses them; the model and the stress scale go on.
+    Settings& settings() { return set_; }
+    const sg::DrawList& list() const { return list_; }
+    const sg::DrawCostModel& model() const { return model_; }
+    const sg::LodStress& stress() const { return stress_; }
+
+private:
+    sg::Renderer& renderer_;
+    Settings set_;
+    sg::CullTraversal cull_;
+    sg::DrawList list_;
+    sg::DrawCostModel model_;
+    sg::LodStress stress_;
+    LodFrame last_;
+};
+
+}  // namespace scenes
