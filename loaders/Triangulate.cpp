@@ -4,6 +4,8 @@
 // clipped on its own, so that a polygon is never left half done.
 #include "loaders/Triangulate.h"
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,6 +19,9 @@ struct Vertex {
     double x, y;
     Vertex* prev = nullptr;
     Vertex* next = nullptr;
+    int32_t z = -1;           // position on the Z-order curve (-1: not yet computed)
+    Vertex* prevZ = nullptr;  // the ring's vertices sorted by z, for the ear test's neighbour search
+    Vertex* nextZ = nullptr;
     bool steiner = false;
 };
 
@@ -60,6 +65,22 @@ public:
     explicit EarClipper(std::vector<uint32_t>& out) : tri_(out) {}
 
     void run(const GeoPolygon& poly) {
+        // Large rings look for points inside a candidate ear along a Z-order curve instead of around the ring.
+        size_t n = poly.outer.size();
+        for (const auto& h : poly.holes) n += h.size();
+        if (n > 80) {
+            glm::dvec2 lo = poly.outer[0], hi = lo;
+            auto grow = [&](const GeoRing& r) {
+                for (const auto& p : r) lo = glm::min(lo, p), hi = glm::max(hi, p);
+            };
+            grow(poly.outer);
+            for (const auto& h : poly.holes) grow(h);
+            const double size = std::max(hi.x - lo.x, hi.y - lo.y);
+            if (size > 0.0) {
+                minX_ = lo.x, minY_ = lo.y;
+                invSize_ = 32767.0 / size;
+            }
+        }
         uint32_t base = 0;
         Vertex* outer = filter(ring(poly.outer, base, true));
         base += uint32_t(poly.outer.size());
@@ -80,6 +101,64 @@ public:
 
 private:
     std::vector<uint32_t>& tri_;
+    double minX_ = 0.0, minY_ = 0.0, invSize_ = 0.0;  // invSize_ 0: no Z-order search
+
+    int32_t zOrder(double px, double py) const {
+        auto spread = [](uint32_t v) {
+            v = (v | (v << 8)) & 0x00FF00FFu;
+            v = (v | (v << 4)) & 0x0F0F0F0Fu;
+            v = (v | (v << 2)) & 0x33333333u;
+            return (v | (v << 1)) & 0x55555555u;
+        };
+        const auto cell = [](double v) { return uint32_t(std::clamp(v, 0.0, 32767.0)); };
+        return int32_t(spread(cell((px - minX_) * invSize_)) | (spread(cell((py - minY_) * invSize_)) << 1));
+    }
+
+    // Gives every vertex of the ring its z and links them in z order (merge sort on the list).
+    void indexCurve(Vertex* start) const {
+        Vertex* p = start;
+        do {
+            if (p->z < 0) p->z = zOrder(p->x, p->y);
+            p->prevZ = p->prev;
+            p->nextZ = p->next;
+            p = p->next;
+        } while (p != start);
+        p->prevZ->nextZ = nullptr;
+        p->prevZ = nullptr;
+        Vertex* list = p;
+        int merges;
+        size_t inSize = 1;
+        do {
+            Vertex* q = list;
+            list = nullptr;
+            Vertex* tail = nullptr;
+            merges = 0;
+            while (q) {
+                ++merges;
+                Vertex* r = q;
+                size_t qSize = 0;
+                for (size_t i = 0; i < inSize && r; ++i, r = r->nextZ) ++qSize;
+                size_t rSize = inSize;
+                while (qSize > 0 || (rSize > 0 && r)) {
+                    Vertex* e;
+                    if (qSize != 0 && (rSize == 0 || !r || q->z <= r->z)) {
+                        e = q, q = q->nextZ, --qSize;
+                    } else {
+                        e = r, r = r->nextZ, --rSize;
+                    }
+                    if (tail)
+                        tail->nextZ = e;
+                    else
+                        list = e;
+                    e->prevZ = tail;
+                    tail = e;
+                }
+                q = r;
+            }
+            tail->nextZ = nullptr;
+            inSize *= 2;
+        } while (merges > 1);
+    }
     std::vector<std::unique_ptr<Vertex[]>> blocks_;
     std::vector<std::unique_ptr<Vertex>> extra_;
 
@@ -101,6 +180,8 @@ private:
     static void remove(Vertex* v) {
         v->next->prev = v->prev;
         v->prev->next = v->next;
+        if (v->prevZ) v->prevZ->nextZ = v->nextZ;
+        if (v->nextZ) v->nextZ->prevZ = v->prevZ;
     }
 
     // The ring as a linked list, counter-clockwise for the outer ring and clockwise for a hole.
@@ -155,11 +236,12 @@ private:
 
     void clip(Vertex* ear, int pass) {
         if (!ear) return;
+        if (pass == 0 && invSize_ > 0.0) indexCurve(ear);
         Vertex* stop = ear;
         while (ear->prev != ear->next) {
             Vertex* prev = ear->prev;
             Vertex* next = ear->next;
-            if (isEar(ear)) {
+            if (invSize_ > 0.0 ? isEarHashed(ear) : isEar(ear)) {
                 emit(prev, ear, next);
                 remove(ear);
                 ear = next->next;
@@ -192,6 +274,35 @@ private:
                 area(p->prev, p, p->next) >= 0)
                 return false;
         }
+        return true;
+    }
+
+    // A point of the ring inside the triangle (a, b, c) that blocks it as an ear.
+    static bool blocks(const Vertex* p, const Vertex* a, const Vertex* b, const Vertex* c, double x0, double y0,
+                       double x1, double y1) {
+        return p->x >= x0 && p->x <= x1 && p->y >= y0 && p->y <= y1 && p != a && p != c && !equals(p, a) &&
+               !equals(p, c) && pointInTriangle(a->x, a->y, b->x, b->y, c->x, c->y, p->x, p->y) &&
+               area(p->prev, p, p->next) >= 0;
+    }
+
+    // isEar, visiting only the vertices whose z lies in the triangle's box's range, nearest first both ways.
+    bool isEarHashed(const Vertex* ear) const {
+        const Vertex *a = ear->prev, *b = ear, *c = ear->next;
+        if (area(a, b, c) >= 0) return false;
+        const double x0 = std::min({a->x, b->x, c->x}), y0 = std::min({a->y, b->y, c->y});
+        const double x1 = std::max({a->x, b->x, c->x}), y1 = std::max({a->y, b->y, c->y});
+        const int32_t minZ = zOrder(x0, y0), maxZ = zOrder(x1, y1);
+        const Vertex* p = ear->prevZ;
+        const Vertex* n = ear->nextZ;
+        while (p && p->z >= minZ && n && n->z <= maxZ) {
+            if (blocks(p, a, b, c, x0, y0, x1, y1) || blocks(n, a, b, c, x0, y0, x1, y1)) return false;
+            p = p->prevZ;
+            n = n->nextZ;
+        }
+        for (; p && p->z >= minZ; p = p->prevZ)
+            if (blocks(p, a, b, c, x0, y0, x1, y1)) return false;
+        for (; n && n->z <= maxZ; n = n->nextZ)
+            if (blocks(n, a, b, c, x0, y0, x1, y1)) return false;
         return true;
     }
 
