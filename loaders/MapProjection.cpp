@@ -122,6 +122,19 @@ MapProjection MapProjection::usState(const std::string& fips) {
     return p;
 }
 
+MapProjection MapProjection::usAt(double lon, double lat) {
+    lon = wrap180(lon);
+    auto in = [&](double lon0, double lon1, double lat0, double lat1) {
+        return lon >= lon0 && lon <= lon1 && lat >= lat0 && lat <= lat1;
+    };
+    if (lat > 50.0 && (lon < -129.0 || lon > 170.0)) return usState("02");
+    if (in(-179.0, -154.0, 18.0, 29.0)) return usState("15");
+    if (in(-68.0, -64.0, 17.0, 19.0)) return usState("72");
+    if (in(144.0, 147.0, 13.0, 21.0)) return usState("66");
+    if (in(-172.0, -168.0, -15.0, -10.0)) return usState("60");
+    return usState("48");
+}
+
 glm::dvec2 MapProjection::project(double lonDegrees, double latDegrees) const {
     return projectRelative(wrap180(lonDegrees - lon0), latDegrees);
 }

@@ -23,6 +23,10 @@ struct MapProjection {
     // Islands, Guam with the Northern Marianas, and American Samoa each on parallels of their own, moved as
     // insets below the conterminous states, as U.S. maps draw them. Unknown codes get the conterminous one.
     static MapProjection usState(const std::string& fips);
+    // The U.S. projection that applies at a point, by the inset's area on the globe (Alaska north of 50N west
+    // of 129W or east of 170E; Hawaii; Puerto Rico and the Virgin Islands; Guam and the Northern Marianas;
+    // American Samoa), else the conterminous one: where a longitude/latitude lies on the U.S. level's plane.
+    static MapProjection usAt(double lonDegrees, double latDegrees);
 
     // The point in plane kilometres; longitudes any distance from lon0 are taken modulo 360.
     glm::dvec2 project(double lonDegrees, double latDegrees) const;

@@ -227,6 +227,17 @@ TEST(MapConvertRealData, EveryRegionIsTriangulatedWithItsArea) {
             EXPECT_FALSE(overlap) << a << " and " << b;
         }
 
+    // Each state's counties lie on the state's prism: the same bounds in the plane (the files share coordinates).
+    for (const auto& [id, box] : boxes) {
+        const GltfScene s = loadGltf(out + "/states/" + id + ".glb");
+        Box counties;
+        for (size_t i = 0; i < s.root->numChildren(); ++i) counties.expand(geometry(*s.root->child(i)).mesh()->box());
+        EXPECT_NEAR(counties.min.x, box.min.x, 0.5) << id;
+        EXPECT_NEAR(counties.min.y, box.min.y, 0.5) << id;
+        EXPECT_NEAR(counties.max.x, box.max.x, 0.5) << id;
+        EXPECT_NEAR(counties.max.y, box.max.y, 0.5) << id;
+    }
+
     // The world: the United States leads to the U.S. file; no triangle of Russia or Fiji spans the map (they
     // cross the antimeridian: each is cut there).
     const GltfScene world = loadGltf(out + "/world.glb");

@@ -166,3 +166,19 @@ TEST(MapProjection, APolygonAroundAPoleWithItsCoastAsAHoleIsTheBandBetweenThem) 
     const double band = 2 * M_PI * kR * kR * (std::sin(89.999 * kDeg) - std::sin(70 * kDeg));
     EXPECT_NEAR(area, band, 1e-2 * band);
 }
+
+TEST(MapProjection, TheUnitedStatesProjectionAtAPointIsItsInsets) {
+    auto same = [](const MapProjection& a, const MapProjection& b) {
+        return a.lon0 == b.lon0 && a.lat0 == b.lat0 && a.scale == b.scale && a.offset == b.offset;
+    };
+    EXPECT_TRUE(same(MapProjection::usAt(-95.4, 29.8), MapProjection::usState("48"))) << "Houston";
+    EXPECT_TRUE(same(MapProjection::usAt(-149.9, 61.2), MapProjection::usState("02"))) << "Anchorage";
+    EXPECT_TRUE(same(MapProjection::usAt(173.2, 52.9), MapProjection::usState("02"))) << "Attu, west of 180";
+    EXPECT_TRUE(same(MapProjection::usAt(-157.9, 21.3), MapProjection::usState("15"))) << "Honolulu";
+    EXPECT_TRUE(same(MapProjection::usAt(-66.1, 18.4), MapProjection::usState("72"))) << "San Juan";
+    EXPECT_TRUE(same(MapProjection::usAt(-64.9, 18.3), MapProjection::usState("78"))) << "Charlotte Amalie";
+    EXPECT_TRUE(same(MapProjection::usAt(144.8, 13.5), MapProjection::usState("66"))) << "Hagatna";
+    EXPECT_TRUE(same(MapProjection::usAt(145.7, 15.2), MapProjection::usState("69"))) << "Saipan";
+    EXPECT_TRUE(same(MapProjection::usAt(-170.7, -14.3), MapProjection::usState("60"))) << "Pago Pago";
+    EXPECT_TRUE(same(MapProjection::usAt(-122.3, 47.6), MapProjection::usState("53"))) << "Seattle";
+}
