@@ -13,6 +13,9 @@ namespace {
 
 using nlohmann::json;
 
+// GeometryCollections inside a region's geometry are read recursively: a file may not nest them deeper.
+constexpr int kMaxNesting = 64;
+
 struct Decoder {
     const std::string& file;
     std::vector<std::vector<glm::dvec2>> arcs;
@@ -106,8 +109,9 @@ struct Decoder {
         return p;
     }
 
-    void geometry(const json& g, const std::string& path, GeoRegion& region) const {
+    void geometry(const json& g, const std::string& path, GeoRegion& region, int depth = 0) const {
         if (!g.is_object()) bad(path, "must be an object");
+        if (depth > kMaxNesting) bad(path, "collections nested deeper than " + std::to_string(kMaxNesting));
         const json& type = member(g, "type", path);
         if (type.is_null()) return;  // a null geometry: a region without shape
         if (!type.is_string()) bad(path + ".type", "must be a string");
@@ -123,7 +127,7 @@ struct Decoder {
         } else if (t == "GeometryCollection") {
             const json& gs = array(member(g, "geometries", path), path + ".geometries");
             for (size_t k = 0; k < gs.size(); ++k)
-                geometry(gs[k], path + ".geometries[" + std::to_string(k) + "]", region);
+                geometry(gs[k], path + ".geometries[" + std::to_string(k) + "]", region, depth + 1);
         } else if (t != "Point" && t != "MultiPoint" && t != "LineString" && t != "MultiLineString") {
             bad(path + ".type", "unknown geometry type '" + t + "'");
         }

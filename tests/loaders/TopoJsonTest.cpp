@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <random>
 
 using namespace sg;
 
@@ -165,4 +166,34 @@ TEST(TopoJson, EveryTruncationIsRefusedWithALoadError) {
             EXPECT_EQ(e.file(), "cut.json");
         }
     }
+}
+
+TEST(TopoJson, DeeplyNestedCollectionsAreRefused) {
+    std::string g = R"({"type": "Polygon", "arcs": [[0]]})";
+    for (int k = 0; k < 100; ++k) g = R"({"type": "GeometryCollection", "geometries": [)" + g + "]}";
+    const std::string text = R"({"type": "Topology", "objects": {"o": {"type": "GeometryCollection", "geometries": [)" +
+                             g + R"(]}}, "arcs": [[[0, 0], [1, 0], [1, 1], [0, 0]]]})";
+    const LoadError e = errorOf(text);
+    EXPECT_NE(e.reason().find("nested deeper than"), std::string::npos) << e.what();
+}
+
+TEST(TopoJson, RandomlyCorruptedFilesParseOrThrowLoadErrorOnly) {
+    const std::string t = kTopology;
+    const std::string alphabet = "0123456789-~[]{},:\"e.ntrufalsPolygonMultiArcs ";
+    std::mt19937 rng(21);
+    int refused = 0;
+    for (int i = 0; i < 2000; ++i) {
+        std::string s = t;
+        const int edits = 1 + int(rng() % 3);
+        for (int k = 0; k < edits; ++k) s[rng() % s.size()] = alphabet[rng() % alphabet.size()];
+        try {
+            for (const auto& [name, regions] : parseTopoJson("fuzz.json", s))
+                for (const auto& r : regions)
+                    for (const auto& p : r.polygons) EXPECT_GE(p.outer.size(), 3u) << name;
+        } catch (const LoadError& e) {
+            ++refused;
+            EXPECT_EQ(e.file(), "fuzz.json");
+        }
+    }
+    EXPECT_GT(refused, 100) << "the corruptions must reach the checks";
 }
