@@ -5,8 +5,10 @@
 #include "sg/core/Node.h"
 
 #include <functional>
+#include <map>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace sg {
@@ -39,9 +41,26 @@ struct GltfLoadOptions {
     double progressAfterSeconds = 1.0;
 };
 
+// An application's data in a glTF node's or scene's `extras`, beside sgkit's own key: strings and numbers by
+// name (a map region's id, name and area). Other JSON values in extras are not read.
+struct GltfProperties {
+    std::map<std::string, std::string> strings;
+    std::map<std::string, double> numbers;
+    bool empty() const { return strings.empty() && numbers.empty(); }
+};
+
+struct GltfSaveOptions {
+    // Called for each node written: what to put in its extras (nothing when empty).
+    std::function<GltfProperties(const Node&)> nodeProperties;
+    GltfProperties sceneProperties;  // the scene's extras
+};
+
 struct GltfScene {
     ref_ptr<Node> root;  // a Group holding the default scene's root nodes
     std::vector<GltfCamera> cameras;
+    // Properties found in node extras, by the node built from that glTF node; the scene's in sceneProperties.
+    std::unordered_map<const Node*, GltfProperties> properties;
+    GltfProperties sceneProperties;
     std::vector<std::string> warnings;  // what was skipped or converted, each naming its JSON path
 };
 
@@ -53,6 +72,6 @@ GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t s
 
 // Writes the graph below `root` as .glb or .gltf (embedded buffers), chosen by the extension.
 // Throws std::runtime_error naming the file when it cannot be written.
-void saveGltf(const Node& root, const std::string& path);
+void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& options = {});
 
 }  // namespace sg

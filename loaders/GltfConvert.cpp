@@ -94,6 +94,21 @@ std::vector<V> readVectors(const tinygltf::Model& m, int acc) {
     return out;
 }
 
+// String and finite number members of extras other than sgkit's key.
+GltfProperties properties(const Value& extras) {
+    GltfProperties p;
+    if (!extras.IsObject()) return p;
+    for (const std::string& k : extras.Keys()) {
+        if (k == kExtrasKey) continue;
+        const Value& v = extras.Get(k);
+        if (v.IsString())
+            p.strings[k] = v.Get<std::string>();
+        else if (v.IsNumber() && std::isfinite(v.GetNumberAsDouble()))
+            p.numbers[k] = v.GetNumberAsDouble();
+    }
+    return p;
+}
+
 const Value* sgkitExtras(const Value& extras) {
     if (!extras.IsObject() || !extras.Has(kExtrasKey)) return nullptr;
     const Value& v = extras.Get(kExtrasKey);
@@ -463,6 +478,7 @@ struct Converter {
         }
         Node* inner = node->kind() == NodeKind::Transform && kind != "Transform" ? node->child(0) : node.get();
         if (!gn.name.empty()) inner->setName(gn.name);
+        if (GltfProperties p = properties(gn.extras); !p.empty()) out.properties[inner] = std::move(p);
         if (sx && sx->Has("mask")) {
             const double mask = number(*sx, "mask", xp, 0);
             if (mask < 0 || mask > 4294967295.0 || mask != std::floor(mask))
@@ -580,6 +596,7 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
     if (scene >= 0) {
         roots = model.scenes[size_t(scene)].nodes;
         root->setName(model.scenes[size_t(scene)].name);
+        c.out.sceneProperties = properties(model.scenes[size_t(scene)].extras);
     } else {  // no scene: every root node
         std::vector<bool> child(model.nodes.size());
         for (const auto& n : model.nodes)

@@ -24,7 +24,17 @@ using tinygltf::Value;
 Value num(double v) { return Value(v); }
 Value vec3v(const dvec3& v) { return Value(Value::Array{num(v.x), num(v.y), num(v.z)}); }
 
+// Application properties beside sgkit's key (which they may not replace).
+void addProperties(Value::Object& extras, const GltfProperties& p) {
+    for (const auto& [k, v] : p.strings)
+        if (k != gltf::kExtrasKey) extras[k] = Value(v);
+    for (const auto& [k, v] : p.numbers)
+        if (k != gltf::kExtrasKey) extras[k] = Value(v);
+}
+
 struct Writer {
+    explicit Writer(const GltfSaveOptions& o) : options(o) {}
+    const GltfSaveOptions& options;
     tinygltf::Model m;
     std::map<const Mesh*, std::map<std::string, int>> meshAttributes;  // attributes and "indices"
     std::map<std::pair<const Mesh*, const Material*>, int> meshes;
@@ -234,7 +244,10 @@ struct Writer {
         }
         for (size_t i = 0; i < n.numChildren(); ++i)
             if (const Node* c = n.child(i)) gn.children.push_back(node(*c));
-        if (!x.empty()) gn.extras = Value(Value::Object{{gltf::kExtrasKey, Value(std::move(x))}});
+        Value::Object extras;
+        if (options.nodeProperties) addProperties(extras, options.nodeProperties(n));
+        if (!x.empty()) extras[gltf::kExtrasKey] = Value(std::move(x));
+        if (!extras.empty()) gn.extras = Value(std::move(extras));
         m.nodes[size_t(self)] = std::move(gn);
         return self;
     }
@@ -242,9 +255,9 @@ struct Writer {
 
 }  // namespace
 
-void saveGltf(const Node& root, const std::string& path) {
+void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& options) {
     const bool glb = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-    Writer w;
+    Writer w(options);
     w.m.asset.version = "2.0";
     w.m.asset.generator = "sgkit";
     w.m.buffers.emplace_back();
@@ -257,6 +270,11 @@ void saveGltf(const Node& root, const std::string& path) {
             if (const Node* c = root.child(i)) scene.nodes.push_back(w.node(*c));
     } else {
         scene.nodes.push_back(w.node(root));
+    }
+    if (!options.sceneProperties.empty()) {
+        Value::Object extras;
+        addProperties(extras, options.sceneProperties);
+        scene.extras = Value(std::move(extras));
     }
     w.m.scenes.push_back(std::move(scene));
     w.m.defaultScene = 0;

@@ -563,3 +563,42 @@ TEST(Gltf, ProgressIsReportedInOrderUpToDone) {
     loadGltf(tempPath("progress.glb"), def);
     EXPECT_EQ(quiet, 0u);
 }
+
+TEST(Gltf, ApplicationPropertiesTravelInExtrasBesideSgkitsOwn) {
+    auto root = make<Group>();
+    auto lod = make<LOD>();
+    lod->addChild(make<Geometry>(makeBoxMesh(dvec3(0), dvec3(1)), make<Material>()), 0.0f, 100.0f);
+    auto plain = make<Transform>(glm::translate(dmat4(1.0), dvec3(1, 2, 3)));
+    root->addChild(lod);
+    root->addChild(plain);
+    GltfSaveOptions o;
+    o.nodeProperties = [&](const Node& n) {
+        GltfProperties p;
+        if (&n == lod.get()) {
+            p.strings["id"] = "48201";
+            p.numbers["area"] = 4602.5;
+            p.strings["sgkit"] = "ignored: the key is sgkit's";
+        }
+        return p;
+    };
+    o.sceneProperties.strings["level"] = "state";
+    for (const char* ext : {".glb", ".gltf"}) {
+        const std::string path = tempPath(std::string("properties") + ext);
+        saveGltf(*root, path, o);
+        const GltfScene s = loadGltf(path);
+        ASSERT_EQ(s.root->numChildren(), 2u);
+        const Node* l = s.root->child(0);
+        EXPECT_EQ(l->kind(), NodeKind::LOD) << "sgkit's extras still read";
+        ASSERT_EQ(s.properties.count(l), 1u);
+        EXPECT_EQ(s.properties.at(l).strings.at("id"), "48201");
+        EXPECT_EQ(s.properties.at(l).numbers.at("area"), 4602.5);
+        EXPECT_EQ(s.properties.at(l).strings.count("sgkit"), 0u);
+        EXPECT_EQ(s.properties.count(s.root->child(1)), 0u) << "a node without properties has none";
+        EXPECT_EQ(s.sceneProperties.strings.at("level"), "state");
+    }
+    // Without options, nothing but sgkit's own keys is written.
+    saveGltf(*root, tempPath("noproperties.glb"));
+    const GltfScene s = loadGltf(tempPath("noproperties.glb"));
+    EXPECT_TRUE(s.properties.empty());
+    EXPECT_TRUE(s.sceneProperties.empty());
+}
