@@ -4,6 +4,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
@@ -220,6 +221,22 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
             visit(sub, 0, in->prototype(), pm, false);
             instance_ = outerInstance;
             placement_ = outerPlacement;
+            break;
+        }
+        case NodeKind::PagedLOD: {
+            // The detail when attached and shown (as the LOD choice says), else the coarse children.
+            const FlatImage::Paged& p = img.paged[img.aux[i]];
+            bool fine = p.detail != ~0u;
+            const auto* pl = static_cast<const PagedLOD*>(n);
+            if (fine && pl->trigger() == PagedLOD::Trigger::Range && opt_->lod == LodChoice::AsDrawn &&
+                (opt_->camera || pl->mode() == PagedLOD::Mode::Distance)) {
+                const double value =
+                    lodValue(img, p.lod, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, opt_->camera, opt_->lodScale);
+                fine = value >= p.min && value < p.max;
+            }
+            uint32_t k = 0;
+            for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k)
+                if ((k == p.detail) == fine) visit(c, j, n->child(k), m, false);
             break;
         }
         case NodeKind::Occluder: break;  // not geometry

@@ -78,6 +78,15 @@ struct FlatImage {
     const Node* maskedNode(uint32_t i) const;
     std::vector<Lod> lods;
     std::vector<Range> ranges;
+    // PagedLOD entries (their aux indexes `paged`): the LOD value's centre and mode as an LOD's (lod.firstRange
+    // unused), the range where the detail is wanted, and the node, which the cull marks needed.
+    struct Paged {
+        Lod lod;
+        float min, max;
+        Node* node;       // a PagedLOD
+        uint32_t detail;  // the detail's child number, ~0u when none is attached
+    };
+    std::vector<Paged> paged;
     std::vector<Draw> draws;
 
     // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Only occluders that are

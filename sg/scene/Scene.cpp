@@ -6,6 +6,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/scene/BspBuilder.h"
 
@@ -29,7 +30,8 @@ struct Scene::Builder {
 
     static bool isConditional(const Node* n) {
         const NodeKind k = n->kind();
-        return k == NodeKind::Switch || k == NodeKind::LOD || k == NodeKind::Billboard || n->nodeMask() != 0xffffffffu;
+        return k == NodeKind::Switch || k == NodeKind::LOD || k == NodeKind::PagedLOD || k == NodeKind::Billboard ||
+               n->nodeMask() != 0xffffffffu;
     }
 
     struct Counts {
@@ -74,7 +76,7 @@ struct Scene::Builder {
         img.matrices.clear(), img.nodes.clear(), img.masked.clear();
         img.translations = {}, img.translations.reserve(c.xforms);
         img.lods = {}, img.lods.reserve(c.lods);
-        img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
+        img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
         fresh = true;
@@ -182,6 +184,26 @@ struct Scene::Builder {
         lod.cz = float(c.z);
     }
 
+    // A PagedLOD: its bound grows by the sphere its detail will take, then its centre is placed like an LOD's.
+    void paged(uint32_t i, const PagedLOD* p, const dmat4& m) {
+        if (p->radius() > 0.0 && !(img.flags[i] & FlatImage::kInvalid)) {
+            const dvec3 c(m * dvec4(p->center(), 1.0));
+            const double r = p->radius() * maxScale(m);
+            const bool empty = img.flags[i] & FlatImage::kEmpty;
+            Box b{c - dvec3(r), c + dvec3(r)};
+            if (!empty) b.expand(img.box(i));
+            const dvec3 bc = b.center();
+            double rad = r + glm::length(c - bc);
+            if (!empty) rad = std::max(rad, glm::length(img.center(i) - bc) + img.r[i]);
+            img.setBound(i, b, rad);
+        }
+        FlatImage::Lod& lod = img.paged[img.aux[i]].lod;
+        const dvec3 c = p->userCenter() ? dvec3(m * dvec4(p->center(), 1.0)) - img.origin : img.center(i) - img.origin;
+        lod.cx = float(c.x);
+        lod.cy = float(c.y);
+        lod.cz = float(c.z);
+    }
+
     static constexpr uint32_t kWideChildren = 16, kWideEntries = 1024;
     // A plain Group with many children over a large subtree: its children's spheres side by side.
     void wide(uint32_t i, Node* n) {
@@ -273,6 +295,16 @@ struct Scene::Builder {
                     FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()), l->hasErrors()});
                 break;
             }
+            case NodeKind::PagedLOD: {
+                const auto* p = static_cast<const PagedLOD*>(n);
+                const size_t d = p->detailIndex();
+                // The centre is filled in by write(), once the bound and the frame are known.
+                img.aux[i] =
+                    slot(img.paged, i,
+                         FlatImage::Paged{FlatImage::Lod{0.0f, 0.0f, 0.0f, 0, 0.0f, uint8_t(p->mode()), false},
+                                          p->rangeMin(), p->rangeMax(), n, d < p->numChildren() ? uint32_t(d) : ~0u});
+                break;
+            }
             case NodeKind::Group:
                 if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
                 break;
@@ -325,6 +357,7 @@ struct Scene::Builder {
         boundFromChildren(i);
         wide(i, n);
         if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
+        if (n->kind() == NodeKind::PagedLOD) paged(i, static_cast<const PagedLOD*>(n), cm);
         if (n->kind() == NodeKind::Billboard) billboard(i, n, cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
@@ -392,6 +425,7 @@ struct Scene::Builder {
         boundFromChildren(i);
         wide(i, n);
         if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
+        if (n->kind() == NodeKind::PagedLOD) paged(i, static_cast<const PagedLOD*>(n), cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
 
@@ -416,6 +450,8 @@ const FlatImage* Scene::prototypeImage(const Node* p) const {
 void Scene::update(const FrameInfo& frame) {
     const auto t0 = std::chrono::steady_clock::now();
     stats_ = UpdateStats{};
+    updates_++;
+    frame_ = frame;
     // Structure first (it also finds the nodes with callbacks), then the callbacks, then their changes.
     if ((root_->dirtyBits() & Node::kDirtyStructure) || main_.size() == 0) refresh();
     for (Node* n : callbacks_) {
