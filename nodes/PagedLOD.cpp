@@ -58,9 +58,13 @@ void PagedLOD::setUnloaded() {
 void PagedLOD::attachDetail(ref_ptr<Node> detail, size_t bytes) {
     if (!detail) throw std::invalid_argument("PagedLOD::attachDetail(): " + describe() + ": detail is null");
     if (detail_) throw std::logic_error("PagedLOD::attachDetail(): " + describe() + " has a detail attached already");
-    Node* d = detail.get();
-    addChild(std::move(detail));
-    detail_ = d;
+    detail_ = detail.get();  // first: childChangeMarks() knows it as the detail
+    try {
+        addChild(std::move(detail));
+    } catch (...) {
+        detail_ = nullptr;
+        throw;
+    }
     detailBytes_ = bytes;
     state_ = State::Loaded;
     error_.clear();

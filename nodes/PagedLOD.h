@@ -88,6 +88,10 @@ public:
 
 protected:
     void childRemoved(size_t i) override;
+    // Attaching or detaching the detail rewrites this node's entry only (the detail has an image of its own).
+    uint8_t childChangeMarks(const Node* child) const override {
+        return child == detail_ ? uint8_t(kDirtyBound) : Group::childChangeMarks(child);
+    }
 
 private:
     std::string file_, error_;

@@ -416,11 +416,19 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
             }
         }
     }
-    const bool fine = wanted && p.detail != ~0u;
-    if (wanted && !fine) stats_->pagedCoarse++;
-    uint32_t k = 0;
-    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k)
-        if ((k == p.detail) == fine) visit(c, j, mask, m, occ);
+    if (wanted && p.detail) {
+        // The detail's image is in this image's frame, shifted to its own origin: the same planes (and the
+        // plane mask), the same occlusion tree.
+        const FlatImage& d = *p.detail;
+        if (d.size() == 0) return;
+        Ctx sub;
+        setupCtx(sub, d, c.imgToEye * glm::translate(dmat4(1.0), d.origin - img.origin));
+        sub.originRel = c.originRel + (d.origin - img.origin);
+        visit(sub, 0, mask, m, occ);
+        return;
+    }
+    if (wanted) stats_->pagedCoarse++;
+    children(c, i, mask, m, occ);
 }
 
 double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <vector>
 
 namespace sg {
@@ -79,12 +80,14 @@ struct FlatImage {
     std::vector<Lod> lods;
     std::vector<Range> ranges;
     // PagedLOD entries (their aux indexes `paged`): the LOD value's centre and mode as an LOD's (lod.firstRange
-    // unused), the range where the detail is wanted, and the node, which the cull marks needed.
+    // unused), the range where the detail is wanted, and the node, which the cull marks needed. The entry's
+    // children here are the coarse ones; an attached detail has an image of its own, in this image's frame, so
+    // that attaching or detaching it rewrites that image and this entry, never this image's structure.
     struct Paged {
         Lod lod;
         float min, max;
-        Node* node;       // a PagedLOD
-        uint32_t detail;  // the detail's child number, ~0u when none is attached
+        Node* node;                         // a PagedLOD
+        std::shared_ptr<FlatImage> detail;  // null when no detail is attached
     };
     std::vector<Paged> paged;
     std::vector<Draw> draws;

@@ -174,3 +174,70 @@ TEST(PagedLOD, PicksSeeTheLevelThatIsDrawn) {
     o.camera = &far;
     EXPECT_EQ(hitMesh(), t.coarse.get());
 }
+
+TEST(PagedLOD, AttachingOrDetachingTheDetailRewritesItsOwnImageNotTheScenes) {
+    // A scene of 200 other tiles: attaching writes the detail's entries and the paged node's path only.
+    Tile t;
+    for (int k = 0; k < 200; ++k) {
+        auto o = make<Transform>(glm::translate(dmat4(1.0), dvec3(k * 3.0, 40, 0)));
+        o->addChild(make<Geometry>(t.coarse, make<Material>()));
+        t.root->addChild(o);
+    }
+    Scene s(t.root);
+    s.update();
+    const uint64_t structure = s.structureVersion();
+    const size_t entries = s.image().size();
+    t.attach();
+    s.update();
+    EXPECT_EQ(s.structureVersion(), structure);
+    EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
+    EXPECT_EQ(s.image().size(), entries);
+    EXPECT_LE(s.lastUpdate().entriesWritten, 10u);
+    EXPECT_EQ(cull(s, testutil::lookingAlongY()).count(t.fine.get()), 1u);
+    t.paged->detachDetail();
+    s.update();
+    EXPECT_EQ(s.structureVersion(), structure);
+    EXPECT_EQ(s.lastUpdate().fullRebuilds, 0u);
+    EXPECT_EQ(cull(s, testutil::lookingAlongY()).count(t.fine.get()), 0u);
+    // A coarse child added is a change of the scene's structure.
+    t.paged->addChild(make<Geometry>(t.coarse, make<Material>()));
+    s.update();
+    EXPECT_GT(s.structureVersion(), structure);
+}
+
+TEST(PagedLOD, TheDetailIsDrawnAndPickedWhereItsFrameIsAndFollowsItWhenItMoves) {
+    auto root = make<Group>();
+    auto frame = make<Transform>(glm::scale(glm::translate(dmat4(1.0), dvec3(0, 10, 0)), dvec3(2.0)));
+    auto p = make<PagedLOD>();
+    p->setFile("tile.glb");
+    frame->addChild(p);
+    root->addChild(frame);
+    auto fine = makeBoxMesh(dvec3(-1), dvec3(1));
+    auto g = make<Transform>(glm::translate(dmat4(1.0), dvec3(0, 1, 0)));
+    g->addChild(make<Geometry>(fine, make<Material>()));
+    p->attachDetail(g, 0);
+    Scene s(root);
+    s.update();
+    IntersectTraversal it;
+    auto hitY = [&]() {
+        Hit hit;
+        return it.intersect(s, Ray{dvec3(0.01, 0, 0.02), dvec3(0, 1, 0)}, QueryOptions{}, hit) ? hit.point.y : -1.0;
+    };
+    // The box [-1, 1] moved by 1 in the detail, scaled by 2 and moved by 10: its near face at y = 10.
+    EXPECT_NEAR(hitY(), 10.0, 1e-9);
+    const Box b = s.image().box(1);
+    EXPECT_LE(b.min.y, 10.0);
+    EXPECT_GE(b.max.y, 14.0);
+    DrawList list;
+    CullStats st;
+    CullTraversal().cull(s, testutil::lookingAlongY(), CullSettings{}, list, st);
+    ASSERT_EQ(list.items.size(), 1u);
+    EXPECT_FLOAT_EQ(list.items[0].model[3].y, 12.0f);
+    EXPECT_FLOAT_EQ(list.items[0].model[0].x, 2.0f);
+    frame->setMatrix(glm::translate(dmat4(1.0), dvec3(0, 20, 0)));
+    s.update();
+    EXPECT_NEAR(hitY(), 20.0, 1e-9);
+    g->setTranslation(dvec3(0, 3, 0));  // a change inside the detail
+    s.update();
+    EXPECT_NEAR(hitY(), 22.0, 1e-9);
+}
