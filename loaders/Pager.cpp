@@ -57,6 +57,9 @@ Pager::~Pager() {
     }
     wake_.notify_all();
     thread_.join();
+    // Requests that will not be answered: the cull may ask again (another pager).
+    for (auto& [node, a] : active_)
+        if (a.node->state() == PagedLOD::State::Requested) a.node->setUnloaded();
 }
 
 void Pager::run() {

@@ -41,7 +41,7 @@ struct PagerStats {
     size_t resident = 0;       // details attached now
     size_t bytesResident = 0;  // their mesh and texture bytes
     size_t queued = 0;         // requests waiting for the loader thread (at the last update)
-    bool loading = false;      // a load was running at the last update
+    bool loading = false;      // the loader thread was busy (loading, or freeing details) at the last update
     double lastLoadMs = 0.0, maxLoadMs = 0.0, totalLoadMs = 0.0;  // time in the load function
     std::string lastError;                                        // the last failure's message
 };
@@ -51,7 +51,7 @@ public:
     // Starts the loader thread. `load` defaults to loadGltfPage.
     explicit Pager(Scene& scene, PageLoadFunction load = {}, PagerSettings settings = {});
     // Stops the loader thread: the load running finishes first (a load cannot be interrupted), the queue is
-    // dropped. Attached details stay in the graph.
+    // dropped and its nodes are Unloaded again. Attached details stay in the graph.
     ~Pager();
     Pager(const Pager&) = delete;
     Pager& operator=(const Pager&) = delete;

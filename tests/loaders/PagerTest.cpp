@@ -245,6 +245,29 @@ TEST(Pager, TheFrameLoopRunsAndDrawsTheCoarseLevelWhileALoadIsBlocked) {
     EXPECT_EQ(drawn, std::set<const Mesh*>{detailMesh(*w.tile)});
 }
 
+TEST(Pager, ARequestLeftWhenItsPagerGoesIsUnloadedAgainAndItsLoadFreed) {
+    World w;
+    Scene scene(w.root);
+    const int before = gAlive.load();
+    {
+        Latch latch, started;
+        Pager pager(scene, [&](const std::string&) {
+            started.release();
+            latch.wait();
+            return makeDetail();
+        });
+        Frames f(scene, pager);
+        f.run();
+        f.run();
+        started.wait();
+        EXPECT_EQ(w.tile->state(), PagedLOD::State::Requested);
+        latch.release();  // the pager goes while the load ends
+    }
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(w.tile->detail(), nullptr);
+    EXPECT_EQ(gAlive.load(), before);
+}
+
 TEST(Pager, ARequestNoLongerNeededIsDroppedBeforeItsLoad) {
     // Two tiles; the loader is held on the first while the second waits in the queue, then the camera turns
     // away from the second.
