@@ -7,6 +7,12 @@
 #include <chrono>
 #include <unordered_set>
 
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
+
 namespace sg {
 
 namespace {
@@ -63,6 +69,10 @@ Pager::~Pager() {
 }
 
 void Pager::run() {
+#ifdef __linux__
+    // Below the frame thread, as Performer's DBASE process: on a busy machine the loads wait, not the frames.
+    if (settings_.loaderNice > 0) setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), settings_.loaderNice);
+#endif
     std::vector<ref_ptr<Node>> trash;
     for (;;) {
         Job job;

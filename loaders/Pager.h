@@ -29,6 +29,8 @@ struct PagerSettings {
     double expirySeconds = 1.0;
     // A request the cull did not renew at the last update is dropped if its load has not started.
     bool cancelUnneeded = true;
+    // The loader thread's nice value (Linux; 0 leaves it as the process's): it yields to the frame thread.
+    int loaderNice = 10;
 };
 
 struct PagerStats {
