@@ -178,8 +178,8 @@ void Pager::update(const FrameInfo& frame) {
         stats_.totalLoadMs += r.ms;
         auto it = active_.find(r.node);
         if (it == active_.end() || it->second.id != r.id || it->second.node->state() != PagedLOD::State::Requested) {
-            stats_.discarded++;  // released or dropped while loading
-            if (r.detail) dying_.push_back(std::move(r.detail));
+            stats_.discarded++;  // released or dropped while loading: never seen by another thread, freed there
+            if (r.detail) stale_.push_back(std::move(r.detail));
             continue;
         }
         Active& a = it->second;
@@ -241,14 +241,20 @@ void Pager::update(const FrameInfo& frame) {
 }
 
 void Pager::handOver() {
+    // Detached details may share meshes with what the frame thread holds (a renderer's cache): reference counts
+    // are not atomic, so they are freed here unless the settings say nothing else holds them.
+    if (!settings_.freeOnLoaderThread) dying_.clear();
+    const bool wake = !dying_.empty() || !stale_.empty();
     {
         std::lock_guard<std::mutex> lock(mutex_);
         for (ref_ptr<Node>& d : dying_) trash_.push_back(std::move(d));
+        for (ref_ptr<Node>& d : stale_) trash_.push_back(std::move(d));
         stats_.queued = jobs_.size();
         stats_.loading = busy_;
     }
-    if (!dying_.empty()) wake_.notify_one();
+    if (wake) wake_.notify_one();
     dying_.clear();
+    stale_.clear();
 }
 
 void Pager::load(PagedLOD& node) {

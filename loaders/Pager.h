@@ -31,6 +31,9 @@ struct PagerSettings {
     bool cancelUnneeded = true;
     // The loader thread's nice value (Linux; 0 leaves it as the process's): it yields to the frame thread.
     int loaderNice = 10;
+    // Free detached details on the loader thread instead of in update()/release(). Only when nothing else holds
+    // their meshes, materials or textures (a renderer's cache does): reference counts are not atomic.
+    bool freeOnLoaderThread = false;
 };
 
 struct PagerStats {
@@ -65,7 +68,7 @@ public:
 
     // On command (a map's enter and back), on the application thread. load(): queued now, whatever the range
     // (a failed node is tried again); nothing when requested or attached already. release(): a queued request
-    // is dropped, an attached detail detached now; its memory is freed on the loader thread.
+    // is dropped, an attached detail detached now and its memory freed (PagerSettings::freeOnLoaderThread).
     void load(PagedLOD& node);
     void release(PagedLOD& node);
 
@@ -114,7 +117,8 @@ private:
     std::unordered_map<const PagedLOD*, Active> active_;
     std::vector<ref_ptr<Node>> posted_;  // taken from the scene's PageRequests
     std::vector<Result> results_;        // taken from done_
-    std::vector<ref_ptr<Node>> dying_;   // details to free, handed to the loader thread
+    std::vector<ref_ptr<Node>> dying_;   // detached details to free
+    std::vector<ref_ptr<Node>> stale_;   // loads discarded, freed on the loader thread
     uint64_t nextId_ = 1;
 
     // Shared with the loader thread, under mutex_.
@@ -122,7 +126,7 @@ private:
     std::condition_variable wake_, idle_;
     std::deque<Job> jobs_;
     std::vector<Result> done_;
-    std::vector<ref_ptr<Node>> trash_;  // detached details, freed on the loader thread
+    std::vector<ref_ptr<Node>> trash_;  // details to free on the loader thread
     bool busy_ = false;                 // loading, or freeing details
     bool stop_ = false;
     std::thread thread_;
