@@ -8,6 +8,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 
@@ -357,6 +358,32 @@ struct Converter {
         return r;
     }
 
+    // A relative file name is relative to the directory of the glTF file that names it.
+    ref_ptr<Node> pagedLod(const Value& sx, const std::string& xp) {
+        auto p = make<PagedLOD>();
+        std::string f = string(sx, "file", xp, "");
+        if (f.empty()) bad(xp + ".file", "a PagedLOD needs the name of its detail's file");
+        const size_t slash = file.find_last_of('/');
+        if (f[0] != '/' && slash != std::string::npos) f = file.substr(0, slash + 1) + f;
+        p->setFile(f);
+        const std::string mode = string(sx, "mode", xp, "distance");
+        if (mode != "distance" && mode != "pixelSize") bad(xp + ".mode", "unknown PagedLOD mode '" + mode + "'");
+        p->setMode(mode == "distance" ? LOD::Mode::Distance : LOD::Mode::PixelSize);
+        const std::string trigger = string(sx, "trigger", xp, "range");
+        if (trigger != "range" && trigger != "command")
+            bad(xp + ".trigger", "unknown PagedLOD trigger '" + trigger + "'");
+        p->setTrigger(trigger == "range" ? PagedLOD::Trigger::Range : PagedLOD::Trigger::Command);
+        try {
+            p->setRange(toFloat(number(sx, "min", xp, 0.0), xp + ".min"),
+                        sx.Has("max") ? toFloat(number(sx, "max", xp, 0.0), xp + ".max") : kInf);
+            if (sx.Has("center")) p->setCenter(vec(sx, "center", xp));
+            p->setRadius(number(sx, "radius", xp, 0.0));
+        } catch (const std::invalid_argument& e) {
+            bad(xp, e.what());
+        }
+        return p;
+    }
+
     ref_ptr<Node> makeKind(const std::string& kind, const Value* sx, const std::string& xp, const tinygltf::Node& gn,
                            const dmat4& local, const std::string& path) {
         if (kind == "Transform") {
@@ -393,6 +420,7 @@ struct Converter {
             return bb;
         }
         if (kind == "BspGroup") return make<BspGroup>();
+        if (kind == "PagedLOD") return pagedLod(*sx, xp);
         if (kind == "Instance") {
             auto in = make<Instance>();
             in->setMatrix(local);

@@ -7,10 +7,12 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -228,6 +230,18 @@ struct Writer {
                 setMatrix(gn, static_cast<const Instance&>(n).matrix());
                 break;
             case NodeKind::BspGroup: x["kind"] = Value(std::string("BspGroup")); break;
+            case NodeKind::PagedLOD: {  // the file, not the detail (the coarse children are written)
+                const auto& p = static_cast<const PagedLOD&>(n);
+                x["kind"] = Value(std::string("PagedLOD"));
+                x["file"] = Value(p.file());
+                x["mode"] = Value(std::string(p.mode() == LOD::Mode::Distance ? "distance" : "pixelSize"));
+                x["min"] = num(p.rangeMin());
+                if (std::isfinite(p.rangeMax())) x["max"] = num(p.rangeMax());
+                if (p.userCenter()) x["center"] = vec3v(p.center());
+                if (p.radius() > 0.0) x["radius"] = num(p.radius());
+                if (p.trigger() == PagedLOD::Trigger::Command) x["trigger"] = Value(std::string("command"));
+                break;
+            }
             case NodeKind::Occluder: {
                 const auto& oc = static_cast<const Occluder&>(n);
                 x["kind"] = Value(std::string("Occluder"));
@@ -242,8 +256,9 @@ struct Writer {
                 break;
             }
         }
+        const Node* detail = n.kind() == NodeKind::PagedLOD ? static_cast<const PagedLOD&>(n).detail() : nullptr;
         for (size_t i = 0; i < n.numChildren(); ++i)
-            if (const Node* c = n.child(i)) gn.children.push_back(node(*c));
+            if (const Node* c = n.child(i); c && c != detail) gn.children.push_back(node(*c));
         Value::Object extras;
         if (options.nodeProperties) addProperties(extras, options.nodeProperties(n));
         if (!x.empty()) extras[gltf::kExtrasKey] = Value(std::move(x));

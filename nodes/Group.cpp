@@ -48,7 +48,7 @@ void Group::insertAt(size_t index, ref_ptr<Node> child, const char* fn) {
     d[index] = child.get();
     ++size_;
     childInserted(index);
-    markDirty(kDirtyStructure | kDirtyBound);
+    markDirty(childChangeMarks(child.get()));
 }
 
 void Group::removeChild(size_t index) {
@@ -57,11 +57,12 @@ void Group::removeChild(size_t index) {
                                 std::to_string(size_) + " children of " + describe());
     Node** d = capLog2_ == 0 ? &one_ : many_;
     Node* c = d[index];
+    const uint8_t marks = childChangeMarks(c);
     std::copy(d + index + 1, d + size_, d + index);
     --size_;
     c->removeParent(this);
     childRemoved(index);
-    markDirty(kDirtyStructure | kDirtyBound);
+    markDirty(marks);
     c->unref();  // last: the child may go away here
 }
 

@@ -29,6 +29,9 @@ protected:
     // Hook for nodes that keep per-child data (LOD ranges, Switch bits).
     virtual void childInserted(size_t) {}
     virtual void childRemoved(size_t) {}
+    // The dirty marks that adding or removing `child` makes: a structural change, unless the node keeps that
+    // child out of the scene's image (a PagedLOD's detail has an image of its own).
+    virtual uint8_t childChangeMarks(const Node*) const { return kDirtyStructure | kDirtyBound; }
 
 private:
     void checkChild(const Node* child, const char* fn) const;

@@ -5,6 +5,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/core/Assert.h"
@@ -24,6 +25,7 @@ void NodeVisitor::apply(Billboard& n) { apply(static_cast<Group&>(n)); }
 void NodeVisitor::apply(Instance& n) { apply(static_cast<Node&>(n)); }
 void NodeVisitor::apply(BspGroup& n) { apply(static_cast<Group&>(n)); }
 void NodeVisitor::apply(Occluder& n) { apply(static_cast<Node&>(n)); }
+void NodeVisitor::apply(PagedLOD& n) { apply(static_cast<Group&>(n)); }
 
 // --- Geometry
 void Geometry::accept(NodeVisitor& v) { v.apply(*this); }

@@ -8,6 +8,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 

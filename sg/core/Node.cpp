@@ -24,6 +24,7 @@ const char* kindName(NodeKind k) {
         case NodeKind::Instance: return "Instance";
         case NodeKind::BspGroup: return "BspGroup";
         case NodeKind::Occluder: return "Occluder";
+        case NodeKind::PagedLOD: return "PagedLOD";
     }
     return "Node";
 }

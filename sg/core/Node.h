@@ -12,7 +12,18 @@ namespace sg {
 
 class NodeVisitor;
 
-enum class NodeKind : uint8_t { Group, Transform, Geometry, LOD, Switch, Billboard, Instance, BspGroup, Occluder };
+enum class NodeKind : uint8_t {
+    Group,
+    Transform,
+    Geometry,
+    LOD,
+    Switch,
+    Billboard,
+    Instance,
+    BspGroup,
+    Occluder,
+    PagedLOD
+};
 const char* kindName(NodeKind k);
 
 struct FrameInfo {

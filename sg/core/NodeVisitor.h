@@ -13,6 +13,7 @@ class Billboard;
 class Instance;
 class BspGroup;
 class Occluder;
+class PagedLOD;
 
 class NodeVisitor {
 public:
@@ -27,6 +28,7 @@ public:
     virtual void apply(Instance& n);
     virtual void apply(BspGroup& n);
     virtual void apply(Occluder& n);
+    virtual void apply(PagedLOD& n);
     // Visits every child (an Instance's prototype counts as its child).
     void traverse(Node& n);
 };

@@ -119,6 +119,10 @@ struct CullStats {
     double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
     double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
     double lodSelectMs = 0.0;
+    // Paged nodes (PagedLOD)
+    uint64_t pagedWanted = 0;     // seen with their detail in range
+    uint64_t pagedRequested = 0;  // posted for loading (once per update each)
+    uint64_t pagedCoarse = 0;     // wanted but not loaded yet: their coarse level was drawn
     double ms = 0.0;
 };
 

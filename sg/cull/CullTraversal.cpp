@@ -5,6 +5,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/cull/FrustumKernel.h"
@@ -330,6 +331,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
             scratch_.resize(base);
             break;
         }
+        case NodeKind::PagedLOD: pagedLod(c, i, mask, m, occ); break;
         case NodeKind::Occluder: break;  // used by the occlusion passes, never drawn
         case NodeKind::Group:
             if (mask && img.aux[i] && c.clsBase == ~0u) {
@@ -394,6 +396,39 @@ void CullTraversal::fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
         visit(c, j, mask, m, occ);
         fade_ = outer;
     }
+}
+
+// The detail when it is wanted and attached, else the coarse children. A wanted detail that is not loaded is
+// posted for the pager once per update, and the coarse level drawn meanwhile: the frame never waits for it.
+void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Paged& p = img.paged[img.aux[i]];
+    auto* node = static_cast<PagedLOD*>(p.node);
+    bool wanted = true;
+    if (node->trigger() == PagedLOD::Trigger::Range) {
+        const double value = sg::lodValue(img, p.lod, i, c.rigid, c.eyeImg, c.imgToEye, c.scale, cam_, set_->lodScale);
+        wanted = value >= p.min && value < p.max;
+        if (wanted) {
+            stats_->pagedWanted++;
+            if (node->markNeeded(scene_->updateCount()) && node->state() == PagedLOD::State::Unloaded) {
+                scene_->pageRequests().post(node);
+                stats_->pagedRequested++;
+            }
+        }
+    }
+    if (wanted && p.detail) {
+        // The detail's image is in this image's frame, shifted to its own origin: the same planes (and the
+        // plane mask), the same occlusion tree.
+        const FlatImage& d = *p.detail;
+        if (d.size() == 0) return;
+        Ctx sub;
+        setupCtx(sub, d, c.imgToEye * glm::translate(dmat4(1.0), d.origin - img.origin));
+        sub.originRel = c.originRel + (d.origin - img.origin);
+        visit(sub, 0, mask, m, occ);
+        return;
+    }
+    if (wanted) stats_->pagedCoarse++;
+    children(c, i, mask, m, occ);
 }
 
 double CullTraversal::lodValue(const Ctx& c, uint32_t i) const {

@@ -34,6 +34,7 @@ private:
     void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
     void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     double lodValue(const Ctx& c, uint32_t i) const;
+    void pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     void fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width);
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);

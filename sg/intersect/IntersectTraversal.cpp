@@ -4,6 +4,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
@@ -220,6 +221,32 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
             visit(sub, 0, in->prototype(), pm, false);
             instance_ = outerInstance;
             placement_ = outerPlacement;
+            break;
+        }
+        case NodeKind::PagedLOD: {
+            // The detail when attached and shown (as the LOD choice says), else the coarse children. The
+            // detail's image is in this image's frame, shifted to its own origin.
+            const FlatImage::Paged& p = img.paged[img.aux[i]];
+            bool fine = p.detail != nullptr;
+            const auto* pl = static_cast<const PagedLOD*>(n);
+            if (fine && pl->trigger() == PagedLOD::Trigger::Range && opt_->lod == LodChoice::AsDrawn &&
+                (opt_->camera || pl->mode() == PagedLOD::Mode::Distance)) {
+                const double value =
+                    lodValue(img, p.lod, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, opt_->camera, opt_->lodScale);
+                fine = value >= p.min && value < p.max;
+            }
+            if (!fine) {  // the entry's children are the node's but the detail
+                size_t k = 0;
+                for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k) {
+                    if (n->child(k) == pl->detail()) ++k;
+                    visit(c, j, n->child(k), m, false);
+                }
+                break;
+            }
+            if (p.detail->size() == 0) break;
+            Ctx sub;
+            setupCtx(sub, *p.detail, c.imgToRel * glm::translate(dmat4(1.0), p.detail->origin - img.origin));
+            visit(sub, 0, pl->detail(), m, false);
             break;
         }
         case NodeKind::Occluder: break;  // not geometry

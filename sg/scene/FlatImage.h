@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <vector>
 
 namespace sg {
@@ -78,6 +79,17 @@ struct FlatImage {
     const Node* maskedNode(uint32_t i) const;
     std::vector<Lod> lods;
     std::vector<Range> ranges;
+    // PagedLOD entries (their aux indexes `paged`): the LOD value's centre and mode as an LOD's (lod.firstRange
+    // unused), the range where the detail is wanted, and the node, which the cull marks needed. The entry's
+    // children here are the coarse ones; an attached detail has an image of its own, in this image's frame, so
+    // that attaching or detaching it rewrites that image and this entry, never this image's structure.
+    struct Paged {
+        Lod lod;
+        float min, max;
+        Node* node;                         // a PagedLOD
+        std::shared_ptr<FlatImage> detail;  // null when no detail is attached
+    };
+    std::vector<Paged> paged;
     std::vector<Draw> draws;
 
     // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Only occluders that are

@@ -15,9 +15,9 @@ namespace sg {
 // Entry i of `img` is an LOD. `rigid`: image coordinates are the world's shifted, the eye at `eyeImg` in them;
 // otherwise (below a scaled Instance) `imgToEye` takes image coordinates to the eye's, and `scale` is the
 // frame's scale of lengths. `cam` gives the pixels of a pixel-size LOD; a distance LOD needs none (null).
-inline double lodValue(const FlatImage& img, uint32_t i, bool rigid, const dvec3& eyeImg, const dmat4& imgToEye,
-                       double scale, const Camera* cam, double lodScale) {
-    const FlatImage::Lod& lod = img.lods[img.aux[i]];
+// `lod` is the LOD's (or a PagedLOD's) centre and mode, entry i its bound.
+inline double lodValue(const FlatImage& img, const FlatImage::Lod& lod, uint32_t i, bool rigid, const dvec3& eyeImg,
+                       const dmat4& imgToEye, double scale, const Camera* cam, double lodScale) {
     double dist;
     if (rigid) {  // measure in image coordinates
         const double dx = lod.cx - eyeImg.x, dy = lod.cy - eyeImg.y, dz = lod.cz - eyeImg.z;
@@ -29,6 +29,11 @@ inline double lodValue(const FlatImage& img, uint32_t i, bool rigid, const dvec3
     if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist * lodScale;
     assert(cam && "lodValue(): a pixel-size LOD needs a camera");
     return cam->pixelSize(2.0 * img.r[i] * scale, dist) / lodScale;
+}
+
+inline double lodValue(const FlatImage& img, uint32_t i, bool rigid, const dvec3& eyeImg, const dmat4& imgToEye,
+                       double scale, const Camera* cam, double lodScale) {
+    return lodValue(img, img.lods[img.aux[i]], i, rigid, eyeImg, imgToEye, scale, cam, lodScale);
 }
 
 }  // namespace sg

@@ -6,6 +6,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/scene/BspBuilder.h"
 
@@ -24,12 +25,14 @@ struct Scene::Builder {
     bool collect = false;    // full builds list the nodes with update callbacks
     bool fresh = false;      // full build: tables are appended to; refit: rewritten at their index
     bool prototype = false;  // building an Instance prototype's image: its occluders are not used
+    bool detail = false;     // building a PagedLOD detail's image (not a rebuild of the scene's structure)
     int conditional = 0;     // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
     bool occludersWritten = false;
 
     static bool isConditional(const Node* n) {
         const NodeKind k = n->kind();
-        return k == NodeKind::Switch || k == NodeKind::LOD || k == NodeKind::Billboard || n->nodeMask() != 0xffffffffu;
+        return k == NodeKind::Switch || k == NodeKind::LOD || k == NodeKind::PagedLOD || k == NodeKind::Billboard ||
+               n->nodeMask() != 0xffffffffu;
     }
 
     struct Counts {
@@ -43,7 +46,13 @@ struct Scene::Builder {
             case NodeKind::LOD: c.lods++; break;
             default: break;
         }
-        for (size_t i = 0, k = n->numChildren(); i < k; ++i) count(n->child(i), c);
+        const Node* skip = detailOf(n);
+        for (size_t i = 0, k = n->numChildren(); i < k; ++i)
+            if (n->child(i) != skip) count(n->child(i), c);
+    }
+    // A PagedLOD's attached detail, which is not among its entry's children (it has an image of its own).
+    static const Node* detailOf(const Node* n) {
+        return n->kind() == NodeKind::PagedLOD ? static_cast<const PagedLOD*>(n)->detail() : nullptr;
     }
 
     // A point inside the scene, found by one descent: float offsets from it stay small.
@@ -63,8 +72,9 @@ struct Scene::Builder {
         return isFinite(t) ? t : dvec3(0.0);
     }
 
-    void full(Node* root) {
-        img.origin = pickOrigin(root);
+    // The image of `root` placed by `frame` (the identity, but for a paged detail: its PagedLOD's frame).
+    void full(Node* root, const dmat4& frame = dmat4(1.0)) {
+        img.origin = dvec3(frame * dvec4(pickOrigin(root), 1.0));
         Counts c;
         count(root, c);
         img.resize(c.entries);
@@ -74,14 +84,14 @@ struct Scene::Builder {
         img.matrices.clear(), img.nodes.clear(), img.masked.clear();
         img.translations = {}, img.translations.reserve(c.xforms);
         img.lods = {}, img.lods.reserve(c.lods);
-        img.ranges.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
+        img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
         fresh = true;
         cursor = 0;
-        write(root, dmat4(1.0));
+        write(root, frame);
         updateExtent();
-        scene.stats_.fullRebuilds++;
+        if (!detail) scene.stats_.fullRebuilds++;
     }
 
     void updateExtent() {
@@ -182,6 +192,50 @@ struct Scene::Builder {
         lod.cz = float(c.z);
     }
 
+    // A PagedLOD after its coarse children: its bound grows by the sphere its detail will take, its centre is
+    // placed like an LOD's, then its detail's own image is built (`rebuild`, or when missing or changed) in this
+    // image's frame and bounded too. The centre leaves the detail out, so that attaching it never moves the
+    // value that decides whether it is wanted.
+    void paged(uint32_t i, const PagedLOD* p, const dmat4& m, bool rebuild) {
+        if (p->radius() > 0.0 && !(img.flags[i] & FlatImage::kInvalid)) {
+            const dvec3 c(m * dvec4(p->center(), 1.0));
+            expandBound(i, Box{c - dvec3(p->radius() * maxScale(m)), c + dvec3(p->radius() * maxScale(m))},
+                        p->radius() * maxScale(m));
+        }
+        FlatImage::Paged& pg = img.paged[img.aux[i]];
+        const dvec3 c = p->userCenter() ? dvec3(m * dvec4(p->center(), 1.0)) - img.origin : img.center(i) - img.origin;
+        pg.lod.cx = float(c.x);
+        pg.lod.cy = float(c.y);
+        pg.lod.cz = float(c.z);
+        Node* d = p->detail();
+        if (!d) {
+            pg.detail.reset();
+            return;
+        }
+        if (rebuild || !pg.detail || d->dirtyBits()) {
+            if (!pg.detail) pg.detail = std::make_shared<FlatImage>();
+            Builder b{scene, *pg.detail, builtProtos};
+            b.prototype = true;  // its occluders are not used, as an Instance prototype's
+            b.detail = true;
+            b.full(d, m);
+        }
+        const FlatImage& di = *pg.detail;
+        if (di.size() == 0 || (di.flags[0] & FlatImage::kEmpty)) return;
+        if (di.flags[0] & FlatImage::kInvalid) return img.setInvalid(i);
+        if (!(img.flags[i] & FlatImage::kInvalid)) expandBound(i, di.box(0), di.r[0]);
+    }
+
+    // Entry i's bound grown to hold a world box and the sphere of radius `r` about that box's centre.
+    void expandBound(uint32_t i, const Box& add, double r) {
+        const bool empty = img.flags[i] & FlatImage::kEmpty;
+        Box b = add;
+        if (!empty) b.expand(img.box(i));
+        const dvec3 bc = b.center();
+        double rad = r + glm::length(add.center() - bc);
+        if (!empty) rad = std::max(rad, glm::length(img.center(i) - bc) + img.r[i]);
+        img.setBound(i, b, rad);
+    }
+
     static constexpr uint32_t kWideChildren = 16, kWideEntries = 1024;
     // A plain Group with many children over a large subtree: its children's spheres side by side.
     void wide(uint32_t i, Node* n) {
@@ -273,6 +327,16 @@ struct Scene::Builder {
                     FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()), l->hasErrors()});
                 break;
             }
+            case NodeKind::PagedLOD: {
+                const auto* p = static_cast<const PagedLOD*>(n);
+                // The centre and the detail's image are filled in by write(), once the bound and the frame are
+                // known; a refit keeps the detail's image until then.
+                std::shared_ptr<FlatImage> keep = fresh ? nullptr : img.paged[img.aux[i]].detail;
+                img.aux[i] = slot(img.paged, i,
+                                  FlatImage::Paged{FlatImage::Lod{0.0f, 0.0f, 0.0f, 0, 0.0f, uint8_t(p->mode()), false},
+                                                   p->rangeMin(), p->rangeMax(), n, std::move(keep)});
+                break;
+            }
             case NodeKind::Group:
                 if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
                 break;
@@ -319,12 +383,15 @@ struct Scene::Builder {
         const dmat4 cm = n->kind() == NodeKind::Transform ? static_cast<Transform*>(n)->apply(m) : m;
         const int cond = isConditional(n);
         conditional += cond;
-        for (size_t k = 0, c = n->numChildren(); k < c; ++k) write(n->child(k), cm);
+        const Node* skip = detailOf(n);
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k)
+            if (n->child(k) != skip) write(n->child(k), cm);
         conditional -= cond;
         img.end[i] = cursor;
         boundFromChildren(i);
         wide(i, n);
         if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
+        if (n->kind() == NodeKind::PagedLOD) paged(i, static_cast<const PagedLOD*>(n), cm, true);
         if (n->kind() == NodeKind::Billboard) billboard(i, n, cm);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
@@ -384,14 +451,18 @@ struct Scene::Builder {
         const int cond = isConditional(n);
         conditional += cond;
         uint32_t j = i + 1;
-        for (size_t k = 0, c = n->numChildren(); k < c; ++k, j = img.end[j]) {
+        const Node* skip = detailOf(n);
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) {
             Node* ch = n->child(k);
+            if (ch == skip) continue;
             if (ch->dirtyBits()) refit(j, ch, cm);
+            j = img.end[j];
         }
         conditional -= cond;
         boundFromChildren(i);
         wide(i, n);
         if (n->kind() == NodeKind::LOD) lodCenter(i, static_cast<const LOD*>(n), cm);
+        if (n->kind() == NodeKind::PagedLOD) paged(i, static_cast<const PagedLOD*>(n), cm, false);
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
 
@@ -416,6 +487,8 @@ const FlatImage* Scene::prototypeImage(const Node* p) const {
 void Scene::update(const FrameInfo& frame) {
     const auto t0 = std::chrono::steady_clock::now();
     stats_ = UpdateStats{};
+    updates_++;
+    frame_ = frame;
     // Structure first (it also finds the nodes with callbacks), then the callbacks, then their changes.
     if ((root_->dirtyBits() & Node::kDirtyStructure) || main_.size() == 0) refresh();
     for (Node* n : callbacks_) {

@@ -3,6 +3,7 @@
 #pragma once
 #include "sg/core/Node.h"
 #include "sg/scene/FlatImage.h"
+#include "sg/scene/PageRequests.h"
 
 #include <map>
 #include <memory>
@@ -39,6 +40,14 @@ public:
     uint64_t version() const { return version_; }
     size_t bytes() const;
 
+    // Counts update() calls: the cull marks paged nodes needed with it (PagedLOD::lastNeeded()).
+    uint64_t updateCount() const { return updates_; }
+    // The frame given to the last update().
+    const FrameInfo& frame() const { return frame_; }
+    // Where the cull posts the paged nodes it needs loaded (PagedLOD), for a pager to take; safe to post to
+    // from several cull threads at once.
+    PageRequests& pageRequests() const { return requests_; }
+
 private:
     struct Builder;
     void refresh();  // brings the image up to date with the dirty marks
@@ -50,6 +59,9 @@ private:
     UpdateStats stats_;
     uint64_t structureVersion_ = 0;
     uint64_t version_ = 0;
+    uint64_t updates_ = 0;
+    FrameInfo frame_;
+    mutable PageRequests requests_;
 };
 
 }  // namespace sg

@@ -602,3 +602,38 @@ TEST(Gltf, ApplicationPropertiesTravelInExtrasBesideSgkitsOwn) {
     EXPECT_TRUE(s.properties.empty());
     EXPECT_TRUE(s.sceneProperties.empty());
 }
+
+TEST(Gltf, PagedNodesKeepTheirFileRangeAndTriggerButNotTheirDetail) {
+    auto root = make<Group>();
+    auto p = make<PagedLOD>();
+    p->setName("tile");
+    p->setFile("tiles/a.glb");
+    p->setMode(PagedLOD::Mode::PixelSize);
+    p->setRange(200.0f, 1e9f);
+    p->setCenter(dvec3(1, 2, 3));
+    p->setRadius(7.5);
+    p->setTrigger(PagedLOD::Trigger::Command);
+    p->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+    p->attachDetail(make<Group>(), 0);
+    root->addChild(p);
+    const std::string path = tempPath("paged.gltf");
+    saveGltf(*root, path);
+    const GltfScene s = loadGltf(path);
+    ASSERT_EQ(s.root->numChildren(), 1u);
+    ASSERT_EQ(s.root->child(0)->kind(), NodeKind::PagedLOD);
+    const auto* q = static_cast<const PagedLOD*>(s.root->child(0));
+    EXPECT_EQ(q->name(), "tile");
+    // Relative to the directory of the file that names it.
+    EXPECT_EQ(q->file(), ::testing::TempDir() + "tiles/a.glb");
+    EXPECT_EQ(q->mode(), PagedLOD::Mode::PixelSize);
+    EXPECT_EQ(q->rangeMin(), 200.0f);
+    EXPECT_EQ(q->rangeMax(), 1e9f);
+    EXPECT_EQ(q->center(), dvec3(1, 2, 3));
+    EXPECT_EQ(q->radius(), 7.5);
+    EXPECT_EQ(q->trigger(), PagedLOD::Trigger::Command);
+    EXPECT_EQ(q->state(), PagedLOD::State::Unloaded);
+    ASSERT_EQ(q->numChildren(), 1u);  // the coarse level; the detail stays in its own file
+    EXPECT_EQ(q->child(0)->kind(), NodeKind::Geometry);
+    EXPECT_EQ(q->detail(), nullptr);
+    std::remove(path.c_str());
+}

@@ -1,0 +1,135 @@
+// Pager: loads the details of a Scene's PagedLOD nodes from files on a loader thread, attaches them at the next
+// update and unloads those not needed for a while (Performer's DBASE process, OpenSceneGraph's DatabasePager).
+#pragma once
+#include "nodes/PagedLOD.h"
+#include "sg/scene/Scene.h"
+
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+namespace sg {
+
+// Reads a detail: returns its root, or throws with the reason (the pager adds the file name when the message
+// lacks it). Runs on the loader thread: it must not touch the scene.
+using PageLoadFunction = std::function<ref_ptr<Node>(const std::string& file)>;
+// The default: the default scene of a glTF file (sg::loadGltf).
+ref_ptr<Node> loadGltfPage(const std::string& file);
+
+struct PagerSettings {
+    // A detail is unloaded once it was not needed for more than this many updates AND this many seconds
+    // (FrameInfo::time), as OpenSceneGraph's expiry; Command-triggered nodes never expire.
+    uint64_t expiryFrames = 60;
+    double expirySeconds = 1.0;
+    // A request the cull did not renew at the last update is dropped if its load has not started.
+    bool cancelUnneeded = true;
+    // The loader thread's nice value (Linux; 0 leaves it as the process's): it yields to the frame thread.
+    int loaderNice = 10;
+    // Free detached details on the loader thread instead of in update()/release(). Only when nothing else holds
+    // their meshes, materials or textures (a renderer's cache does): reference counts are not atomic.
+    bool freeOnLoaderThread = false;
+};
+
+struct PagerStats {
+    uint64_t requests = 0;     // loads queued
+    uint64_t loads = 0;        // details attached
+    uint64_t unloads = 0;      // details detached (expired or released)
+    uint64_t failures = 0;     // loads that failed
+    uint64_t cancelled = 0;    // requests dropped before their load
+    uint64_t discarded = 0;    // loads finished after their request was dropped or released (freed, not attached)
+    size_t resident = 0;       // details attached now
+    size_t bytesResident = 0;  // their mesh and texture bytes
+    size_t queued = 0;         // requests waiting for the loader thread (at the last update)
+    bool loading = false;      // the loader thread was busy (loading, or freeing details) at the last update
+    double lastLoadMs = 0.0, maxLoadMs = 0.0, totalLoadMs = 0.0;  // time in the load function
+    std::string lastError;                                        // the last failure's message
+};
+
+class Pager {
+public:
+    // Starts the loader thread. `load` defaults to loadGltfPage.
+    explicit Pager(Scene& scene, PageLoadFunction load = {}, PagerSettings settings = {});
+    // Stops the loader thread: the load running finishes first (a load cannot be interrupted), the queue is
+    // dropped and its nodes are Unloaded again. Attached details stay in the graph.
+    ~Pager();
+    Pager(const Pager&) = delete;
+    Pager& operator=(const Pager&) = delete;
+
+    // On the application thread, before Scene::update(frame): takes the cull's requests and queues them, drops
+    // requests no longer needed, attaches the details loaded since (and records failures on their nodes),
+    // unloads the expired ones. Never waits for a load.
+    void update(const FrameInfo& frame);
+
+    // On command (a map's enter and back), on the application thread. load(): queued now, whatever the range
+    // (a failed node is tried again); nothing when requested or attached already. release(): a queued request
+    // is dropped, an attached detail detached now and its memory freed (PagerSettings::freeOnLoaderThread).
+    void load(PagedLOD& node);
+    void release(PagedLOD& node);
+
+    // Blocks until no request is queued or loading and the details released are freed (tests, scripted demos);
+    // update() then attaches what was loaded.
+    void waitIdle();
+
+    const PagerStats& stats() const { return stats_; }
+    const PagerSettings& settings() const { return settings_; }
+    // Nodes queued or attached by this pager.
+    size_t tracked() const { return active_.size(); }
+
+private:
+    // The loader thread sees a node's address as a key only: it never reads or references the node.
+    struct Job {
+        uint64_t id;
+        const PagedLOD* node;
+        std::string file;
+    };
+    struct Result {
+        uint64_t id;
+        const PagedLOD* node;
+        ref_ptr<Node> detail;
+        size_t bytes;
+        std::string error;
+        double ms;
+    };
+    struct Active {  // a node the pager has queued or attached (held, so that it outlives its request)
+        ref_ptr<PagedLOD> node;
+        uint64_t id;          // its current request (results of older ones are discarded)
+        uint64_t seenUpdate;  // the last PagedLOD::lastNeeded() seen, and when it was seen
+        double seenTime;
+        size_t bytes;  // of the attached detail
+    };
+    void queue(PagedLOD& node, const FrameInfo& frame);
+    void unload(Active& a);
+    bool dropJob(uint64_t id);  // true when the job was still queued
+    void handOver();            // dying_ to the loader thread; the queue figures into stats_
+    void run();                 // the loader thread
+
+    Scene& scene_;
+    PageLoadFunction load_;
+    PagerSettings settings_;
+    PagerStats stats_;
+    FrameInfo frame_;
+    std::unordered_map<const PagedLOD*, Active> active_;
+    std::vector<ref_ptr<Node>> posted_;  // taken from the scene's PageRequests
+    std::vector<Result> results_;        // taken from done_
+    std::vector<ref_ptr<Node>> dying_;   // detached details to free
+    std::vector<ref_ptr<Node>> stale_;   // loads discarded, freed on the loader thread
+    uint64_t nextId_ = 1;
+
+    // Shared with the loader thread, under mutex_.
+    std::mutex mutex_;
+    std::condition_variable wake_, idle_;
+    std::deque<Job> jobs_;
+    std::vector<Result> done_;
+    std::vector<ref_ptr<Node>> trash_;  // details to free on the loader thread
+    bool busy_ = false;                 // loading, or freeing details
+    bool stop_ = false;
+    std::thread thread_;
+};
+
+}  // namespace sg

@@ -1,0 +1,91 @@
+#include "nodes/PagedLOD.h"
+
+#include "sg/core/NodeVisitor.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace sg {
+
+void PagedLOD::setFile(std::string file) {
+    if (file.empty()) throw std::invalid_argument("PagedLOD::setFile(): " + describe() + ": file name is empty");
+    if (state_ == State::Requested || state_ == State::Loaded)
+        throw std::logic_error("PagedLOD::setFile(): " + describe() + ": the detail of '" + file_ +
+                               "' is requested or attached; release it first");
+    file_ = std::move(file);
+    if (state_ == State::Failed) setUnloaded();
+}
+
+void PagedLOD::setRange(float mn, float mx) {
+    if (std::isnan(mn) || std::isnan(mx) || mn < 0.0f || mn > mx)
+        throw std::invalid_argument("PagedLOD::setRange(): " + describe() + ": range [" + std::to_string(mn) + ", " +
+                                    std::to_string(mx) + ") must have 0 <= min <= max");
+    min_ = mn;
+    max_ = mx;
+    markDirty(kDirtyBound);
+}
+
+void PagedLOD::setCenter(const dvec3& c) {
+    if (!isFinite(c)) throw std::invalid_argument("PagedLOD::setCenter(): " + describe() + ": centre is not finite");
+    center_ = c;
+    userCenter_ = true;
+    markDirty(kDirtyBound);
+}
+
+void PagedLOD::setRadius(double r) {
+    if (!(r >= 0.0) || !std::isfinite(r))
+        throw std::invalid_argument("PagedLOD::setRadius(): " + describe() + ": radius " + std::to_string(r) +
+                                    " must be finite and >= 0");
+    radius_ = r;
+    markDirty(kDirtyBound);
+}
+
+void PagedLOD::setRequested() {
+    state_ = State::Requested;
+    error_.clear();
+}
+
+void PagedLOD::setFailed(std::string error) {
+    state_ = State::Failed;
+    error_ = std::move(error);
+}
+
+void PagedLOD::setUnloaded() {
+    state_ = State::Unloaded;
+    error_.clear();
+}
+
+void PagedLOD::attachDetail(ref_ptr<Node> detail, size_t bytes) {
+    if (!detail) throw std::invalid_argument("PagedLOD::attachDetail(): " + describe() + ": detail is null");
+    if (detail_) throw std::logic_error("PagedLOD::attachDetail(): " + describe() + " has a detail attached already");
+    detail_ = detail.get();  // first: childChangeMarks() knows it as the detail
+    try {
+        addChild(std::move(detail));
+    } catch (...) {
+        detail_ = nullptr;
+        throw;
+    }
+    detailBytes_ = bytes;
+    state_ = State::Loaded;
+    error_.clear();
+}
+
+ref_ptr<Node> PagedLOD::detachDetail() {
+    ref_ptr<Node> d = detail_;
+    if (d) removeChild(d.get());  // childRemoved() forgets it
+    setUnloaded();
+    return d;
+}
+
+void PagedLOD::childRemoved(size_t) {
+    // The detail removed by any means (Group::removeChild included) leaves the node Unloaded.
+    if (detail_ && indexOf(detail_) == numChildren()) {
+        detail_ = nullptr;
+        detailBytes_ = 0;
+        if (state_ == State::Loaded) state_ = State::Unloaded;
+    }
+}
+
+void PagedLOD::accept(NodeVisitor& v) { v.apply(*this); }
+
+}  // namespace sg
