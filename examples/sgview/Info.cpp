@@ -6,6 +6,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 
@@ -45,6 +46,7 @@ size_t nodeBytes(NodeKind k) {
         case NodeKind::Instance: return sizeof(Instance);
         case NodeKind::BspGroup: return sizeof(BspGroup);
         case NodeKind::Occluder: return sizeof(Occluder);
+        case NodeKind::PagedLOD: return sizeof(PagedLOD);
     }
     return sizeof(Node);
 }

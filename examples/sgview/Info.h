@@ -11,7 +11,7 @@
 
 namespace sgview {
 
-constexpr size_t kNodeKinds = size_t(sg::NodeKind::Occluder) + 1;
+constexpr size_t kNodeKinds = size_t(sg::NodeKind::PagedLOD) + 1;  // the last kind
 
 struct SceneInfo {
     std::array<uint64_t, kNodeKinds> kinds{};  // distinct nodes of each kind (a shared node counts once)

@@ -11,6 +11,7 @@
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
+#include "testbed/FactoryLighting.h"
 
 #include <gtest/gtest.h>
 
@@ -153,6 +154,7 @@ TEST(FactoryWindow, ShowsWhatTheLibraryRendersHeadless) {
     {
         sg::OsmesaContext ctx(kW, kH);
         sg::Renderer renderer;
+        renderer.setLight(scenes::factoryLight(-1));  // outside: the sun, as the window sets it
         sg::CullTraversal cull;
         sg::DrawList list;
         sg::CullStats st;

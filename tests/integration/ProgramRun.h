@@ -11,6 +11,8 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <system_error>
+#include <vector>
 
 struct ProgramRun {
     int code = -1;  // exit code; 128 + signal when killed (a crash)
@@ -24,12 +26,29 @@ inline std::string slurpFile(const std::filesystem::path& p) {
     return s.str();
 }
 
-// <temp>/<prefix><suite>_<test>: the running test's own directory, created.
+// The test directories of this process: removed when it ends, unless a test failed (kept to look at).
+struct TestDirectories {
+    std::vector<std::filesystem::path> dirs;
+    ~TestDirectories() {
+        if (testing::UnitTest::GetInstance()->failed_test_count() > 0) return;
+        std::error_code ec;
+        for (const auto& d : dirs) std::filesystem::remove_all(d, ec);
+    }
+};
+inline TestDirectories& testDirectories() {
+    static TestDirectories all;
+    return all;
+}
+
+// <temp>/<prefix><suite>_<test>_<pid>: the running test's own directory, created. The process id keeps two
+// runs of the same test (two build trees, a rerun while one still runs) out of each other's files.
 inline std::filesystem::path testDirectory(const std::string& prefix) {
     const auto* t = testing::UnitTest::GetInstance()->current_test_info();
     const std::filesystem::path dir =
-        std::filesystem::temp_directory_path() / (prefix + t->test_suite_name() + "_" + t->name());
+        std::filesystem::temp_directory_path() /
+        (prefix + t->test_suite_name() + "_" + t->name() + "_" + std::to_string(getpid()));
     std::filesystem::create_directories(dir);
+    testDirectories().dirs.push_back(dir);
     return dir;
 }
 

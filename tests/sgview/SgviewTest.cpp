@@ -3,6 +3,7 @@
 #include "nodes/Group.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "sgview/Info.h"
 #include "sgview/Options.h"
@@ -151,6 +152,20 @@ void countKinds(const Node& n, std::array<uint64_t, kNodeKinds>& kinds) {
 }
 
 }  // namespace
+
+TEST(SgviewInfo, EveryNodeKindIsCountedAPagedOneToo) {
+    auto root = make<Group>();
+    auto paged = make<PagedLOD>();
+    paged->setFile("detail.glb");
+    paged->addChild(make<Geometry>(makeBoxMesh(dvec3(0), dvec3(1)), make<Material>()));
+    root->addChild(paged);
+    Scene scene(root);
+    scene.update();
+    const SceneInfo info = computeInfo(*root, scene);
+    EXPECT_EQ(info.kinds[size_t(NodeKind::PagedLOD)], 1u);
+    EXPECT_EQ(info.kinds[size_t(NodeKind::Geometry)], 1u);
+    EXPECT_EQ(info.nodes, 3u);
+}
 
 TEST(SgviewInfo, CityCountsMatchTheBuilder) {
     const int n = 8;

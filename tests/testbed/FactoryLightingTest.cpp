@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 
 using namespace sg;
@@ -57,12 +58,28 @@ TEST(FactoryLighting, ShadowsFallAwayFromTheSunAndTheCacheRestoresThem) {
     const Material& ground = *tileLevel(f, 0, 0).material();
     EXPECT_TRUE(ground.bakedLight);
     EXPECT_NE(ground.texture, nullptr);
-    // Every level of every tile is lit, the coarse ones too: not left in their albedo.
-    for (size_t i = 0; i < f.terrain->numChildren(); ++i)
+    // Every level of every tile reads its colours as baked light, and the coarse levels carry the finest's: the
+    // same colour on the tile's border (where every level has the finest's vertices), some shade inside.
+    bool coarseShaded = false;
+    for (size_t i = 0; i < f.terrain->numChildren(); ++i) {
+        const Mesh& fine = *tileLevel(f, i, 0).mesh();
+        const Box box = fine.box();
         for (size_t level = 0; level < f.terrain->child(i)->numChildren(); ++level) {
             EXPECT_TRUE(tileLevel(f, i, level).material()->bakedLight);
-            EXPECT_NE(tileLevel(f, i, level).mesh()->colors(), tileLevel(plain, i, level).mesh()->colors()) << i;
+            if (level == 0) continue;
+            const Mesh& coarse = *tileLevel(f, i, level).mesh();
+            coarseShaded |= coarse.colors() != tileLevel(plain, i, level).mesh()->colors();
+            for (size_t v = 0; v < coarse.positions().size(); ++v) {
+                const vec3 p = coarse.positions()[v];
+                if (p.x != box.min.x && p.x != box.max.x && p.y != box.min.y && p.y != box.max.y) continue;
+                const auto& fp = fine.positions();
+                const size_t k = size_t(std::find(fp.begin(), fp.end(), p) - fp.begin());
+                ASSERT_LT(k, fp.size()) << "tile " << i << " level " << level << ": a border vertex the finest lacks";
+                EXPECT_EQ(coarse.colors()[v], fine.colors()[k]) << "tile " << i << " level " << level;
+            }
         }
+    }
+    EXPECT_TRUE(coarseShaded);
     EXPECT_TRUE(f.buildings[0].roof->material()->bakedLight);
     EXPECT_GT(f.buildings[0].roof->material()->specular, 0.0f);
     EXPECT_EQ(f.buildings[0].roof->material(), f.buildings[10].roof->material());

@@ -102,14 +102,19 @@ TEST(FactoryTextures, TheFactorysMaterialsCarryThem) {
     p.cars = 2;
     const scenes::Factory f = scenes::buildFactory(p);
     auto material = [](Node* n) { return static_cast<Geometry*>(n)->material(); };
-    // The ground: one grass material for every tile, filtered anisotropically, UVs in world metres.
-    const Material* grass = material(f.terrain->child(0));
+    // The ground: one grass material for every level of every tile, filtered anisotropically, UVs in world
+    // metres.
+    const Material* grass = material(f.terrain->child(0)->child(0));
     ASSERT_NE(grass->texture, nullptr);
     EXPECT_GT(grass->texture->maxAnisotropy, 1.0f);
-    const Mesh& tile = *static_cast<Geometry*>(f.terrain->child(0))->mesh();
-    for (size_t v : {size_t(0), tile.positions().size() - 1})
-        EXPECT_NEAR(tile.uvs()[v].x * scenes::kFactoryGrassMetres, tile.positions()[v].x, 1e-3);
-    for (size_t i = 0; i < f.terrain->numChildren(); ++i) EXPECT_EQ(material(f.terrain->child(i)), grass);
+    for (size_t i = 0; i < f.terrain->numChildren(); ++i)
+        for (size_t level = 0; level < f.terrain->child(i)->numChildren(); ++level) {
+            Node* g = f.terrain->child(i)->child(level);
+            EXPECT_EQ(material(g), grass);
+            const Mesh& tile = *static_cast<Geometry*>(g)->mesh();
+            for (size_t v : {size_t(0), tile.positions().size() - 1})
+                EXPECT_NEAR(tile.uvs()[v].x * scenes::kFactoryGrassMetres, tile.positions()[v].x, 1e-3);
+        }
     // Walls: rendered with windows on the workshops, brick on the auxiliary buildings; one roof material.
     const Material* rendered = material(f.buildings[0].lod->child(0));
     const Material* brick = material(f.buildings[4].lod->child(0));
