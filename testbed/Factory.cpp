@@ -698,7 +698,7 @@ Factory buildFactory(const FactoryParams& prm) {
         b.kind = s.kind;
         b.place = make<Transform>();
         b.place->setTranslation(s.centre);
-        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.25f, 0.06f}, prm.pixelError);
+        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.06f}, prm.pixelError);
         b.lod->setTransition(float(prm.fadeFraction * b.lod->range(1).min));
         b.place->addChild(b.lod);
         b.roof = make<Geometry>(roofMesh(s), roofMat);

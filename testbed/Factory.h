@@ -33,7 +33,7 @@ struct FactoryParams {
 struct FactoryBuilding {
     std::string kind;  // "workshop", "auxiliary", "technology" or "office"
     sg::ref_ptr<sg::Transform> place;
-    sg::ref_ptr<sg::LOD> lod;            // child 0 the detailed model, then two simplified ones
+    sg::ref_ptr<sg::LOD> lod;            // child 0 the detailed model, child 1 the simplified one
     sg::ref_ptr<sg::Geometry> roof;      // the roofing over the model's slab, beside the LOD (its own texture)
     sg::ref_ptr<sg::Occluder> occluder;  // world box, under the root's "occluders" group (not switched)
     sg::Box box;                         // world box of the walls and roof (what an eye is "inside")

@@ -1,5 +1,5 @@
 // The factory site's lighting: a sun at 40 degrees whose soft shadows and ambient occlusion are baked into
-// the vertex colours of the terrain tiles (the finest level, shared with the coarse ones), every level of every
+// the vertex colours of the terrain tiles (the finest level, shared with the coarse ones), both levels of every
 // building model and the roofs, and the run-time light (diffuse and highlights per fragment) that goes with them.
 #pragma once
 #include "sg/core/DirectionalLight.h"
