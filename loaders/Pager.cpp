@@ -17,8 +17,16 @@ namespace sg {
 
 namespace {
 
-// Mesh and texture bytes below `root`, each shared mesh or texture counted once.
-size_t measure(const Node* root) {
+// The message as it should reach the node: it names the file.
+std::string withFile(const std::string& file, const std::string& message) {
+    return message.find(file) == std::string::npos ? file + ": " + message : message;
+}
+
+}  // namespace
+
+ref_ptr<Node> loadGltfPage(const std::string& file) { return loadGltf(file).root; }
+
+size_t pageBytes(const Node* root) {
     std::unordered_set<const void*> seen;
     std::vector<const Node*> stack{root};
     size_t bytes = 0;
@@ -40,15 +48,6 @@ size_t measure(const Node* root) {
     }
     return bytes;
 }
-
-// The message as it should reach the node: it names the file.
-std::string withFile(const std::string& file, const std::string& message) {
-    return message.find(file) == std::string::npos ? file + ": " + message : message;
-}
-
-}  // namespace
-
-ref_ptr<Node> loadGltfPage(const std::string& file) { return loadGltf(file).root; }
 
 Pager::Pager(Scene& scene, PageLoadFunction load, PagerSettings settings)
     : scene_(scene), load_(load ? std::move(load) : PageLoadFunction(loadGltfPage)), settings_(settings) {
@@ -104,7 +103,7 @@ void Pager::run() {
         try {
             r.detail = load_(job.file);
             if (r.detail)
-                r.bytes = measure(r.detail.get());
+                r.bytes = pageBytes(r.detail.get());
             else
                 r.error = job.file + ": the load function returned no node";
         } catch (const std::exception& e) {

@@ -22,6 +22,9 @@ using PageLoadFunction = std::function<ref_ptr<Node>(const std::string& file)>;
 // The default: the default scene of a glTF file (sg::loadGltf).
 ref_ptr<Node> loadGltfPage(const std::string& file);
 
+// Mesh and texture bytes below `root`, each shared mesh or texture counted once: what a detail takes.
+size_t pageBytes(const Node* root);
+
 struct PagerSettings {
     // A detail is unloaded once it was not needed for more than this many updates AND this many seconds
     // (FrameInfo::time), as OpenSceneGraph's expiry; Command-triggered nodes never expire.

@@ -1,0 +1,66 @@
+// Session: the map application without its window: the frame (pager, level switch, cull, draw), the view, entering
+// by zoom, and the commands of the headless script, which the window's keys and mouse also go through.
+#pragma once
+#include "map/Atlas.h"
+#include "map/Display.h"
+#include "map/MapView.h"
+#include "sg/cull/CullTraversal.h"
+
+#include <chrono>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace sgmap {
+
+class Session {
+public:
+    Session(Atlas& atlas, Display& display, int width, int height);
+
+    // One frame: the pager's update and a level entered or failed, the cull, the draw. Returns its milliseconds.
+    double frame();
+    // Runs one command line ("goto -98 39 6000"); returns its result line (empty for a blank or comment line).
+    std::string command(const std::string& line);
+    // Every line of `in`, each result line to `out` as soon as it is known.
+    void runScript(std::istream& in, std::ostream& out);
+
+    MapView& view() { return view_; }
+    Atlas& atlas() { return atlas_; }
+    bool overlay = true;
+    // What the overlay says: the level, the picked region, the frame rate, the pager.
+    std::string overlayText() const;
+    // After the view moved (a zoom, a drag, goto): enters the region under the window's centre when it covers
+    // more than half of the window. Returns the "entering ..." note, or an empty string.
+    std::string enterByZoom();
+    // The share of the window that region `index` of the current level covers (a grid of pick rays).
+    double coverage(int index);
+    // The commands behind the window's mouse: a click and going up a level.
+    std::string pickAt(double x, double y);
+    std::string back();
+
+    const std::vector<double>& frameMs() const { return frameMs_; }
+    // Resident memory of the process (kilobytes), from /proc.
+    static size_t residentKb();
+
+private:
+    std::string regionLine(int index) const;
+    std::string enter(const std::vector<std::string>& args);
+    std::string waitIdle();
+    std::string stats() const;
+
+    Atlas& atlas_;
+    Display& display_;
+    MapView view_;
+    sg::CullTraversal cull_;
+    sg::CullSettings settings_;
+    sg::CullStats cullStats_;
+    sg::DrawList list_;
+    std::vector<double> frameMs_;
+    uint64_t frames_ = 0;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    Atlas::Step step_;      // of the last frame
+    bool release_ = false;  // a level was left: free its GPU copies after the next frame
+    std::string picked_, note_;
+};
+
+}  // namespace sgmap

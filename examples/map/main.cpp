@@ -1,0 +1,94 @@
+// sgmap: the hierarchical map (the world's countries, the United States' states, each state's counties) after the
+// Performer paper's map: a level entered by zooming in on a region or by command, read from disk on the pager's
+// thread, freed on going back; a click picks the region of the current level. Without --headless it starts
+// sgmap-window; with it, a script of commands (or the built-in demo) runs offscreen, one result line per command.
+#include "map/Atlas.h"
+#include "map/Options.h"
+#include "map/Session.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/gl/TextOverlay.h"
+
+#include <unistd.h>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+using namespace sgmap;
+
+namespace {
+
+class OsmesaDisplay : public Display {
+public:
+    OsmesaDisplay(int w, int h) : context_(w, h) {}
+    void draw(const sg::DrawList& list, const sg::Camera& camera, const std::string& overlay) override {
+        renderer_.draw(list, camera, {0.16f, 0.22f, 0.33f, 1.0f});
+        if (!overlay.empty()) overlay_.draw(overlay, camera.width(), camera.height(), 2.0f);
+        renderer_.finish();
+    }
+    sg::Image read() override { return renderer_.readColor(); }
+    void releaseUnused() override { renderer_.releaseUnused(); }
+
+private:
+    sg::OsmesaContext context_;
+    sg::Renderer renderer_;
+    sg::TextOverlay overlay_;
+};
+
+// Without --headless: the window, a program of its own (sgmap-window, beside this one): it draws through the
+// system libGL, which must not meet OSMesa's in one process. Returns only on failure.
+int runWindowProgram(char** argv) {
+#ifdef SGMAP_WINDOW_PROGRAM
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::string exe =
+        ((ec ? std::filesystem::path(argv[0]) : self).parent_path() / SGMAP_WINDOW_PROGRAM).string();
+    argv[0] = const_cast<char*>(exe.c_str());
+    execv(exe.c_str(), argv);
+    std::fprintf(stderr, "sgmap: cannot start the window program %s: %s\n", exe.c_str(), std::strerror(errno));
+    return 1;
+#else
+    (void)argv;
+    std::fprintf(stderr, "sgmap: built without GLFW, so there is no window; --headless runs a script offscreen\n");
+    return 2;
+#endif
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    if (const int code = readCommandLine(argc, argv, o); code >= 0) return code;
+    if (!o.headless) return runWindowProgram(argv);
+    try {
+        const std::string dir = dataDirectory(o);
+        Atlas atlas(dir);
+        std::fprintf(stderr, "sgmap: %s map from %s: %zu regions, %zu triangles at the world level\n",
+                     atlas.generated() ? "generated" : "real", dir.c_str(), atlas.level().regions.size(),
+                     atlas.level().triangles);
+        OsmesaDisplay display(o.width, o.height);
+        Session session(atlas, display, o.width, o.height);
+        session.overlay = o.overlay;
+        if (o.script == "-") {
+            session.runScript(std::cin, std::cout);
+        } else if (!o.script.empty()) {
+            std::ifstream in(o.script);
+            if (!in) {
+                std::fprintf(stderr, "sgmap: cannot read the script %s: %s\n", o.script.c_str(), std::strerror(errno));
+                return 1;
+            }
+            session.runScript(in, std::cout);
+        } else {
+            std::istringstream in(demoScript(atlas.generated()));
+            session.runScript(in, std::cout);
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sgmap: %s\n", e.what());
+        return 1;
+    }
+}
