@@ -113,7 +113,7 @@ int Level::findId(const std::string& id) const {
 }
 
 Atlas::Atlas(const std::string& dataDir, AtlasSettings settings) : dir_(dataDir), settings_(settings) {
-    std::shared_ptr<Level> world = readLevel((std::filesystem::path(dir_) / "world.glb").string(), nullptr, 0);
+    std::shared_ptr<Level> world = readLevel((std::filesystem::path(dir_) / "world.glb").string(), nullptr);
     generated_ = world->projection.empty();
     root_ = make<Group>();
     root_->setName("map");
@@ -128,7 +128,7 @@ Atlas::Atlas(const std::string& dataDir, AtlasSettings settings) : dir_(dataDir)
 
 Atlas::~Atlas() { pager_.reset(); }
 
-std::shared_ptr<Level> Atlas::readLevel(const std::string& file, const Level* parent, size_t region) const {
+std::shared_ptr<Level> Atlas::readLevel(const std::string& file, const Request* parent) const {
     GltfScene g = loadGltf(file);
     auto level = std::make_shared<Level>();
     level->name = str(g.sceneProperties, "level");
@@ -187,15 +187,14 @@ std::shared_ptr<Level> Atlas::readLevel(const std::string& file, const Level* pa
         level->root = g.root;
     } else {
         dmat4 fit(1.0);  // a state's counties are in the U.S. level's plane
-        if (parent->name == "world")
-            fit = !parent->projection.empty() && !level->projection.empty()
-                      ? usOntoWorld()
-                      : boundsFit(all, parent->regions[region].box);
+        if (parent->parentName == "world")
+            fit = !parent->parentProjection.empty() && !level->projection.empty() ? usOntoWorld()
+                                                                                  : boundsFit(all, parent->regionBox);
         auto t = make<Transform>(fit);
         t->setName(level->name + " " + level->parent);
         t->addChild(g.root);
         level->root = t;
-        level->toScene = parent->toScene * fit;
+        level->toScene = parent->parentToScene * fit;
     }
     level->bytes = pageBytes(level->root.get());
     return level;
@@ -209,10 +208,14 @@ ref_ptr<Node> Atlas::load(const std::string& file) {
         if (it == requests_.end()) throw std::runtime_error(file + ": not requested by the map");
         req = it->second;
     }
-    std::shared_ptr<Level> level = readLevel(file, req.parent.get(), req.region);
+    std::shared_ptr<Level> level = readLevel(file, &req);
+    // The nodes go to the pager alone (the level keeps plain pointers until attached): were the level dropped
+    // on this thread while the pager frees its root on the other, the two would count references at once.
+    ref_ptr<Node> root = std::move(level->root);
+    level->read = root.get();
     std::lock_guard<std::mutex> lock(mutex_);
-    read_[level->root.get()] = level;
-    return level->root;
+    if (const auto it = requests_.find(file); it != requests_.end() && it->second.id == req.id) read_[file] = level;
+    return root;
 }
 
 std::string Atlas::enter(size_t index) {
@@ -223,7 +226,8 @@ std::string Atlas::enter(size_t index) {
     if (!r.paged) return r.name + " (" + r.kind + " " + r.id + ") has no level below it";
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        requests_[r.paged->file()] = Request{chain_.back(), index};
+        requests_[r.paged->file()] = Request{cur.name, cur.projection, r.box, cur.toScene, nextRequest_++};
+        read_.erase(r.paged->file());
     }
     pager_->load(*r.paged);
     entering_ = int(index);
@@ -241,11 +245,9 @@ Atlas::Step Atlas::update(const FrameInfo& frame) {
             std::shared_ptr<Level> next;
             {
                 std::lock_guard<std::mutex> lock(mutex_);
-                const auto it = read_.find(p.detail());
-                if (it != read_.end()) {
-                    next = it->second;
-                    read_.erase(it);
-                }
+                const auto it = read_.find(p.file());
+                if (it != read_.end() && it->second->read == p.detail()) next = it->second;
+                read_.erase(p.file());
                 requests_.erase(p.file());
             }
             entering_ = -1;
@@ -253,6 +255,7 @@ Atlas::Step Atlas::update(const FrameInfo& frame) {
                 step.error = p.file() + ": attached without its regions";
                 pager_->release(p);
             } else {
+                next->root = ref_ptr<Node>(p.detail());
                 highlight(-1);
                 if (level().name == "world") showSiblings(level(), index, false);
                 chain_.push_back(next);
@@ -265,6 +268,7 @@ Atlas::Step Atlas::update(const FrameInfo& frame) {
             entering_ = -1;
             std::lock_guard<std::mutex> lock(mutex_);
             requests_.erase(p.file());
+            read_.erase(p.file());
         }
         if (!step.error.empty()) lastError_ = step.error;
     }
@@ -276,6 +280,11 @@ std::string Atlas::back() {
     if (entering_ >= 0) {  // the load in flight is dropped (or its detail freed when it has arrived)
         PagedLOD& p = *level().regions[size_t(entering_)].paged;
         const std::string name = level().regions[size_t(entering_)].name;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            requests_.erase(p.file());
+            read_.erase(p.file());
+        }
         pager_->release(p);
         entering_ = -1;
         return "stopped entering " + name;
@@ -290,10 +299,6 @@ std::string Atlas::back() {
            !(parent.regions[index].paged && parent.regions[index].paged->detail() == left->root.get()))
         ++index;
     if (index == parent.regions.size()) throw std::logic_error("Atlas::back(): the level left is not attached");
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        read_.clear();
-    }
     pager_->release(*parent.regions[index].paged);
     if (parent.name == "world") showSiblings(parent, index, true);
     picks_.clear();

@@ -33,10 +33,11 @@ struct Region {
 
 // One level: the regions of one file.
 struct Level {
-    std::string name;        // "world", "us" or "state", as the file's `level`
-    std::string parent;      // the id of the region it details (empty for the world)
-    std::string projection;  // as the file's `projection` (empty for the generated map)
-    sg::ref_ptr<sg::Node> root;
+    std::string name;                // "world", "us" or "state", as the file's `level`
+    std::string parent;              // the id of the region it details (empty for the world)
+    std::string projection;          // as the file's `projection` (empty for the generated map)
+    sg::ref_ptr<sg::Node> root;      // a paged level's is taken when attached: until then the pager holds it
+    const sg::Node* read = nullptr;  // the root the loader thread made
     std::vector<Region> regions;
     std::unordered_map<const sg::Node*, size_t> byNode;  // Region::node -> its index
     sg::dmat4 toScene{1.0};                              // the level's plane -> the scene (the world level's plane)
@@ -116,12 +117,16 @@ public:
     std::string lastError() const { return lastError_; }
 
 private:
-    struct Request {  // what the loader thread needs to place a level it reads
-        std::shared_ptr<const Level> parent;
-        size_t region;
+    // What the loader thread needs to place a level it reads: copies, so that it shares no node with the
+    // application thread (reference counts are not atomic).
+    struct Request {
+        std::string parentName, parentProjection;
+        sg::Box regionBox;  // the region entered, in its level's plane
+        sg::dmat4 parentToScene{1.0};
+        uint64_t id = 0;
     };
     sg::ref_ptr<sg::Node> load(const std::string& file);  // the loader thread
-    std::shared_ptr<Level> readLevel(const std::string& file, const Level* parent, size_t region) const;
+    std::shared_ptr<Level> readLevel(const std::string& file, const Request* parent) const;
     void showSiblings(const Level& parent, size_t region, bool show);
     void restoreHighlight();
 
@@ -136,13 +141,15 @@ private:
     int entering_ = -1;
     std::chrono::steady_clock::time_point enterStart_;
     int highlighted_ = -1;
+    uint64_t nextRequest_ = 1;
     std::vector<sg::ref_ptr<sg::Material>> saved_;  // the highlighted region's own materials
     std::string lastError_;
     // Shared with the loader thread.
     std::mutex mutex_;
-    std::map<std::string, Request> requests_;                           // by file
-    std::unordered_map<const sg::Node*, std::shared_ptr<Level>> read_;  // levels read, by their root
-    std::unique_ptr<sg::Pager> pager_;                                  // last: its thread stops first
+    // By file. A level read is kept only while its request stands: one dropped meanwhile (back) is not.
+    std::map<std::string, Request> requests_;
+    std::map<std::string, std::shared_ptr<Level>> read_;
+    std::unique_ptr<sg::Pager> pager_;  // last: its thread stops first
 };
 
 }  // namespace sgmap

@@ -9,6 +9,9 @@
 
 namespace sgmap {
 
+// The map's background: night-blue sea, so that the pastel regions stand out.
+constexpr sg::vec4 kSeaColor{0.16f, 0.22f, 0.33f, 1.0f};
+
 class Display {
 public:
     virtual ~Display() = default;

@@ -14,7 +14,7 @@ const char* kUsage =
     "  --headless      render offscreen and run a script (default: the built-in demo), one result line per command\n"
     "  --script FILE   the commands, one per line ('-': standard input):\n"
     "                    goto LON LAT HEIGHT_KM   zoom FACTOR   enter [ID]   back   pick X Y   pickgeo LON LAT\n"
-    "                    screenshot FILE   stats   wait   frames N\n"
+    "                    screenshot FILE   stats   wait   frames N   overlay on|off\n"
     "  --data DIR      the converted levels (world.glb, us.glb, states/); default: the build tree's\n"
     "  --size WxH      window or picture size (default 1280x720)\n"
     "  --overlay       headless: draw the overlay into screenshots\n"

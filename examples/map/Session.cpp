@@ -1,5 +1,6 @@
 #include "map/Session.h"
 
+#include <malloc.h>
 #include <unistd.h>
 #include <algorithm>
 #include <cstdio>
@@ -63,6 +64,9 @@ double Session::frame() {
     const Camera camera = view_.camera();
     cull_.cull(atlas_.scene(), camera, settings_, list_, cullStats_);
     display_.draw(list_, camera, overlay ? overlayText() : std::string());
+    // A level read or left: the loader's scratch memory and the level's freed meshes go back to the system, so
+    // that the resident memory follows what is loaded.
+    if (step_.entered || release_) malloc_trim(0);
     if (release_) {
         display_.releaseUnused();
         release_ = false;
@@ -189,6 +193,7 @@ std::string Session::stats() const {
     s += fmt("\tfailures %.0f", double(p.failures)) + fmt("\tresident %.0f", double(p.resident));
     s += fmt("\tbytes_resident %.0f", double(p.bytesResident)) + fmt("\tqueued %.0f", double(p.queued));
     s += fmt("\tgeometry_kb %.0f", atlas_.bytesLoaded() / 1024.0) + fmt("\trss_kb %.0f", double(residentKb()));
+    if (emptyKb > 0) s += fmt("\tempty_kb %.0f", double(emptyKb));
     return s;
 }
 
@@ -212,9 +217,13 @@ std::string Session::command(const std::string& line) {
     const std::vector<std::string> w = words(line);
     if (w.empty() || w[0][0] == '#') return {};
     const std::string& c = w[0];
+    static const char* const known[] = {"goto",       "zoom",  "enter", "back",   "pick",   "pickgeo",
+                                        "screenshot", "stats", "wait",  "frames", "overlay"};
+    if (std::find(std::begin(known), std::end(known), c) == std::end(known)) return "error\tunknown command: " + c;
     std::vector<double> v(w.size(), 0.0);
     for (size_t i = 1; i < w.size(); ++i)
-        if (c != "enter" && c != "screenshot" && !number(w[i], v[i])) return "error\t" + c + ": not a number: " + w[i];
+        if (c != "enter" && c != "screenshot" && c != "overlay" && !number(w[i], v[i]))
+            return "error\t" + c + ": not a number: " + w[i];
     auto want = [&](size_t n, const char* usage) {
         return w.size() == n + 1 ? std::string() : "error\tusage: " + std::string(usage);
     };
@@ -267,6 +276,11 @@ std::string Session::command(const std::string& line) {
         return "wrote\t" + w[1];
     }
     if (c == "stats") return stats();
+    if (c == "overlay") {
+        if (w.size() != 2 || (w[1] != "on" && w[1] != "off")) return "error\tusage: overlay on|off";
+        overlay = w[1] == "on";
+        return "overlay\t" + w[1];
+    }
     if (c == "wait") return waitIdle();
     if (c == "frames") {
         if (auto e = want(1, "frames N"); !e.empty()) return e;

@@ -27,6 +27,7 @@ public:
     MapView& view() { return view_; }
     Atlas& atlas() { return atlas_; }
     bool overlay = true;
+    size_t emptyKb = 0;  // resident memory of the program before the map was read (0: not known)
     // What the overlay says: the level, the picked region, the frame rate, the pager.
     std::string overlayText() const;
     // After the view moved (a zoom, a drag, goto): enters the region under the window's centre when it covers

@@ -4,10 +4,8 @@
 // sgmap-window; with it, a script of commands (or the built-in demo) runs offscreen, one result line per command.
 #include "map/Atlas.h"
 #include "map/Options.h"
+#include "map/OsmesaDisplay.h"
 #include "map/Session.h"
-#include "sg/gl/OsmesaContext.h"
-#include "sg/gl/Renderer.h"
-#include "sg/gl/TextOverlay.h"
 
 #include <unistd.h>
 #include <cerrno>
@@ -21,23 +19,6 @@
 using namespace sgmap;
 
 namespace {
-
-class OsmesaDisplay : public Display {
-public:
-    OsmesaDisplay(int w, int h) : context_(w, h) {}
-    void draw(const sg::DrawList& list, const sg::Camera& camera, const std::string& overlay) override {
-        renderer_.draw(list, camera, {0.16f, 0.22f, 0.33f, 1.0f});
-        if (!overlay.empty()) overlay_.draw(overlay, camera.width(), camera.height(), 2.0f);
-        renderer_.finish();
-    }
-    sg::Image read() override { return renderer_.readColor(); }
-    void releaseUnused() override { renderer_.releaseUnused(); }
-
-private:
-    sg::OsmesaContext context_;
-    sg::Renderer renderer_;
-    sg::TextOverlay overlay_;
-};
 
 // Without --headless: the window, a program of its own (sgmap-window, beside this one): it draws through the
 // system libGL, which must not meet OSMesa's in one process. Returns only on failure.
@@ -66,12 +47,15 @@ int main(int argc, char** argv) {
     if (!o.headless) return runWindowProgram(argv);
     try {
         const std::string dir = dataDirectory(o);
+        // The program without a map (its GL context and renderer): what `stats` compares the memory with.
+        OsmesaDisplay display(o.width, o.height);
+        const size_t emptyKb = Session::residentKb();
         Atlas atlas(dir);
         std::fprintf(stderr, "sgmap: %s map from %s: %zu regions, %zu triangles at the world level\n",
                      atlas.generated() ? "generated" : "real", dir.c_str(), atlas.level().regions.size(),
                      atlas.level().triangles);
-        OsmesaDisplay display(o.width, o.height);
         Session session(atlas, display, o.width, o.height);
+        session.emptyKb = emptyKb;
         session.overlay = o.overlay;
         if (o.script == "-") {
             session.runScript(std::cin, std::cout);

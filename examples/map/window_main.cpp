@@ -23,7 +23,7 @@ namespace {
 class WindowDisplay : public Display {
 public:
     void draw(const sg::DrawList& list, const sg::Camera& camera, const std::string& overlay) override {
-        renderer_.draw(list, camera, {0.16f, 0.22f, 0.33f, 1.0f});
+        renderer_.draw(list, camera, kSeaColor);
         if (!overlay.empty()) overlay_.draw(overlay, camera.width(), camera.height(), 2.0f);
     }
     sg::Image read() override { return renderer_.readColor(); }

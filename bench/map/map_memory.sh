@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The map's memory: resident memory with the world, the United States and one state (Texas) loaded, against the
+# loaded levels' geometry plus the program without a map; then 100 enter/back cycles over random states (fixed
+# seed) and the resident memory after the first cycle and after the last. Also the frame rate at the world and
+# U.S. levels (1280x720) and the time to enter Texas.
+#   bench/map/map_memory.sh BUILD_DIR [DATA_DIR]     (DATA_DIR: BUILD_DIR/mapdata/levels)
+set -euo pipefail
+build=${1:?usage: map_memory.sh BUILD_DIR [DATA_DIR]}
+data=${2:-$build/mapdata/levels}
+states="01 02 04 05 06 08 09 10 11 12 13 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32 33 34 35 36 37 38 39 40 41 42 44 45 46 47 48 49 50 51 53 54 55 56 72"
+script=$(mktemp)
+trap 'rm -f "$script"' EXIT
+{
+  echo "frames 60"
+  echo "stats"
+  echo "enter 840"
+  echo "frames 60"
+  echo "stats"
+  echo "enter 48"
+  echo "frames 10"
+  echo "stats"
+  echo "back"
+  echo "$states" | awk 'BEGIN { srand(1) } { n = split($0, s, " "); for (i = 1; i <= 100; i++) {
+      print "enter " s[int(rand() * n) + 1]; print "back"; if (i == 1) print "stats"; } }'
+  echo "frames 10"
+  echo "stats"
+} > "$script"
+"$build/examples/sgmap" --headless --data "$data" --script "$script" | awk -F'\t' '
+  /^level/ { n++; for (i = 1; i <= NF; i++) { split($i, kv, " "); v[n, kv[1]] = kv[2] } }
+  /^state\t48\t/ { texas = $4 }
+  END {
+    printf "world level: %.1f fps\n", v[1, "fps"]
+    printf "U.S. level: %.1f fps\n", v[2, "fps"]
+    printf "entering Texas: %s\n", texas
+    g = v[3, "geometry_kb"]; e = v[3, "empty_kb"]; r = v[3, "rss_kb"]
+    printf "Texas loaded: resident %.1f MB; geometry %.1f MB + program without a map %.1f MB = %.1f MB; ratio %.2f\n",
+      r / 1024, g / 1024, e / 1024, (g + e) / 1024, r / (g + e)
+    printf "after 1 enter/back cycle: %.1f MB; after 100: %.1f MB (%+.1f%%)\n", v[4, "rss_kb"] / 1024,
+      v[5, "rss_kb"] / 1024, 100 * (v[5, "rss_kb"] / v[4, "rss_kb"] - 1)
+  }'
