@@ -103,10 +103,11 @@ std::string Session::enterByZoom() {
     return "entering\t" + regionLine(index);
 }
 
-std::string Session::pickAt(double x, double y) {
-    const int index = atlas_.pickPixel(view_.camera(), x, y);
+std::string Session::pickAt(double x, double y) { return showPick(atlas_.pickPixel(view_.camera(), x, y)); }
+
+std::string Session::showPick(int index) {
     atlas_.highlight(index);
-    picked_ = index < 0 ? std::string() : atlas_.level().regions[size_t(index)].name;
+    picked_.clear();
     if (index >= 0) {
         const Region& r = atlas_.level().regions[size_t(index)];
         picked_ = r.kind + " " + r.id + " " + r.name + fmt(", %.0f km2", r.areaKm2);
@@ -261,9 +262,7 @@ std::string Session::command(const std::string& line) {
     }
     if (c == "pickgeo") {
         if (auto e = want(2, "pickgeo LON LAT"); !e.empty()) return e;
-        const int index = atlas_.pickGeo(v[1], v[2]);
-        atlas_.highlight(index);
-        return regionLine(index);
+        return showPick(atlas_.pickGeo(v[1], v[2]));
     }
     if (c == "screenshot") {
         if (w.size() != 2) return "error\tusage: screenshot FILE";
@@ -293,8 +292,9 @@ std::string Session::command(const std::string& line) {
     return "error\tunknown command: " + c;
 }
 
-void Session::runScript(std::istream& in, std::ostream& out) {
+int Session::runScript(std::istream& in, std::ostream& out) {
     frame();
+    int errors = 0;
     for (std::string line; std::getline(in, line);) {
         std::string r;
         try {
@@ -303,7 +303,9 @@ void Session::runScript(std::istream& in, std::ostream& out) {
             r = "error\t" + std::string(e.what());
         }
         if (!r.empty()) out << r << std::endl;
+        errors += r.compare(0, 5, "error") == 0;
     }
+    return errors;
 }
 
 }  // namespace sgmap

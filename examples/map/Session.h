@@ -21,8 +21,8 @@ public:
     double frame();
     // Runs one command line ("goto -98 39 6000"); returns its result line (empty for a blank or comment line).
     std::string command(const std::string& line);
-    // Every line of `in`, each result line to `out` as soon as it is known.
-    void runScript(std::istream& in, std::ostream& out);
+    // Every line of `in`, each result line to `out` as soon as it is known. Returns how many printed `error`.
+    int runScript(std::istream& in, std::ostream& out);
 
     MapView& view() { return view_; }
     Atlas& atlas() { return atlas_; }
@@ -45,6 +45,7 @@ public:
 
 private:
     std::string regionLine(int index) const;
+    std::string showPick(int index);  // highlighted, named in the overlay; its result line
     std::string enter(const std::vector<std::string>& args);
     std::string waitIdle();
     std::string stats() const;

@@ -68,7 +68,10 @@ int main(int argc, char** argv) {
             session.runScript(in, std::cout);
         } else {
             std::istringstream in(demoScript(atlas.generated()));
-            session.runScript(in, std::cout);
+            if (const int errors = session.runScript(in, std::cout); errors > 0) {
+                std::fprintf(stderr, "sgmap: %d command%s of the demo failed\n", errors, errors == 1 ? "" : "s");
+                return 1;
+            }
         }
         return 0;
     } catch (const std::exception& e) {
