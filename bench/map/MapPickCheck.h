@@ -1,0 +1,41 @@
+// MapPickCheck: the map's pickgeo (Atlas::pickGeo) at the world, U.S. and Texas levels compared with
+// point-in-polygon on the source polygons, for random points, shared by the map_pick benchmark and its test.
+#pragma once
+#include "map/Atlas.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace sgmap {
+
+// One point whose pick differs from the source's answer.
+struct MapPickMiss {
+    double lon = 0.0, lat = 0.0;
+    std::string expected, got;  // region ids (names for regions with an empty or shared id); "none"
+    double borderKm = 0.0;      // distance to the nearest border in the level's plane
+};
+
+// One level's count. A point nearer a border than one pixel (the level's extent / 1280) is "near": the
+// mesh and the source may differ there (self-crossing rings split, float positions), so it is counted apart.
+struct MapPickLevel {
+    std::string level;  // "world", "us", "state 48"
+    int points = 0, farPoints = 0, farCorrect = 0, nearPoints = 0, nearCorrect = 0;
+    int inRegion = 0;  // points the source puts in a region (the others expect none)
+    double pixelKm = 0.0;
+    double msPerPick = 0.0;                     // the second pass over the points (the first builds the meshes' trees)
+    double msFirstPass = 0.0;                   // the whole first pass
+    double nearWrongMaxKm = 0.0;                // the farthest from a border a near point was picked wrong
+    std::vector<MapPickMiss> wrong, nearWrong;  // the first five of each
+    std::string json() const;                   // one line
+};
+
+// Draws `points` random points (portable generator, `seed`) per level: the world (uniform on the sphere), the
+// United States (uniform in the union of its states' and territories' longitude/latitude boxes, Alaska's
+// across 180 degrees), Texas (its box). The truth is the even-odd rule over each source region's rings
+// (outer and holes), projected by the region's own projection (so the antimeridian and the U.S. insets are
+// the source's geography, not what pickGeo assumes). `atlas` must be at the world level of the real data;
+// it is left there. Throws std::runtime_error when a level cannot be entered.
+std::vector<MapPickLevel> checkMapPicks(Atlas& atlas, const std::string& sourceDir, int points, uint32_t seed);
+
+}  // namespace sgmap
