@@ -13,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <set>
 #include <stdexcept>
 
 namespace sgmap {
@@ -192,6 +193,7 @@ MapPickLevel run(Atlas& atlas, const std::string& name, const Truth& truth, cons
     out.msPerPick =
         std::chrono::duration<double, std::milli>(t2 - t1).count() / double(std::max<size_t>(1, points.size()));
     if (again != got) throw std::runtime_error("checkMapPicks(): " + name + ": a second pick differs from the first");
+    std::set<std::string> hit;
     for (size_t i = 0; i < points.size(); ++i) {
         MapPickMiss m{points[i].x, points[i].y, "none", got[i] < 0 ? "none" : keys[size_t(got[i])], 0.0};
         const auto in = truth.at(m.lon, m.lat, m.borderKm);
@@ -201,10 +203,14 @@ MapPickLevel run(Atlas& atlas, const std::string& name, const Truth& truth, cons
         ++out.points;
         ++(near ? out.nearPoints : out.farPoints);
         if (right) ++(near ? out.nearCorrect : out.farCorrect);
-        auto& misses = near ? out.nearWrong : out.wrong;
-        if (!right && misses.size() < 5) misses.push_back(m);
-        if (!right && near) out.nearWrongMaxKm = std::max(out.nearWrongMaxKm, m.borderKm);
+        if (!in.empty()) hit.insert(in.front());
+        if (!right && near) out.nearWrong.push_back(m);
+        if (!right && !near && out.wrong.size() < 5) out.wrong.push_back(m);
     }
+    out.regionsHit = int(hit.size());
+    std::sort(out.nearWrong.begin(), out.nearWrong.end(),
+              [](const MapPickMiss& a, const MapPickMiss& b) { return a.borderKm > b.borderKm; });
+    if (out.nearWrong.size() > 5) out.nearWrong.resize(5);
     return out;
 }
 
@@ -234,10 +240,10 @@ std::string MapPickLevel::json() const {
     char buf[384];
     std::snprintf(buf, sizeof buf,
                   "\"points\":%d,\"far_points\":%d,\"far_correct\":%d,\"near_points\":%d,\"near_correct\":%d,"
-                  "\"in_region\":%d,\"pixel_km\":%.3f,\"near_wrong_max_km\":%.3f,\"ms_first_pass\":%.1f,"
+                  "\"in_region\":%d,\"regions_hit\":%d,\"pixel_km\":%.3f,\"ms_first_pass\":%.1f,"
                   "\"ms_per_pick\":%.4f,",
-                  points, farPoints, farCorrect, nearPoints, nearCorrect, inRegion, pixelKm, nearWrongMaxKm,
-                  msFirstPass, msPerPick);
+                  points, farPoints, farCorrect, nearPoints, nearCorrect, inRegion, regionsHit, pixelKm, msFirstPass,
+                  msPerPick);
     return "{\"level\":" + jsonString(level) + "," + buf + "\"wrong\":" + jsonMisses(wrong) +
            ",\"near_wrong\":" + jsonMisses(nearWrong) + "}";
 }
@@ -259,22 +265,26 @@ std::vector<MapPickLevel> checkMapPicks(Atlas& atlas, const std::string& sourceD
     }
     out.push_back(run(atlas, "world", Truth(world["countries"], worldProjection), p));
 
-    // The U.S.: uniform in the union of the states' boxes (a box drawn by its area, a point kept with the
-    // inverse of the number of boxes holding it).
+    // The U.S.: half the points uniform in the union of the states' boxes (a box drawn by its area, a point
+    // kept with the inverse of the number of boxes holding it), half in a box drawn uniformly, so that the
+    // small insets (Guam, American Samoa, the Virgin Islands) get points too.
     const std::vector<GeoRegion>& states = us["states"];
     std::vector<GeoBox> boxes;
     double total = 0.0;
     for (const GeoRegion& s : states) total += boxes.emplace_back(boxOf(s, stateProjection(s.id).lon0)).area();
     p.clear();
     while (int(p.size()) < points) {
-        double pick = rng.uniform(0.0, total);
-        size_t b = 0;
-        while (b + 1 < boxes.size() && pick >= boxes[b].area()) pick -= boxes[b++].area();
+        const bool byArea = p.size() % 2 == 0;
+        size_t b = std::min(boxes.size() - 1, size_t(rng.uniform(0.0, double(boxes.size()))));
+        if (byArea) {
+            double pick = rng.uniform(0.0, total);
+            for (b = 0; b + 1 < boxes.size() && pick >= boxes[b].area(); ++b) pick -= boxes[b].area();
+        }
         const double lon = wrap180(rng.uniform(boxes[b].lon0, boxes[b].lon1));
         const double lat = rng.uniform(boxes[b].lat0, boxes[b].lat1);
         int holding = 0;
         for (const GeoBox& g : boxes) holding += g.contains(lon, lat);
-        if (rng.uniform(0.0, 1.0) * std::max(1, holding) < 1.0) p.push_back({lon, lat});
+        if (!byArea || rng.uniform(0.0, 1.0) * std::max(1, holding) < 1.0) p.push_back({lon, lat});
     }
     enter(atlas, "840");
     out.push_back(run(atlas, "us", Truth(states, stateProjection), p));

@@ -16,26 +16,31 @@ struct MapPickMiss {
     double borderKm = 0.0;      // distance to the nearest border in the level's plane
 };
 
-// One level's count. A point nearer a border than one pixel (the level's extent / 1280) is "near": the
-// mesh and the source may differ there (self-crossing rings split, float positions), so it is counted apart.
+// One level's count. A point nearer a border than one pixel (the level's extent / 1280) is "near" and counted
+// apart: the mesh and the source may differ there. The top faces are triangulated in degrees, so a straight run
+// of a border along a parallel or meridian, cut off as flat ears, projects to ears turned over that cover up to
+// the chord instead of the projected points (up to 1.3 km beyond the Kansas-Nebraska line on the U.S. level);
+// self-crossing rings are split; positions are floats.
 struct MapPickLevel {
     std::string level;  // "world", "us", "state 48"
     int points = 0, farPoints = 0, farCorrect = 0, nearPoints = 0, nearCorrect = 0;
-    int inRegion = 0;  // points the source puts in a region (the others expect none)
+    int inRegion = 0;    // points the source puts in a region (the others expect none)
+    int regionsHit = 0;  // distinct regions among them
     double pixelKm = 0.0;
-    double msPerPick = 0.0;                     // the second pass over the points (the first builds the meshes' trees)
-    double msFirstPass = 0.0;                   // the whole first pass
-    double nearWrongMaxKm = 0.0;                // the farthest from a border a near point was picked wrong
-    std::vector<MapPickMiss> wrong, nearWrong;  // the first five of each
-    std::string json() const;                   // one line
+    double msPerPick = 0.0;              // the second pass over the points (the first builds the meshes' trees)
+    double msFirstPass = 0.0;            // the whole first pass
+    std::vector<MapPickMiss> wrong;      // the first five points away from borders picked wrong
+    std::vector<MapPickMiss> nearWrong;  // the five near points picked wrong farthest from a border
+    std::string json() const;            // one line
 };
 
 // Draws `points` random points (portable generator, `seed`) per level: the world (uniform on the sphere), the
-// United States (uniform in the union of its states' and territories' longitude/latitude boxes, Alaska's
-// across 180 degrees), Texas (its box). The truth is the even-odd rule over each source region's rings
-// (outer and holes), projected by the region's own projection (so the antimeridian and the U.S. insets are
-// the source's geography, not what pickGeo assumes). `atlas` must be at the world level of the real data;
-// it is left there. Throws std::runtime_error when a level cannot be entered.
+// United States (half uniform in the union of its states' and territories' longitude/latitude boxes, Alaska's
+// across 180 degrees, half in a box drawn uniformly so that the small territories get points), Texas (its box). The
+// truth is the even-odd rule over each source region's rings (outer and holes), projected by the region's own
+// projection (so the antimeridian and the U.S. insets are the source's geography, not what pickGeo assumes). `atlas`
+// must be at the world level of the real data; it is left there. Throws std::runtime_error when a level cannot be
+// entered.
 std::vector<MapPickLevel> checkMapPicks(Atlas& atlas, const std::string& sourceDir, int points, uint32_t seed);
 
 }  // namespace sgmap

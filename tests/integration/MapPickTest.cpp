@@ -29,6 +29,7 @@ TEST(MapPick, PickGeoMatchesSourcePolygonsAwayFromBorders) {
         EXPECT_GT(l.farPoints, 150) << l.level;
         EXPECT_GT(l.inRegion, 30) << l.level;
         EXPECT_LT(l.inRegion, 190) << l.level;
+        EXPECT_GT(l.regionsHit, 20) << l.level;
     }
     EXPECT_EQ(atlas.depth(), 1u);
 }
