@@ -17,10 +17,8 @@ struct MapPickMiss {
 };
 
 // One level's count. A point nearer a border than one pixel (the level's extent / 1280) is "near" and counted
-// apart: the mesh and the source may differ there. The top faces are triangulated in degrees, so a straight run
-// of a border along a parallel or meridian, cut off as flat ears, projects to ears turned over that cover up to
-// the chord instead of the projected points (up to 1.3 km beyond the Kansas-Nebraska line on the U.S. level);
-// self-crossing rings are split; positions are floats.
+// apart: the mesh may differ from the source there (positions are floats, self-crossing rings are split, and
+// top faces triangulated in degrees stop at chords where flips could not mend them).
 struct MapPickLevel {
     std::string level;  // "world", "us", "state 48"
     int points = 0, farPoints = 0, farCorrect = 0, nearPoints = 0, nearCorrect = 0;
