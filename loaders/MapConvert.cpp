@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <random>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace sg {
 namespace {
@@ -28,11 +29,80 @@ vec4 regionColor(const std::string& id, size_t index) {
     return {r, g, b, 1.0f};
 }
 
+// Twice the signed area of a triangle of the plane.
+double cross2(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+    return (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+}
+
+// Turned over: clockwise by more than rounding (a triangle whose points lie on a straight line stays).
+bool facesDown(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c) {
+    const glm::dvec2 u = b - a, v = c - a;
+    return cross2(a, b, c) < -1e-12 * (glm::dot(u, u) + glm::dot(v, v));
+}
+
+// Triangles cut in degrees, their points then projected: a straight run of a border along a parallel (or an
+// Equal Earth meridian) is cut as flat ears, and where the projected run bends into the region those ears are
+// turned over. Their areas cancel, but the triangle beside the last of them reaches the chord, outside the ring
+// (up to 12 km beyond the Alaska-Yukon border on the world level, over Canada's own prism). Flipping the edge a
+// turned-over triangle shares with a neighbour, when both new triangles face up, covers the ring exactly; the
+// signed area, and so the area check, is unchanged. Returns how many stay turned over.
+size_t untwist(std::vector<uint32_t>& tri, const std::vector<glm::dvec2>& pts) {
+    const size_t n = tri.size() / 3;
+    auto key = [](uint32_t a, uint32_t b) { return uint64_t(a) << 32 | b; };
+    auto turned = [&](size_t t) { return facesDown(pts[tri[3 * t]], pts[tri[3 * t + 1]], pts[tri[3 * t + 2]]); };
+    std::vector<size_t> todo;
+    for (size_t t = 0; t < n; ++t)
+        if (turned(t)) todo.push_back(t);
+    if (todo.empty()) return 0;
+    std::unordered_map<uint64_t, size_t> edge;  // directed edge -> its triangle
+    for (size_t t = 0; t < n; ++t)
+        for (int k = 0; k < 3; ++k) edge[key(tri[3 * t + k], tri[3 * t + (k + 1) % 3])] = t;
+    while (!todo.empty()) {
+        std::vector<size_t> left;
+        for (size_t t : todo) {
+            if (!turned(t)) continue;
+            bool flipped = false;
+            for (int k = 0; k < 3 && !flipped; ++k) {
+                const uint32_t u = tri[3 * t + k], v = tri[3 * t + (k + 1) % 3], w = tri[3 * t + (k + 2) % 3];
+                const auto it = edge.find(key(v, u));
+                if (it == edge.end()) continue;
+                const size_t s = it->second;
+                uint32_t x = tri[3 * s];
+                for (int j = 0; j < 3; ++j)
+                    if (tri[3 * s + j] != u && tri[3 * s + j] != v) x = tri[3 * s + j];
+                // (u, v, w) and (v, u, x) become (u, x, w) and (x, v, w).
+                if (x == w || cross2(pts[u], pts[x], pts[w]) <= 0.0 || cross2(pts[x], pts[v], pts[w]) <= 0.0) continue;
+                tri[3 * t] = u, tri[3 * t + 1] = x, tri[3 * t + 2] = w;
+                tri[3 * s] = x, tri[3 * s + 1] = v, tri[3 * s + 2] = w;
+                edge.erase(key(u, v));
+                edge.erase(key(v, u));
+                edge[key(u, x)] = t, edge[key(x, w)] = t, edge[key(w, u)] = t;
+                edge[key(x, v)] = s, edge[key(v, w)] = s, edge[key(w, x)] = s;
+                flipped = true;
+            }
+            if (!flipped) left.push_back(t);
+        }
+        if (left.size() == todo.size()) break;
+        todo = std::move(left);
+    }
+    size_t stay = 0;
+    for (size_t t = 0; t < n; ++t) stay += turned(t);
+    return stay;
+}
+
+// The signed area of triangles of the plane.
+double signedArea(const std::vector<uint32_t>& tri, const std::vector<glm::dvec2>& pts) {
+    double a = 0.0;
+    for (size_t k = 0; k + 2 < tri.size(); k += 3) a += cross2(pts[tri[k]], pts[tri[k + 1]], pts[tri[k + 2]]) / 2.0;
+    return a;
+}
+
 struct PrismBuilder {
     std::vector<vec3> positions, normals;
     std::vector<uint32_t> indices;
     double triangleArea = 0.0;
     size_t topTriangles = 0;
+    size_t turnedOver = 0;     // top triangles facing down in the map's plane (covering outside the ring)
     double polygonArea = 0.0;  // of the polygons in the map's plane
 
     // `p` in the plane it is triangulated in; `project` (when given) takes its points to the map's plane.
@@ -53,7 +123,17 @@ struct PrismBuilder {
                 positions.push_back(vec3(float(q.x), float(q.y), height));
                 normals.push_back(vec3(0, 0, 1));
             }
-        const std::vector<uint32_t> tri = triangulatePolygon(src);
+        std::vector<uint32_t> tri = triangulatePolygon(src);
+        size_t down = untwist(tri, pts);
+        if (down > 0 && project) {
+            // What flips cannot mend: the polygon triangulated in the map's plane, where its runs are bent,
+            // kept when it covers the polygon's area with every triangle facing up.
+            std::vector<uint32_t> again = triangulatePolygon(p);
+            const double area = sg::polygonArea(p);
+            if (untwist(again, pts) == 0 && std::abs(signedArea(again, pts) - area) <= 1e-9 * std::abs(area))
+                tri = std::move(again), down = 0;
+        }
+        turnedOver += down;
         topTriangles += tri.size() / 3;
         polygonArea += sg::polygonArea(p);
         for (size_t k = 0; k + 2 < tri.size(); k += 3) {
@@ -144,6 +224,9 @@ MapLevel buildMapLevel(const std::vector<GeoRegion>& regions, const std::vector<
         const double err = polyArea > 0.0 ? std::abs(b.triangleArea - polyArea) / polyArea : 0.0;
         const std::string label = r.id.empty() ? r.name : r.id;
         if (err > 1e-6) level.problems.push_back(label + ": area off by " + std::to_string(err));
+        if (b.turnedOver > 0)
+            level.problems.push_back(label + ": " + std::to_string(b.turnedOver) +
+                                     " top triangles turned over in the map's plane");
         if (err >= level.maxAreaError) {
             level.maxAreaError = err;
             level.worstRegion = label;

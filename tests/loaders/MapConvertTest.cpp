@@ -102,6 +102,46 @@ TEST(MapConvert, RegionsBecomePrismsWithTopsUpAndWallsOut) {
     EXPECT_EQ(level.properties.at(level.root->child(0)).strings.count("child"), 0u);
 }
 
+// A border along a parallel is a straight run in degrees, where the region is triangulated, and an arc bending
+// into the region once projected by the conic: the top faces cover the region up to the arc, not the chords of
+// flat ears turned over.
+TEST(MapConvert, TopFacesStopAtABorderAlongAParallel) {
+    GeoRing ring{{-110.0, 45.0}, {-90.0, 45.0}};
+    for (double lon = -90.0; lon >= -110.0; lon -= 0.25) ring.push_back({lon, 49.0});
+    const GeoRegion r{"1", "North", {{ring, {}}}};
+    const MapProjection p = MapProjection::usState("48");
+    MapLevelOptions o;  // the region as the converter gives it: longitudes about the projection's centre
+    const MapLevel level = buildMapLevel({p.cutAtEdge(r)}, {1.0}, o, {p});
+    EXPECT_TRUE(level.problems.empty()) << level.problems.front();
+    const Mesh& m = *geometry(*level.root->child(0)).mesh();
+    auto covering = [&](double lon, double lat) {
+        const glm::dvec2 q = p.project(lon, lat);
+        int n = 0;
+        for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+            glm::dvec2 v[3];
+            bool top = true;
+            for (int k = 0; k < 3; ++k) {
+                const vec3 a = m.positions()[m.index(3 * t + k)];
+                v[k] = glm::dvec2(a.x, a.y);
+                top = top && m.normals()[m.index(3 * t + k)].z > 0.5f;
+            }
+            if (!top) continue;
+            double s[3];
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec2 e = v[(k + 1) % 3] - v[k], f = q - v[k];
+                s[k] = e.x * f.y - e.y * f.x;
+            }
+            n += (s[0] >= 0 && s[1] >= 0 && s[2] >= 0) || (s[0] <= 0 && s[1] <= 0 && s[2] <= 0);
+        }
+        return n;
+    };
+    // 1.1 km either side of the parallel (the chords between the run's points sag under 0.3 km).
+    for (double lon = -109.9; lon < -90.0; lon += 0.5) {
+        EXPECT_EQ(covering(lon, 49.01), 0) << lon;
+        EXPECT_EQ(covering(lon, 48.99), 1) << lon;
+    }
+}
+
 TEST(MapConvert, HeightMayEncodeArea) {
     GeoRegion small{"s", "", {{{{0, 0}, {1, 0}, {1, 1}, {0, 1}}, {}}}};
     GeoRegion big{"b", "", {{{{0, 0}, {4, 0}, {4, 4}, {0, 4}}, {}}}};
