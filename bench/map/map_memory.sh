@@ -17,7 +17,7 @@ trap 'rm -f "$script"' EXIT
   echo "frames 60"
   echo "stats"
   echo "enter 48"
-  echo "frames 10"
+  echo "frames 30"
   echo "stats"
   echo "back"
   echo "$states" | awk 'BEGIN { srand(1) } { n = split($0, s, " "); for (i = 1; i <= 100; i++) {
@@ -27,11 +27,12 @@ trap 'rm -f "$script"' EXIT
 } > "$script"
 "$build/examples/sgmap" --headless --data "$data" --script "$script" | awk -F'\t' '
   /^level/ { n++; for (i = 1; i <= NF; i++) { split($i, kv, " "); v[n, kv[1]] = kv[2] } }
-  /^state\t48\t/ { texas = $4 }
+  /^state\t48\t/ { texas = $4 " " $5; after = 1; next }
+  /^frames/ && after { texasFrames = $3; after = 0 }
   END {
     printf "world level: %.1f fps\n", v[1, "fps"]
     printf "U.S. level: %.1f fps\n", v[2, "fps"]
-    printf "entering Texas: %s\n", texas
+    printf "entering Texas: %s; then at the same view: %s\n", texas, texasFrames
     g = v[3, "geometry_kb"]; e = v[3, "empty_kb"]; r = v[3, "rss_kb"]
     printf "Texas loaded: resident %.1f MB; geometry %.1f MB + program without a map %.1f MB = %.1f MB; ratio %.2f\n",
       r / 1024, g / 1024, e / 1024, (g + e) / 1024, r / (g + e)
