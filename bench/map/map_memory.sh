@@ -3,10 +3,12 @@
 # loaded levels' geometry plus the program without a map; then 100 enter/back cycles over random states (fixed
 # seed) and the resident memory after the first cycle and after the last. Also the frame rate at the world and
 # U.S. levels (1280x720) and the time to enter Texas.
-#   bench/map/map_memory.sh BUILD_DIR [DATA_DIR]     (DATA_DIR: BUILD_DIR/mapdata/levels)
+#   bench/map/map_memory.sh BUILD_DIR [DATA_DIR [SGMAP_OPTION...]]   (DATA_DIR: BUILD_DIR/mapdata/levels;
+#   e.g. --loader-nice 10)
 set -euo pipefail
-build=${1:?usage: map_memory.sh BUILD_DIR [DATA_DIR]}
+build=${1:?usage: map_memory.sh BUILD_DIR [DATA_DIR [SGMAP_OPTION...]]}
 data=${2:-$build/mapdata/levels}
+shift $(( $# < 2 ? $# : 2 ))
 states="01 02 04 05 06 08 09 10 11 12 13 15 16 17 18 19 20 21 22 23 24 25 26 27 28 29 30 31 32 33 34 35 36 37 38 39 40 41 42 44 45 46 47 48 49 50 51 53 54 55 56 72"
 script=$(mktemp)
 trap 'rm -f "$script"' EXIT
@@ -25,7 +27,7 @@ trap 'rm -f "$script"' EXIT
   echo "frames 10"
   echo "stats"
 } > "$script"
-"$build/examples/sgmap" --headless --data "$data" --script "$script" | awk -F'\t' '
+"$build/examples/sgmap" --headless --data "$data" --script "$script" "$@" | awk -F'\t' '
   /^level/ { n++; for (i = 1; i <= NF; i++) { split($i, kv, " "); v[n, kv[1]] = kv[2] } }
   /^state\t48\t/ { texas = $4 " " $5; after = 1; next }
   /^frames/ && after { texasFrames = $3; after = 0 }

@@ -1,5 +1,7 @@
 #include "map/Options.h"
 
+#include "map/Atlas.h"
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,6 +20,7 @@ const char* kUsage =
     "  --data DIR      the converted levels (world.glb, us.glb, states/); default: the build tree's\n"
     "  --size WxH      window or picture size (default 1280x720)\n"
     "  --overlay       headless: draw the overlay into screenshots\n"
+    "  --loader-nice N the loader thread's nice value, 0 (default: the program's priority) to 19\n"
     "  --frames N      window: quit after N frames;  --commands \"a;b\": window: commands run at start\n"
     "in the window: click picks, right click or B goes back up, scroll zooms (a region covering more than half\n"
     "  of the window is entered), drag pans, E enters the region in the centre, H the overlay, P a screenshot\n";
@@ -42,6 +45,12 @@ int readCommandLine(int argc, char** argv, Options& o) {
             o.dataDir = v;
         } else if (a == "--commands" && (v = value())) {
             o.commands = v;
+        } else if (a == "--loader-nice" && (v = value())) {
+            o.loaderNice = std::atoi(v);
+            if (o.loaderNice < 0 || o.loaderNice > 19) {
+                std::fprintf(stderr, "sgmap: --loader-nice wants 0 to 19, not '%s'\n", v);
+                return 2;
+            }
         } else if (a == "--frames" && (v = value())) {
             o.frames = std::atoi(v);
             if (o.frames < 1) {
@@ -60,6 +69,12 @@ int readCommandLine(int argc, char** argv, Options& o) {
         }
     }
     return -1;
+}
+
+AtlasSettings atlasSettings(const Options& o) {
+    AtlasSettings s;
+    s.pager.loaderNice = o.loaderNice;
+    return s;
 }
 
 std::string dataDirectory(const Options& o) {

@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
         // The program without a map (its GL context and renderer): what `stats` compares the memory with.
         OsmesaDisplay display(o.width, o.height);
         const size_t emptyKb = Session::residentKb();
-        Atlas atlas(dir);
+        Atlas atlas(dir, atlasSettings(o));
         std::fprintf(stderr, "sgmap: %s map from %s: %zu regions, %zu triangles at the world level\n",
                      atlas.generated() ? "generated" : "real", dir.c_str(), atlas.level().regions.size(),
                      atlas.level().triangles);

@@ -46,7 +46,7 @@ int main(int argc, char** argv) {
     if (const int code = readCommandLine(argc, argv, o); code >= 0) return code;
     try {
         const std::string dir = dataDirectory(o);
-        Atlas atlas(dir);
+        Atlas atlas(dir, atlasSettings(o));
         sg::GlfwWindow window(o.width, o.height, "sgmap");
         WindowDisplay display;
         Session session(atlas, display, window.width(), window.height());
