@@ -870,7 +870,7 @@ Factory buildFactory(const FactoryParams& prm) {
         b.kind = s.kind;
         b.place = make<Transform>();
         b.place->setTranslation(s.centre);
-        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.06f}, prm.pixelError);
+        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.25f, 0.06f}, prm.pixelError);
         {
             const Mesh& fine = *static_cast<Geometry&>(*b.lod->child(0)).mesh();
             const DetailedSurface surface(fine);
