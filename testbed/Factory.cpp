@@ -6,11 +6,15 @@
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "sg/core/Assert.h"
+#include "sg/intersect/IntersectPrimitives.h"
+#include "sg/intersect/MeshBvh.h"
 #include "sg/lod/LodGenerator.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 #include <random>
 #include <set>
@@ -478,6 +482,174 @@ struct TriangleCount {
     }
 };
 
+// A building's detailed model as the source of its coarse levels' attributes: the point of its surface nearest a
+// point of a coarse level among the triangles that face within 45 degrees of the same way (a wall's colour and
+// texture must not come from the other side of it, nor from a sill's top), found through a BVH.
+class DetailedSurface {
+public:
+    explicit DetailedSurface(const Mesh& fine) : fine_(fine), bvh_(fine) {}
+
+    struct Point {
+        uint32_t v[3];
+        float w[3];  // barycentric weights of v
+    };
+    // False when no such triangle is within 2 m.
+    bool nearest(const dvec3& p, const dvec3& n, Point& out) const {
+        for (double r = 0.25; r <= 2.0; r *= 2.0) {
+            double best = r;
+            bool found = false;
+            bvh_.overlapping(Box{p - dvec3(r), p + dvec3(r)}, [&](uint32_t t) {
+                dvec3 q[3];
+                bvh_.triangle(t, q[0], q[1], q[2]);
+                const dvec3 c = glm::cross(q[1] - q[0], q[2] - q[0]);
+                if (!(glm::dot(c, n) >= 0.7 * glm::length(c) * glm::length(n))) return;
+                const dvec3 x = isect::closestPointOnTriangle(p, q[0], q[1], q[2]);
+                const double d = glm::length(x - p);
+                if (d > best) return;
+                double u = 0.0, w = 0.0;
+                isect::barycentric(x, q[0], q[1], q[2], u, w);
+                best = d;
+                found = true;
+                for (int k = 0; k < 3; ++k) out.v[k] = fine_.index(3 * size_t(t) + k);
+                out.w[0] = float(1.0 - u - w), out.w[1] = float(u), out.w[2] = float(w);
+            });
+            if (found) return true;
+        }
+        return false;
+    }
+    template <class T>
+    static T at(const std::vector<T>& a, const Point& x) {
+        return x.w[0] * a[x.v[0]] + x.w[1] * a[x.v[1]] + x.w[2] * a[x.v[2]];
+    }
+
+    // How coarse level m's vertices take their colours from the detailed level: the detailed colours sampled
+    // over each vertex's triangles about every metre, on the detailed surface facing the way the vertex's
+    // normal does, weighted as the coarse surface interpolates them (the sample's barycentric weight and its
+    // share of the area), so that a coarse face's mean colour is that of the detailed surface under it.
+    FactoryColorShare shareFor(const Mesh& m) const {
+        const std::vector<vec3>& mn = m.normals();
+        std::vector<std::map<uint32_t, double>> acc(m.positions().size());
+        for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+            uint32_t v[3];
+            dvec3 q[3];
+            for (int k = 0; k < 3; ++k) q[k] = dvec3(m.positions()[v[k] = m.index(3 * size_t(t) + k)]);
+            const double area = 0.5 * glm::length(glm::cross(q[1] - q[0], q[2] - q[0]));
+            if (!(area > 0.0)) continue;
+            const double longest =
+                std::max({glm::length(q[1] - q[0]), glm::length(q[2] - q[1]), glm::length(q[0] - q[2])});
+            const int k = std::clamp(int(std::ceil(longest)), 1, 64);
+            const double share = area / ((k + 1) * (k + 2) / 2);
+            // Corners that face the same way look up the same point.
+            const bool same = glm::dot(mn[v[0]], mn[v[1]]) > 0.999f && glm::dot(mn[v[0]], mn[v[2]]) > 0.999f;
+            for (int i = 0; i <= k; ++i)
+                for (int j = 0; i + j <= k; ++j) {
+                    // Points of a triangular grid, pulled a third of a step inside so that none is a corner.
+                    const double b[3] = {1.0 - (i + j + 2.0 / 3.0) / (k + 1.0), (i + 1.0 / 3.0) / (k + 1.0),
+                                         (j + 1.0 / 3.0) / (k + 1.0)};
+                    const dvec3 x = b[0] * q[0] + b[1] * q[1] + b[2] * q[2];
+                    Point near{};
+                    bool found = false;
+                    for (int e = 0; e < 3; ++e) {
+                        if (e == 0 || !same) found = nearest(x, dvec3(mn[v[e]]), near);
+                        if (!found) continue;
+                        for (int c = 0; c < 3; ++c) acc[v[e]][near.v[c]] += share * b[e] * near.w[c];
+                    }
+                }
+        }
+        FactoryColorShare out;
+        const std::vector<vec3>&fp = fine_.positions(), &fn = fine_.normals();
+        for (size_t v = 0; v < acc.size(); ++v) {
+            out.start.push_back(uint32_t(out.from.size()));
+            double total = 0.0;
+            for (const auto& [from, w] : acc[v]) total += w;
+            if (total > 0.0) {
+                for (const auto& [from, w] : acc[v])
+                    if (w > 0.0) out.from.push_back(from), out.weight.push_back(float(w / total));
+                continue;
+            }
+            // No detailed surface faces its way near its triangles: the nearest detailed vertex that does, else
+            // the nearest.
+            double best = std::numeric_limits<double>::infinity();
+            uint32_t pick = 0;
+            for (int pass = 0; pass < 2 && !std::isfinite(best); ++pass)
+                for (size_t k = 0; k < fp.size(); ++k) {
+                    if (pass == 0 && !(k < fn.size() && glm::dot(fn[k], mn[v]) >= 0.7f)) continue;
+                    const double d = glm::length(dvec3(fp[k]) - dvec3(m.positions()[v]));
+                    if (d < best) best = d, pick = uint32_t(k);
+                }
+            out.from.push_back(pick);
+            out.weight.push_back(1.0f);
+        }
+        out.start.push_back(uint32_t(out.from.size()));
+        return out;
+    }
+
+private:
+    const Mesh& fine_;
+    MeshBvh bvh_;
+};
+
+// A coarse level as the simplifier leaves a flat-shaded model: its triangles reuse whichever vertex each cluster
+// kept, with that vertex's normal and texture coordinates, which mostly belong to a face that looks another way
+// (sun and shade on the wrong walls, the window texture scattered). Rebuilt with a vertex per position and face
+// orientation, its normal the faces' and its texture coordinates and colour the detailed surface's there.
+void reshadeCoarseLevel(const DetailedSurface& surface, const Mesh& fine, Mesh& m) {
+    std::vector<vec3> pos, nrm;
+    std::vector<vec2> uv;
+    std::vector<uint32_t> idx;
+    std::map<std::pair<uint32_t, std::array<int, 3>>, uint32_t> made;
+    std::vector<dvec3> nsum;
+    for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+        uint32_t v[3];
+        dvec3 q[3];
+        for (int k = 0; k < 3; ++k) q[k] = dvec3(m.positions()[v[k] = m.index(3 * size_t(t) + k)]);
+        dvec3 n = glm::cross(q[1] - q[0], q[2] - q[0]);
+        if (!(glm::length(n) > 0.0)) continue;  // a collapsed triangle covers nothing
+        n = glm::normalize(n);
+        const std::array<int, 3> key{int(std::lround(n.x * 64.0)), int(std::lround(n.y * 64.0)),
+                                     int(std::lround(n.z * 64.0))};
+        for (int k = 0; k < 3; ++k) {
+            const auto it = made.emplace(std::make_pair(v[k], key), uint32_t(pos.size())).first;
+            if (it->second == pos.size()) {
+                pos.push_back(m.positions()[v[k]]);
+                nsum.push_back(dvec3(0.0));
+            }
+            nsum[it->second] += n;
+            idx.push_back(it->second);
+        }
+    }
+    nrm.resize(pos.size());
+    for (size_t v = 0; v < pos.size(); ++v) nrm[v] = vec3(glm::normalize(nsum[v]));
+    const bool hasUv = fine.uvs().size() == fine.positions().size();
+    if (hasUv) {
+        uv.resize(pos.size());
+        for (size_t v = 0; v < pos.size(); ++v) {
+            DetailedSurface::Point near{};
+            uv[v] = surface.nearest(dvec3(pos[v]), dvec3(nrm[v]), near) ? DetailedSurface::at(fine.uvs(), near)
+                                                                        : vec2(kFactoryWhiteUv);
+        }
+    }
+    m.set(std::move(pos), std::move(nrm), std::move(idx), std::move(uv));
+}
+
+// Sets m's colours from the detailed level's colours `fc` by `share`; throws naming `fn` when they do not match.
+void applyColorShare(const FactoryColorShare& share, const std::vector<vec4>& fc, Mesh& m, const char* fn) {
+    if (share.start.size() != m.positions().size() + 1 || share.start.back() != share.from.size() ||
+        share.weight.size() != share.from.size())
+        throw std::invalid_argument(std::string(fn) + ": a colour share made for another mesh");
+    std::vector<vec4> col(m.positions().size(), vec4(0.0f));
+    for (size_t v = 0; v < col.size(); ++v)
+        for (uint32_t k = share.start[v]; k < share.start[v + 1]; ++k) {
+            if (share.from[k] >= fc.size())
+                throw std::invalid_argument(std::string(fn) + ": the detailed level has " + std::to_string(fc.size()) +
+                                            " colours, the share reads colour " + std::to_string(share.from[k]));
+            col[v] += share.weight[k] * fc[share.from[k]];
+        }
+    std::vector<uint32_t> idx(m.indexCount());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
+    m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));
+}
+
 }  // namespace
 
 Factory buildFactory(const FactoryParams& prm) {
@@ -698,7 +870,27 @@ Factory buildFactory(const FactoryParams& prm) {
         b.kind = s.kind;
         b.place = make<Transform>();
         b.place->setTranslation(s.centre);
-        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.06f}, prm.pixelError);
+        b.lod = makeLod(buildingMesh(s), s.brick ? brickMat : wallMat, {0.25f, 0.06f}, prm.pixelError);
+        {
+            const Mesh& fine = *static_cast<Geometry&>(*b.lod->child(0)).mesh();
+            const DetailedSurface surface(fine);
+            for (size_t i = 1; i < b.lod->numChildren(); ++i) {
+                Mesh* m = static_cast<Geometry&>(*b.lod->child(i)).mesh();
+                if (m != static_cast<Geometry&>(*b.lod->child(i - 1)).mesh()) {
+                    reshadeCoarseLevel(surface, fine, *m);
+                    b.coarseColors.push_back(surface.shareFor(*m));
+                    applyColorShare(b.coarseColors.back(), fine.colors(), *m, "scenes::buildFactory()");
+                } else if (i > 1) {
+                    b.coarseColors.push_back(b.coarseColors.back());  // the simplifier repeated the level before
+                } else {
+                    FactoryColorShare same;  // level 1 repeats the detailed mesh: its own colours
+                    for (uint32_t v = 0; v <= uint32_t(fine.positions().size()); ++v) same.start.push_back(v);
+                    same.from.assign(same.start.begin(), same.start.end() - 1);
+                    same.weight.assign(same.from.size(), 1.0f);
+                    b.coarseColors.push_back(std::move(same));
+                }
+            }
+        }
         b.lod->setTransition(float(prm.fadeFraction * b.lod->range(1).min));
         b.place->addChild(b.lod);
         b.roof = make<Geometry>(roofMesh(s), roofMat);
@@ -906,6 +1098,20 @@ void shareTerrainColors(Factory& f) {
             for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
             m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));
         }
+    }
+}
+
+void shareBuildingColors(Factory& f) {
+    for (size_t bi = 0; bi < f.buildings.size(); ++bi) {
+        const FactoryBuilding& b = f.buildings[bi];
+        const std::vector<vec4>& fc = static_cast<const Geometry&>(*b.lod->child(0)).mesh()->colors();
+        if (b.coarseColors.size() + 1 != b.lod->numChildren())
+            throw std::invalid_argument("scenes::shareBuildingColors(): building " + std::to_string(bi) + " has " +
+                                        std::to_string(b.coarseColors.size()) + " colour shares for " +
+                                        std::to_string(b.lod->numChildren() - 1) + " coarse levels");
+        for (size_t level = 1; level < b.lod->numChildren(); ++level)
+            applyColorShare(b.coarseColors[level - 1], fc, *static_cast<const Geometry&>(*b.lod->child(level)).mesh(),
+                            "scenes::shareBuildingColors()");
     }
 }
 

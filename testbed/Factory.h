@@ -29,14 +29,22 @@ struct FactoryParams {
     double fadeFraction = 0.1;     // fade band width, as a share of the distance where the level switches
 };
 
-// One of the 11 buildings: its placement, its two-level model and the occluder standing for it.
+// How a coarse level of a building model takes its colours from the detailed level: vertex v's colour is the sum,
+// over k in [start[v], start[v + 1]), of weight[k] times the detailed level's colour of its vertex from[k].
+struct FactoryColorShare {
+    std::vector<uint32_t> start, from;
+    std::vector<float> weight;
+};
+
+// One of the 11 buildings: its placement, its levelled model and the occluder standing for it.
 struct FactoryBuilding {
     std::string kind;  // "workshop", "auxiliary", "technology" or "office"
     sg::ref_ptr<sg::Transform> place;
-    sg::ref_ptr<sg::LOD> lod;            // child 0 the detailed model, child 1 the simplified one
-    sg::ref_ptr<sg::Geometry> roof;      // the roofing over the model's slab, beside the LOD (its own texture)
-    sg::ref_ptr<sg::Occluder> occluder;  // world box, under the root's "occluders" group (not switched)
-    sg::Box box;                         // world box of the walls and roof (what an eye is "inside")
+    sg::ref_ptr<sg::LOD> lod;                     // child 0 the detailed model, then the simplified ones
+    sg::ref_ptr<sg::Geometry> roof;               // the roofing over the model's slab, beside the LOD (its own texture)
+    sg::ref_ptr<sg::Occluder> occluder;           // world box, under the root's "occluders" group (not switched)
+    sg::Box box;                                  // world box of the walls and roof (what an eye is "inside")
+    std::vector<FactoryColorShare> coarseColors;  // of LOD child i >= 1 at i - 1 (see shareBuildingColors)
 };
 
 struct FactoryWorkshop {
@@ -76,6 +84,15 @@ Factory buildFactory(const FactoryParams& params = {});
 // the mean of the finest colours within half its level's spacing (a coarse level stands for that area).
 // Throws std::invalid_argument naming the function for a terrain that buildFactory() did not make.
 void shareTerrainColors(Factory& f);
+
+// Gives the coarse levels of every building model colours from its detailed level, after those have changed
+// (baked light), by the building's coarseColors, which buildFactory() makes: each coarse vertex takes the
+// detailed surface's colour sampled over its triangles, at the nearest point facing within 45 degrees of the
+// vertex's normal, weighted as the coarse surface interpolates it, so that a coarse face's mean colour is the
+// detailed surface's under it. Light baked from the coarse levels' own vertices would be sampled on simplified
+// faces behind the detailed walls, in the dark. Throws std::invalid_argument naming the function for a building
+// whose coarseColors do not match its levels.
+void shareBuildingColors(Factory& f);
 
 // The workshop whose box holds `eye`, or -1.
 int factoryWorkshopAt(const Factory& f, const sg::dvec3& eye);

@@ -61,8 +61,10 @@ FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir
     // their own would start under the ground wherever a coarse surface dips below the fine one (black
     // patches), and a shadow caught by one coarse vertex would spread over its whole fan.
     for (size_t i = 0; i < f.terrain->numChildren(); ++i) add(f.terrain->child(i)->child(0), dmat4(1.0));
+    // A building's detailed level likewise: a coarse level's vertices would sample the light on its simplified
+    // faces, which run behind the detailed walls (black from its switch distance on).
     for (const FactoryBuilding& b : f.buildings) {
-        for (size_t i = 0; i < b.lod->numChildren(); ++i) add(b.lod->child(i), b.place->matrix());
+        add(b.lod->child(0), b.place->matrix());
         add(b.roof.get(), b.place->matrix());
     }
     FactoryLightingStats st;
@@ -74,11 +76,14 @@ FactoryLightingStats bakeFactoryLighting(Factory& f, const std::string& cacheDir
     scene.update();
     st.cached = VertexLightBaker::bakeCached(scene, targets, factoryLightParams(), seed, cacheDir);
     shareTerrainColors(f);
-    for (size_t i = 0; i < f.terrain->numChildren(); ++i) {
-        Node* tile = f.terrain->child(i);
-        for (size_t k = 1; k < tile->numChildren(); ++k) {
-            auto* g = static_cast<Geometry*>(tile->child(k));
-            g->setMaterial(static_cast<Geometry*>(tile->child(0))->material());
+    shareBuildingColors(f);
+    std::vector<Node*> lods;
+    for (size_t i = 0; i < f.terrain->numChildren(); ++i) lods.push_back(f.terrain->child(i));
+    for (const FactoryBuilding& b : f.buildings) lods.push_back(b.lod.get());
+    for (Node* lod : lods) {
+        for (size_t k = 1; k < lod->numChildren(); ++k) {
+            auto* g = static_cast<Geometry*>(lod->child(k));
+            g->setMaterial(static_cast<Geometry*>(lod->child(0))->material());
             st.vertices += g->mesh()->positions().size();
         }
     }

@@ -1,6 +1,6 @@
 // The factory site's lighting: a sun at 40 degrees whose soft shadows and ambient occlusion are baked into
-// the vertex colours of the terrain tiles (the finest level, shared with the coarse ones), both levels of every
-// building model and the roofs, and the run-time light (diffuse and highlights per fragment) that goes with them.
+// the vertex colours of the terrain tiles and of the building models (each one's finest level, shared with its
+// coarse ones) and the roofs, and the run-time light (diffuse and highlights per fragment) that goes with them.
 #pragma once
 #include "sg/core/DirectionalLight.h"
 #include "sg/intersect/VertexLightBaker.h"
@@ -13,7 +13,7 @@ namespace scenes {
 struct FactoryLightingStats {
     bool cached = false;    // the colours came from the cache file
     double ms = 0.0;        // wall time of the whole call (bake or read)
-    uint64_t vertices = 0;  // vertices lit (the coarse terrain levels' too)
+    uint64_t vertices = 0;  // vertices lit (the coarse levels' too)
     int targets = 0;        // meshes lit
 };
 

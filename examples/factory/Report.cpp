@@ -31,8 +31,8 @@ ModeSummary summarize(const ModeRun& run) {
     s.name = modeName(run.mode);
     s.budgetMs = run.budgetMs;
     std::vector<double> frame, fps, dev;
-    double draw = 0, tris = 0, verts = 0, mae = 0;
-    int compared = 0;
+    double draw = 0, tris = 0, verts = 0, mae = 0, reducedMs = 0;
+    int compared = 0, reduced = 0;
     for (const FrameRecord& r : run.frames) {
         frame.push_back(r.frameMs);
         fps.push_back(1000.0 / std::max(1e-6, r.frameMs));
@@ -43,6 +43,12 @@ ModeSummary summarize(const ModeRun& run) {
         if (r.mae >= 0) {
             mae += r.mae;
             ++compared;
+            if (r.mae == 0.0) {
+                ++s.fullDetailFrames;
+            } else {
+                reducedMs += r.frameMs;
+                ++reduced;
+            }
         }
     }
     const double n = std::max<double>(1.0, double(run.frames.size()));
@@ -55,6 +61,7 @@ ModeSummary summarize(const ModeRun& run) {
     s.verticesMean = verts / n;
     s.imageMae = compared ? mae / compared : -1.0;
     s.budgetAbsDevP95 = percentile(dev, 0.95);
+    s.frameMsMeanReduced = reduced ? reducedMs / reduced : -1.0;
     return s;
 }
 
@@ -114,7 +121,10 @@ void printJson(std::FILE* out, const Summary& s) {
                      m.name.c_str(), m.fpsMedian, m.frameMsMedian, m.frameMsMean, m.frameMsP95, m.drawMsMean,
                      m.trianglesMean, m.verticesMean, m.imageMae);
         if (m.name == "budget")
-            std::fprintf(out, ", \"budget_ms\": %.3f, \"budget_abs_dev_p95_ms\": %.4f", m.budgetMs, m.budgetAbsDevP95);
+            std::fprintf(out,
+                         ", \"budget_ms\": %.3f, \"budget_abs_dev_p95_ms\": %.4f, \"full_detail_frames\": %d, "
+                         "\"frame_ms_mean_reduced\": %.4f",
+                         m.budgetMs, m.budgetAbsDevP95, m.fullDetailFrames, m.frameMsMeanReduced);
         std::fprintf(out, "}");
     }
     std::fprintf(out, "}\n");

@@ -1,6 +1,8 @@
 // The factory walkthrough (examples/factory): a short path's invariants in process (Switch state inside the
 // workshop, no collision penetrations, visible triangles below the site's total, the machine mesh stored
-// once, frames equal to their no-cull references), and the program itself (JSON, pictures, bad options).
+// once, frames equal to their no-cull references), the summary's split of the budget's frames, and the program
+// itself (JSON, pictures, bad options).
+#include "factory/Report.h"
 #include "factory/Walkthrough.h"
 #include "integration/ProgramRun.h"
 #include "nodes/Geometry.h"
@@ -138,11 +140,11 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
     const Result r =
         runFactory("--headless --json --frames 40 --size 160x120 --jitter-draws 5 --out-dir pics --cache-dir cache");
     ASSERT_EQ(r.code, 0) << r.err;
-    for (const char* key :
-         {"\"triangles_total\": ", "\"penetrations\": 0,",
-          "\"switch_inside_frames\": ", "\"same_view_jitter_p95_ms\": ", "\"static\": {", "\"budget\": {",
-          "\"stress\": {", "\"fps_median\": ", "\"image_mae\": ", "\"budget_ms\": 33.000",
-          "\"budget_abs_dev_p95_ms\": ", "\"triangles_visible_mean\": ", "\"vertices_visible_mean\": "})
+    for (const char* key : {"\"triangles_total\": ", "\"penetrations\": 0,", "\"switch_inside_frames\": ",
+                            "\"same_view_jitter_p95_ms\": ", "\"static\": {", "\"budget\": {", "\"stress\": {",
+                            "\"fps_median\": ", "\"image_mae\": ", "\"budget_ms\": 33.000",
+                            "\"budget_abs_dev_p95_ms\": ", "\"full_detail_frames\": ", "\"frame_ms_mean_reduced\": ",
+                            "\"triangles_visible_mean\": ", "\"vertices_visible_mean\": "})
         EXPECT_NE(r.out.find(key), std::string::npos) << key << " in " << r.out;
     EXPECT_EQ(r.out.find("\"switch_inside_frames\": 0,"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("factory: lighting baked"), std::string::npos) << r.err;  // a new cache directory
@@ -152,6 +154,29 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
     // A header and one row per mode and frame.
     const std::string csv = slurpFile(dir / "factory-frames.csv");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 40);
+}
+
+TEST(FactoryRun, SummarySeparatesTheFramesDrawnAtFullDetail) {
+    // A budget cannot slow a frame that is already at full detail: its mean over the others is reported apart.
+    ModeRun run;
+    run.mode = LodMode::Budget;
+    run.budgetMs = 33.0;
+    const double ms[4] = {10.0, 20.0, 30.0, 40.0}, mae[4] = {0.0, 0.0, 1.5, 2.5};
+    for (int i = 0; i < 4; ++i) {
+        FrameRecord r;
+        r.frame = i;
+        r.frameMs = ms[i];
+        r.mae = mae[i];
+        run.frames.push_back(r);
+    }
+    ModeSummary s = summarize(run);
+    EXPECT_EQ(s.fullDetailFrames, 2);
+    EXPECT_DOUBLE_EQ(s.frameMsMeanReduced, 35.0);
+    EXPECT_DOUBLE_EQ(s.frameMsMean, 25.0);
+    for (FrameRecord& r : run.frames) r.mae = -1.0;  // not compared
+    s = summarize(run);
+    EXPECT_EQ(s.fullDetailFrames, 0);
+    EXPECT_EQ(s.frameMsMeanReduced, -1.0);
 }
 
 TEST(FactoryRun, BadOptionsExitWithCode2) {

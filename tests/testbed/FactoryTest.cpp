@@ -1,5 +1,6 @@
-// The factory scene (docs/scenes.md): its size, buildings, instanced machines, two-level models, occluders,
-// switches, terrain height function and determinism, and that it culls as an application uses it.
+// The factory scene (docs/scenes.md): its size, buildings, instanced machines, models with coarse levels (coloured
+// from the detailed one), occluders, switches, terrain height function and determinism, and that it culls as an
+// application uses it.
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "sg/cull/CullTraversal.h"
@@ -89,19 +90,27 @@ TEST(Factory, ElevenBuildingsAndFourWorkshopsOfSeventeenInstancedMachines) {
     }
 }
 
-TEST(Factory, BuildingsAndMachinesHaveACoarseLevelAFifthOfTheFineOne) {
+TEST(Factory, BuildingsAndMachinesHaveCoarseLevelsDownToAnOrderOfMagnitudeFewer) {
     const auto& f = factory();
     std::vector<const LOD*> lods{f.machine.get()};
     for (const auto& b : f.buildings) lods.push_back(b.lod.get());
     for (const LOD* lod : lods) {
-        ASSERT_EQ(lod->numChildren(), 2u);
-        const uint32_t fine = levelMesh(*lod, 0)->triangleCount(), coarse = levelMesh(*lod, 1)->triangleCount();
-        EXPECT_LE(coarse * 5u, fine) << fine << " -> " << coarse;
-        EXPECT_GT(coarse, 0u);
-        // Switched where the coarse level's error projects to one pixel, with a fade band there.
-        EXPECT_GT(lod->error(1), 0.0f);
-        EXPECT_NEAR(lod->range(1).min, lod->error(1) * kDefaultPixelsPerRadian, 1e-3 * lod->range(1).min);
-        EXPECT_EQ(lod->range(0).max, lod->range(1).min);
+        // The machine: its detailed and simple model; a building also a middle one, so that the circle round
+        // the site does not draw every building at full detail until the simple one is a pixel off.
+        ASSERT_EQ(lod->numChildren(), lod == f.machine.get() ? 2u : 3u);
+        const size_t last = lod->numChildren() - 1;
+        const uint32_t fine = levelMesh(*lod, 0)->triangleCount();
+        EXPECT_LE(levelMesh(*lod, last)->triangleCount() * 10u, fine);
+        for (size_t i = 1; i <= last; ++i) {
+            const uint32_t coarse = levelMesh(*lod, i)->triangleCount();
+            EXPECT_LT(coarse * 2u, levelMesh(*lod, i - 1)->triangleCount()) << "level " << i;
+            EXPECT_GT(coarse, 0u);
+            // Switched where the level's error projects to one pixel: coarser levels further away.
+            EXPECT_GT(lod->error(i), lod->error(i - 1));
+            EXPECT_NEAR(lod->range(i).min, lod->error(i) * kDefaultPixelsPerRadian, 1e-3 * lod->range(i).min);
+            EXPECT_EQ(lod->range(i - 1).max, lod->range(i).min);
+        }
+        // A fade band at every switch.
         EXPECT_NEAR(lod->transition(), 0.1f * lod->range(1).min, 1e-3f * lod->range(1).min);
     }
 }
@@ -112,8 +121,8 @@ TEST(Factory, OccludersStayInsideTheirBuildings) {
         const dvec3 t = b.place->matrix()[3];
         const Box& occ = b.occluder->box();
         // Inside both models (the simplified one may pull in its outline) and the building's box.
-        EXPECT_TRUE(inside(occ, translated(levelMesh(*b.lod, 0)->box(), t))) << b.kind;
-        EXPECT_TRUE(inside(occ, translated(levelMesh(*b.lod, 1)->box(), t))) << b.kind;
+        for (size_t i = 0; i < b.lod->numChildren(); ++i)
+            EXPECT_TRUE(inside(occ, translated(levelMesh(*b.lod, i)->box(), t))) << b.kind << " level " << i;
         EXPECT_TRUE(inside(occ, b.box)) << b.kind;
         EXPECT_LT(occ.max.z, b.box.max.z);
     }
@@ -440,4 +449,73 @@ TEST(Factory, CoarseTerrainLevelsTakeTheirColoursFromTheFinest) {
             }
         }
     }
+}
+
+TEST(Factory, CoarseBuildingLevelsTakeTheirColoursFromTheDetailedSurfaceFacingTheSameWay) {
+    auto f = scenes::buildFactory();
+    // Detailed colours that tell the way a face looks: a coarse outer wall must take its own side's.
+    auto colorOf = [](const vec3& n) { return vec4(0.5f + 0.5f * n.x, 0.5f + 0.5f * n.y, 0.5f + 0.5f * n.z, 1.0f); };
+    for (const auto& b : f.buildings) {
+        Mesh& m = *levelMesh(*b.lod, 0);
+        std::vector<vec4> col;
+        for (const vec3& n : m.normals()) col.push_back(colorOf(n));
+        std::vector<uint32_t> idx(m.indexCount());
+        for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
+        m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));
+    }
+    scenes::shareBuildingColors(f);
+    for (const auto& b : f.buildings) {
+        const Box box = levelMesh(*b.lod, 0)->box();
+        for (size_t level = 1; level < b.lod->numChildren(); ++level) {
+            const Mesh& m = *levelMesh(*b.lod, level);
+            ASSERT_EQ(m.colors().size(), m.positions().size());
+            // The way each vertex's triangles face, when they all face the same way along x or y out of the
+            // model's box (an outer wall); the simplifier may give a vertex triangles that face other ways.
+            std::vector<vec3> facing(m.positions().size(), vec3(0.0f));
+            std::vector<bool> mixed(m.positions().size(), false);
+            for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+                const uint32_t v[3] = {m.index(3 * t), m.index(3 * t + 1), m.index(3 * t + 2)};
+                const vec3 p0 = m.positions()[v[0]], p1 = m.positions()[v[1]], p2 = m.positions()[v[2]];
+                const vec3 c = glm::cross(p1 - p0, p2 - p0), mid = (p0 + p1 + p2) / 3.0f;
+                if (glm::length(c) == 0.0f) continue;
+                const vec3 n = glm::normalize(c);
+                const bool outer =
+                    (n.x < -0.999f && mid.x < box.min.x + 0.4) || (n.x > 0.999f && mid.x > box.max.x - 0.4) ||
+                    (n.y < -0.999f && mid.y < box.min.y + 0.4) || (n.y > 0.999f && mid.y > box.max.y - 0.4);
+                const vec3 axis = outer ? glm::round(n) : vec3(9.0f);
+                for (uint32_t k : v) {
+                    mixed[k] = mixed[k] || (facing[k] != vec3(0.0f) && facing[k] != axis) || !outer;
+                    facing[k] = axis;
+                }
+            }
+            int walls = 0;
+            for (size_t v = 0; v < m.positions().size(); ++v) {
+                if (mixed[v] || facing[v] == vec3(0.0f)) continue;
+                ++walls;
+                const vec4 c = m.colors()[v], want = colorOf(facing[v]);
+                for (int k = 0; k < 4; ++k) ASSERT_NEAR(c[k], want[k], 1e-4f) << b.kind << " level " << level;
+            }
+            EXPECT_GT(walls, 3) << b.kind << " level " << level;
+        }
+    }
+}
+TEST(Factory, CoarseBuildingLevelsAreShadedByTheirFacesNormals) {
+    const auto& f = factory();
+    for (const auto& b : f.buildings)
+        for (size_t level = 1; level < b.lod->numChildren(); ++level) {
+            const Mesh& m = *levelMesh(*b.lod, level);
+            ASSERT_EQ(m.normals().size(), m.positions().size());
+            ASSERT_EQ(m.uvs().size(), m.positions().size());
+            // Every corner's normal is its face's (the simplifier's shared vertices kept some other face's): the sun
+            // lights the walls that face it.
+            for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+                const uint32_t v[3] = {m.index(3 * t), m.index(3 * t + 1), m.index(3 * t + 2)};
+                const vec3 c =
+                    glm::cross(m.positions()[v[1]] - m.positions()[v[0]], m.positions()[v[2]] - m.positions()[v[0]]);
+                ASSERT_GT(glm::length(c), 0.0f) << b.kind << " level " << level;
+                for (uint32_t k : v)
+                    ASSERT_GT(glm::dot(glm::normalize(c), m.normals()[k]), 0.99f) << b.kind << " level " << level;
+            }
+            ASSERT_EQ(b.coarseColors.size(), b.lod->numChildren() - 1);
+        }
 }
