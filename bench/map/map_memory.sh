@@ -29,7 +29,7 @@ trap 'rm -f "$script"' EXIT
 } > "$script"
 "$build/examples/sgmap" --headless --data "$data" --script "$script" "$@" | awk -F'\t' '
   /^level/ { n++; for (i = 1; i <= NF; i++) { split($i, kv, " "); v[n, kv[1]] = kv[2] } }
-  /^state\t48\t/ { texas = $4 " " $5; after = 1; next }
+  !texas && /^state\t48\t/ { texas = $4 " " $5 " " $6; after = 1; next }
   /^frames/ && after { texasFrames = $3; after = 0 }
   END {
     printf "world level: %.1f fps\n", v[1, "fps"]

@@ -159,7 +159,8 @@ std::string Session::enter(const std::vector<std::string>& args) {
     note_ = "entered " + region.name;
     return atlas_.level().name + "\t" + region.id + "\t" + region.name + fmt("\t%.1f ms", ms) +
            fmt("\t(read %.1f ms", atlas_.pager().stats().lastLoadMs) +
-           fmt("; %.0f frames while loading", double(during.size())) + fmt(", slowest %.1f ms)", worst);
+           fmt("; %.0f frames while loading", double(during.size())) + fmt(", slowest %.1f ms", worst) +
+           fmt("; the level's first frame %.1f ms)", frameMs_.back());
 }
 
 std::string Session::waitIdle() {
