@@ -3,18 +3,16 @@
 // round the site, up to an overview) with the viewpoint collider, drawn once per LOD method (static, time budget,
 // stress); writes PNG frames, a per-frame CSV, and prints the paper's table 1 columns beside its figures (or --json).
 //   factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]; --help lists all
+#include "common/WindowProgram.h"
 #include "factory/Options.h"
 #include "factory/Report.h"
 #include "factory/Site.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/io/ImageIO.h"
 
-#include <unistd.h>
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <map>
 
@@ -35,30 +33,20 @@ int frameOf(const WalkPath& p, const std::string& name, double share) {
     return first < 0 ? -1 : first + std::min(count - 1, int(share * count));
 }
 
-// Without --headless: the window, a program of its own (factory-window, beside this one). It draws through the
-// system libGL, which must not meet the OSMesa GL of the headless run in one process. Returns only on failure.
-int runWindowProgram(char** argv) {
 #ifdef FACTORY_WINDOW_PROGRAM
-    std::error_code ec;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    const std::string exe =
-        ((ec ? std::filesystem::path(argv[0]) : self).parent_path() / FACTORY_WINDOW_PROGRAM).string();
-    argv[0] = const_cast<char*>(exe.c_str());
-    execv(exe.c_str(), argv);
-    std::fprintf(stderr, "factory: cannot start the window program %s: %s\n", exe.c_str(), std::strerror(errno));
-    return 1;
+constexpr const char* kWindowProgram = FACTORY_WINDOW_PROGRAM;
 #else
-    (void)argv;
-    std::fprintf(stderr, "factory: built without GLFW, so there is no window; --headless walks the site offscreen\n");
-    return 2;
+constexpr const char* kWindowProgram = nullptr;
 #endif
-}
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
     if (const int code = readCommandLine(argc, argv, o); code >= 0) return code;
-    if (!o.headless) return runWindowProgram(argv);
+    if (!o.headless)
+        return common::runWindowProgram(
+            argv, kWindowProgram, "factory",
+            "built without GLFW, so there is no window; --headless walks the site offscreen");
     try {
         const auto t0 = Clock::now();
         scenes::Factory f = buildSite(o);

@@ -2,16 +2,15 @@
 // Performer paper's map: a level entered by zooming in on a region or by command, read from disk on the pager's
 // thread, freed on going back; a click picks the region of the current level. Without --headless it starts
 // sgmap-window; with it, a script of commands (or the built-in demo) runs offscreen, one result line per command.
+#include "common/WindowProgram.h"
 #include "map/Atlas.h"
 #include "map/Options.h"
 #include "map/OsmesaDisplay.h"
 #include "map/Session.h"
 
-#include <unistd.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -20,31 +19,21 @@ using namespace sgmap;
 
 namespace {
 
-// Without --headless: the window, a program of its own (sgmap-window, beside this one): it draws through the
-// system libGL, which must not meet OSMesa's in one process. Returns only on failure.
-int runWindowProgram(char** argv) {
 #ifdef SGMAP_WINDOW_PROGRAM
-    std::error_code ec;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    const std::string exe =
-        ((ec ? std::filesystem::path(argv[0]) : self).parent_path() / SGMAP_WINDOW_PROGRAM).string();
-    argv[0] = const_cast<char*>(exe.c_str());
-    execv(exe.c_str(), argv);
-    std::fprintf(stderr, "sgmap: cannot start the window program %s: %s\n", exe.c_str(), std::strerror(errno));
-    return 1;
+constexpr const char* kWindowProgram = SGMAP_WINDOW_PROGRAM;
 #else
-    (void)argv;
-    std::fprintf(stderr, "sgmap: built without GLFW, so there is no window; --headless runs a script offscreen\n");
-    return 2;
+constexpr const char* kWindowProgram = nullptr;
 #endif
-}
 
 }  // namespace
 
 int main(int argc, char** argv) {
     Options o;
     if (const int code = readCommandLine(argc, argv, o); code >= 0) return code;
-    if (!o.headless) return runWindowProgram(argv);
+    if (!o.headless)
+        return common::runWindowProgram(
+            argv, kWindowProgram, "sgmap",
+            "built without GLFW, so there is no window; --headless runs a script offscreen");
     try {
         const std::string dir = dataDirectory(o);
         // The program without a map (its GL context and renderer): what `stats` compares the memory with.
