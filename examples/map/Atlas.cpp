@@ -96,6 +96,36 @@ Box largestPiece(const Mesh& m) {
     return box;
 }
 
+// The regions' meshes as one, each region's vertices coloured by its material.
+void mergeLevel(Level& level, Group& root) {
+    std::vector<vec3> pos, nrm;
+    std::vector<vec4> col;
+    std::vector<uint32_t> idx;
+    for (Region& r : level.regions) {
+        Geometry& g = *r.geometries[0];
+        const Mesh& m = *g.mesh();
+        const vec4 c = g.material() ? g.material()->baseColor : vec4(1.0f);
+        const size_t n = m.positions().size();
+        r.firstVertex = uint32_t(pos.size());
+        r.vertexCount = uint32_t(n);
+        pos.insert(pos.end(), m.positions().begin(), m.positions().end());
+        for (size_t v = 0; v < n; ++v) {
+            nrm.push_back(m.normals().size() == n ? m.normals()[v] : vec3(0.0f, 0.0f, 1.0f));
+            col.push_back(m.colors().size() == n ? c * m.colors()[v] : c);
+        }
+        for (size_t i = 0; i < m.indexCount(); ++i) idx.push_back(r.firstVertex + m.index(i));
+        g.setNodeMask(kPickable);  // picked, not drawn
+    }
+    level.mergedColors = col;
+    auto mesh = make<Mesh>();
+    mesh->set(std::move(pos), std::move(nrm), std::move(idx), {}, std::move(col));
+    auto geom = make<Geometry>(mesh, make<Material>(vec4(1.0f)));
+    geom->setName(level.name + " " + level.parent + " as one mesh");
+    geom->setNodeMask(~(kPickable | kCollidable));  // drawn, not picked
+    root.addChild(geom);
+    level.merged = geom.get();
+}
+
 void replace(Node* old, ref_ptr<Node> with) {
     auto* parent = static_cast<Group*>(old->parent(0));
     const size_t i = parent->indexOf(old);
@@ -105,6 +135,8 @@ void replace(Node* old, ref_ptr<Node> with) {
 }
 
 }  // namespace
+
+const vec4 Atlas::kHighlight{1.0f, 0.85f, 0.2f, 1.0f};
 
 int Level::findId(const std::string& id) const {
     for (size_t i = 0; i < regions.size(); ++i)
@@ -182,6 +214,9 @@ std::shared_ptr<Level> Atlas::readLevel(const std::string& file, const Request* 
         }
     }
     for (size_t i = 0; i < level->regions.size(); ++i) level->byNode[level->regions[i].node] = i;
+    const bool plain = std::none_of(level->regions.begin(), level->regions.end(),
+                                    [](const Region& r) { return r.paged || r.geometries.size() != 1; });
+    if (plain) mergeLevel(*level, static_cast<Group&>(*g.root));
 
     if (!parent) {
         level->root = g.root;
@@ -360,6 +395,21 @@ Box Atlas::sceneBox(size_t index, bool main) {
 }
 
 void Atlas::highlight(int index) {
+    if (Level& l = *chain_.back(); l.merged) {  // the region's vertices of the level's mesh recoloured
+        highlighted_ = index >= 0 && size_t(index) < l.regions.size() ? index : -1;
+        std::vector<vec4> col = l.mergedColors;
+        if (highlighted_ >= 0) {
+            const Region& r = l.regions[size_t(index)];
+            std::fill(col.begin() + r.firstVertex, col.begin() + r.firstVertex + r.vertexCount, kHighlight);
+        }
+        const Mesh& m = *l.merged->mesh();
+        std::vector<uint32_t> idx(m.indexCount());
+        for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
+        auto mesh = make<Mesh>();  // a new mesh, since a renderer keeps its copy of one it has drawn
+        mesh->set(m.positions(), m.normals(), std::move(idx), {}, std::move(col));
+        l.merged->setMesh(mesh);
+        return;
+    }
     if (highlighted_ >= 0) {
         Region& r = chain_.back()->regions[size_t(highlighted_)];
         for (size_t i = 0; i < r.geometries.size() && i < saved_.size(); ++i) r.geometries[i]->setMaterial(saved_[i]);
@@ -368,7 +418,7 @@ void Atlas::highlight(int index) {
     highlighted_ = -1;
     if (index < 0 || size_t(index) >= level().regions.size()) return;
     highlighted_ = index;
-    auto lit = make<Material>(vec4(1.0f, 0.85f, 0.2f, 1.0f));
+    auto lit = make<Material>(kHighlight);
     for (Geometry* g : chain_.back()->regions[size_t(index)].geometries) {
         saved_.push_back(ref_ptr<Material>(g->material()));
         g->setMaterial(lit);

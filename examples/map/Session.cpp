@@ -48,6 +48,7 @@ constexpr double kEnterTimeoutMs = 60000.0;  // a load that takes longer is repo
 }  // namespace
 
 Session::Session(Atlas& atlas, Display& display, int width, int height) : atlas_(atlas), display_(display) {
+    settings_.traversalMask = ~(kPickable | kCollidable);  // a level's pick-only regions are not drawn
     view_.width = width;
     view_.height = height;
     // The whole world level in view.
@@ -107,6 +108,7 @@ std::string Session::pickAt(double x, double y) { return showPick(atlas_.pickPix
 
 std::string Session::showPick(int index) {
     atlas_.highlight(index);
+    release_ = atlas_.level().merged != nullptr;  // the level's mesh before the highlight
     picked_.clear();
     if (index >= 0) {
         const Region& r = atlas_.level().regions[size_t(index)];

@@ -113,6 +113,39 @@ TEST(MapSession, ThePickedRegionIsDrawnHighlighted) {
     EXPECT_EQ(differ, 0u);
 }
 
+TEST(MapSession, AStatesCountiesAreDrawnAsOneMeshAndPickedOneByOne) {
+    Atlas atlas(generatedDir());
+    OsmesaDisplay display(kW, kH);
+    Session s(atlas, display, kW, kH);
+    s.overlay = false;
+    ASSERT_TRUE(startsWith(s.command("enter 840"), "us\t840"));
+    const size_t states = atlas.level().regions.size();
+    ASSERT_TRUE(startsWith(s.command("enter 01"), "state\t01"));
+    ASSERT_NE(atlas.level().merged, nullptr);
+    const size_t counties = atlas.level().regions.size();
+    ASSERT_GT(counties, 3u);
+    s.frame();
+    // The other states and the counties' one mesh: no county geometry is drawn on its own.
+    EXPECT_LE(display.renderer().lastStats().instances, states);
+    const sg::Image before = display.read();
+    const std::string picked = s.command("pick 160 90");
+    ASSERT_TRUE(startsWith(picked, "county\t01")) << picked;
+    s.frame();
+    const sg::Image after = display.read();
+    const uint8_t* b = &after.rgba[size_t(4 * (90 * kW + 160))];
+    EXPECT_GT(int(b[0]), int(b[2]) + 60);  // the county under the pick drawn yellow
+    EXPECT_GT(int(b[1]), int(b[2]) + 40);
+    size_t changed = 0;
+    for (size_t i = 0; i < after.rgba.size(); ++i) changed += after.rgba[i] != before.rgba[i];
+    EXPECT_GT(changed, 0u);
+    EXPECT_EQ(s.command("pick 0 0"), "none");
+    s.frame();
+    const sg::Image cleared = display.read();
+    size_t differ = 0;
+    for (size_t i = 0; i < cleared.rgba.size(); ++i) differ += cleared.rgba[i] != before.rgba[i];
+    EXPECT_EQ(differ, 0u);
+}
+
 TEST(MapSession, RealDataFromTheWorldToATexasCounty) {
     if (!haveReal()) GTEST_SKIP() << "the real map is not converted (cmake --build <dir> --target map-data)";
     Atlas atlas(realDir());
