@@ -157,7 +157,9 @@ TEST(Atlas, EnterAndBackCyclesWithLoadsInFlightLeaveNothingBehind) {
             std::vector<size_t> paged;
             for (size_t k = 0; k < atlas.level().regions.size(); ++k)
                 if (atlas.level().regions[k].paged) paged.push_back(k);
-            if (!paged.empty()) EXPECT_EQ(atlas.enter(paged[rnd() % paged.size()]), "");
+            if (!paged.empty()) {
+                EXPECT_EQ(atlas.enter(paged[rnd() % paged.size()]), "");
+            }
         } else if (op == 1) {
             atlas.back();  // stops a load in flight, or goes up; at the world it says why
         } else if (op == 2) {
@@ -175,6 +177,9 @@ TEST(Atlas, EnterAndBackCyclesWithLoadsInFlightLeaveNothingBehind) {
     EXPECT_EQ(atlas.pager().stats().resident, 0u);
     EXPECT_EQ(atlas.pager().stats().bytesResident, 0u);
     EXPECT_EQ(atlas.bytesLoaded(), worldBytes);
-    for (const Region& r : atlas.level().regions)
-        if (r.paged) EXPECT_NE(r.paged->state(), sg::PagedLOD::State::Loaded);
+    for (const Region& r : atlas.level().regions) {
+        if (r.paged) {
+            EXPECT_NE(r.paged->state(), sg::PagedLOD::State::Loaded);
+        }
+    }
 }
