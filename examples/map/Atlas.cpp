@@ -185,7 +185,7 @@ std::shared_ptr<Level> Atlas::readLevel(const std::string& file, const Request* 
         level->regions.push_back(std::move(r));
     }
     if (level->regions.empty()) throw LoadError(file, "nodes", "no regions (nodes with a `kind`)");
-    // The order of the file, whatever the map's order: ids and pick results stay the same between runs.
+    // By id: the properties come in no set order, and region indices must not change between runs.
     std::sort(level->regions.begin(), level->regions.end(),
               [](const Region& a, const Region& b) { return a.id != b.id ? a.id < b.id : a.name < b.name; });
 
