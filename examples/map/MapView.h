@@ -12,6 +12,13 @@ struct MapView {
     double fovyDegrees = 45.0;
     int width = 1280, height = 720;
 
+    // The view is kept where a camera can be made from it: the distance within [kMinDistance, kMaxDistance]
+    // and the centre within kMaxCentre of the origin (a zoom by 1e300, a goto to 1e300 km would otherwise leave
+    // no camera, and every later command failing).
+    static constexpr double kMinDistance = 0.05, kMaxDistance = 200000.0, kMaxCentre = 100000.0;
+    void clamp();
+
+    // The camera of the view, clamped.
     sg::Camera camera() const;
     // Height of the eye over the plane.
     double eyeHeight() const;

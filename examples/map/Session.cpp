@@ -59,6 +59,7 @@ Session::Session(Atlas& atlas, Display& display, int width, int height) : atlas_
 
 double Session::frame() {
     const auto t0 = Clock::now();
+    view_.clamp();  // the window's drag and scroll move it directly
     step_ = atlas_.update({frames_++, std::chrono::duration<double>(t0 - start_).count()});
     if (step_.entered) picked_.clear();
     if (!step_.error.empty()) note_ = "error: " + step_.error;
@@ -235,7 +236,7 @@ std::string Session::command(const std::string& line) {
         if (auto e = want(3, "goto LON LAT HEIGHT_KM"); !e.empty()) return e;
         if (!(v[3] > 0.0)) return "error\tgoto: the height must be above 0 km";
         view_.centre = glm::dvec2(atlas_.geoToScene(v[1], v[2]));
-        view_.setEyeHeight(v[3]);
+        view_.setEyeHeight(v[3]);  // clamped, with the centre
         frame();
         const std::string entering = enterByZoom();
         return "at" + fmt("\t%g", v[1]) + fmt("\t%g", v[2]) + fmt("\t%g km", v[3]) +
@@ -245,6 +246,7 @@ std::string Session::command(const std::string& line) {
         if (auto e = want(1, "zoom FACTOR"); !e.empty()) return e;
         if (!(v[1] > 0.0)) return "error\tzoom: the factor must be above 0";
         view_.distance /= v[1];
+        view_.clamp();
         frame();
         const std::string entering = enterByZoom();
         return "height" + fmt("\t%.1f km", view_.eyeHeight()) + (entering.empty() ? "" : "\t" + entering);
@@ -287,6 +289,7 @@ std::string Session::command(const std::string& line) {
     if (c == "frames") {
         if (auto e = want(1, "frames N"); !e.empty()) return e;
         std::vector<double> ms;
+        if (!(v[1] >= 1.0 && v[1] <= 100000.0)) return "error\tframes: the count must be 1 to 100000";
         for (int i = 0; i < int(v[1]); ++i) ms.push_back(frame());
         const double med = median(ms);
         return "frames" + fmt("\t%.0f", double(ms.size())) + fmt("\tmedian %.2f ms", med) +

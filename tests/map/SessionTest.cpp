@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <sstream>
 
 using namespace sgmap;
@@ -69,6 +70,19 @@ TEST(MapSession, EachCommandPrintsOneResultLine) {
     EXPECT_TRUE(startsWith(out[7], "level world\t")) << out[7];
     EXPECT_NE(out[7].find("loads 1\tunloads 1"), std::string::npos) << out[7];
     EXPECT_TRUE(startsWith(out[8], "idle\t")) << out[8];
+}
+
+TEST(MapSession, ExtremeViewsAndCountsLeaveTheMapUsable) {
+    Atlas atlas(generatedDir());
+    OsmesaDisplay display(kW, kH);
+    Session s(atlas, display, kW, kH);
+    for (const char* line : {"zoom 1e300", "pick 160 90", "goto 0 0 1e300", "pick 160 90", "goto 1e300 -1e300 100",
+                             "pick 160 90", "zoom 1e-300", "pick 160 90"})
+        EXPECT_FALSE(startsWith(s.command(line), "error")) << line;
+    EXPECT_TRUE(std::isfinite(s.view().distance));
+    EXPECT_LE(s.view().distance, MapView::kMaxDistance);
+    EXPECT_TRUE(startsWith(s.command("frames 1e12"), "error\tframes: the count")) << "no endless loop";
+    EXPECT_TRUE(startsWith(s.command("enter 840"), "us\t840")) << "the map still works";
 }
 
 TEST(MapSession, ZoomingInEntersTheRegionUnderTheCentre) {
