@@ -34,8 +34,8 @@ struct Result {
 };
 
 // "aabb", "center-box+small-feature", "aabb+occlusion" (mode On), "aabb+occlusion-auto", and "-centre"
-// appended for the centre-plane cap, e.g. "aabb+occlusion-centre". The occlusion part is left out when the
-// mode is Off or the strategy is None (which disables occlusion).
+// appended for the centre-plane cap, e.g. "aabb+occlusion-centre", "-hom" or "-hom-approx" for the occlusion map. The
+// occlusion part is left out when the mode is Off or the strategy is None (which disables occlusion).
 std::string settingName(const sg::CullSettings& s);
 
 // The camera in one line: eye, target (eye + view direction), up, vertical fov, near and far (perspective).

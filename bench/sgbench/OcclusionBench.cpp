@@ -1,9 +1,11 @@
-// sgbench occlusion: the occlusion-tree pass on city's street path or office's walk (docs/scenes.md). Per frame, in
-// one run and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion;
-// triangles drawn by each, cull and pass times, and the whole frame drawn headless (1280x720).
+// sgbench occlusion: an occlusion method (--method tree, hom, hom-approx) on city's street path or office's walk
+// (docs/scenes.md). Per frame, in one run and alternating: no culling (the scene's total), frustum culling
+// alone, frustum + occlusion; triangles drawn by each, cull and pass times, the whole frame drawn headless
+// (1280x720), and with --pixels the pixels that differ from the unculled render.
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
+#include "sg/io/ImageIO.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
 #include "testbed/Office.h"
@@ -32,6 +34,7 @@ int runOcclusion(const Args& a) {
         throw std::invalid_argument(
             "sgbench occlusion: --path must be street or orbit for city, walk for office (got '" + path + "')");
     const bool draw = !a.flag("no-draw");
+    const bool pixels = draw && a.flag("pixels");
     const int every = int(a.num("every", 1));  // every k-th frame of the path
     if (every < 1) throw std::invalid_argument("sgbench occlusion: --every must be at least 1");
 
@@ -45,6 +48,18 @@ int runOcclusion(const Args& a) {
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
     occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
+    const std::string method = a.str("method", "tree");
+    if (method != "tree" && method != "hom" && method != "hom-approx")
+        throw std::invalid_argument("sgbench occlusion: --method must be tree, hom or hom-approx (got '" + method +
+                                    "')");
+    if (method != "tree") {
+        occl.occlusion.method = sg::OcclusionMethod::Hom;
+        // The approximate map: a pyramid pixel three quarters covered counts as covered (--hom-opacity, %).
+        occl.occlusion.homOpacity = method == "hom" ? 1.0 : double(a.num("hom-opacity", 75)) / 100.0;
+        occl.occlusion.homWidth = occl.occlusion.homHeight = int(a.num("hom-size", 256));
+        // Rasterizing an occluder costs little: more of them pay.
+        occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", 32));
+    }
     occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
     occl.occlusion.minOccluderPixels = double(a.num("min-pixels", long(occl.occlusion.minOccluderPixels)));
     occl.occlusion.screenSplits = int(a.num("splits", 0));
@@ -112,7 +127,7 @@ int runOcclusion(const Args& a) {
 
     std::vector<double> cullF, cullO, passO, frameF, frameO, speedup;
     double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0,
-           ran = 0;
+           ran = 0, differing = 0, viewsWithError = 0;
     for (const sg::Camera& cam : cams) {
         cullNone.cull(scene, cam, none, list, st);
         total += double(st.triangles);
@@ -130,6 +145,14 @@ int runOcclusion(const Args& a) {
         culled += double(st.culledOcclusion);
         tests += double(st.occlusionTests);
         ran += st.occlusionRan;
+        if (pixels) {
+            const sg::Image got = renderer->readColor();
+            cullNone.cull(scene, cam, none, list, st);
+            renderer->draw(list, cam);
+            const size_t d = sg::countDifferingPixels(renderer->readColor(), got);
+            differing += double(d);
+            viewsWithError += d > 0;
+        }
         if (ideal) trisIdeal += visibleTriangles(cam);
         frameF.push_back(fF);
         frameO.push_back(fO);
@@ -139,6 +162,9 @@ int runOcclusion(const Args& a) {
     Json j;
     j.add("command", "occlusion").add("scene", sceneName).addInt(city ? "n" : "r", n).add("path", path);
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
+    j.add("method", method);
+    if (method != "tree") j.add("hom_opacity", occl.occlusion.homOpacity).addInt("hom_size", occl.occlusion.homWidth);
+    if (pixels) j.add("differing_pixels_total", differing).add("views_with_error", viewsWithError);
     j.addInt("max_occluders", long(occl.occlusion.maxOccluders)).addInt("splits", occl.occlusion.screenSplits);
     j.add("triangles_total", total / k)
         .add("triangles_frustum_mean", trisF / k)

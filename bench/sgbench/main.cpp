@@ -113,6 +113,7 @@ static void usage() {
         "tree|auto]\n"
         "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] "
         "[--no-draw] [--json]\n"
+        "                [--method tree|hom|hom-approx] [--hom-opacity PERCENT] [--hom-size N] [--pixels]\n"
         "       sgbench lod --scene city|factory [--n N] [--path orbit|street] --budget-ms B --method "
         "static|stress|budget "
         "[--may-drop] [--guess-accuracy] [--same-view] [--every K]\n"

@@ -40,4 +40,18 @@ OcclusionMode parseOcclusionMode(const std::string& name) {
     throw std::invalid_argument("parseOcclusionMode(): unknown occlusion mode '" + name + "' (off, tree, auto)");
 }
 
+const char* occlusionMethodName(OcclusionMethod m) {
+    switch (m) {
+        case OcclusionMethod::Tree: return "tree";
+        case OcclusionMethod::Hom: return "hom";
+    }
+    return "?";
+}
+
+OcclusionMethod parseOcclusionMethod(const std::string& name) {
+    for (auto m : {OcclusionMethod::Tree, OcclusionMethod::Hom})
+        if (name == occlusionMethodName(m)) return m;
+    throw std::invalid_argument("parseOcclusionMethod(): unknown occlusion method '" + name + "' (tree, hom)");
+}
+
 }  // namespace sg

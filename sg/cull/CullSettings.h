@@ -28,17 +28,32 @@ enum class OccluderCap : uint8_t {
     FrontFaces,   // a box occludes behind its front faces: conservative (the default)
     CenterPlane,  // the paper's plane through the box centre, facing the eye: NOT conservative (grazing rays)
 };
+// What the pass builds each frame to test bounds against.
+enum class OcclusionMethod : uint8_t {
+    Tree,  // the occlusion tree (sg/cull/OcclusionTree.h): exact shadow volumes of the occluders, fused
+    Hom,   // a hierarchical occlusion map (sg/cull/OcclusionMap.h): occluders rasterized into a coverage
+           // pyramid and a depth buffer; cheaper to build, and approximate when homOpacity is below 1
+};
 const char* occlusionModeName(OcclusionMode m);
+const char* occlusionMethodName(OcclusionMethod m);
+// Throws std::invalid_argument listing the valid names ("tree", "hom").
+OcclusionMethod parseOcclusionMethod(const std::string& name);
 // Throws std::invalid_argument listing the valid names ("off", "tree", "auto").
 OcclusionMode parseOcclusionMode(const std::string& name);
 
 struct OcclusionSettings {
-    OcclusionMode mode = OcclusionMode::Auto;
+    OcclusionMode mode = OcclusionMode::Auto;  // when the pass runs
+    OcclusionMethod method = OcclusionMethod::Tree;
     OccluderCap cap = OccluderCap::FrontFaces;
     uint32_t maxOccluders = 16;       // occluders added to the tree per frame (hidden ones do not count)
     double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used
     int screenSplits = 0;             // two-level tree: 2^k screen regions above the occluders (0: one level)
     double autoMinGain = 0.1;         // Auto: a frame "pays" when occlusion removed this share of the entries
+    // Hom: the map's size in pixels over the viewport (powers of two, 8 to 1024), and the opacity at which
+    // a pyramid pixel counts as covered: 1 is conservative; below 1 a bound seen only through holes that
+    // make up less than 1 - homOpacity of some pyramid pixel is culled too (approximate: it has error).
+    int homWidth = 256, homHeight = 256;
+    double homOpacity = 1.0;
 };
 
 class DrawCostModel;

@@ -23,6 +23,7 @@ bool outsideFrustum(const std::array<Plane, 6>& planes, const dvec3& lo, const d
 int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats) {
     const OcclusionSettings& os = set.occlusion;
     testMs_ = 0.0;
+    hom_ = false;
     tree_.reset(cam.eye(), OcclusionTree::Options{});
     // Nothing to do: no occluders in the scene, the reference render (no culling), the pass turned off,
     // an orthographic camera (the tree's planes pass through an eye point).
@@ -60,15 +61,39 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         }
     }
     stats.occluderCandidates = cands_.size();
+    hom_ = os.method == OcclusionMethod::Hom;
+    if (hom_) {
+        // Larger and nearer first: the solid angle (radius over distance, squared) over the distance.
+        for (Candidate& c : cands_) {
+            const double d = std::max(c.dist, cam.nearDistance()), r = img.r[img.occluders[c.index].entry];
+            c.dist = -(r * r) / (d * d * d);
+        }
+    }
+    const uint64_t used = hom_ ? addToMap(img, cam, os) : addToTree(img, cam, os);
+    stats.occlusionRan = true;
+    stats.occludersUsed = used;
+    stats.occlusionTreeNodes = tree_.nodeCount();
+    stats.occlusionPolygonSplits = tree_.polygonSplits();
+    stats.occlusionMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    if (hom_) return map_.empty() ? OcclusionTree::kVisible : 0;  // 0: test against the map
+    return tree_.empty() ? OcclusionTree::kVisible : tree_.root();
+}
+
+namespace {
+struct ByDist {
+    template <class C>
+    bool operator()(const C& a, const C& b) const {
+        return a.dist < b.dist || (a.dist == b.dist && a.index < b.index);
+    }
+};
+}  // namespace
+
+uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
     // Nearest first: nearer occluders hide farther ones, whose parts then add nothing to the tree.
     const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders) * 4);
-    auto byDist = [](const Candidate& a, const Candidate& b) {
-        return a.dist < b.dist || (a.dist == b.dist && a.index < b.index);
-    };
-    std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), byDist);
-    std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), byDist);
-
-    tree_.reset(eye, OcclusionTree::optionsFor(cam, os));
+    std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByDist());
+    std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByDist());
+    tree_.reset(cam.eye(), OcclusionTree::optionsFor(cam, os));
     uint64_t used = 0;
     for (size_t k = 0; k < keep && used < os.maxOccluders; ++k) {
         const FlatImage::OccluderRef& o = img.occluders[cands_[k].index];
@@ -85,12 +110,37 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         }
         used += added;
     }
-    stats.occlusionRan = true;
-    stats.occludersUsed = used;
-    stats.occlusionTreeNodes = tree_.nodeCount();
-    stats.occlusionPolygonSplits = tree_.polygonSplits();
-    stats.occlusionMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    return tree_.empty() ? OcclusionTree::kVisible : tree_.root();
+    return used;
+}
+
+uint64_t OcclusionPass::addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
+    map_.reset(cam, OcclusionMap::optionsFor(cam, os));
+    const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders));
+    std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByDist());
+    const dvec3 eye = cam.eye();
+    uint64_t used = 0;
+    for (size_t k = 0; k < keep; ++k) {
+        const FlatImage::OccluderRef& o = img.occluders[cands_[k].index];
+        const auto* node = static_cast<const Occluder*>(o.node);
+        const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
+        auto rel = [&](const dvec3& v) { return (m ? dvec3(*m * dvec4(v, 1.0)) : v + o.shift) - eye; };
+        bool added;
+        if (node->shape() == Occluder::Shape::Box) {
+            const Box& lb = node->box();
+            dvec3 c[8];
+            for (int j = 0; j < 8; ++j)
+                c[j] = rel(
+                    dvec3((j & 1) ? lb.max.x : lb.min.x, (j & 2) ? lb.max.y : lb.min.y, (j & 4) ? lb.max.z : lb.min.z));
+            added = map_.addBox(c);
+        } else {
+            polyScratch_.clear();
+            for (const dvec3& v : node->polygon()) polyScratch_.push_back(rel(v));
+            added = map_.addPolygon(polyScratch_.data(), polyScratch_.size());
+        }
+        used += added;
+    }
+    map_.finish();
+    return used;
 }
 
 bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats) {
@@ -107,9 +157,16 @@ bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t 
         testMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
         return true;
     }
-    const auto r = tree_.testRelative(ctr - h, ctr + h, occ);
+    bool occluded;
+    if (hom_) {
+        const auto r = map_.test(ctr - h, ctr + h);
+        if (r == OcclusionMap::Result::Visible) occ = OcclusionTree::kVisible;
+        occluded = r == OcclusionMap::Result::Occluded;
+    } else {
+        occluded = tree_.testRelative(ctr - h, ctr + h, occ) == OcclusionTree::Result::Occluded;
+    }
     testMs_ += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    if (r != OcclusionTree::Result::Occluded) return true;
+    if (!occluded) return true;
     stats.culledOcclusion++;
     stats.occludedEntries += img.end[i] - i;
     return false;

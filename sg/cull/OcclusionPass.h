@@ -1,8 +1,10 @@
 // OcclusionPass: the cull's occlusion culling: each frame's OcclusionTree grown from the image's nearest
-// large occluders, the test of an entry's bound against it, and the Auto mode's back-off.
+// large occluders (or its OcclusionMap from the largest on screen), the test of an entry's bound against
+// it, and the Auto mode's back-off.
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/cull/OcclusionMap.h"
 #include "sg/cull/OcclusionTree.h"
 #include "sg/scene/FlatImage.h"
 
@@ -31,13 +33,21 @@ public:
     int framesToSkip() const { return autoWait_; }
 
     const OcclusionTree& tree() const { return tree_; }
+    const OcclusionMap& map() const { return map_; }
 
 private:
     struct Candidate {
-        double dist;
+        double dist;  // the tree: eye to the box; the map: minus the solid angle over the distance
         uint32_t index;
     };
+    // Adds the chosen occluders to the tree (nearest first) or the map (largest solid angle over
+    // distance first); returns how many added something.
+    uint64_t addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os);
+    uint64_t addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os);
+
     OcclusionTree tree_;
+    OcclusionMap map_;
+    bool hom_ = false;  // this frame's tests go to the map
     std::vector<Candidate> cands_;
     std::vector<dvec3> polyScratch_;
     int autoWait_ = 0;     // frames left to skip the pass

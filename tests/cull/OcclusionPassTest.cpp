@@ -65,6 +65,35 @@ TEST(OcclusionPass, CullsTheBoxBehindTheOccluderNotTheOneInFront) {
     EXPECT_EQ(stats.occlusionTests, 2u);
 }
 
+TEST(OcclusionPass, TheOcclusionMapCullsTheBoxBehindTheOccluderNotTheOneInFront) {
+    Walled w;
+    Scene s(w.root);
+    s.update();
+    const Camera cam = testutil::lookingAlongY(500.0);
+    const FlatImage& img = s.image();
+    OcclusionPass pass;
+    CullStats stats;
+    CullSettings set = mode(OcclusionMode::Tree);
+    set.occlusion.method = OcclusionMethod::Hom;
+    const int32_t start = pass.build(img, cam, set, stats);
+    ASSERT_NE(start, OcclusionTree::kVisible);
+    EXPECT_TRUE(stats.occlusionRan);
+    EXPECT_EQ(stats.occludersUsed, 1u);
+    EXPECT_TRUE(pass.tree().empty());
+    EXPECT_GT(pass.map().coveredPixels(), 0u);
+
+    const dvec3 originRel = img.origin - cam.eye();
+    int32_t occ = start;
+    EXPECT_FALSE(pass.test(img, originRel, entryOf(img, w.behind.get()), occ, stats));
+    EXPECT_EQ(stats.culledOcclusion, 1u);
+    occ = start;
+    EXPECT_TRUE(pass.test(img, originRel, entryOf(img, w.front.get()), occ, stats));
+    EXPECT_EQ(stats.occlusionTests, 2u);
+    // A bad map size is refused by name, not drawn wrong.
+    set.occlusion.homWidth = 100;
+    EXPECT_THROW(pass.build(img, cam, set, stats), std::invalid_argument);
+}
+
 TEST(OcclusionPass, DoesNothingWithoutOccludersOrWhenOff) {
     const Camera cam = testutil::lookingAlongY(500.0);
     {

@@ -1,5 +1,5 @@
 // The accuracy harness on `city`, `office` and random graphs: every conservative strategy (and the
-// occlusion pass with its conservative cap) draws exactly the pixels of the unculled render on every view;
+// occlusion pass with its conservative cap, tree or map) draws exactly the pixels of the unculled render on every view;
 // the approximate ones report their error.
 #include "nodes/Transform.h"
 #include "testbed/Accuracy.h"
@@ -57,6 +57,14 @@ CullSettings occlusion(OcclusionMode mode, OccluderCap cap = OccluderCap::FrontF
     return c;
 }
 
+// The occlusion map (mode On), conservative (opacity 1) or approximate.
+CullSettings occlusionMap(double opacity = 1.0) {
+    CullSettings c = occlusion(OcclusionMode::Tree);
+    c.occlusion.method = OcclusionMethod::Hom;
+    c.occlusion.homOpacity = opacity;
+    return c;
+}
+
 void printOcclusion(const accuracy::Result& r, const char* scene) {
     std::printf(
         "[ accuracy ] %-8s %-22s views %d  differing pixels total %llu  max %llu  views with error %d  (%.4f%% of "
@@ -92,24 +100,35 @@ std::string describeWorst(accuracy::Harness& h, const Scene& scene, const std::v
            " occluders used): " + accuracy::describeCamera(cam) + "; images " + base + "_{ref,culled,diff}.png";
 }
 
-// The front-faces cap draws exactly the reference on every view, and is not vacuous: it culled bounds, and
-// fewer triangles were drawn than with frustum culling alone.
+// The occlusion tree's front-faces cap and the conservative occlusion map draw exactly the reference on
+// every view, and are not vacuous: they culled bounds, and fewer triangles were drawn than with frustum
+// culling alone. The approximate map's error is reported; it draws at most what the conservative one draws.
 void checkFrontFaces(const Scene& scene, const std::vector<Camera>& views, const char* name) {
     accuracy::Harness h(kW, kH);
-    const std::vector<CullSettings> settings = {occlusion(OcclusionMode::Off), occlusion(OcclusionMode::Tree)};
+    const std::vector<CullSettings> settings = {occlusion(OcclusionMode::Off), occlusion(OcclusionMode::Tree),
+                                                occlusionMap(), occlusionMap(0.75)};
     const std::vector<accuracy::Result> res = h.run(scene, views, settings);
     for (const auto& r : res) printOcclusion(r, name);
-    const accuracy::Result &frustum = res[0], &front = res[1];
+    const accuracy::Result &frustum = res[0], &approx = res[3];
     ASSERT_EQ(frustum.name, "aabb");
-    ASSERT_EQ(front.name, "aabb+occlusion");
+    ASSERT_EQ(res[1].name, "aabb+occlusion");
+    ASSERT_EQ(res[2].name, "aabb+occlusion-hom");
+    ASSERT_EQ(approx.name, "aabb+occlusion-hom-approx");
     for (const auto& r : res) EXPECT_EQ(r.views, int(views.size()));
     EXPECT_EQ(frustum.differingTotal, 0u)
         << name << ": " << describeWorst(h, scene, views, settings[0], frustum, std::string(name) + "_aabb");
-    EXPECT_EQ(front.differingTotal, 0u) << front.name << " on " << name << ": "
-                                        << describeWorst(h, scene, views, settings[1], front,
-                                                         std::string(name) + "_front");
-    EXPECT_GT(front.culledOcclusionTotal, 0u) << "occlusion culled nothing on " << name;
-    EXPECT_LT(front.trianglesTotal, frustum.trianglesTotal) << name;
+    for (size_t k : {size_t(1), size_t(2)}) {
+        const accuracy::Result& r = res[k];
+        EXPECT_EQ(r.differingTotal, 0u) << r.name << " on " << name << ": "
+                                        << describeWorst(h, scene, views, settings[k], r,
+                                                         std::string(name) + "_" + r.name);
+        EXPECT_GT(r.culledOcclusionTotal, 0u) << r.name << " culled nothing on " << name;
+        EXPECT_LT(r.trianglesTotal, frustum.trianglesTotal) << r.name << " on " << name;
+    }
+    EXPECT_LE(approx.trianglesTotal, res[2].trianglesTotal) << name;
+    if (approx.differingTotal > 0)
+        std::printf("[ accuracy ] %-8s %s: %s\n", name, approx.name.c_str(),
+                    describeWorst(h, scene, views, settings[3], approx, std::string(name) + "_hom_approx").c_str());
 }
 
 constexpr int kCityN = 14, kOfficeR = 6;
