@@ -59,6 +59,7 @@ int runOcclusion(const Args& a) {
         occl.occlusion.homWidth = occl.occlusion.homHeight = int(a.num("hom-size", 256));
         // Rasterizing an occluder costs little: more of them pay.
         occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", 32));
+        occl.occlusion.homObbLevels = int(a.num("obb-levels", 0));
     }
     occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
     occl.occlusion.minOccluderPixels = double(a.num("min-pixels", long(occl.occlusion.minOccluderPixels)));
@@ -127,7 +128,7 @@ int runOcclusion(const Args& a) {
 
     std::vector<double> cullF, cullO, passO, frameF, frameO, speedup;
     double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0,
-           ran = 0, differing = 0, viewsWithError = 0;
+           ran = 0, differing = 0, viewsWithError = 0, culledObb = 0;
     for (const sg::Camera& cam : cams) {
         cullNone.cull(scene, cam, none, list, st);
         total += double(st.triangles);
@@ -143,6 +144,7 @@ int runOcclusion(const Args& a) {
         psplits += double(st.occlusionPolygonSplits);
         bsplits += double(st.occlusionBoxSplits);
         culled += double(st.culledOcclusion);
+        culledObb += double(st.culledObb);
         tests += double(st.occlusionTests);
         ran += st.occlusionRan;
         if (pixels) {
@@ -163,7 +165,11 @@ int runOcclusion(const Args& a) {
     j.add("command", "occlusion").add("scene", sceneName).addInt(city ? "n" : "r", n).add("path", path);
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
     j.add("method", method);
-    if (method != "tree") j.add("hom_opacity", occl.occlusion.homOpacity).addInt("hom_size", occl.occlusion.homWidth);
+    if (method != "tree")
+        j.add("hom_opacity", occl.occlusion.homOpacity)
+            .addInt("hom_size", occl.occlusion.homWidth)
+            .addInt("obb_levels", occl.occlusion.homObbLevels)
+            .add("culled_obb_mean", culledObb / double(cams.size()));
     if (pixels) j.add("differing_pixels_total", differing).add("views_with_error", viewsWithError);
     j.addInt("max_occluders", long(occl.occlusion.maxOccluders)).addInt("splits", occl.occlusion.screenSplits);
     j.add("triangles_total", total / k)

@@ -54,6 +54,9 @@ struct OcclusionSettings {
     // make up less than 1 - homOpacity of some pyramid pixel is culled too (approximate: it has error).
     int homWidth = 256, homHeight = 256;
     double homOpacity = 1.0;
+    // Hom: a geometry its world box does not show hidden is tested again by the oriented boxes of its
+    // mesh's ObbTree (sg/cull/ObbTree.h), tighter on screen, down this many levels below the root (0: off).
+    int homObbLevels = 0;
 };
 
 class DrawCostModel;
@@ -124,6 +127,7 @@ struct CullStats {
     uint64_t occlusionBoxSplits = 0;      // bounds split by a tree plane while tested
     uint64_t occlusionTests = 0;
     uint64_t culledOcclusion = 0;  // bounds culled as occluded
+    uint64_t culledObb = 0;  // of them, geometries culled by their oriented boxes (OcclusionSettings::homObbLevels)
     uint64_t occludedEntries = 0;  // image entries below them (work the walk skipped)
     double occlusionMs = 0.0;      // growing the tree plus the tests
     // LOD budget

@@ -261,7 +261,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     if (occ != OcclusionTree::kVisible && !(fl & FlatImage::kInvalid)) {
         const NodeKind k = img.kind[i];
         if (k != NodeKind::Transform && k != NodeKind::LOD && k != NodeKind::Occluder &&
-            !occlusion_.test(img, c.originRel, i, occ, *stats_))
+            !occlusion_.test(img, c.originRel, i, occ, *stats_, k == NodeKind::Geometry ? &m : nullptr))
             return;
     }
 

@@ -271,10 +271,16 @@ bool OcclusionMap::covered(int level, int x0, int y0, int x1, int y1, float zmin
 }
 
 OcclusionMap::Result OcclusionMap::test(const dvec3& lo, const dvec3& hi) const {
+    dvec3 c[8];
+    for (int k = 0; k < 8; ++k) c[k] = dvec3((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+    return test(c);
+}
+
+OcclusionMap::Result OcclusionMap::test(const dvec3 corners[8]) const {
     if (covered_ == 0) return Result::Visible;
     double xlo = 1e300, ylo = 1e300, xhi = -1e300, yhi = -1e300, zmin = 1e300;
     for (int k = 0; k < 8; ++k) {
-        const dvec3 p((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
+        const dvec3& p = corners[k];
         // A corner nearer than the near plane: the rectangle is unbounded; boxes inside may still be tested.
         if (near_.distance(p) < 0) return Result::NotOccluded;
         const dvec4 c = viewProj_ * dvec4(p, 1.0);

@@ -52,6 +52,8 @@ public:
 
     // Tests the eye-relative world box [lo, hi].
     Result test(const dvec3& lo, const dvec3& hi) const;
+    // Tests the box with these eye-relative corners (any parallelepiped).
+    Result test(const dvec3 corners[8]) const;
 
     bool empty() const { return covered_ == 0; }
     uint64_t coveredPixels() const { return covered_; }

@@ -62,6 +62,8 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     }
     stats.occluderCandidates = cands_.size();
     hom_ = os.method == OcclusionMethod::Hom;
+    obbLevels_ = std::clamp(os.homObbLevels, 0, 16);
+    if (hom_ && obbLevels_ > 0) obbs_.nextFrame();
     if (hom_) {
         // Larger and nearer first: the solid angle (radius over distance, squared) over the distance.
         for (Candidate& c : cands_) {
@@ -143,7 +145,19 @@ uint64_t OcclusionPass::addToMap(const FlatImage& img, const Camera& cam, const 
     return used;
 }
 
-bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats) {
+bool OcclusionPass::obbHidden(const ObbTree& tree, uint32_t n, const dmat4& toEye, int levels) const {
+    const ObbTree::Node& nd = tree.node(n);
+    dvec3 c[8];
+    nd.corners(c);
+    for (dvec3& p : c) p = dvec3(toEye * dvec4(p, 1.0));
+    const auto r = map_.test(c);
+    if (r == OcclusionMap::Result::Occluded) return true;
+    if (r == OcclusionMap::Result::Visible || nd.first == 0 || levels == 0) return false;
+    return obbHidden(tree, nd.first, toEye, levels - 1) && obbHidden(tree, nd.first + 1, toEye, levels - 1);
+}
+
+bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats,
+                         const dmat4* toEye) {
     const auto t0 = Clock::now();
     const dvec3 ctr = originRel + dvec3(img.cx[i], img.cy[i], img.cz[i]), h(img.ex[i], img.ey[i], img.ez[i]);
     stats.occlusionTests++;
@@ -162,6 +176,11 @@ bool OcclusionPass::test(const FlatImage& img, const dvec3& originRel, uint32_t 
         const auto r = map_.test(ctr - h, ctr + h);
         if (r == OcclusionMap::Result::Visible) occ = OcclusionTree::kVisible;
         occluded = r == OcclusionMap::Result::Occluded;
+        if (r == OcclusionMap::Result::NotOccluded && toEye && obbLevels_ > 0 && img.kind[i] == NodeKind::Geometry) {
+            const ObbTree& tree = obbs_.get(*img.draws[img.aux[i]].mesh);
+            occluded = !tree.empty() && obbHidden(tree, 0, *toEye, obbLevels_);
+            stats.culledObb += occluded;
+        }
     } else {
         occluded = tree_.testRelative(ctr - h, ctr + h, occ) == OcclusionTree::Result::Occluded;
     }

@@ -4,6 +4,7 @@
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/cull/ObbTree.h"
 #include "sg/cull/OcclusionMap.h"
 #include "sg/cull/OcclusionTree.h"
 #include "sg/scene/FlatImage.h"
@@ -20,8 +21,10 @@ public:
     int32_t build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats);
 
     // False when entry i of `img` is occluded; otherwise `occ` becomes the node where the tests of the
-    // entries below it start. `originRel`: the image's origin relative to the eye.
-    bool test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats);
+    // entries below it start. `originRel`: the image's origin relative to the eye. `toEye`: a Geometry
+    // entry's frame relative to the eye (its mesh's oriented boxes are tested with it), or null.
+    bool test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats,
+              const dmat4* toEye = nullptr);
 
     // After the walk: the tests' time and box splits into `stats`; in Auto mode, whether the frame paid.
     void finish(const OcclusionSettings& s, CullStats& stats);
@@ -47,7 +50,12 @@ private:
 
     OcclusionTree tree_;
     OcclusionMap map_;
+    // True when every box of `tree` below node n, down `levels` levels, is hidden in the map.
+    bool obbHidden(const ObbTree& tree, uint32_t n, const dmat4& toEye, int levels) const;
+
     bool hom_ = false;  // this frame's tests go to the map
+    int obbLevels_ = 0;
+    ObbTree::Cache obbs_;
     std::vector<Candidate> cands_;
     std::vector<dvec3> polyScratch_;
     int autoWait_ = 0;     // frames left to skip the pass

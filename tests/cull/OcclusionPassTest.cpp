@@ -3,6 +3,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
+#include "sg/cull/CullTraversal.h"
 #include "sg/cull/OcclusionPass.h"
 #include "sg/scene/Scene.h"
 
@@ -92,6 +93,33 @@ TEST(OcclusionPass, TheOcclusionMapCullsTheBoxBehindTheOccluderNotTheOneInFront)
     // A bad map size is refused by name, not drawn wrong.
     set.occlusion.homWidth = 100;
     EXPECT_THROW(pass.build(img, cam, set, stats), std::invalid_argument);
+}
+
+TEST(OcclusionPass, OrientedBoxesHideATurnedBarItsWorldBoxDoesNot) {
+    // A strip occluder and a bar behind it, both turned 45 degrees about the view axis: the bar lies in the
+    // strip's shadow, its world box (a square on screen) does not.
+    auto turn = make<Transform>(glm::rotate(dmat4(1.0), glm::radians(45.0), dvec3(0, 1, 0)));
+    auto strip = make<Occluder>();
+    strip->setBox(Box{dvec3(-12, 20, -1.5), dvec3(12, 21, 1.5)});
+    turn->addChild(strip);
+    turn->addChild(make<Geometry>(makeBoxMesh(dvec3(-20, 40, -0.5), dvec3(20, 41, 0.5), 16), make<Material>()));
+    Scene s(turn);
+    s.update();
+    const Camera cam = testutil::lookingAlongY(500.0);
+    CullSettings set = mode(OcclusionMode::Tree);
+    set.occlusion.method = OcclusionMethod::Hom;
+    CullTraversal cull;
+    DrawList list;
+    CullStats stats;
+    cull.cull(s, cam, set, list, stats);
+    EXPECT_EQ(list.items.size(), 1u);
+    EXPECT_EQ(stats.culledObb, 0u);
+    set.occlusion.homObbLevels = 6;  // screen rectangles stay axis-aligned: the bar in pieces
+    stats = CullStats{};
+    cull.cull(s, cam, set, list, stats);
+    EXPECT_EQ(list.items.size(), 0u);
+    EXPECT_EQ(stats.culledObb, 1u);
+    EXPECT_EQ(stats.culledOcclusion, 1u);
 }
 
 TEST(OcclusionPass, DoesNothingWithoutOccludersOrWhenOff) {
