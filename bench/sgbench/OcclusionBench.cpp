@@ -57,8 +57,7 @@ int runOcclusion(const Args& a) {
         // The approximate map: a pyramid pixel three quarters covered counts as covered (--hom-opacity, %).
         occl.occlusion.homOpacity = method == "hom" ? 1.0 : double(a.num("hom-opacity", 75)) / 100.0;
         occl.occlusion.homWidth = occl.occlusion.homHeight = int(a.num("hom-size", 256));
-        // Rasterizing an occluder costs little: more of them pay.
-        occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", 32));
+        occl.occlusion.homMaxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.homMaxOccluders));
         occl.occlusion.homObbLevels = int(a.num("obb-levels", 0));
     }
     occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
@@ -171,7 +170,8 @@ int runOcclusion(const Args& a) {
             .addInt("obb_levels", occl.occlusion.homObbLevels)
             .add("culled_obb_mean", culledObb / double(cams.size()));
     if (pixels) j.add("differing_pixels_total", differing).add("views_with_error", viewsWithError);
-    j.addInt("max_occluders", long(occl.occlusion.maxOccluders)).addInt("splits", occl.occlusion.screenSplits);
+    j.addInt("max_occluders", long(method == "tree" ? occl.occlusion.maxOccluders : occl.occlusion.homMaxOccluders))
+        .addInt("splits", occl.occlusion.screenSplits);
     j.add("triangles_total", total / k)
         .add("triangles_frustum_mean", trisF / k)
         .add("triangles_occlusion_mean", trisO / k);

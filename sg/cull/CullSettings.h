@@ -54,6 +54,9 @@ struct OcclusionSettings {
     // make up less than 1 - homOpacity of some pyramid pixel is culled too (approximate: it has error).
     int homWidth = 256, homHeight = 256;
     double homOpacity = 1.0;
+    // Hom: occluders rasterized per frame, largest solid angle over distance first (maxOccluders is the
+    // tree's). Rasterizing one costs little: on city's street path 64 cull more than 16 at the same pass time.
+    uint32_t homMaxOccluders = 64;
     // Hom: a geometry its world box does not show hidden is tested again by the oriented boxes of its
     // mesh's ObbTree (sg/cull/ObbTree.h), tighter on screen, down this many levels below the root (0: off).
     int homObbLevels = 0;

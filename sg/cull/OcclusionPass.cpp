@@ -28,7 +28,7 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     // Nothing to do: no occluders in the scene, the reference render (no culling), the pass turned off,
     // an orthographic camera (the tree's planes pass through an eye point).
     if (img.occluders.empty() || os.mode == OcclusionMode::Off || set.strategy == CullStrategy::None ||
-        !cam.perspective() || os.maxOccluders == 0)
+        !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0)
         return OcclusionTree::kVisible;
     if (os.mode == OcclusionMode::Auto && autoWait_ > 0) {
         --autoWait_;
@@ -117,7 +117,7 @@ uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const
 
 uint64_t OcclusionPass::addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
     map_.reset(cam, OcclusionMap::optionsFor(cam, os));
-    const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders));
+    const size_t keep = std::min(cands_.size(), size_t(os.homMaxOccluders));
     std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByDist());
     const dvec3 eye = cam.eye();
     uint64_t used = 0;
