@@ -1,13 +1,15 @@
-// sgbench occlusion: an occlusion method (--method tree, hom, hom-approx) on city's street path or office's walk
-// (docs/scenes.md). Per frame, in one run and alternating: no culling (the scene's total), frustum culling
-// alone, frustum + occlusion; triangles drawn by each, cull and pass times, the whole frame drawn headless
-// (1280x720), and with --pixels the pixels that differ from the unculled render.
+// sgbench occlusion: an occlusion method (--method tree, hom, hom-approx) on city's street path, office's walk or
+// the factory's walkthrough (docs/scenes.md). Per frame, in one run and alternating: no culling (the scene's total),
+// frustum culling alone, frustum + occlusion; triangles drawn by each, cull and pass times, the whole frame drawn
+// headless (1280x720), and with --pixels the pixels that differ from the unculled render.
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
+#include "testbed/Factory.h"
+#include "testbed/FactoryWalk.h"
 #include "testbed/Office.h"
 
 #include <chrono>
@@ -23,16 +25,19 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 
 int runOcclusion(const Args& a) {
     const std::string sceneName = a.str("scene", "city");
-    const bool city = sceneName == "city";
-    if (!city && sceneName != "office")
-        throw std::invalid_argument("sgbench occlusion: --scene must be city or office (got '" + sceneName + "')");
+    const bool city = sceneName == "city", factory = sceneName == "factory";
+    if (!city && !factory && sceneName != "office")
+        throw std::invalid_argument("sgbench occlusion: --scene must be city, office or factory (got '" + sceneName +
+                                    "')");
     const int n = int(a.num(city ? "n" : "r", city ? 100 : 8));
     if (n < 1 || n > 1000)
         throw std::invalid_argument("sgbench occlusion: the scene size " + std::to_string(n) + " is not in 1..1000");
     const std::string path = a.str("path", city ? "street" : "walk");
     if (city ? (path != "street" && path != "orbit") : path != "walk")
         throw std::invalid_argument(
-            "sgbench occlusion: --path must be street or orbit for city, walk for office (got '" + path + "')");
+            "sgbench occlusion: --path must be street or orbit for city, walk for office and "
+            "the factory (got '" +
+            path + "')");
     const bool draw = !a.flag("no-draw");
     const bool pixels = draw && a.flag("pixels");
     const int every = int(a.num("every", 1));  // every k-th frame of the path
@@ -66,13 +71,40 @@ int runOcclusion(const Args& a) {
     sg::CullSettings none = frustum;
     none.strategy = sg::CullStrategy::None;
 
-    sg::Scene scene(city ? scenes::buildCity({n, true}) : scenes::buildOffice(n));
+    // The factory: its walkthrough's path (outside, into a workshop and along its machines, out, round the site,
+    // up), 240 frames, each drawn with the Switch state of its eye; no baked lighting (the same for every render).
+    scenes::Factory site;
+    scenes::WalkPath walk;
+    sg::ref_ptr<sg::Node> root;
+    if (factory) {
+        site = scenes::buildFactory();
+        root = site.root;
+    } else {
+        root = city ? scenes::buildCity({n, true}) : scenes::buildOffice(n);
+    }
+    sg::Scene scene(root);
     scene.update();
+    if (factory) walk = scenes::buildWalkPath(site, scene, 240);
     std::vector<sg::Camera> cams;
-    const int frames = city ? (path == "street" ? scenes::kStreetFrames : scenes::kOrbitFrames) : scenes::kWalkFrames;
-    for (int f = 0; f < frames; f += every)
-        cams.push_back(city ? (path == "street" ? scenes::cityStreetCamera(n, f) : scenes::cityOrbitCamera(n, f))
-                            : scenes::officeWalkCamera(n, f));
+    std::vector<int> workshops;  // the factory's Switch state per camera
+    const int frames = factory ? int(walk.frames.size())
+                       : city  ? (path == "street" ? scenes::kStreetFrames : scenes::kOrbitFrames)
+                               : scenes::kWalkFrames;
+    for (int f = 0; f < frames; f += every) {
+        if (factory) {
+            cams.push_back(scenes::pathCamera(walk.frames[size_t(f)], 1280, 720));
+            workshops.push_back(walk.frames[size_t(f)].workshop);
+        } else {
+            cams.push_back(city ? (path == "street" ? scenes::cityStreetCamera(n, f) : scenes::cityOrbitCamera(n, f))
+                                : scenes::officeWalkCamera(n, f));
+        }
+    }
+    int shown = -2;  // the workshop the factory's switches show
+    auto prepare = [&](size_t view) {
+        if (!factory || workshops[view] == shown) return;
+        scenes::setFactoryEye(site, shown = workshops[view]);
+        scene.update();
+    };
 
     std::unique_ptr<sg::OsmesaContext> ctx;
     std::unique_ptr<sg::Renderer> renderer;
@@ -93,7 +125,10 @@ int runOcclusion(const Args& a) {
         }
         return msSince(t0);
     };
-    if (draw) frame(cullNone, cams[0], none);  // uploads every mesh before timing
+    if (draw) {  // uploads every mesh before timing
+        prepare(0);
+        frame(cullNone, cams[0], none);
+    }
 
     // --ideal: the exact visible set, for reference. Each geometry the frustum leaves is drawn in a
     // colour of its own, unlit; the colours in the image name the geometries that show.
@@ -128,7 +163,9 @@ int runOcclusion(const Args& a) {
     std::vector<double> cullF, cullO, passO, frameF, frameO, speedup;
     double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0,
            ran = 0, differing = 0, viewsWithError = 0, culledObb = 0;
-    for (const sg::Camera& cam : cams) {
+    for (size_t view = 0; view < cams.size(); ++view) {
+        const sg::Camera& cam = cams[view];
+        prepare(view);
         cullNone.cull(scene, cam, none, list, st);
         total += double(st.triangles);
         const double fF = frame(cullFrustum, cam, frustum);
@@ -161,7 +198,8 @@ int runOcclusion(const Args& a) {
     }
     const double k = double(cams.size());
     Json j;
-    j.add("command", "occlusion").add("scene", sceneName).addInt(city ? "n" : "r", n).add("path", path);
+    j.add("command", "occlusion").add("scene", sceneName).add("path", path);
+    if (!factory) j.addInt(city ? "n" : "r", n);
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
     j.add("method", method);
     if (method != "tree")

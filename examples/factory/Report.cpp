@@ -65,7 +65,7 @@ ModeSummary summarize(const ModeRun& run) {
     return s;
 }
 
-void writeCsv(const std::string& file, const WalkPath& path, const std::vector<ModeRun>& runs) {
+void writeCsv(const std::string& file, const scenes::WalkPath& path, const std::vector<ModeRun>& runs) {
     std::FILE* f = std::fopen(file.c_str(), "w");
     if (!f) throw std::runtime_error("cannot write " + file);
     std::fprintf(f,
@@ -73,7 +73,7 @@ void writeCsv(const std::string& file, const WalkPath& path, const std::vector<M
                  "frame_ms,image_mae\n");
     for (const ModeRun& run : runs)
         for (const FrameRecord& r : run.frames) {
-            const PathFrame& p = path.frames[size_t(r.frame)];
+            const scenes::PathFrame& p = path.frames[size_t(r.frame)];
             std::fprintf(f, "%s,%d,%s,%d,%.3f,%.3f,%.3f,%llu,%llu,%llu,%.3f,%.3f,%.3f,%.4f\n", modeName(run.mode),
                          r.frame, p.segment.c_str(), p.workshop, p.eye.x, p.eye.y, p.eye.z,
                          (unsigned long long)r.triangles, (unsigned long long)r.vertices,

@@ -36,7 +36,7 @@ ModeSummary summarize(const ModeRun& run);
 double jitterP95(const std::vector<double>& frameMs);
 
 // One row per mode and frame. Throws std::runtime_error naming the file when it cannot be written.
-void writeCsv(const std::string& file, const WalkPath& path, const std::vector<ModeRun>& runs);
+void writeCsv(const std::string& file, const scenes::WalkPath& path, const std::vector<ModeRun>& runs);
 void printTable(std::FILE* out, const Summary& s);
 void printJson(std::FILE* out, const Summary& s);
 

@@ -29,7 +29,7 @@ uint64_t vertices(const sg::DrawList& list) {
 
 const char* modeName(LodMode m) { return scenes::lodMethodName(m); }
 
-Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height)
+Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const scenes::WalkPath& path, int width, int height)
     : f_(f), scene_(scene), path_(path), width_(width), height_(height) {
     // Every mesh and texture the path may draw goes to the GPU now, as an application loads its database
     // before it walks it: else each is uploaded in the first frame that sees it (the workshop's interior at
@@ -64,18 +64,18 @@ void Walkthrough::showWorkshop(int workshop) {
 }
 
 sg::Image Walkthrough::render(int frame, const sg::CullSettings& set, sg::CullStats& stats) {
-    const PathFrame& p = path_.frames.at(size_t(frame));
+    const scenes::PathFrame& p = path_.frames.at(size_t(frame));
     showWorkshop(p.workshop);
-    const sg::Camera cam = pathCamera(p, width_, height_);
+    const sg::Camera cam = scenes::pathCamera(p, width_, height_);
     refCull_.cull(scene_, cam, set, list_, stats);
     renderer_.draw(list_, cam);
     return renderer_.readColor();
 }
 
 std::vector<double> Walkthrough::sameView(int frame, int draws) {
-    const PathFrame& p = path_.frames.at(size_t(frame));
+    const scenes::PathFrame& p = path_.frames.at(size_t(frame));
     showWorkshop(p.workshop);
-    return scenes::timeSameView(renderer_, scene_, pathCamera(p, width_, height_), draws);
+    return scenes::timeSameView(renderer_, scene_, scenes::pathCamera(p, width_, height_), draws);
 }
 
 ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
@@ -86,7 +86,7 @@ ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
     scenes::LodRun lodRun(renderer_, {mode, budgetMs, false, sg::CullSettings{}});
-    const auto camera = [&](int i) { return pathCamera(path_.frames[size_t(i)], width_, height_); };
+    const auto camera = [&](int i) { return scenes::pathCamera(path_.frames[size_t(i)], width_, height_); };
     const auto prepare = [&](int i) { showWorkshop(path_.frames[size_t(i)].workshop); };
     const int n = int(path_.frames.size());
     lodRun.run(scene_, n, 40, camera, prepare, [&](int i, const scenes::LodFrame& f) {

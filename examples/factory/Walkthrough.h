@@ -1,9 +1,9 @@
 // The walkthrough's run loop: draws the path's frames with one of three ways of choosing LOD levels
 // (static ranges, Performer's stress, the time budget), timing each frame and counting what it drew.
 #pragma once
-#include "factory/WalkPath.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/Renderer.h"
+#include "testbed/FactoryWalk.h"
 #include "testbed/LodRun.h"
 
 #include <functional>
@@ -31,7 +31,7 @@ class Walkthrough {
 public:
     // Needs a current OpenGL context of width x height (the renderer's); keeps references to its arguments.
     // Uploads every mesh and texture of the site (all levels, switched-off interiors) before any frame.
-    Walkthrough(scenes::Factory& f, sg::Scene& scene, const WalkPath& path, int width, int height);
+    Walkthrough(scenes::Factory& f, sg::Scene& scene, const scenes::WalkPath& path, int width, int height);
 
     // The whole path once in `mode` (after a warm-up on its first frames, so that the stress scale and the
     // draw-cost model have settled). With compare, each frame is also drawn at full detail for image_mae.
@@ -48,7 +48,7 @@ private:
     void showWorkshop(int workshop);
     scenes::Factory& f_;
     sg::Scene& scene_;
-    const WalkPath& path_;
+    const scenes::WalkPath& path_;
     int width_, height_;
     int shown_ = -1;
     sg::Renderer renderer_;

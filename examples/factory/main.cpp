@@ -23,7 +23,7 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // The frame `share` of the way through the path's segment `name` (its first frame when absent: -1).
-int frameOf(const WalkPath& p, const std::string& name, double share) {
+int frameOf(const scenes::WalkPath& p, const std::string& name, double share) {
     int first = -1, count = 0;
     for (size_t i = 0; i < p.frames.size(); ++i)
         if (p.frames[i].segment == name) {
@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "factory: site built in %.1f s; walking the path (%d frames)...\n", secondsSince(t0),
                      o.frames);
         const auto t1 = Clock::now();
-        const WalkPath path = buildWalkPath(f, scene, o.frames);
+        const scenes::WalkPath path = scenes::buildWalkPath(f, scene, o.frames);
         std::fprintf(stderr, "factory: path in %.1f s (%d frames inside workshop %d, %d penetrations)\n",
                      secondsSince(t1), path.insideFrames, path.workshop, path.penetrations);
 

@@ -32,7 +32,7 @@ constexpr double kScriptStep = 1.0 / 30.0;            // seconds a replayed fram
 
 class FactoryWindow {
 public:
-    FactoryWindow(const Options& o, scenes::Factory& f, sg::Scene& scene, const PathFrame& start)
+    FactoryWindow(const Options& o, scenes::Factory& f, sg::Scene& scene, const scenes::PathFrame& start)
         : o_(o),
           f_(f),
           scene_(scene),
@@ -67,7 +67,7 @@ public:
 private:
     static sg::ViewpointSettings colliderSettings() {
         sg::ViewpointSettings s;
-        s.radius = WalkPath{}.eyeRadius;  // the scripted walk's sphere
+        s.radius = scenes::WalkPath{}.eyeRadius;  // the scripted walk's sphere
         return s;
     }
     void onKey(int key, int action);
@@ -210,11 +210,11 @@ int FactoryWindow::run() {
             continue;
         }
         nav_.move(keys_, dt);
-        PathFrame view;
+        scenes::PathFrame view;
         view.eye = nav_.eye();
         view.target = nav_.eye() + 10.0 * nav_.forward();
         view.walking = nav_.mode() == NavMode::Walk;
-        const sg::Camera cam = pathCamera(view, w, h);
+        const sg::Camera cam = scenes::pathCamera(view, w, h);
 
         lod.settings().method = mode_;
         lod.settings().cull.occlusion.mode = occlusion_;
@@ -266,7 +266,7 @@ int main(int argc, char** argv) {
         sg::Scene scene(f.root);
         scene.update();
         // The start: the scripted walk's first frame (south of its workshop, looking at it); its walls passable.
-        const PathFrame start = buildWalkPath(f, scene, 10).frames.front();
+        const scenes::PathFrame start = scenes::buildWalkPath(f, scene, 10).frames.front();
         FactoryWindow window(o, f, scene, start);
         return window.run();
     } catch (const std::exception& e) {

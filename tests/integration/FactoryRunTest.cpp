@@ -25,10 +25,10 @@ constexpr int kFrames = 40, kW = 320, kH = 240;
 struct Site {
     scenes::Factory f = scenes::buildFactory();
     sg::Scene scene{f.root};
-    WalkPath path;
+    scenes::WalkPath path;
     Site() {
         scene.update();
-        path = buildWalkPath(f, scene, kFrames);
+        path = scenes::buildWalkPath(f, scene, kFrames);
     }
 };
 Site& site() {
@@ -43,7 +43,7 @@ TEST(FactoryRun, PathEntersAWorkshopWithoutPenetrating) {
     EXPECT_GT(s.path.insideFrames, 0);
     EXPECT_LT(s.path.insideFrames, kFrames);  // it also walks outside
     const sg::Box& box = s.f.buildings[size_t(s.f.workshops[size_t(s.path.workshop)].building)].box;
-    for (const PathFrame& p : s.path.frames) {
+    for (const scenes::PathFrame& p : s.path.frames) {
         EXPECT_EQ(p.workshop >= 0, box.contains(p.eye)) << p.segment;
         if (p.walking) {
             EXPECT_NEAR(p.eye.z, s.f.terrainHeight(p.eye.x, p.eye.y) + 1.7, 0.05) << p.segment;

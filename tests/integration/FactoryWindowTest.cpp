@@ -5,13 +5,13 @@
 #include "common/Navigator.h"
 #include "factory/KeyScript.h"
 #include "factory/Options.h"
-#include "factory/WalkPath.h"
 #include "integration/ProgramRun.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
 #include "testbed/FactoryLighting.h"
+#include "testbed/FactoryWalk.h"
 
 #include <gtest/gtest.h>
 
@@ -145,11 +145,11 @@ TEST(FactoryWindow, ShowsWhatTheLibraryRendersHeadless) {
     // The window's camera: the navigator's view of eye and centre, as a walking path frame.
     common::Navigator nav(s.scene.image().box(0), sg::dvec3(0, 0, 1));
     nav.lookAt(eye, center);
-    PathFrame p;
+    scenes::PathFrame p;
     p.eye = nav.eye();
     p.target = nav.eye() + 10.0 * nav.forward();
     p.walking = true;
-    const sg::Camera cam = pathCamera(p, kW, kH);
+    const sg::Camera cam = scenes::pathCamera(p, kW, kH);
     sg::Image want;
     {
         sg::OsmesaContext ctx(kW, kH);

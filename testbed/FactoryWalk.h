@@ -1,4 +1,4 @@
-// The walkthrough's scripted path: an eye moved by the viewpoint collider from an outside approach into a
+// The factory walkthrough's scripted path: an eye moved by the viewpoint collider from an outside approach into a
 // workshop, along its machines, out again, round the site and up to an overview, with the Switch state
 // (which workshop the eye is in) decided at every step.
 #pragma once
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace factory {
+namespace scenes {
 
 struct PathFrame {
     sg::dvec3 eye{0.0}, target{0.0};
@@ -28,14 +28,14 @@ struct WalkPath {
 
 // Clears kCollidable from every workshop's exterior and its interior shell (inner wall faces, floor and
 // ceiling), so that the eye walks through workshop walls as in the paper; every other node keeps it.
-void makeWorkshopWallsPassable(scenes::Factory& f);
+void makeWorkshopWallsPassable(Factory& f);
 
 // Moves the eye along the script with a ViewpointCollider over `scene` (the factory's root), switching the
 // workshops as it goes; leaves the factory with the defaults (setFactoryEye(f, -1)) and the scene updated.
 // Throws std::invalid_argument for fewer than 10 frames.
-WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames);
+WalkPath buildWalkPath(Factory& f, sg::Scene& scene, int frames);
 
 // The camera of a path frame: fov 60, near 0.1 (walking) or 1 (flying), far 3000.
 sg::Camera pathCamera(const PathFrame& p, int width, int height);
 
-}  // namespace factory
+}  // namespace scenes

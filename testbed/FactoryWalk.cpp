@@ -1,4 +1,4 @@
-#include "factory/WalkPath.h"
+#include "testbed/FactoryWalk.h"
 
 #include "sg/intersect/IntersectTraversal.h"
 #include "sg/intersect/ViewpointCollider.h"
@@ -8,7 +8,7 @@
 #include <functional>
 #include <stdexcept>
 
-namespace factory {
+namespace scenes {
 
 using sg::dvec3;
 
@@ -31,7 +31,7 @@ struct Leg {
 
 // Local y of the widest free aisle along the workshop's length (between pillars, machine rows and
 // conveyors, as buildFactory places them: rows at -9, 0 (turned round) and 9, conveyors at -4.5 and 4.5).
-double aisleY(const scenes::Factory& f, double halfDepth) {
+double aisleY(const Factory& f, double halfDepth) {
     double lo = 1e9, hi = -1e9;
     for (const sg::vec3& p : f.machineMesh->positions()) {
         lo = std::min(lo, double(p.y));
@@ -48,14 +48,14 @@ double aisleY(const scenes::Factory& f, double halfDepth) {
 }
 }  // namespace
 
-void makeWorkshopWallsPassable(scenes::Factory& f) {
-    for (const scenes::FactoryWorkshop& w : f.workshops) {
+void makeWorkshopWallsPassable(Factory& f) {
+    for (const FactoryWorkshop& w : f.workshops) {
         clearCollidable(*f.buildings[size_t(w.building)].place);
         clearCollidable(*w.interiorGroup->child(0));  // the shell: floor, inner wall faces, ceiling
     }
 }
 
-WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames) {
+WalkPath buildWalkPath(Factory& f, sg::Scene& scene, int frames) {
     if (frames < 10) throw std::invalid_argument("factory::buildWalkPath(): " + std::to_string(frames) + " frames");
     WalkPath path;
     // The southernmost, then westernmost workshop: its south side faces the main road and the open yard.
@@ -93,7 +93,7 @@ WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames) {
     };
 
     makeWorkshopWallsPassable(f);
-    scenes::setFactoryEye(f, -1);
+    setFactoryEye(f, -1);
     scene.update();
     sg::ViewpointSettings vs;
     vs.radius = path.eyeRadius;
@@ -118,9 +118,9 @@ WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames) {
                     ++path.penetrations;
                     break;
                 }
-            const int k = scenes::factoryWorkshopAt(f, eye);
+            const int k = factoryWorkshopAt(f, eye);
             if (k != inside) {
-                scenes::setFactoryEye(f, k);
+                setFactoryEye(f, k);
                 scene.update();
                 inside = k;
             }
@@ -144,7 +144,7 @@ WalkPath buildWalkPath(scenes::Factory& f, sg::Scene& scene, int frames) {
         }
         done += n;
     }
-    scenes::setFactoryEye(f, -1);
+    setFactoryEye(f, -1);
     scene.update();
     return path;
 }
@@ -157,4 +157,4 @@ sg::Camera pathCamera(const PathFrame& p, int width, int height) {
     return cam;
 }
 
-}  // namespace factory
+}  // namespace scenes
