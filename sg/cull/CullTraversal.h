@@ -62,6 +62,10 @@ private:
     OcclusionPass occlusion_;
     LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
+    // The PVS table last found to match the scene, at that scene's version: checked again when either changes.
+    const void* pvsChecked_ = nullptr;
+    const Scene* pvsScene_ = nullptr;
+    uint64_t pvsVersion_ = 0;
 };
 
 }  // namespace sg
