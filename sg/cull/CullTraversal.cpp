@@ -124,7 +124,9 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
                 pvsScene_ = &scene;
                 pvsVersion_ = scene.version();
             }
-            if (!(cam.nearDistance() >= t.minNear() && cam.nearDistance() <= t.maxNear()))
+            // (within rounding: the camera's near distance is recovered from its projection)
+            const double zn = cam.nearDistance();
+            if (!(zn >= t.minNear() * (1.0 - 1e-9) && zn <= t.maxNear() * (1.0 + 1e-9)))
                 throw std::invalid_argument(std::string(fn) + ": the camera's near plane " +
                                             std::to_string(cam.nearDistance()) + " is outside the PVS table's [" +
                                             std::to_string(t.minNear()) + ", " + std::to_string(t.maxNear()) + "]");
