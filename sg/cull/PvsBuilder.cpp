@@ -193,17 +193,26 @@ private:
             if (gu > reach || gw > reach) continue;
             const dvec3 gap = glm::max(glm::max(ob.min - half_, -half_ - ob.max), dvec3(0.0));
             const dvec3 size = ob.max - ob.min;
-            cands_.push_back({glm::dot(size, size) / std::max(glm::dot(gap, gap), 1e-12), k, maxT});
+            cands_.push_back({glm::dot(size, size) / std::max(glm::dot(gap, gap), 1e-12), k, minT, maxT});
         }
         if (cands_.empty()) return;
         const size_t keep = std::min<size_t>(cands_.size(), opt_.maxOccluders);
-        std::nth_element(
-            cands_.begin(), cands_.begin() + ptrdiff_t(keep - 1), cands_.end(),
-            [](const Cand& x, const Cand& y) { return x.score > y.score || (x.score == y.score && x.k < y.k); });
+        auto byScore = [](const Cand& x, const Cand& y) {
+            return x.score > y.score || (x.score == y.score && x.k < y.k);
+        };
+        auto byScoreRev = [&](const Cand& x, const Cand& y) { return byScore(y, x); };
+        std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep - 1), cands_.end(), byScore);
+        // The plane: no occluder used may straddle it (the intersection of the corners' projections is the
+        // extended projection only for an occluder entirely on one side). Just beyond the largest occluder
+        // (the extended projections are tightest near the plane; straddling ones are dropped), or beyond
+        // them all.
         double far = cD;
-        for (size_t c = 0; c < keep; ++c) far = std::max(far, cands_[c].maxT);
-        // Beyond every occluder used: then the intersection of the corners' projections is the extended
-        // projection (an occluder straddling the plane would break that).
+        if (opt_.plane == PvsBuilder::Plane::BeyondLargest) {
+            const Cand best = *std::max_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), byScoreRev);
+            far = best.maxT;
+        } else {
+            for (size_t c = 0; c < keep; ++c) far = std::max(far, cands_[c].maxT);
+        }
         d.tP = far + 0.01 * (far - cNear) + 1e-6;
         const double hu = half_[u] + opt_.maxTan * (d.tP - cNear), hw = half_[w] + opt_.maxTan * (d.tP - cNear);
         const int res = opt_.resolution;
@@ -216,6 +225,7 @@ private:
         st_.maps++;
         for (size_t c = 0; c < keep; ++c) {
             const Occ& o = occs_[cands_[c].k];
+            if (cands_[c].minT <= d.tP && cands_[c].maxT >= d.tP) continue;  // straddles the plane
             for (int k = 0; k < 8; ++k) {
                 pts_.clear();
                 for (const dvec3& p : o.v) pts_.push_back(project(dir, d.tP, corner(k), p - centre_));
@@ -304,7 +314,7 @@ private:
     struct Cand {
         double score;
         uint32_t k;
-        double maxT;
+        double minT, maxT;  // depth along the direction, cell-relative
     };
     std::vector<Cand> cands_;
     std::vector<P2> pts_, poly_, hull_, tmp_;

@@ -2,7 +2,7 @@
 // 2000): per view cell, the image entries that the scene's Occluder entries hide from every point of it.
 //
 // Per cell and per axis direction d (+x, -x, +y, -y, +z, -z): the occluders entirely beyond the cell's face
-// along d (by at least maxNear) are projected onto a plane perpendicular to d, beyond them all, from the
+// along d (by at least maxNear) are projected onto a plane perpendicular to d (which none of them straddles) from the
 // cell's 8 corners. An occluder's extended projection is the intersection of its 8 projections (each the
 // convex hull of its projected vertices; exact for a convex occluder and a convex cell); it is drawn INNER
 // into a grid map (only pixels entirely inside it) with its farthest depth along d, each pixel keeping the
@@ -27,6 +27,13 @@ namespace sg {
 
 class PvsBuilder {
 public:
+    // Where each direction's projection plane lies: no occluder used may straddle it. Beyond them all hides
+    // more on city's street and office's walk (docs/benchmarks.md), though a plane near an occluder makes its
+    // extended projection tighter: the nearer one drops the occluders that straddle it.
+    enum class Plane : uint8_t {
+        BeyondAll,      // beyond every occluder used (the default)
+        BeyondLargest,  // just beyond the largest occluder seen from the cell
+    };
     struct Options {
         Box region;                  // the grid's box: where the eye goes (the walkable area)
         dvec3 cellSize{5.0};         // at most this: each axis of the region is divided evenly
@@ -35,6 +42,7 @@ public:
         double maxTan = 2.0;         // the map spans directions up to atan(maxTan) (63 degrees) off its axis
         double minNear = 0.1;        // near planes the table holds for (PvsTable::minNear(), maxNear())
         double maxNear = 1.0;
+        Plane plane = Plane::BeyondAll;
         std::vector<dvec3> only;  // when not empty: only the cells holding one of these points are computed
     };
     struct Stats {
