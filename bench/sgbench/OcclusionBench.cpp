@@ -59,6 +59,24 @@ int runOcclusion(const Args& a) {
         cams.push_back(city ? (path == "street" ? scenes::cityStreetCamera(n, f) : scenes::cityOrbitCamera(n, f))
                             : scenes::officeWalkCamera(n, f));
 
+    // --method pvs | pvs+tree: a PVS table for the path's cells, built first (untimed), culls before the
+    // frustum, alone or with the tree. The default, tree, is the tree alone.
+    const std::string method = a.str("method", "tree");
+    if (method != "tree" && method != "pvs" && method != "pvs+tree")
+        throw std::invalid_argument("sgbench occlusion: --method must be tree, pvs or pvs+tree");
+    sg::PvsTable pvs;
+    double pvsBuildMs = 0.0, culledPvs = 0.0;
+    if (method != "tree") {
+        sg::PvsBuilder::Stats ps;
+        sg::PvsBuilder::Options po = pvsPathOptions(city, n, cams);
+        po.cellSize = sg::dvec3(double(a.num("cell-size", 5)), double(a.num("cell-size", 5)), 2.0);
+        po.maxOccluders = uint32_t(a.num("pvs-occluders", 50));
+        pvs = sg::PvsBuilder::build(scene, po, &ps);
+        pvsBuildMs = ps.ms;
+        occl.pvs = &pvs;
+        if (method == "pvs") occl.occlusion.mode = sg::OcclusionMode::Off;
+    }
+
     std::unique_ptr<sg::OsmesaContext> ctx;
     std::unique_ptr<sg::Renderer> renderer;
     if (draw) {
@@ -130,6 +148,7 @@ int runOcclusion(const Args& a) {
         culled += double(st.culledOcclusion);
         tests += double(st.occlusionTests);
         ran += st.occlusionRan;
+        culledPvs += double(st.culledPvs);
         if (ideal) trisIdeal += visibleTriangles(cam);
         frameF.push_back(fF);
         frameO.push_back(fO);
@@ -139,6 +158,8 @@ int runOcclusion(const Args& a) {
     Json j;
     j.add("command", "occlusion").add("scene", sceneName).addInt(city ? "n" : "r", n).add("path", path);
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
+    if (method != "tree")
+        j.add("method", method).add("pvs_build_ms", pvsBuildMs).add("culled_pvs_mean", culledPvs / double(cams.size()));
     j.addInt("max_occluders", long(occl.occlusion.maxOccluders)).addInt("splits", occl.occlusion.screenSplits);
     j.add("triangles_total", total / k)
         .add("triangles_frustum_mean", trisF / k)
