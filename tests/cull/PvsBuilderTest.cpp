@@ -1,6 +1,6 @@
 // PvsBuilder: hand-made cases where the answer is known: a wall hides a box behind it from a cell, but not
 // through a gap, not from a cell that sees around the wall's end, not from a cell inside the wall; two
-// overlapping walls hide together what neither hides alone.
+// overlapping walls hide together what neither hides alone; with either choice of projection plane.
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Occluder.h"
@@ -34,11 +34,11 @@ struct Built {
     PvsBuilder::Stats stats;
 };
 // One cell, the box [centre - 1, centre + 1].
-Built buildOneCell(const Scene& s, const dvec3& centre, uint32_t maxOccluders = 50) {
+Built buildOneCell(const Scene& s, const dvec3& centre, PvsBuilder::Plane plane = PvsBuilder::Plane::BeyondAll) {
     PvsBuilder::Options o;
+    o.plane = plane;
     o.region = Box{centre - 1.0, centre + 1.0};
     o.cellSize = dvec3(2.0);
-    o.maxOccluders = maxOccluders;
     Built b;
     b.table = PvsBuilder::build(s, o, &b.stats);
     EXPECT_EQ(b.table.cellCount(), 1u);
@@ -97,9 +97,11 @@ TEST(PvsBuilder, GapBetweenWallsLetsTheBoxBeSeen) {
     root->addChild(boxGeom(Box{dvec3(-0.2, 40, -0.2), dvec3(0.2, 42, 0.2)}));
     Scene s(root);
     s.update();
-    const Built b = buildOneCell(s, dvec3(0.0));
-    EXPECT_FALSE(b.table.isHidden(0, entryOfChild(s, 2)));
-    EXPECT_EQ(b.table.hiddenCount(0), 0u);
+    for (auto plane : {PvsBuilder::Plane::BeyondAll, PvsBuilder::Plane::BeyondLargest}) {
+        const Built b = buildOneCell(s, dvec3(0.0), plane);
+        EXPECT_FALSE(b.table.isHidden(0, entryOfChild(s, 2)));
+        EXPECT_EQ(b.table.hiddenCount(0), 0u);
+    }
 }
 
 TEST(PvsBuilder, CellBesideTheWallSeesAroundItsEnd) {
@@ -124,7 +126,9 @@ TEST(PvsBuilder, TwoWallsHideTogetherWhatNeitherHidesAlone) {
         if (walls & 2) root->addChild(wallX(-0.5, 10));
         Scene s(root);
         s.update();
-        EXPECT_EQ(buildOneCell(s, dvec3(0.0)).table.isHidden(0, entryOfChild(s, 0)), walls == 3) << "walls " << walls;
+        for (auto plane : {PvsBuilder::Plane::BeyondAll, PvsBuilder::Plane::BeyondLargest})
+            EXPECT_EQ(buildOneCell(s, dvec3(0.0), plane).table.isHidden(0, entryOfChild(s, 0)), walls == 3)
+                << "walls " << walls << ", plane " << int(plane);
     }
 }
 
