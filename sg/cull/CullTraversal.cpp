@@ -116,13 +116,16 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         c.originRel = img.origin - cam.eye();
         if (set.pvs && set.strategy != CullStrategy::None && cam.perspective()) {
             const PvsTable& t = *set.pvs;
-            if (pvsChecked_ != &t || pvsScene_ != &scene || pvsVersion_ != scene.version()) {
+            if (pvsChecked_ != &t || pvsHash_ != t.imageHash() || pvsScene_ != &scene ||
+                pvsVersion_ != scene.version() || pvsEntries_ != img.size()) {
                 const std::string why = t.mismatch(scene);
                 if (!why.empty())
                     throw std::invalid_argument(std::string(fn) + ": the PVS table does not match: " + why);
                 pvsChecked_ = &t;
+                pvsHash_ = t.imageHash();
                 pvsScene_ = &scene;
                 pvsVersion_ = scene.version();
+                pvsEntries_ = img.size();
             }
             // (within rounding: the camera's near distance is recovered from its projection)
             const double zn = cam.nearDistance();

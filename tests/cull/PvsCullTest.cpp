@@ -116,6 +116,22 @@ TEST(PvsCull, TableMustMatchTheSceneAndTheCamera) {
             << e.what();
     }
     ct.cull(s, camAt(dvec3(0.0)), set, l, st);  // fine
+    // Another table in the same place, built for a scene with as many entries (one box moved): refused.
+    {
+        World other;
+        other.root->removeChild(size_t(2));
+        other.root->addChild(make<Geometry>(makeBoxMesh(dvec3(5, 40, -1), dvec3(7, 42, 1)), make<Material>()));
+        Scene s2(other.root);
+        s2.update();
+        PvsTable moved = tableFor(s2);
+        set.pvs = &moved;
+        ct.cull(s2, camAt(dvec3(0.0)), set, l, st);
+        moved = t;
+        ct.cull(s, camAt(dvec3(0.0)), set, l, st);  // t's copy: fine
+        moved = tableFor(s2);
+        EXPECT_THROW(ct.cull(s, camAt(dvec3(0.0)), set, l, st), std::invalid_argument);
+        set.pvs = &t;
+    }
     w.root->addChild(make<Geometry>(makeBoxMesh(dvec3(0.0), dvec3(1.0)), make<Material>()));
     s.update();
     try {
