@@ -195,7 +195,7 @@ private:
             const dvec3 size = ob.max - ob.min;
             cands_.push_back({glm::dot(size, size) / std::max(glm::dot(gap, gap), 1e-12), k, minT, maxT});
         }
-        if (cands_.empty()) return;
+        if (cands_.empty() || opt_.maxOccluders == 0) return;
         const size_t keep = std::min<size_t>(cands_.size(), opt_.maxOccluders);
         auto byScore = [](const Cand& x, const Cand& y) {
             return x.score > y.score || (x.score == y.score && x.k < y.k);

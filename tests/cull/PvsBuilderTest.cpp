@@ -132,6 +132,22 @@ TEST(PvsBuilder, TwoWallsHideTogetherWhatNeitherHidesAlone) {
     }
 }
 
+TEST(PvsBuilder, NoOccludersNothingHidden) {
+    auto root = make<Group>();
+    root->addChild(wallX(-10, 10));
+    root->addChild(boxGeom(kTarget));
+    Scene s(root);
+    s.update();
+    PvsBuilder::Options o;
+    o.region = Box{dvec3(-1), dvec3(1)};
+    o.maxOccluders = 0;
+    PvsBuilder::Stats st;
+    EXPECT_EQ(PvsBuilder::build(s, o, &st).hiddenCount(0), 0u);
+    EXPECT_EQ(st.occluders, 0u);
+    o.maxOccluders = 1;
+    EXPECT_EQ(PvsBuilder::build(s, o, &st).hiddenCount(0), 1u);
+}
+
 TEST(PvsBuilder, OccluderTouchingTheCellOrTooNearIsNotUsed) {
     auto root = make<Group>();
     root->addChild(wallX(-10, 10));
