@@ -66,9 +66,9 @@ int runPvs(const Args& a) {
     const int res = int(a.num("resolution", 512));
     const double fixedCell = double(a.num("cell-size", 5));
     const uint32_t fixedOcc = uint32_t(a.num("max-occluders", 50));
-    const std::string plane = a.str("plane", "all");
-    if (plane != "largest" && plane != "all")
-        throw std::invalid_argument("sgbench pvs: --plane must be largest or all");
+    const std::string plane = a.str("plane", "both");
+    if (plane != "both" && plane != "largest" && plane != "all")
+        throw std::invalid_argument("sgbench pvs: --plane must be both, largest or all");
     for (const bool city : {true, false}) {
         if (which != "both" && city != (which == "city")) continue;
         const int n = int(a.num(city ? "n" : "r", city ? 100 : 8));
@@ -92,7 +92,9 @@ int runPvs(const Args& a) {
             o.cellSize = sg::dvec3(r.cell, r.cell, 2.0);
             o.maxOccluders = r.occ;
             o.resolution = res;
-            o.plane = plane == "all" ? sg::PvsBuilder::Plane::BeyondAll : sg::PvsBuilder::Plane::BeyondLargest;
+            o.plane = plane == "both"  ? sg::PvsBuilder::Plane::Both
+                      : plane == "all" ? sg::PvsBuilder::Plane::BeyondAll
+                                       : sg::PvsBuilder::Plane::BeyondLargest;
             sg::PvsBuilder::Stats st;
             const sg::PvsTable t = sg::PvsBuilder::build(scene, o, &st);
             double ent = 0, tri = 0;

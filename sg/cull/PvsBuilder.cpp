@@ -167,16 +167,21 @@ private:
             const double cD = half_[dir / 2];
             const double bNear = dir & 1 ? -b.max[dir / 2] : b.min[dir / 2];
             if (!(bNear > cD + 1e-9 * (std::abs(bNear) + cD))) continue;  // not entirely beyond this face
-            DirMap& d = dirs_[dir];
-            if (!d.built) buildMap(dir, d);
-            if (!d.usable) continue;
-            st_.tests++;
-            if (test(dir, d, b, bNear)) return true;
+            for (int nearPlane = 0; nearPlane < 2; ++nearPlane) {         // beyond all, beyond the largest
+                if (opt_.plane != PvsBuilder::Plane::Both &&
+                    (opt_.plane == PvsBuilder::Plane::BeyondLargest) != bool(nearPlane))
+                    continue;
+                DirMap& d = dirs_[2 * dir + nearPlane];
+                if (!d.built) buildMap(dir, nearPlane, d);
+                if (!d.usable) continue;
+                st_.tests++;
+                if (test(dir, d, b, bNear)) return true;
+            }
         }
         return false;
     }
 
-    void buildMap(int dir, DirMap& d) {
+    void buildMap(int dir, bool nearPlane, DirMap& d) {
         d.built = true;
         d.usable = false;
         const int a = dir / 2, u = (a + 1) % 3, w = (a + 2) % 3;
@@ -207,7 +212,7 @@ private:
         // (the extended projections are tightest near the plane; straddling ones are dropped), or beyond
         // them all.
         double far = cD;
-        if (opt_.plane == PvsBuilder::Plane::BeyondLargest) {
+        if (nearPlane) {
             const Cand best = *std::max_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), byScoreRev);
             far = best.maxT;
         } else {
@@ -310,7 +315,7 @@ private:
     PvsBuilder::Stats& st_;
     std::vector<Occ> occs_;
     dvec3 centre_{0.0}, half_{0.0};
-    DirMap dirs_[6];
+    DirMap dirs_[12];  // per direction, the plane beyond all occluders and the one beyond the largest
     struct Cand {
         double score;
         uint32_t k;

@@ -27,11 +27,13 @@ namespace sg {
 
 class PvsBuilder {
 public:
-    // Where each direction's projection plane lies: no occluder used may straddle it. Beyond them all hides
-    // more on city's street and office's walk (docs/benchmarks.md), though a plane near an occluder makes its
-    // extended projection tighter: the nearer one drops the occluders that straddle it.
+    // Where each direction's projection plane lies: no occluder used may straddle it. A plane near an
+    // occluder makes its extended projection tighter, but the nearer plane drops the occluders that straddle
+    // it; neither choice hides more everywhere (docs/benchmarks.md), so by default both maps are drawn and
+    // an entry is hidden when either hides it.
     enum class Plane : uint8_t {
-        BeyondAll,      // beyond every occluder used (the default)
+        Both,           // the two below (the default: twice the maps)
+        BeyondAll,      // beyond every occluder used
         BeyondLargest,  // just beyond the largest occluder seen from the cell
     };
     struct Options {
@@ -42,7 +44,7 @@ public:
         double maxTan = 2.0;         // the map spans directions up to atan(maxTan) (63 degrees) off its axis
         double minNear = 0.1;        // near planes the table holds for (PvsTable::minNear(), maxNear())
         double maxNear = 1.0;
-        Plane plane = Plane::BeyondAll;
+        Plane plane = Plane::Both;
         std::vector<dvec3> only;  // when not empty: only the cells holding one of these points are computed
     };
     struct Stats {

@@ -34,7 +34,7 @@ struct Built {
     PvsBuilder::Stats stats;
 };
 // One cell, the box [centre - 1, centre + 1].
-Built buildOneCell(const Scene& s, const dvec3& centre, PvsBuilder::Plane plane = PvsBuilder::Plane::BeyondAll) {
+Built buildOneCell(const Scene& s, const dvec3& centre, PvsBuilder::Plane plane = PvsBuilder::Plane::Both) {
     PvsBuilder::Options o;
     o.plane = plane;
     o.region = Box{centre - 1.0, centre + 1.0};

@@ -91,7 +91,7 @@ TEST(PvsAccuracy, OfficeRoomsAreExact) {
     Scene s(scenes::buildOffice(r));
     s.update();
     // The walk's corridor through the doors of the middle row of rooms (y = 21), at eye height; and one room,
-    // with the projection plane just beyond the largest occluder.
+    // with only the projection plane just beyond the largest occluder (the others draw both planes).
     PvsBuilder::Options o;
     o.region = Box{dvec3(0.5, 20.6, 1.2), dvec3(35.5, 21.4, 2.0)};
     o.cellSize = dvec3(1, 1, 1);
@@ -100,7 +100,7 @@ TEST(PvsAccuracy, OfficeRoomsAreExact) {
     checkExact(s, walk, viewsInCells(walk, kViewsPerScene / 2, 0.1, 12), "office");
     o.region = Box{dvec3(13, 13, 1.2), dvec3(17, 17, 1.8)};  // inside room (2, 2), away from its walls
     o.cellSize = dvec3(2, 2, 1);
-    o.plane = PvsBuilder::Plane::BeyondLargest;  // the other plane choice, here
+    o.plane = PvsBuilder::Plane::BeyondLargest;
     const PvsTable room = PvsBuilder::build(s, o);
     checkExact(s, room, viewsInCells(room, kViewsPerScene / 2, 0.1, 13), "office");
 }
