@@ -1,5 +1,8 @@
 // sgbench's shared pieces: argument parsing, JSON output, timing and memory readings.
 #pragma once
+#include "sg/core/Camera.h"
+#include "sg/cull/PvsBuilder.h"
+
 #include <cstdint>
 #include <map>
 #include <string>
@@ -44,5 +47,9 @@ int runOcclusion(const Args& a);
 int runLod(const Args& a);
 int runPick(const Args& a);
 int runLoad(const Args& a);
+int runPvs(const Args& a);
+// The PVS grid around city's street path (n) or office's walk (n rooms a side), computed only at the
+// cameras' eyes, for their near planes.
+sg::PvsBuilder::Options pvsPathOptions(bool city, int n, const std::vector<sg::Camera>& cams);
 
 }  // namespace bench

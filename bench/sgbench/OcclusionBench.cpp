@@ -1,7 +1,8 @@
-// sgbench occlusion: an occlusion method (--method tree, hom, hom-approx) on city's street path, office's walk or
-// the factory's walkthrough (docs/scenes.md). Per frame, in one run and alternating: no culling (the scene's total),
-// frustum culling alone, frustum + occlusion; triangles drawn by each, cull and pass times, the whole frame drawn
-// headless (1280x720), and with --pixels the pixels that differ from the unculled render.
+// sgbench occlusion: an occlusion method (--method tree, hom, hom-approx, each alone or after a PVS table, or the
+// PVS alone) on city's street path, office's walk or the factory's walkthrough (docs/scenes.md). Per frame, in one run
+// and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion; triangles drawn by each,
+// cull and pass times, the whole frame drawn headless (1280x720), and with --pixels the pixels that differ from the
+// unculled render.
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
@@ -53,14 +54,21 @@ int runOcclusion(const Args& a) {
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
     occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
+    // --method: tree, hom or hom-approx, each alone or after the PVS ("pvs+tree"), or the PVS alone ("pvs").
     const std::string method = a.str("method", "tree");
-    if (method != "tree" && method != "hom" && method != "hom-approx")
-        throw std::invalid_argument("sgbench occlusion: --method must be tree, hom or hom-approx (got '" + method +
-                                    "')");
-    if (method != "tree") {
+    const bool usesPvs = method.rfind("pvs", 0) == 0;
+    const std::string occlusionMethod = method == "pvs" ? "tree" : usesPvs ? method.substr(4) : method;
+    if ((method != "pvs" && method.rfind("pvs+", 0) != 0 && usesPvs) ||
+        (occlusionMethod != "tree" && occlusionMethod != "hom" && occlusionMethod != "hom-approx"))
+        throw std::invalid_argument(
+            "sgbench occlusion: --method must be tree, hom, hom-approx, pvs, pvs+tree, pvs+hom or pvs+hom-approx (got "
+            "'" +
+            method + "')");
+    const bool hom = occlusionMethod != "tree";
+    if (hom) {
         occl.occlusion.method = sg::OcclusionMethod::Hom;
         // The approximate map: a pyramid pixel three quarters covered counts as covered (--hom-opacity, %).
-        occl.occlusion.homOpacity = method == "hom" ? 1.0 : double(a.num("hom-opacity", 75)) / 100.0;
+        occl.occlusion.homOpacity = occlusionMethod == "hom" ? 1.0 : double(a.num("hom-opacity", 75)) / 100.0;
         occl.occlusion.homWidth = occl.occlusion.homHeight = int(a.num("hom-size", 256));
         occl.occlusion.homMaxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.homMaxOccluders));
         occl.occlusion.homObbLevels = int(a.num("obb-levels", 0));
@@ -105,6 +113,22 @@ int runOcclusion(const Args& a) {
         scenes::setFactoryEye(site, shown = workshops[view]);
         scene.update();
     };
+
+    // A PVS table for the path's cells, built first (untimed), culls before the frustum, alone or with an
+    // occlusion method.
+    sg::PvsTable pvs;
+    double pvsBuildMs = 0.0, culledPvs = 0.0;
+    if (usesPvs) {
+        if (factory) throw std::invalid_argument("sgbench occlusion: the PVS methods are for city and office");
+        sg::PvsBuilder::Stats ps;
+        sg::PvsBuilder::Options po = pvsPathOptions(city, n, cams);
+        po.cellSize = sg::dvec3(double(a.num("cell-size", 5)), double(a.num("cell-size", 5)), 2.0);
+        po.maxOccluders = uint32_t(a.num("pvs-occluders", 50));
+        pvs = sg::PvsBuilder::build(scene, po, &ps);
+        pvsBuildMs = ps.ms;
+        occl.pvs = &pvs;
+        if (method == "pvs") occl.occlusion.mode = sg::OcclusionMode::Off;
+    }
 
     std::unique_ptr<sg::OsmesaContext> ctx;
     std::unique_ptr<sg::Renderer> renderer;
@@ -183,6 +207,7 @@ int runOcclusion(const Args& a) {
         culledObb += double(st.culledObb);
         tests += double(st.occlusionTests);
         ran += st.occlusionRan;
+        culledPvs += double(st.culledPvs);
         if (pixels) {
             const sg::Image got = renderer->readColor();
             cullNone.cull(scene, cam, none, list, st);
@@ -202,13 +227,14 @@ int runOcclusion(const Args& a) {
     if (!factory) j.addInt(city ? "n" : "r", n);
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
     j.add("method", method);
-    if (method != "tree")
+    if (hom)
         j.add("hom_opacity", occl.occlusion.homOpacity)
             .addInt("hom_size", occl.occlusion.homWidth)
             .addInt("obb_levels", occl.occlusion.homObbLevels)
             .add("culled_obb_mean", culledObb / double(cams.size()));
+    if (usesPvs) j.add("pvs_build_ms", pvsBuildMs).add("culled_pvs_mean", culledPvs / double(cams.size()));
     if (pixels) j.add("differing_pixels_total", differing).add("views_with_error", viewsWithError);
-    j.addInt("max_occluders", long(method == "tree" ? occl.occlusion.maxOccluders : occl.occlusion.homMaxOccluders))
+    j.addInt("max_occluders", long(hom ? occl.occlusion.homMaxOccluders : occl.occlusion.maxOccluders))
         .addInt("splits", occl.occlusion.screenSplits);
     j.add("triangles_total", total / k)
         .add("triangles_frustum_mean", trisF / k)

@@ -113,14 +113,17 @@ static void usage() {
         "tree|auto]\n"
         "                [--cap front|centre] [--max-occluders K] [--min-pixels P] [--splits S] [--every K] "
         "[--no-draw] [--json]\n"
-        "                [--method tree|hom|hom-approx] [--hom-opacity PERCENT] [--hom-size N] [--obb-levels L] "
-        "[--pixels]\n"
+        "                [--method tree|hom|hom-approx|pvs|pvs+tree|pvs+hom|pvs+hom-approx] [--hom-opacity PERCENT] "
+        "[--hom-size N]\n"
+        "                [--obb-levels L] [--cell-size M] [--pvs-occluders K] [--pixels]\n"
         "       sgbench lod --scene city|factory [--n N] [--path orbit|street] --budget-ms B --method "
         "static|stress|budget "
         "[--may-drop] [--guess-accuracy] [--same-view] [--every K]\n"
         "                [--background-load none|spin] [--jitter-draws 60] [--json]\n"
         "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
         "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
+        "       sgbench pvs [--scene city|office|both] [--n N] [--r R] [--sweep cells|occluders|both] [--cell-size M]\n"
+        "                [--max-occluders K] [--resolution P] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -134,6 +137,7 @@ int main(int argc, char** argv) {
         if (a.command == "lod") return bench::runLod(a);
         if (a.command == "pick") return bench::runPick(a);
         if (a.command == "load") return bench::runLoad(a);
+        if (a.command == "pvs") return bench::runPvs(a);
         usage();
         return 2;
     } catch (const std::exception& e) {

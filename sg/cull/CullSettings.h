@@ -63,6 +63,7 @@ struct OcclusionSettings {
 };
 
 class DrawCostModel;
+class PvsTable;
 
 // Time-budgeted LOD selection (Funkhouser and Sequin's adaptive display): every visible LOD of the scene
 // (not inside Instance prototypes) offers its children as options, priced by the draw-cost model and
@@ -106,6 +107,10 @@ struct CullSettings {
     bool lodFade = true;
     LodBudgetSettings lodBudget;  // when enabled, LOD ranges, scale and hysteresis are not used
     OcclusionSettings occlusion;
+    // From-region visibility (sg/cull/PvsTable.h, built by PvsBuilder): the main image's entries hidden from
+    // the eye's cell are culled before any other test. Null: none. Not used by the reference
+    // (CullStrategy::None) nor for orthographic cameras; the table must match the scene.
+    const PvsTable* pvs = nullptr;
 };
 
 struct CullStats {
@@ -146,6 +151,7 @@ struct CullStats {
     uint64_t pagedRequested = 0;  // posted for loading (once per update each)
     uint64_t pagedCoarse = 0;     // wanted but not loaded yet: their coarse level was drawn
     double ms = 0.0;
+    uint64_t culledPvs = 0;  // entries culled as hidden from the eye's cell (CullSettings::pvs)
 };
 
 }  // namespace sg

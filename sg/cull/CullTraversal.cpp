@@ -9,6 +9,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/cull/FrustumKernel.h"
+#include "sg/cull/PvsTable.h"
 #include "sg/scene/ImageWalk.h"
 #include "sg/scene/LodValue.h"
 
@@ -40,7 +41,12 @@ struct CullTraversal::Ctx {
     double fsRadius = 0.0;
     size_t clsOffset = 0;  // into cls_, valid when clsBase != kNone
     uint32_t clsBase = ~0u;
+    const uint64_t* pvsHidden = nullptr;  // the eye cell's hidden entries (main image only), or null
 };
+
+namespace {
+inline bool pvsHides(const uint64_t* hidden, uint32_t i) { return hidden && ((hidden[i >> 6] >> (i & 63)) & 1u); }
+}  // namespace
 
 void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
     c.img = &img;
@@ -108,6 +114,27 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
         c.originRel = img.origin - cam.eye();
+        if (set.pvs && set.strategy != CullStrategy::None && cam.perspective()) {
+            const PvsTable& t = *set.pvs;
+            if (pvsChecked_ != &t || pvsHash_ != t.imageHash() || pvsScene_ != &scene ||
+                pvsVersion_ != scene.version() || pvsEntries_ != img.size()) {
+                const std::string why = t.mismatch(scene);
+                if (!why.empty())
+                    throw std::invalid_argument(std::string(fn) + ": the PVS table does not match: " + why);
+                pvsChecked_ = &t;
+                pvsHash_ = t.imageHash();
+                pvsScene_ = &scene;
+                pvsVersion_ = scene.version();
+                pvsEntries_ = img.size();
+            }
+            // (within rounding: the camera's near distance is recovered from its projection)
+            const double zn = cam.nearDistance();
+            if (!(zn >= t.minNear() * (1.0 - 1e-9) && zn <= t.maxNear() * (1.0 + 1e-9)))
+                throw std::invalid_argument(std::string(fn) + ": the camera's near plane " +
+                                            std::to_string(cam.nearDistance()) + " is outside the PVS table's [" +
+                                            std::to_string(t.minNear()) + ", " + std::to_string(t.maxNear()) + "]");
+            c.pvsHidden = t.hiddenFor(cam.eye());
+        }
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
         const int32_t occ = occlusion_.build(img, cam, set, stats);
         framesTop_ = 0;
@@ -230,6 +257,10 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
 void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
     const FlatImage& img = *c.img;
     stats_->nodesVisited++;
+    if (pvsHides(c.pvsHidden, i)) {
+        stats_->culledPvs++;
+        return;
+    }
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
     if ((fl & FlatImage::kMasked) && !(img.maskedNode(i)->nodeMask() & set_->traversalMask)) return;
@@ -449,6 +480,11 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
     uint32_t j = begin;
     while (j < end) {
         while (j >= fr[top].end) --top;
+        if (pvsHides(c.pvsHidden, j)) {
+            stats_->culledPvs++;
+            j = img.end[j];
+            continue;
+        }
         const uint8_t fl = img.flags[j];
         const NodeKind kind = img.kind[j];
         // Masked, empty, invalid, below a billboard, or a rarer kind: the general path.
@@ -486,8 +522,10 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                 const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[j]].firstRange];
                 for (uint32_t k = j + 1; k < img.end[j]; k = img.end[k], ++rg) {
                     if (!(value >= rg->min && value < rg->max)) continue;
-                    if (img.kind[k] == NodeKind::Geometry &&
-                        !(img.flags[k] & FlatImage::kSlowPath)) {  // the usual child
+                    if (pvsHides(c.pvsHidden, k)) {
+                        stats_->culledPvs++;
+                    } else if (img.kind[k] == NodeKind::Geometry &&
+                               !(img.flags[k] & FlatImage::kSlowPath)) {  // the usual child
                         ++visited;
                         emit(c, k, fr[top].m);
                     } else {

@@ -62,6 +62,13 @@ private:
     OcclusionPass occlusion_;
     LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
+    // The PVS table last found to match the scene (its address and hash), at that scene's version and size:
+    // checked again when any of them changes.
+    const void* pvsChecked_ = nullptr;
+    uint64_t pvsHash_ = 0;
+    const Scene* pvsScene_ = nullptr;
+    uint64_t pvsVersion_ = 0;
+    size_t pvsEntries_ = 0;
 };
 
 }  // namespace sg
