@@ -267,6 +267,17 @@ void boxBehind(Rng& r, const dvec3& at, double size, dvec3& lo, dvec3& hi) {
     hi = c + e;
 }
 
+// A small box near a point of the occluder (towards one of its `corners`, eye-relative): 1e-6 to 3% of
+// the distance beyond it or in front of it, where a depth test is decided.
+void boxNearOccluder(Rng& r, const dvec3& at, const std::vector<dvec3>& corners, dvec3& lo, dvec3& hi) {
+    const dvec3 p = at + (corners[size_t(r.pick(int(corners.size())))] - at) * r.uni(0.5, 1.0);
+    const double len = glm::length(p), eps = r.logUni(1e-6, 0.03) * (r.pick(2) ? 1.0 : -1.0);
+    const dvec3 e = dvec3(r.uni(0.1, 1), r.uni(0.1, 1), r.uni(0.1, 1)) * len * r.logUni(1e-5, 1e-2);
+    const dvec3 c = p * (1.0 + eps) + p / len * glm::length(e) * (eps > 0 ? 1.0 : -1.0);
+    lo = c - e;
+    hi = c + e;
+}
+
 }  // namespace
 
 TEST(PredicateStress, SpheresAgainstOnePlane) {
@@ -321,6 +332,7 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
         const double dist = r.logUni(0.01, 1000.0);
         const dvec3 at = qv(r.dir() * dist);
         const bool poly = t % 2 == 1;
+        std::vector<dvec3> corners;  // the occluder's corners, eye-relative
         dvec3 olo, ohi;
         std::vector<dvec3> polygon;
         if (poly) {
@@ -331,6 +343,7 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
             polygon = {qv(at - u * a - v * b), qv(at + u * a - v * b), qv(at + u * a + v * b), qv(at - u * a + v * b)};
             // Quantizing may bend it out of its plane: the fourth vertex completes the parallelogram (exact).
             polygon[3] = polygon[0] + polygon[2] - polygon[1];
+            corners = polygon;
             std::vector<dvec3> world;
             for (const dvec3& p : polygon) world.push_back(eye + p);
             if (!tree.insertPolygon(world.data(), world.size())) continue;
@@ -338,11 +351,16 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
             const dvec3 e = dvec3(r.uni(0.05, 1), r.uni(0.05, 1), r.uni(0.05, 1)) * dist;
             olo = qv(at - e);
             ohi = qv(at + e);
+            for (int k = 0; k < 8; ++k)
+                corners.push_back(dvec3((k & 1) ? ohi.x : olo.x, (k & 2) ? ohi.y : olo.y, (k & 4) ? ohi.z : olo.z));
             if (!tree.insertBox(Box{eye + olo, eye + ohi})) continue;
         }
         for (int k = 0; k < perTree; ++k) {
             dvec3 lo, hi;
-            boxBehind(r, at, dist, lo, hi);
+            if (k % 2)
+                boxBehind(r, at, dist, lo, hi);
+            else
+                boxNearOccluder(r, at, corners, lo, hi);
             lo = qv(lo);
             hi = qv(hi);
             const Box world{eye + lo, eye + hi};
@@ -395,6 +413,7 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
         const double dist = nearD * r.logUni(1.5, 1e3);
         const dvec3 at = fwd * dist + r.dir() * dist * r.uni(0.0, 0.3);
         const bool poly = t % 2 == 1;
+        std::vector<dvec3> corners;  // the occluder's corners, eye-relative
         std::vector<dvec3> polygon;
         dvec3 olo, ohi;
         if (poly) {
@@ -403,6 +422,7 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
             const double a = dist * r.uni(0.1, 3.0), b = dist * r.uni(0.1, 3.0);
             polygon = {at - u * a - v * b, at + u * a - v * b, at + u * a + v * b, at - u * a + v * b};
             map.addPolygon(polygon.data(), polygon.size());
+            corners = polygon;
         } else {
             const dvec3 e = dvec3(r.uni(0.05, 1), r.uni(0.05, 1), r.uni(0.05, 1)) * dist;
             olo = at - e;
@@ -411,6 +431,7 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
             for (int k = 0; k < 8; ++k)
                 c[k] = dvec3((k & 1) ? ohi.x : olo.x, (k & 2) ? ohi.y : olo.y, (k & 4) ? ohi.z : olo.z);
             map.addBox(c);
+            corners.assign(c, c + 8);
         }
         map.finish();
         const auto& planes = cam.eyePlanes();
@@ -423,8 +444,10 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
                 const dvec3 q = at * r.uni(0.5, 3.0) + r.dir() * dist * r.uni(0.0, 0.5);
                 lo = glm::min(p, q);
                 hi = glm::max(p, q);
-            } else {
+            } else if (k % 2) {
                 boxBehind(r, at, dist, lo, hi);
+            } else {
+                boxNearOccluder(r, at, corners, lo, hi);
             }
             const OcclusionMap::Result res = map.test(lo, hi);
             ++cases;
