@@ -1,9 +1,11 @@
-// The built-in scenes moved 10 km, 1,000 km and 10,000 km from the origin, the cameras with them: every
-// conservative method (boxes, spheres, sphere-sphere, the occlusion tree, the occlusion map) draws exactly
-// the unculled render at each offset, and the pictures match those drawn at the origin.
+// The built-in scenes (city with its occluders, office, a random graph, the factory) moved 10 km, 1,000 km and 10,000
+// km from the origin, the cameras with them: every conservative method (boxes, spheres, sphere-sphere, the occlusion
+// tree, the occlusion map) draws exactly the unculled render at each offset, and the pictures match those drawn at the
+// origin.
 #include "nodes/Transform.h"
 #include "testbed/Accuracy.h"
 #include "testbed/City.h"
+#include "testbed/Factory.h"
 #include "testbed/Office.h"
 #include "testbed/RandomScene.h"
 
@@ -104,4 +106,15 @@ TEST(FarOffsetCull, RandomGraph) {
     o.objects = 80;
     checkOffsets([&] { return ref_ptr<Node>(scenes::buildRandomScene(63, o)); },
                  accuracy::boxViews(Box{dvec3(-70), dvec3(70)}, kViews, 64, kW, kH), "random", false);
+}
+
+TEST(FarOffsetCull, Factory) {
+    // Built once (the largest scene): the same graph under each offset's translation. Orbit views and the
+    // four workshops seen from inside (their interiors off, as the defaults leave them).
+    const scenes::Factory f = scenes::buildFactory();
+    std::vector<Camera> views;
+    for (int k = 0; k < 12; ++k)
+        views.push_back(scenes::factoryOrbitCamera(k * scenes::kFactoryOrbitFrames / 12, kW, kH));
+    for (int w = 0; w < 4; ++w) views.push_back(scenes::factoryWorkshopCamera(f, w, kW, kH));
+    checkOffsets([&] { return ref_ptr<Node>(f.root); }, views, "factory", true);
 }
