@@ -269,8 +269,8 @@ void boxBehind(Rng& r, const dvec3& at, double size, dvec3& lo, dvec3& hi) {
 
 // A small box near a point of the occluder (towards one of its `corners`, eye-relative): 1e-6 to 3% of
 // the distance beyond it or in front of it, where a depth test is decided.
-void boxNearOccluder(Rng& r, const dvec3& at, const std::vector<dvec3>& corners, dvec3& lo, dvec3& hi) {
-    const dvec3 p = at + (corners[size_t(r.pick(int(corners.size())))] - at) * r.uni(0.5, 1.0);
+void boxNearOccluder(Rng& r, const dvec3& at, const dvec3* corners, int count, dvec3& lo, dvec3& hi) {
+    const dvec3 p = at + (corners[r.pick(count)] - at) * r.uni(0.5, 1.0);
     const double len = glm::length(p), eps = r.logUni(1e-6, 0.03) * (r.pick(2) ? 1.0 : -1.0);
     const dvec3 e = dvec3(r.uni(0.1, 1), r.uni(0.1, 1), r.uni(0.1, 1)) * len * r.logUni(1e-5, 1e-2);
     const dvec3 c = p * (1.0 + eps) + p / len * glm::length(e) * (eps > 0 ? 1.0 : -1.0);
@@ -332,7 +332,8 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
         const double dist = r.logUni(0.01, 1000.0);
         const dvec3 at = qv(r.dir() * dist);
         const bool poly = t % 2 == 1;
-        std::vector<dvec3> corners;  // the occluder's corners, eye-relative
+        dvec3 corners[8];  // the occluder's corners, eye-relative
+        int nCorners = 0;
         dvec3 olo, ohi;
         std::vector<dvec3> polygon;
         if (poly) {
@@ -340,10 +341,11 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
             const dvec3 n = glm::normalize(-at + r.dir() * dist * 0.5);
             dvec3 u = glm::normalize(glm::cross(n, r.dir())), v = glm::cross(n, u);
             const double a = dist * r.uni(0.1, 2.0), b = dist * r.uni(0.1, 2.0);
-            polygon = {qv(at - u * a - v * b), qv(at + u * a - v * b), qv(at + u * a + v * b), qv(at - u * a + v * b)};
+            polygon = std::vector<dvec3>{qv(at - u * a - v * b), qv(at + u * a - v * b), qv(at + u * a + v * b),
+                                         qv(at - u * a + v * b)};
             // Quantizing may bend it out of its plane: the fourth vertex completes the parallelogram (exact).
             polygon[3] = polygon[0] + polygon[2] - polygon[1];
-            corners = polygon;
+            for (const dvec3& p : polygon) corners[nCorners++] = p;
             std::vector<dvec3> world;
             for (const dvec3& p : polygon) world.push_back(eye + p);
             if (!tree.insertPolygon(world.data(), world.size())) continue;
@@ -352,7 +354,7 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
             olo = qv(at - e);
             ohi = qv(at + e);
             for (int k = 0; k < 8; ++k)
-                corners.push_back(dvec3((k & 1) ? ohi.x : olo.x, (k & 2) ? ohi.y : olo.y, (k & 4) ? ohi.z : olo.z));
+                corners[nCorners++] = dvec3((k & 1) ? ohi.x : olo.x, (k & 2) ? ohi.y : olo.y, (k & 4) ? ohi.z : olo.z);
             if (!tree.insertBox(Box{eye + olo, eye + ohi})) continue;
         }
         for (int k = 0; k < perTree; ++k) {
@@ -360,7 +362,7 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
             if (k % 2)
                 boxBehind(r, at, dist, lo, hi);
             else
-                boxNearOccluder(r, at, corners, lo, hi);
+                boxNearOccluder(r, at, corners, nCorners, lo, hi);
             lo = qv(lo);
             hi = qv(hi);
             const Box world{eye + lo, eye + hi};
@@ -413,16 +415,18 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
         const double dist = nearD * r.logUni(1.5, 1e3);
         const dvec3 at = fwd * dist + r.dir() * dist * r.uni(0.0, 0.3);
         const bool poly = t % 2 == 1;
-        std::vector<dvec3> corners;  // the occluder's corners, eye-relative
+        dvec3 corners[8];  // the occluder's corners, eye-relative
+        int nCorners = 0;
         std::vector<dvec3> polygon;
         dvec3 olo, ohi;
         if (poly) {
             const dvec3 n = glm::normalize(-at + r.dir() * dist * 0.5);
             const dvec3 u = glm::normalize(glm::cross(n, r.dir())), v = glm::cross(n, u);
             const double a = dist * r.uni(0.1, 3.0), b = dist * r.uni(0.1, 3.0);
-            polygon = {at - u * a - v * b, at + u * a - v * b, at + u * a + v * b, at - u * a + v * b};
+            polygon =
+                std::vector<dvec3>{at - u * a - v * b, at + u * a - v * b, at + u * a + v * b, at - u * a + v * b};
             map.addPolygon(polygon.data(), polygon.size());
-            corners = polygon;
+            for (const dvec3& p : polygon) corners[nCorners++] = p;
         } else {
             const dvec3 e = dvec3(r.uni(0.05, 1), r.uni(0.05, 1), r.uni(0.05, 1)) * dist;
             olo = at - e;
@@ -431,7 +435,7 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
             for (int k = 0; k < 8; ++k)
                 c[k] = dvec3((k & 1) ? ohi.x : olo.x, (k & 2) ? ohi.y : olo.y, (k & 4) ? ohi.z : olo.z);
             map.addBox(c);
-            corners.assign(c, c + 8);
+            for (const dvec3& p : c) corners[nCorners++] = p;
         }
         map.finish();
         const auto& planes = cam.eyePlanes();
@@ -447,7 +451,7 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
             } else if (k % 2) {
                 boxBehind(r, at, dist, lo, hi);
             } else {
-                boxNearOccluder(r, at, corners, lo, hi);
+                boxNearOccluder(r, at, corners, nCorners, lo, hi);
             }
             const OcclusionMap::Result res = map.test(lo, hi);
             ++cases;

@@ -63,7 +63,9 @@ void checkOffsets(const std::function<ref_ptr<Node>()>& build, const std::vector
                 << name << " at " << o << " m, " << r.name << ": worst view " << r.worstView;
             occlusionCulled += r.culledOcclusionTotal;
         }
-        if (expectOcclusion) EXPECT_GT(occlusionCulled, 0u) << name << " at " << o << " m";
+        if (expectOcclusion) {
+            EXPECT_GT(occlusionCulled, 0u) << name << " at " << o << " m";
+        }
         // The reference at this offset against the origin's, view by view.
         uint64_t differing = 0, worst = 0;
         for (size_t v = 0; v < moved.size(); ++v) {
