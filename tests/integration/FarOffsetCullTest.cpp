@@ -89,7 +89,7 @@ void checkOffsets(const std::function<ref_ptr<Node>()>& build, const std::vector
 }  // namespace
 
 TEST(FarOffsetCull, CityWithOccluders) {
-    const int n = 10;
+    const int n = 8;
     checkOffsets(
         [&] {
             return ref_ptr<Node>(scenes::buildCity({n, true}));
@@ -115,8 +115,8 @@ TEST(FarOffsetCull, Factory) {
     // four workshops seen from inside (their interiors off, as the defaults leave them).
     const scenes::Factory f = scenes::buildFactory();
     std::vector<Camera> views;
-    for (int k = 0; k < 12; ++k)
-        views.push_back(scenes::factoryOrbitCamera(k * scenes::kFactoryOrbitFrames / 12, kW, kH));
+    for (int k = 0; k < 8; ++k)
+        views.push_back(scenes::factoryOrbitCamera(k * scenes::kFactoryOrbitFrames / 8, kW, kH));
     for (int w = 0; w < 4; ++w) views.push_back(scenes::factoryWorkshopCamera(f, w, kW, kH));
     checkOffsets([&] { return ref_ptr<Node>(f.root); }, views, "factory", true);
 }
