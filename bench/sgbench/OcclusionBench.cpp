@@ -114,15 +114,15 @@ int runOcclusion(const Args& a) {
         scene.update();
     };
 
-    // A PVS table for the path's cells, built first (untimed), culls before the frustum, alone or with an
-    // occlusion method.
+    // A PVS table for the path's cells (2 m: in the office larger cells span doorways and hide little), built
+    // first (untimed), culls before the frustum, alone or with an occlusion method.
     sg::PvsTable pvs;
     double pvsBuildMs = 0.0, culledPvs = 0.0;
     if (usesPvs) {
         if (factory) throw std::invalid_argument("sgbench occlusion: the PVS methods are for city and office");
         sg::PvsBuilder::Stats ps;
         sg::PvsBuilder::Options po = pvsPathOptions(city, n, cams);
-        po.cellSize = sg::dvec3(double(a.num("cell-size", 5)), double(a.num("cell-size", 5)), 2.0);
+        po.cellSize = sg::dvec3(double(a.num("cell-size", 2)), double(a.num("cell-size", 2)), 2.0);
         po.maxOccluders = uint32_t(a.num("pvs-occluders", 50));
         pvs = sg::PvsBuilder::build(scene, po, &ps);
         pvsBuildMs = ps.ms;
