@@ -82,7 +82,7 @@ private:
     std::vector<std::vector<float>> opacity_, depth_;  // per level, row-major
     std::vector<int> w_, h_;
     uint64_t covered_ = 0;
-    std::vector<dvec3> clip_, clipOut_;  // scratch
+    std::vector<dvec3> clip_;  // scratch
     std::vector<Pt> poly_, hull_;
 };
 
