@@ -22,6 +22,23 @@ std::string settingName(const CullSettings& s) {
     return name;
 }
 
+std::vector<CullSettings> conservativeSettings() {
+    std::vector<CullSettings> s;
+    for (auto st : {CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere}) {
+        CullSettings c;
+        c.strategy = st;
+        c.occlusion.mode = OcclusionMode::Off;
+        s.push_back(c);
+    }
+    CullSettings tree;
+    tree.occlusion.mode = OcclusionMode::Tree;
+    s.push_back(tree);
+    CullSettings hom = tree;
+    hom.occlusion.method = OcclusionMethod::Hom;
+    s.push_back(hom);
+    return s;
+}
+
 std::string describeCamera(const Camera& c) {
     const dvec3 e = c.eye(), d = c.viewDirection(), t = e + d;
     // The view's rows are the camera's axes: row 1 is up.

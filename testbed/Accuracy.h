@@ -38,6 +38,10 @@ struct Result {
 // occlusion part is left out when the mode is Off or the strategy is None (which disables occlusion).
 std::string settingName(const sg::CullSettings& s);
 
+// Every conservative method: the three frustum strategies alone (sphere, aabb, sphere-sphere), then boxes
+// with the occlusion tree and with the occlusion map, both every frame (mode Tree: Auto could skip frames).
+std::vector<sg::CullSettings> conservativeSettings();
+
 // The camera in one line: eye, target (eye + view direction), up, vertical fov, near and far (perspective).
 std::string describeCamera(const sg::Camera& c);
 

@@ -24,25 +24,6 @@ using namespace sg;
 namespace {
 constexpr int kW = 256, kH = 144;
 
-// The conservative methods: the three frustum strategies alone, then boxes with the occlusion tree and with
-// the occlusion map (every frame, Tree mode: Auto could skip the frames these tests are about).
-std::vector<CullSettings> conservative() {
-    std::vector<CullSettings> s;
-    for (auto st : {CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere}) {
-        CullSettings c;
-        c.strategy = st;
-        c.occlusion.mode = OcclusionMode::Off;
-        s.push_back(c);
-    }
-    CullSettings tree;
-    tree.occlusion.mode = OcclusionMode::Tree;
-    s.push_back(tree);
-    CullSettings hom = tree;
-    hom.occlusion.method = OcclusionMethod::Hom;
-    s.push_back(hom);
-    return s;
-}
-
 bool finite(const CullStats& st) {
     for (double v : {st.occlusionMs, st.lodBudgetMs, st.lodPixels, st.lodPredictedMs, st.lodSelectMs, st.ms})
         if (!std::isfinite(v)) return false;
@@ -91,7 +72,7 @@ Camera camera(const dvec3& eye, const dvec3& at, const dvec3& up, double fov = 6
 uint64_t expectExact(accuracy::Harness& h, const Scene& scene, const std::vector<Camera>& views, const char* what,
                      double lodScale = 1.0) {
     uint64_t occlusionCulled = 0;
-    for (CullSettings s : conservative()) {
+    for (CullSettings s : accuracy::conservativeSettings()) {
         s.lodScale = lodScale;
         uint64_t differing = 0;
         int worst = -1;
@@ -136,7 +117,7 @@ TEST(DegenerateCull, ZeroSizeBoundsAreDrawnInViewAndCulledOutOfIt) {
     cam.setLookAt(dvec3(0.0), dvec3(0, 0, -1), dvec3(0, 1, 0));
     cam.setPerspective(90.0, 1.0, 0.5, 100.0);
     cam.setViewport(kW, kW);
-    for (const CullSettings& set : conservative()) {
+    for (const CullSettings& set : accuracy::conservativeSettings()) {
         const std::string name = accuracy::settingName(set);
         const std::set<const Mesh*> m = drawn(s, cam, set);
         EXPECT_TRUE(m.count(point->mesh())) << name;
@@ -282,7 +263,7 @@ TEST(DegenerateCull, NearlyParallelFrustumPlanes) {
         uint64_t frustumCulled = 0;
         for (const Camera& c : views) {
             CullStats st;
-            drawn(s, c, conservative()[1], &st);
+            drawn(s, c, accuracy::conservativeSettings()[1], &st);
             frustumCulled += st.culledFrustum;
         }
         EXPECT_GT(frustumCulled, 0u) << "fov " << fov;
@@ -298,6 +279,6 @@ TEST(DegenerateCull, NearlyParallelFrustumPlanes) {
             views.push_back(c);
         }
     }
-    for (const Camera& c : views) drawn(s, c, conservative()[4]);
+    for (const Camera& c : views) drawn(s, c, accuracy::conservativeSettings()[4]);
     expectExact(h, s, views, "narrow off-axis frusta");
 }

@@ -20,23 +20,6 @@ using namespace sg;
 namespace {
 constexpr int kW = 256, kH = 144, kViews = 30;
 
-std::vector<CullSettings> conservative() {
-    std::vector<CullSettings> s;
-    for (auto st : {CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere}) {
-        CullSettings c;
-        c.strategy = st;
-        c.occlusion.mode = OcclusionMode::Off;
-        s.push_back(c);
-    }
-    CullSettings tree;
-    tree.occlusion.mode = OcclusionMode::Tree;
-    s.push_back(tree);
-    CullSettings hom = tree;
-    hom.occlusion.method = OcclusionMethod::Hom;
-    s.push_back(hom);
-    return s;
-}
-
 // The scene under a translation by `off` and the views moved with it, at each offset: exact against the
 // unculled render there; the unculled (hence the culled) pictures compared with the origin's.
 void checkOffsets(const std::function<ref_ptr<Node>()>& build, const std::vector<Camera>& views, const char* name,
@@ -58,7 +41,7 @@ void checkOffsets(const std::function<ref_ptr<Node>()>& build, const std::vector
             moved.push_back(m);
         }
         uint64_t occlusionCulled = 0;
-        for (const accuracy::Result& r : h.run(s, moved, conservative())) {
+        for (const accuracy::Result& r : h.run(s, moved, accuracy::conservativeSettings())) {
             EXPECT_EQ(r.differingTotal, 0u)
                 << name << " at " << o << " m, " << r.name << ": worst view " << r.worstView;
             occlusionCulled += r.culledOcclusionTotal;
