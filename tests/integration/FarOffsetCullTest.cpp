@@ -2,6 +2,7 @@
 // km from the origin, the cameras with them: every conservative method (boxes, spheres, sphere-sphere, the occlusion
 // tree, the occlusion map) draws exactly the unculled render at each offset, and the pictures match those drawn at the
 // origin.
+#include "Scaled.h"
 #include "nodes/Transform.h"
 #include "testbed/Accuracy.h"
 #include "testbed/City.h"
@@ -18,7 +19,7 @@
 using namespace sg;
 
 namespace {
-constexpr int kW = 256, kH = 144, kViews = 30;
+constexpr int kW = 256, kH = 144, kViews = testutil::scaled(30);
 
 // The scene under a translation by `off` and the views moved with it, at each offset: exact against the
 // unculled render there; the unculled (hence the culled) pictures compared with the origin's.
@@ -98,8 +99,9 @@ TEST(FarOffsetCull, Factory) {
     // four workshops seen from inside (their interiors off, as the defaults leave them).
     const scenes::Factory f = scenes::buildFactory();
     std::vector<Camera> views;
-    for (int k = 0; k < 8; ++k)
-        views.push_back(scenes::factoryOrbitCamera(k * scenes::kFactoryOrbitFrames / 8, kW, kH));
+    const int orbit = testutil::scaled(8);
+    for (int k = 0; k < orbit; ++k)
+        views.push_back(scenes::factoryOrbitCamera(k * scenes::kFactoryOrbitFrames / orbit, kW, kH));
     for (int w = 0; w < 4; ++w) views.push_back(scenes::factoryWorkshopCamera(f, w, kW, kH));
     checkOffsets([&] { return ref_ptr<Node>(f.root); }, views, "factory", true);
 }

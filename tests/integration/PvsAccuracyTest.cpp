@@ -1,6 +1,7 @@
 // The PVS pre-pass draws exactly the pixels of the unculled render, alone and with the occlusion tree, on
 // city's streets and office's rooms, the eye anywhere in a cell (random points, cell corners and faces);
 // and it is not vacuous: it culled entries on most views.
+#include "Scaled.h"
 #include "sg/cull/PvsBuilder.h"
 #include "testbed/Accuracy.h"
 #include "testbed/City.h"
@@ -14,7 +15,7 @@
 using namespace sg;
 
 namespace {
-constexpr int kW = 256, kH = 144, kViewsPerScene = 100;
+constexpr int kW = 256, kH = 144, kViewsPerScene = testutil::scaled(100);
 
 // Eyes in the table's computed cells: a third at cell corners, a third on cell faces, a third inside.
 std::vector<Camera> viewsInCells(const PvsTable& t, int count, double zNear, uint64_t seed) {
