@@ -138,6 +138,7 @@ int main(int argc, char** argv) {
         if (a.command == "pick") return bench::runPick(a);
         if (a.command == "load") return bench::runLoad(a);
         if (a.command == "pvs") return bench::runPvs(a);
+        if (a.command == "terrain") return bench::runTerrain(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
