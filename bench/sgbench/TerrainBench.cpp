@@ -141,13 +141,15 @@ std::vector<Refinement> refinements() {
 int runTerrain(const Args& a) {
     const std::vector<int> sizes = intList(a.str("sizes", "1025,2049,4097"), "sizes");
     const std::vector<int> fovs = intList(a.str("fov", "60,90,120"), "fov");
-    const int frames = int(a.num("frames", 10));
+    const int frames = int(a.num("frames", 5));
     const int reps = int(a.num("reps", 100));
     const uint32_t seed = uint32_t(a.num("seed", 2002));
     const int tile = int(a.num("tile", 33));
+    const long spacing = a.num("spacing", 10);
     const bool draw = !a.flag("no-draw");
     const bool json = a.flag("json");
-    if (frames < 1 || reps < 1) throw std::invalid_argument("sgbench terrain: --frames and --reps must be at least 1");
+    if (frames < 1 || reps < 1 || spacing < 1)
+        throw std::invalid_argument("sgbench terrain: --frames, --reps and --spacing must be at least 1");
     for (int f : fovs)
         if (f <= 0 || f >= 180)
             throw std::invalid_argument("sgbench terrain: --fov " + std::to_string(f) + " is not in 1..179");
@@ -172,6 +174,7 @@ int runTerrain(const Args& a) {
         const auto t0 = Clock::now();
         scenes::TerrainSceneParams prm;
         prm.terrain.tileSamples = tile;
+        prm.spacing = double(spacing);
         scenes::TerrainScene ts = scenes::buildTerrain(n, seed, prm);
         const double buildS = msSince(t0) / 1000.0;
         sg::Scene scene(ts.terrain.root);
