@@ -9,6 +9,7 @@
 #include "sg/intersect/IntersectPrimitives.h"
 #include "sg/intersect/MeshBvh.h"
 #include "sg/lod/LodGenerator.h"
+#include "sg/scene/TerrainBuilder.h"
 
 #include <algorithm>
 #include <array>
@@ -324,139 +325,30 @@ vec4 grassColor(double z) {
 
 // Cells per side of a tile's levels: the full grid, then 2, 4 and 8 times coarser (fewer levels for a tile
 // too small to have them all).
-std::vector<int> terrainLevelCells(int per) {
-    std::vector<int> cells{per};
-    for (int step : {2, 4, 8}) {
-        const int c = std::max(2, (per + step - 1) / step);
-        if (c < cells.back()) cells.push_back(c);
-    }
-    return cells;
-}
+std::vector<int> terrainLevelCells(int per) { return sg::terrainLevelCells(per, 4); }
 
-// Tile (ti, tj) of the terrain, `per` x `per` cells of the height field, at `cells` cells per side. With
-// cells == per it is the full grid. Coarser, it is a grid through every (per / cells)-th point inside the
-// tile, stitched by fans to the tile's border kept at full resolution: every level of every tile has the
-// same border as the finest, so neighbours at any levels meet without cracks. Every vertex is a point of
+// Tile (ti, tj) of the terrain at one level (sg::terrainTileGrid: coarse grids stitched by fans to the
+// tile's full-resolution border, so neighbours at any levels meet without cracks). Every vertex is a point of
 // the height field and has the same attributes at every level.
-ref_ptr<Mesh> terrainTileMesh(const HeightField& g, int ti, int tj, int per, int cells) {
-    SG_ASSERT(cells >= 2 && cells <= per, "terrainTileMesh(): cells out of 2..per");
-    const int i0 = ti * per, j0 = tj * per, side = per + 1;
-    // The sample points inside the tile: per / cells apart, rounded to the grid.
-    std::vector<int> at(size_t(cells) + 1);
-    for (int k = 0; k <= cells; ++k) at[size_t(k)] = int(std::lround(double(k) * per / cells));
-    std::vector<char> used(size_t(side) * size_t(side), 0);
-    auto use = [&](int li, int lj) { used[size_t(lj) * size_t(side) + size_t(li)] = 1; };
-    for (int k = 0; k <= per; ++k) use(k, 0), use(k, per), use(0, k), use(per, k);
-    for (int b = 1; b < cells; ++b)
-        for (int a = 1; a < cells; ++a) use(at[size_t(a)], at[size_t(b)]);
-    // Vertices in row order (the full grid's order at full resolution).
+ref_ptr<Mesh> terrainTileMesh(const HeightField& g, int ti, int tj, const TerrainTileGrid& grid) {
+    const int i0 = ti * grid.per, j0 = tj * grid.per;
     std::vector<vec3> pos, nrm;
     std::vector<vec2> uvs;
     std::vector<vec4> col;
-    std::vector<uint32_t> id(used.size(), 0), idx;
     const int N = g.n;
-    for (int lj = 0; lj <= per; ++lj)
-        for (int li = 0; li <= per; ++li) {
-            if (!used[size_t(lj) * size_t(side) + size_t(li)]) continue;
-            const int i = i0 + li, j = j0 + lj;
-            const double x = -g.half + i * g.cell, y = -g.half + j * g.cell, z = g.at(i, j);
-            id[size_t(lj) * size_t(side) + size_t(li)] = uint32_t(pos.size());
-            pos.emplace_back(x, y, z);
-            const double dzx = g.at(std::min(i + 1, N), j) - g.at(std::max(i - 1, 0), j);
-            const double dzy = g.at(i, std::min(j + 1, N)) - g.at(i, std::max(j - 1, 0));
-            nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * g.cell)));
-            uvs.push_back(vec2(float(x), float(y)) / kFactoryGrassMetres);
-            col.push_back(grassColor(z));
-        }
-    // A triangle of grid points, wound to face up.
-    auto tri = [&](ivec2 p, ivec2 q, ivec2 r) {
-        if ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x) < 0) std::swap(q, r);
-        for (const ivec2& v : {p, q, r}) idx.push_back(id[size_t(v.y) * size_t(side) + size_t(v.x)]);
-    };
-    auto quad = [&](int ia, int ib, int ja, int jb) {  // split along the (ia, ja)-(ib, jb) diagonal
-        tri({ia, ja}, {ib, ja}, {ib, jb});
-        tri({ia, ja}, {ib, jb}, {ia, jb});
-    };
-    if (cells == per) {
-        for (int j = 0; j < per; ++j)
-            for (int i = 0; i < per; ++i) quad(i, i + 1, j, j + 1);
-    } else {
-        for (int b = 1; b + 1 < cells; ++b)
-            for (int a = 1; a + 1 < cells; ++a)
-                quad(at[size_t(a)], at[size_t(a + 1)], at[size_t(b)], at[size_t(b + 1)]);
-        // The ring between the inner grid's outline and the border, one side at a time (counter-clockwise):
-        // both chains run along the side; the one whose next edge ends nearer the start advances.
-        const int lo = at[1], hi = at[size_t(cells - 1)], m = cells - 2;
-        for (int s = 0; s < 4; ++s) {
-            // Point k of the border (0..per) and of the inner chain (0..m) on side s, and their position along it.
-            auto outer = [&](int k) -> ivec2 {
-                const ivec2 v[4] = {{k, 0}, {per, k}, {per - k, per}, {0, per - k}};
-                return v[s];
-            };
-            auto inner = [&](int k) -> ivec2 {
-                const int c = at[size_t(k + 1)], r = at[size_t(cells - 1 - k)];
-                const ivec2 v[4] = {{c, lo}, {hi, c}, {r, hi}, {lo, r}};
-                return v[s];
-            };
-            auto innerAlong = [&](int k) { return double(at[size_t(k + 1)]); };
-            int a = 0, b = 0;
-            while (a < per || b < m) {
-                const bool advanceOuter = b == m || (a < per && a + 0.5 <= 0.5 * (innerAlong(b) + innerAlong(b + 1)));
-                if (advanceOuter) {
-                    tri(outer(a), outer(a + 1), inner(b));
-                    ++a;
-                } else {
-                    tri(outer(a), inner(b + 1), inner(b));
-                    ++b;
-                }
-            }
-        }
+    for (const glm::ivec2& q : grid.points) {
+        const int i = i0 + q.x, j = j0 + q.y;
+        const double x = -g.half + i * g.cell, y = -g.half + j * g.cell, z = g.at(i, j);
+        pos.emplace_back(x, y, z);
+        const double dzx = g.at(std::min(i + 1, N), j) - g.at(std::max(i - 1, 0), j);
+        const double dzy = g.at(i, std::min(j + 1, N)) - g.at(i, std::max(j - 1, 0));
+        nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * g.cell)));
+        uvs.push_back(vec2(float(x), float(y)) / kFactoryGrassMetres);
+        col.push_back(grassColor(z));
     }
     auto mesh = make<Mesh>();
-    mesh->set(std::move(pos), std::move(nrm), std::move(idx), std::move(uvs), std::move(col));
+    mesh->set(std::move(pos), std::move(nrm), grid.indices, std::move(uvs), std::move(col));
     return mesh;
-}
-
-// The largest vertical distance between a level's surface and the full height field over the level's
-// triangles. Both are linear on every piece of their overlay, so the largest lies at a height-field point
-// inside a triangle or where a triangle's edge crosses a cell's edge (x, y or x - y an integer).
-double tileLevelError(const HeightField& g, const Mesh& m) {
-    const std::vector<vec3>& p = m.positions();
-    auto gridOf = [&](uint32_t v) {
-        return ivec2(int(std::lround((p[v].x + g.half) / g.cell)), int(std::lround((p[v].y + g.half) / g.cell)));
-    };
-    double err = 0.0;
-    for (size_t t = 0; t + 2 < m.indexCount(); t += 3) {
-        const ivec2 c[3] = {gridOf(m.index(t)), gridOf(m.index(t + 1)), gridOf(m.index(t + 2))};
-        const double hc[3] = {g.at(c[0].x, c[0].y), g.at(c[1].x, c[1].y), g.at(c[2].x, c[2].y)};
-        const double area = double((c[1].x - c[0].x) * (c[2].y - c[0].y) - (c[1].y - c[0].y) * (c[2].x - c[0].x));
-        if (area == 0.0) continue;
-        const ivec2 mn = glm::min(c[0], glm::min(c[1], c[2])), mx = glm::max(c[0], glm::max(c[1], c[2]));
-        for (int j = mn.y; j <= mx.y; ++j)
-            for (int i = mn.x; i <= mx.x; ++i) {
-                auto edge = [&](const ivec2& a, const ivec2& b) {
-                    return double((b.x - a.x) * (j - a.y) - (b.y - a.y) * (i - a.x)) / area;
-                };
-                const double w0 = edge(c[1], c[2]), w1 = edge(c[2], c[0]), w2 = edge(c[0], c[1]);
-                if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
-                err = std::max(err, std::abs(g.at(i, j) - (w0 * hc[0] + w1 * hc[1] + w2 * hc[2])));
-            }
-        for (int e = 0; e < 3; ++e) {
-            const ivec2 a = c[e], b = c[(e + 1) % 3];
-            const double ha = hc[e], hb = hc[(e + 1) % 3];
-            auto crossings = [&](int va, int vb) {  // where a linear function of the edge passes an integer
-                for (int k = std::min(va, vb) + 1; k < std::max(va, vb); ++k) {
-                    const double s = double(k - va) / double(vb - va);
-                    const double x = a.x + s * (b.x - a.x), y = a.y + s * (b.y - a.y);
-                    err = std::max(err, std::abs(g.interpolate(x, y) - (ha + s * (hb - ha))));
-                }
-            };
-            crossings(a.x, b.x);
-            crossings(a.y, b.y);
-            crossings(a.x - a.y, b.x - b.y);
-        }
-    }
-    return err;
 }
 
 void fail(const std::string& what) { throw std::invalid_argument("scenes::buildFactory(): " + what); }
@@ -744,13 +636,15 @@ Factory buildFactory(const FactoryParams& prm) {
     const int per = N / prm.terrainTiles;
     for (int tj = 0; tj < prm.terrainTiles; ++tj)
         for (int ti = 0; ti < prm.terrainTiles; ++ti) {
-            std::vector<ref_ptr<Mesh>> levels{terrainTileMesh(*field, ti, tj, per, per)};
+            std::vector<ref_ptr<Mesh>> levels{terrainTileMesh(*field, ti, tj, terrainTileGrid(per, per))};
             std::vector<double> errors{0.0};
+            auto height = [&](int li, int lj) { return field->at(ti * per + li, tj * per + lj); };
             for (int cells : terrainLevelCells(per)) {
                 if (cells == per) continue;
-                levels.push_back(terrainTileMesh(*field, ti, tj, per, cells));
+                const TerrainTileGrid grid = terrainTileGrid(per, cells);
+                levels.push_back(terrainTileMesh(*field, ti, tj, grid));
                 // Never more accurate than a finer level: distances stay in order.
-                errors.push_back(std::max(errors.back(), tileLevelError(*field, *levels.back())));
+                errors.push_back(std::max(errors.back(), terrainLevelError(grid, height)));
             }
             const Box box = levels[0]->box();
             const double radius = 0.5 * glm::length(box.max - box.min);

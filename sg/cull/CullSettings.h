@@ -85,12 +85,28 @@ struct LodBudgetSettings {
     double coarsestScale = 0.0;
 };
 
+// CullSettings::frustumPlanes without the near, top and bottom planes.
+constexpr uint32_t kTerrainPaperPlanes = 0x23;
+
 struct CullSettings {
     // Boxes: as fast as spheres on `city` (fewer instructions per frame under callgrind, since fewer
     // geometries pass and get sorted; within timing noise otherwise) and tighter, as tight as
     // OpenSceneGraph's per-drawable box test. bench/strategies.sh measures them all.
     CullStrategy strategy = CullStrategy::Aabb;
-    double smallFeaturePixels = 0.0;  // drop bounds smaller than this many pixels across; 0: off
+    // Drop bounds smaller than this many pixels across (the bound's diameter at its centre's distance); 0:
+    // off. At 1 it is the terrain paper's screen-radius test r = wR / (2 d tan(theta / 2)) < 1 pixel.
+    double smallFeaturePixels = 0.0;
+    // A bound whose sphere holds the eye is entered without a test (its children are tested): it is seen, or
+    // cut by the near plane. The sphere holds the box, so this also takes every bound whose box holds the eye
+    // (the terrain paper's shortcut). Off: measurement only (sgbench terrain).
+    bool eyeInsideSkip = true;
+    // A bound inside a plane frees its subtree of that plane; a bound inside them all, of every test. Off: every
+    // bound below is tested against every plane (measurement only: it costs more and culls the same).
+    bool planeMasking = true;
+    // The planes tested, one bit each in Camera::eyePlanes() order: left 1, right 2, bottom 4, top 8, near 16,
+    // far 32. Leaving planes out (the terrain paper leaves out near, top and bottom: kTerrainPaperPlanes)
+    // halves a bound's work and never culls more: it draws a superset, the pixels stay exact.
+    uint32_t frustumPlanes = 0x3f;
     uint32_t traversalMask = 0xffffffffu;
     bool sort = true;  // sort the draw list by state, then front to back
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within

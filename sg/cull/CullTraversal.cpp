@@ -135,7 +135,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
                                             std::to_string(t.minNear()) + ", " + std::to_string(t.maxNear()) + "]");
             c.pvsHidden = t.hiddenFor(cam.eye());
         }
-        const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes;
+        const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes & set.frustumPlanes;
         const int32_t occ = occlusion_.build(img, cam, set, stats);
         framesTop_ = 0;
         planner_.clear();
@@ -207,7 +207,7 @@ bool CullTraversal::test(Ctx& c, uint32_t i, uint32_t& mask) {
     // The eye inside the bound: it is seen (or cut by the near plane), skip its test; its children are
     // still tested.
     const double dx = img.cx[i] - c.eyeImg.x, dy = img.cy[i] - c.eyeImg.y, dz = img.cz[i] - c.eyeImg.z;
-    const bool eyeInside = dx * dx + dy * dy + dz * dz <= double(img.r[i]) * img.r[i];
+    const bool eyeInside = set_->eyeInsideSkip && dx * dx + dy * dy + dz * dz <= double(img.r[i]) * img.r[i];
     if (!eyeInside && strat == CullStrategy::SphereSphere) {
         const double d = glm::length(img.center(i) - img.origin - c.fsCenter);
         if (d > c.fsRadius + img.r[i]) {
@@ -278,7 +278,9 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
         }
     } scope{*this, c, c.clsBase, c.clsOffset};
     if (mask && !(fl & FlatImage::kNoTest) && !(fl & FlatImage::kInvalid)) {
+        const uint32_t before = mask;
         if (!test(c, i, mask)) return;
+        if (!set_->planeMasking) mask = before;
     }
     if (set_->smallFeaturePixels > 0.0 && !(fl & FlatImage::kInvalid)) {
         const double dist = glm::length(img.center(i) - img.origin - c.eyeImg);
@@ -400,7 +402,7 @@ void CullTraversal::wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4&
             continue;
         }
         // Inside: no test left below. Straddling: the child's own test runs again (and may batch).
-        visit(c, img.wideEntry[w.first + k], (r & kernel::kInside) ? 0u : mask, m, occ);
+        visit(c, img.wideEntry[w.first + k], (r & kernel::kInside) && set_->planeMasking ? 0u : mask, m, occ);
     }
     cls_.resize(off);
 }

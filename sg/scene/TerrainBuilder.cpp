@@ -1,0 +1,340 @@
+#include "sg/scene/TerrainBuilder.h"
+
+#include "nodes/Geometry.h"
+#include "nodes/Transform.h"
+#include "sg/core/Mesh.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+namespace sg {
+
+namespace {
+
+bool powerOfTwoPlusOne(long n) { return n >= 3 && (((n - 1) & (n - 2)) == 0); }
+
+void fail(const std::string& what) { throw std::invalid_argument("sg::buildTerrain(): " + what); }
+
+}  // namespace
+
+std::vector<int> terrainLevelCells(int per, int levels) {
+    std::vector<int> cells{per};
+    for (int l = 1, step = 2; l < levels && step <= (1 << 24); ++l, step *= 2) {
+        const int c = std::max(2, (per + step - 1) / step);
+        if (c < cells.back()) cells.push_back(c);
+    }
+    return cells;
+}
+
+TerrainTileGrid terrainTileGrid(int per, int cells) {
+    if (!(cells >= 2 && cells <= per))
+        throw std::invalid_argument("sg::terrainTileGrid(): cells " + std::to_string(cells) + " is not in 2.." +
+                                    std::to_string(per));
+    TerrainTileGrid g;
+    g.per = per;
+    const int side = per + 1;
+    // The sample points inside the tile: per / cells apart, rounded to the grid.
+    std::vector<int> at(size_t(cells) + 1);
+    for (int k = 0; k <= cells; ++k) at[size_t(k)] = int(std::lround(double(k) * per / cells));
+    std::vector<char> used(size_t(side) * size_t(side), 0);
+    auto use = [&](int li, int lj) { used[size_t(lj) * size_t(side) + size_t(li)] = 1; };
+    if (cells == per) {
+        std::fill(used.begin(), used.end(), 1);
+    } else {
+        for (int k = 0; k <= per; ++k) use(k, 0), use(k, per), use(0, k), use(per, k);
+        for (int b = 1; b < cells; ++b)
+            for (int a = 1; a < cells; ++a) use(at[size_t(a)], at[size_t(b)]);
+    }
+    std::vector<uint32_t> id(used.size(), 0);
+    for (int lj = 0; lj <= per; ++lj)
+        for (int li = 0; li <= per; ++li) {
+            if (!used[size_t(lj) * size_t(side) + size_t(li)]) continue;
+            id[size_t(lj) * size_t(side) + size_t(li)] = uint32_t(g.points.size());
+            g.points.emplace_back(li, lj);
+        }
+    std::vector<uint32_t>& idx = g.indices;
+    // A triangle of grid points, wound to face up.
+    auto tri = [&](glm::ivec2 p, glm::ivec2 q, glm::ivec2 r) {
+        if ((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x) < 0) std::swap(q, r);
+        for (const glm::ivec2& v : {p, q, r}) idx.push_back(id[size_t(v.y) * size_t(side) + size_t(v.x)]);
+    };
+    auto quad = [&](int ia, int ib, int ja, int jb) {  // split along the (ia, ja)-(ib, jb) diagonal
+        tri({ia, ja}, {ib, ja}, {ib, jb});
+        tri({ia, ja}, {ib, jb}, {ia, jb});
+    };
+    if (cells == per) {
+        idx.reserve(size_t(per) * size_t(per) * 6);
+        for (int j = 0; j < per; ++j)
+            for (int i = 0; i < per; ++i) quad(i, i + 1, j, j + 1);
+        return g;
+    }
+    for (int b = 1; b + 1 < cells; ++b)
+        for (int a = 1; a + 1 < cells; ++a) quad(at[size_t(a)], at[size_t(a + 1)], at[size_t(b)], at[size_t(b + 1)]);
+    // The ring between the inner grid's outline and the border, one side at a time (counter-clockwise):
+    // both chains run along the side; the one whose next edge ends nearer the start advances.
+    const int lo = at[1], hi = at[size_t(cells - 1)], m = cells - 2;
+    for (int s = 0; s < 4; ++s) {
+        // Point k of the border (0..per) and of the inner chain (0..m) on side s, and their position along it.
+        auto outer = [&](int k) -> glm::ivec2 {
+            const glm::ivec2 v[4] = {{k, 0}, {per, k}, {per - k, per}, {0, per - k}};
+            return v[s];
+        };
+        auto inner = [&](int k) -> glm::ivec2 {
+            const int c = at[size_t(k + 1)], r = at[size_t(cells - 1 - k)];
+            const glm::ivec2 v[4] = {{c, lo}, {hi, c}, {r, hi}, {lo, r}};
+            return v[s];
+        };
+        auto innerAlong = [&](int k) { return double(at[size_t(k + 1)]); };
+        int a = 0, b = 0;
+        while (a < per || b < m) {
+            const bool advanceOuter = b == m || (a < per && a + 0.5 <= 0.5 * (innerAlong(b) + innerAlong(b + 1)));
+            if (advanceOuter) {
+                tri(outer(a), outer(a + 1), inner(b));
+                ++a;
+            } else {
+                tri(outer(a), inner(b + 1), inner(b));
+                ++b;
+            }
+        }
+    }
+    return g;
+}
+
+namespace {
+
+// Templated on the sample accessor: the build calls it for every level of every tile.
+template <class Height>
+double levelError(const TerrainTileGrid& level, const Height& height) {
+    const int per = level.per;
+    // The full-resolution surface at tile-local grid coordinates (gx, gy) in [0, per]^2: the plane of the
+    // cell's triangle that holds the point.
+    auto surface = [&](double gx, double gy) {
+        const int i = std::min(int(gx), per - 1), j = std::min(int(gy), per - 1);
+        const double u = gx - i, v = gy - j;
+        const double h00 = height(i, j), h10 = height(i + 1, j), h01 = height(i, j + 1), h11 = height(i + 1, j + 1);
+        return u >= v ? h00 + u * (h10 - h00) + v * (h11 - h10) : h00 + v * (h01 - h00) + u * (h11 - h01);
+    };
+    double err = 0.0;
+    const std::vector<glm::ivec2>& p = level.points;
+    for (size_t t = 0; t + 2 < level.indices.size(); t += 3) {
+        const glm::ivec2 c[3] = {p[level.indices[t]], p[level.indices[t + 1]], p[level.indices[t + 2]]};
+        const double hc[3] = {height(c[0].x, c[0].y), height(c[1].x, c[1].y), height(c[2].x, c[2].y)};
+        const double area = double((c[1].x - c[0].x) * (c[2].y - c[0].y) - (c[1].y - c[0].y) * (c[2].x - c[0].x));
+        if (area == 0.0) continue;
+        const glm::ivec2 mn = glm::min(c[0], glm::min(c[1], c[2])), mx = glm::max(c[0], glm::max(c[1], c[2]));
+        const long sgn = area > 0.0 ? 1 : -1;
+        for (int j = mn.y; j <= mx.y; ++j) {
+            // The row's points inside: each edge's (integer) numerator C - D i keeps the area's sign, solved for i
+            // exactly; the thin fan triangles of the border would otherwise scan their whole boxes.
+            long lo = mn.x, hi = mx.x;
+            for (int e = 0; e < 3; ++e) {
+                const glm::ivec2 a = c[(e + 1) % 3], b = c[(e + 2) % 3];
+                const long D = sgn * (b.y - a.y), C = sgn * (long(b.x - a.x) * (j - a.y) + long(b.y - a.y) * a.x);
+                if (D == 0) {
+                    if (C < 0) hi = lo - 1;
+                } else if (D > 0) {  // i <= C / D
+                    hi = std::min(hi, C >= 0 ? C / D : -((-C + D - 1) / D));
+                } else {                          // i >= C / D, D < 0
+                    const long nc = -C, nd = -D;  // i >= nc / nd
+                    lo = std::max(lo, nc >= 0 ? (nc + nd - 1) / nd : -((-nc) / nd));
+                }
+            }
+            for (int i = int(lo); i <= int(hi); ++i) {
+                auto edge = [&](const glm::ivec2& a, const glm::ivec2& b) {
+                    return double((b.x - a.x) * (j - a.y) - (b.y - a.y) * (i - a.x)) / area;
+                };
+                const double w0 = edge(c[1], c[2]), w1 = edge(c[2], c[0]), w2 = edge(c[0], c[1]);
+                if (w0 < 0.0 || w1 < 0.0 || w2 < 0.0) continue;
+                err = std::max(err, std::abs(height(i, j) - (w0 * hc[0] + w1 * hc[1] + w2 * hc[2])));
+            }
+        }
+        for (int e = 0; e < 3; ++e) {
+            const glm::ivec2 a = c[e], b = c[(e + 1) % 3];
+            const double ha = hc[e], hb = hc[(e + 1) % 3];
+            auto crossings = [&](int va, int vb) {  // where a linear function of the edge passes an integer
+                for (int k = std::min(va, vb) + 1; k < std::max(va, vb); ++k) {
+                    const double s = double(k - va) / double(vb - va);
+                    const double x = a.x + s * (b.x - a.x), y = a.y + s * (b.y - a.y);
+                    err = std::max(err, std::abs(surface(x, y) - (ha + s * (hb - ha))));
+                }
+            };
+            crossings(a.x, b.x);
+            crossings(a.y, b.y);
+            crossings(a.x - a.y, b.x - b.y);
+        }
+    }
+    return err;
+}
+
+}  // namespace
+
+double terrainLevelError(const TerrainTileGrid& level, const std::function<double(int, int)>& height) {
+    return levelError(level, height);
+}
+
+namespace {
+
+struct Builder {
+    const std::vector<float>& h;
+    int n = 0, per = 0;
+    double spacing = 1.0, pixelsPerRadian = 1.0, pixelError = 1.0;
+    std::vector<TerrainTileGrid> grids;  // one per level, shared by every tile
+    ref_ptr<Material> material;
+    Terrain& out;
+
+    double at(int i, int j) const { return double(h[size_t(j) * size_t(n) + size_t(i)]); }
+
+    ref_ptr<Mesh> tileMesh(const TerrainTileGrid& g, int i0, int j0) const {
+        std::vector<vec3> pos, nrm;
+        pos.reserve(g.points.size());
+        nrm.reserve(g.points.size());
+        for (const glm::ivec2& q : g.points) {
+            const int i = i0 + q.x, j = j0 + q.y;
+            // From the global grid index: tiles that share a border compute the same floats there.
+            pos.emplace_back(float(i * spacing), float(j * spacing), float(at(i, j)));
+            const double dzx = at(std::min(i + 1, n - 1), j) - at(std::max(i - 1, 0), j);
+            const double dzy = at(i, std::min(j + 1, n - 1)) - at(i, std::max(j - 1, 0));
+            nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * spacing)));
+        }
+        auto mesh = make<Mesh>();
+        mesh->set(std::move(pos), std::move(nrm), g.indices);
+        return mesh;
+    }
+
+    // A tile's levels and their ranges: plain data, built on worker threads (no shared reference counts).
+    struct TileData {
+        std::vector<ref_ptr<Mesh>> levels;
+        std::vector<double> errors;
+        std::vector<float> from;
+        dvec3 center{0.0};
+    };
+    std::vector<TileData> tiles;  // by tj * tilesPerSide + ti
+
+    void tileData(int ti, int tj, TileData& t) const {
+        const int i0 = ti * per, j0 = tj * per;
+        auto height = [&](int li, int lj) { return at(i0 + li, j0 + lj); };
+        for (size_t l = 0; l < grids.size(); ++l) {
+            t.levels.push_back(tileMesh(grids[l], i0, j0));
+            // Never more accurate than a finer level: distances stay in order.
+            t.errors.push_back(l == 0 ? 0.0 : std::max(t.errors.back(), levelError(grids[l], height)));
+        }
+        const Box box = t.levels[0]->box();
+        t.center = box.center();
+        const double radius = 0.5 * glm::length(box.max - box.min);
+        // Level l is shown from the distance where its error projects to pixelError pixels from the tile's
+        // nearest point: the LOD measures from the tile's centre, so its radius is added.
+        t.from.assign(t.levels.size(), 0.0f);
+        for (size_t l = 1; l < t.levels.size(); ++l) {
+            const double d = t.errors[l] * pixelsPerRadian / pixelError + radius;
+            float v = float(d);
+            if (double(v) < d) v = std::nextafter(v, std::numeric_limits<float>::max());  // at most pixelError
+            t.from[l] = v;
+        }
+    }
+
+    void buildTiles(int perSide) {
+        tiles.resize(size_t(perSide) * size_t(perSide));
+        std::atomic<size_t> next{0};
+        std::exception_ptr error;
+        std::mutex errorLock;
+        auto work = [&] {
+            try {
+                for (size_t k; (k = next++) < tiles.size();)
+                    tileData(int(k % size_t(perSide)), int(k / size_t(perSide)), tiles[k]);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(errorLock);
+                error = std::current_exception();
+                next = tiles.size();
+            }
+        };
+        const unsigned threads = std::min<unsigned>(std::max(1u, std::thread::hardware_concurrency()), 8u);
+        std::vector<std::thread> pool;
+        for (unsigned t = 1; t < threads && tiles.size() > 16; ++t) pool.emplace_back(work);
+        work();
+        for (std::thread& t : pool) t.join();
+        if (error) std::rethrow_exception(error);
+    }
+
+    ref_ptr<Group> tile(int ti, int tj) {
+        TileData& t = tiles[size_t(tj) * size_t(out.tilesPerSide) + size_t(ti)];
+        auto lod = make<LOD>();
+        lod->setCenter(t.center);
+        const float kFar = std::numeric_limits<float>::max();
+        for (size_t l = 0; l < t.levels.size(); ++l) {
+            // A level as accurate as the next coarser one is never needed: an empty range.
+            const float to = l + 1 < t.levels.size() ? t.from[l + 1] : kFar;
+            lod->addChild(make<Geometry>(t.levels[l], material), t.from[l], to);
+            lod->setError(l, float(t.errors[l]));
+        }
+        out.finestTriangles += t.levels.front()->triangleCount();
+        out.coarsestTriangles += t.levels.back()->triangleCount();
+        t = TileData{};
+        return lod;
+    }
+
+    // The quadtree node over size x size tiles from tile (ti, tj), and everything below it.
+    ref_ptr<Group> node(int ti, int tj, int size, int parent, int depth) {
+        const int self = int(out.quad.size());
+        out.quad.push_back({nullptr, parent, depth, size == 1});
+        ref_ptr<Group> g;
+        if (size == 1) {
+            g = tile(ti, tj);
+        } else {
+            g = make<Group>();
+            const int s = size / 2;
+            for (int k = 0; k < 4; ++k) g->addChild(node(ti + (k & 1) * s, tj + (k >> 1) * s, s, self, depth + 1));
+        }
+        out.quad[size_t(self)].node = g;
+        return g;
+    }
+};
+
+}  // namespace
+
+Terrain buildTerrain(const std::vector<float>& heights, int samplesPerSide, double spacing, const dvec3& origin,
+                     const TerrainParams& prm) {
+    const int n = samplesPerSide;
+    if (!powerOfTwoPlusOne(n) || n > (1 << 16) + 1)
+        fail("samplesPerSide " + std::to_string(n) + " is not 2^k + 1 (3 to 65537)");
+    if (heights.size() != size_t(n) * size_t(n))
+        fail(std::to_string(heights.size()) + " heights for " + std::to_string(n) + " x " + std::to_string(n) +
+             " samples");
+    for (size_t k = 0; k < heights.size(); ++k)
+        if (!std::isfinite(heights[k]))
+            fail("height " + std::to_string(k) + " (i " + std::to_string(k % size_t(n)) + ", j " +
+                 std::to_string(k / size_t(n)) + ") is not finite");
+    if (!(spacing > 0.0 && std::isfinite(spacing))) fail("spacing " + std::to_string(spacing) + " is not positive");
+    if (!isFinite(origin)) fail("the origin is not finite");
+    if (!powerOfTwoPlusOne(prm.tileSamples) || prm.tileSamples > n)
+        fail("tileSamples " + std::to_string(prm.tileSamples) + " is not 2^m + 1 in 3.." + std::to_string(n));
+    if (prm.levels < 1) fail("levels " + std::to_string(prm.levels) + " is below 1");
+    if (!(prm.pixelError > 0.0 && std::isfinite(prm.pixelError)))
+        fail("pixelError " + std::to_string(prm.pixelError) + " is not positive and finite");
+    if (!(prm.fovyDegrees > 0.0 && prm.fovyDegrees < 180.0))
+        fail("fovyDegrees " + std::to_string(prm.fovyDegrees) + " is not in (0, 180)");
+    if (prm.viewportHeight < 1) fail("viewportHeight " + std::to_string(prm.viewportHeight) + " is below 1");
+
+    Terrain t;
+    const int per = prm.tileSamples - 1;
+    t.tilesPerSide = (n - 1) / per;
+    Builder b{heights, n, per, spacing, 0.0, prm.pixelError, {}, prm.material, t, {}};
+    b.pixelsPerRadian = prm.viewportHeight / (2.0 * std::tan(glm::radians(prm.fovyDegrees) / 2.0));
+    if (!b.material) b.material = make<Material>(vec4(0.55f, 0.50f, 0.38f, 1.0f));
+    for (int cells : terrainLevelCells(per, prm.levels)) b.grids.push_back(terrainTileGrid(per, cells));
+    // Vertices relative to the origin, in float; the origin itself in the root's double transform.
+    auto root = make<Transform>();
+    root->setTranslation(origin);
+    root->setName("terrain");
+    b.buildTiles(t.tilesPerSide);
+    root->addChild(b.node(0, 0, t.tilesPerSide, -1, 0));
+    t.root = root;
+    return t;
+}
+
+}  // namespace sg
