@@ -98,6 +98,14 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     fade_ = 1.0f;
     const FlatImage& img = scene.image();
     checkLodScale(set.lodScale, fn);
+    screenRect_ = set.screenRect && set.strategy != CullStrategy::None;
+    if (screenRect_) {
+        if (set.screenRectTriangles < 1 || set.screenRectTriangles > 65536)
+            throw std::invalid_argument(std::string(fn) + ": screenRectTriangles " +
+                                        std::to_string(set.screenRectTriangles) + " is not in 1..65536");
+        viewProj_ = cam.projection() * cam.viewRotation();
+        clusters_.nextFrame();
+    }
     const LodBudgetSettings& lb = set.lodBudget;
     if (lb.enabled && (!lb.model || !(lb.budgetMs > 0.0 && std::isfinite(lb.budgetMs)) ||
                        !(lb.hysteresis >= 0.0 && std::isfinite(lb.hysteresis))))
@@ -264,6 +272,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
     if ((fl & FlatImage::kMasked) && !(img.maskedNode(i)->nodeMask() & set_->traversalMask)) return;
+    const uint32_t maskIn = mask;
 
     // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
     struct BatchScope {
@@ -297,7 +306,10 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     }
 
     switch (img.kind[i]) {
-        case NodeKind::Geometry: emit(c, i, m); break;
+        case NodeKind::Geometry:
+            // (the centre-box test clears the mask without the bound being inside)
+            emit(c, i, m, maskIn == 0 || (mask == 0 && set_->strategy != CullStrategy::CenterBox));
+            break;
         case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
         case NodeKind::LOD: {
             if (planning_ && c.img == &scene_->image()) {  // the budget decides, once the walk is done
@@ -503,7 +515,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
         ++visited;
         switch (kind) {
             case NodeKind::Geometry:
-                emit(c, j, fr[top].m);
+                emit(c, j, fr[top].m, true);
                 ++j;
                 break;
             case NodeKind::Group: ++j; break;  // its children follow
@@ -527,7 +539,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                     } else if (img.kind[k] == NodeKind::Geometry &&
                                !(img.flags[k] & FlatImage::kSlowPath)) {  // the usual child
                         ++visited;
-                        emit(c, k, fr[top].m);
+                        emit(c, k, fr[top].m, true);
                     } else {
                         const dmat4 lm = fr[top].m;
                         framesTop_ = top + 1;
@@ -557,13 +569,32 @@ void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4
     visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
 }
 
-void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
+void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh) return;
+    const bool invalid = img.flags[i] & FlatImage::kInvalid;
+    uint32_t triangles = d.mesh->triangleCount();
+    size_t firstRange = 0;
+    bool part = false;
+    if (screenRect_ && !inside && !invalid && triangles) {
+        const TriangleClusters& tc = clusters_.get(*d.mesh, set_->screenRectTriangles);
+        std::vector<IndexRange>& ranges = out_->ranges;
+        firstRange = ranges.size();
+        const uint32_t kept =
+            tc.keepInViewport(viewProj_, m, ranges, stats_->screenRectClusters, stats_->culledScreenRectClusters);
+        stats_->culledScreenRectTriangles += triangles - kept;
+        if (kept == 0) {
+            stats_->culledScreenRectGeometries++;
+            ranges.resize(firstRange);
+            return;
+        }
+        part = kept < triangles;
+        if (!part) ranges.resize(firstRange);
+        triangles = kept;
+    }
     // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds
     // stay unread: the order is a drawing heuristic, not a visibility decision).
-    const bool invalid = img.flags[i] & FlatImage::kInvalid;
     const dvec3& vd = c.viewDir;
     const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
     DrawItem& it = out_->push(d.state, depth);
@@ -571,7 +602,10 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     it.material = d.material;
     toFloat(m, it.model);
     if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
-    triangles_ += d.mesh->triangleCount();
+    if (part)
+        out_->parts.push_back(
+            {uint32_t(out_->items.size() - 1), uint32_t(firstRange), uint32_t(out_->ranges.size() - firstRange)});
+    triangles_ += triangles;
     if (invalid) stats_->invalidDrawn++;
 }
 
