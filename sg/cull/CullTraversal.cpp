@@ -104,8 +104,8 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
             throw std::invalid_argument(std::string(fn) + ": screenRectTriangles " +
                                         std::to_string(set.screenRectTriangles) + " is not in 1..65536");
         viewProj_ = cam.projection() * cam.viewRotation();
-        clusters_.nextFrame();
     }
+    clusters_.nextFrame();  // every frame: clusters of meshes no longer drawn (or of the option off) age out
     const LodBudgetSettings& lb = set.lodBudget;
     if (lb.enabled && (!lb.model || !(lb.budgetMs > 0.0 && std::isfinite(lb.budgetMs)) ||
                        !(lb.hysteresis >= 0.0 && std::isfinite(lb.hysteresis))))
