@@ -308,3 +308,64 @@ TEST(ScreenRectCull, RefusesClusterSizesOutOfRange) {
         EXPECT_EQ(std::string(e.what()), "CullTraversal::cull(): screenRectTriangles 0 is not in 1..65536");
     }
 }
+
+TEST(TriangleClusters, PropertyARejectedBoxHasNoPointInTheViewAndABoxSeenAtItsCentreIsKept) {
+    // 100,000 cases: 1,000 boxes (one 12-triangle cluster each, up to 40 m across, many across the near plane or
+    // around the eye) under 100 random cameras of every kind. A rejected box: none of its corners nor 8 random
+    // points of it is inside the clip volume (-w <= x, y <= w, w > 0). A box whose centre is inside it: kept.
+    scenes::Rng rng(2026);
+    const Box bounds{dvec3(-60), dvec3(60)};
+    std::vector<vec3> pos;
+    std::vector<uint32_t> idx;
+    std::vector<dvec3> lo, hi;
+    for (int b = 0; b < 1000; ++b) {
+        const dvec3 c(rng.uniform(-80, 80), rng.uniform(-80, 80), rng.uniform(-80, 80));
+        const dvec3 h(rng.uniform(0.01, 20), rng.uniform(0.01, 20), rng.uniform(0.01, 20));
+        const ref_ptr<Mesh> box = makeBoxMesh(c - h, c + h, 1);
+        const uint32_t base = uint32_t(pos.size());
+        pos.insert(pos.end(), box->positions().begin(), box->positions().end());
+        for (uint32_t i = 0; i < box->indexCount(); ++i) idx.push_back(base + box->index(i));
+        lo.push_back(dvec3(box->box().min));
+        hi.push_back(dvec3(box->box().max));
+    }
+    auto mesh = make<Mesh>();
+    mesh->set(pos, {}, idx);
+    const TriangleClusters tc(*mesh, 12);
+    ASSERT_EQ(tc.size(), 1000u);
+    uint64_t rejectedTotal = 0, keptSeen = 0;
+    for (int k = 0; k < 100; ++k) {
+        const Camera cam = scenes::randomCamera(rng, bounds, k, 320, 240);
+        const dmat4 vp = viewProj(cam), mm = model(cam, dvec3(0)), clip = vp * mm;
+        std::vector<IndexRange> out;
+        uint64_t tested = 0, rejected = 0;
+        tc.keepInViewport(vp, mm, out, tested, rejected);
+        std::vector<bool> kept(1000, false);
+        for (const IndexRange& r : out)
+            for (uint32_t t = r.first / 3; t < (r.first + r.count) / 3; ++t) kept[t / 12] = true;
+        auto inView = [&](const dvec3& p) {
+            const dvec4 q = clip * dvec4(p, 1.0);
+            return q.w > 0.0 && std::abs(q.x) <= q.w && std::abs(q.y) <= q.w;
+        };
+        for (uint32_t b = 0; b < 1000; ++b) {
+            if (kept[b]) {
+                keptSeen += inView(0.5 * (lo[b] + hi[b]));
+                continue;
+            }
+            ++rejectedTotal;
+            ASSERT_FALSE(inView(0.5 * (lo[b] + hi[b]))) << "view " << k << " box " << b << " centre";
+            for (int c = 0; c < 8; ++c) {
+                const dvec3 corner((c & 1) ? hi[b].x : lo[b].x, (c & 2) ? hi[b].y : lo[b].y,
+                                   (c & 4) ? hi[b].z : lo[b].z);
+                ASSERT_FALSE(inView(corner)) << "view " << k << " box " << b << " corner " << c;
+            }
+            for (int s = 0; s < 8; ++s) {
+                const dvec3 p(rng.uniform(lo[b].x, hi[b].x), rng.uniform(lo[b].y, hi[b].y),
+                              rng.uniform(lo[b].z, hi[b].z));
+                ASSERT_FALSE(inView(p)) << "view " << k << " box " << b << " point " << s;
+            }
+        }
+    }
+    // Not vacuous: both outcomes are common.
+    EXPECT_GT(rejectedTotal, 20000u);
+    EXPECT_GT(keptSeen, 10000u);
+}
