@@ -573,28 +573,11 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh) return;
-    const bool invalid = img.flags[i] & FlatImage::kInvalid;
-    uint32_t triangles = d.mesh->triangleCount();
-    size_t firstRange = 0;
-    bool part = false;
-    if (screenRect_ && !inside && !invalid && triangles) {
-        const TriangleClusters& tc = clusters_.get(*d.mesh, set_->screenRectTriangles);
-        std::vector<IndexRange>& ranges = out_->ranges;
-        firstRange = ranges.size();
-        const uint32_t kept =
-            tc.keepInViewport(viewProj_, m, ranges, stats_->screenRectClusters, stats_->culledScreenRectClusters);
-        stats_->culledScreenRectTriangles += triangles - kept;
-        if (kept == 0) {
-            stats_->culledScreenRectGeometries++;
-            ranges.resize(firstRange);
-            return;
-        }
-        part = kept < triangles;
-        if (!part) ranges.resize(firstRange);
-        triangles = kept;
-    }
+    // The rejection's path is its own function: the usual path stays as short as without the option.
+    if (screenRect_ && !inside) return emitTrimmed(c, i, m);
     // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds
     // stay unread: the order is a drawing heuristic, not a visibility decision).
+    const bool invalid = img.flags[i] & FlatImage::kInvalid;
     const dvec3& vd = c.viewDir;
     const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
     DrawItem& it = out_->push(d.state, depth);
@@ -602,11 +585,41 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     it.material = d.material;
     toFloat(m, it.model);
     if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
-    if (part)
-        out_->parts.push_back(
-            {uint32_t(out_->items.size() - 1), uint32_t(firstRange), uint32_t(out_->ranges.size() - firstRange)});
-    triangles_ += triangles;
+    triangles_ += d.mesh->triangleCount();
     if (invalid) stats_->invalidDrawn++;
+}
+
+// emit() with the screen-rectangle rejection: the clusters off screen are left out, the rest drawn as ranges.
+void CullTraversal::emitTrimmed(Ctx& c, uint32_t i, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Draw& d = img.draws[img.aux[i]];
+    const uint32_t triangles = d.mesh->triangleCount();
+    if ((img.flags[i] & FlatImage::kInvalid) || triangles == 0) return emit(c, i, m, true);
+    const TriangleClusters& tc = clusters_.get(*d.mesh, set_->screenRectTriangles);
+    std::vector<IndexRange>& ranges = out_->ranges;
+    const size_t firstRange = ranges.size();
+    const uint32_t kept =
+        tc.keepInViewport(viewProj_, m, ranges, stats_->screenRectClusters, stats_->culledScreenRectClusters);
+    stats_->culledScreenRectTriangles += triangles - kept;
+    if (kept == 0) {
+        stats_->culledScreenRectGeometries++;
+        ranges.resize(firstRange);
+        return;
+    }
+    if (kept == triangles) {  // every cluster on screen: the whole mesh, batched with its like
+        ranges.resize(firstRange);
+        return emit(c, i, m, true);
+    }
+    const dvec3& vd = c.viewDir;
+    const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
+    DrawItem& it = out_->push(d.state, depth);
+    it.mesh = d.mesh;
+    it.material = d.material;
+    toFloat(m, it.model);
+    const uint32_t item = uint32_t(out_->items.size() - 1);
+    if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
+    out_->parts.push_back({item, uint32_t(firstRange), uint32_t(ranges.size() - firstRange)});
+    triangles_ += kept;
 }
 
 }  // namespace sg

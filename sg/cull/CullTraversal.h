@@ -41,6 +41,7 @@ private:
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     // `inside`: the entry's bound is known inside the frustum (no screen-rectangle test to run).
     void emit(Ctx& c, uint32_t i, const dmat4& m, bool inside);
+    void emitTrimmed(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
 
     const Scene* scene_ = nullptr;
