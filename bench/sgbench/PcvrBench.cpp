@@ -1,8 +1,8 @@
 // sgbench pcvr: the city table of the PCVR conservative-visibility paper (Qi et al. 2000) on the scene built to its
 // description (testbed/PcvrCity.h): objects and triangles culled by the object test, triangles the screen-rectangle
 // rejection removes after it, frame rate, and the pixels that differ from the unculled render, for center-box with
-// and without the rejection (clusters of K triangles, --clusters K1,K2,...) and aabb for reference. Every setting is
-// drawn on every frame, in turn, headless at 1024x768.
+// and without the rejection (clusters of K triangles, --clusters K1,K2,...) and aabb for reference (with the
+// rejection at the default cluster size). Every setting is drawn on every frame, in turn, headless at 1024x768.
 #include "sg/cull/CullTraversal.h"
 #include "sg/cull/TriangleClusters.h"
 #include "sg/gl/OsmesaContext.h"
@@ -76,7 +76,8 @@ int runPcvr(const Args& a) {
     addRow("center-box", sg::CullStrategy::CenterBox, 0);
     for (uint32_t k : clusters) addRow("center-box+screen-rect/" + std::to_string(k), sg::CullStrategy::CenterBox, k);
     addRow("aabb", sg::CullStrategy::Aabb, 0);
-    addRow("aabb+screen-rect/" + std::to_string(clusters[0]), sg::CullStrategy::Aabb, clusters[0]);
+    const uint32_t byDefault = sg::CullSettings{}.screenRectTriangles;  // aabb's row: the default cluster size
+    addRow("aabb+screen-rect/" + std::to_string(byDefault), sg::CullStrategy::Aabb, byDefault);
 
     sg::DrawList list;
     sg::CullStats st;
