@@ -14,6 +14,7 @@ using namespace sg;
 std::string settingName(const CullSettings& s) {
     std::string name = strategyName(s.strategy);
     if (s.smallFeaturePixels > 0) name += "+small-feature";
+    if (s.screenRect && s.strategy != CullStrategy::None) name += "+screen-rect";
     if (s.strategy != CullStrategy::None && s.occlusion.mode != OcclusionMode::Off) {
         name += s.occlusion.mode == OcclusionMode::Auto ? "+occlusion-auto" : "+occlusion";
         if (s.occlusion.cap == OccluderCap::CenterPlane) name += "-centre";

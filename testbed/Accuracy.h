@@ -33,9 +33,9 @@ struct Result {
     double percentOfFrames() const { return views ? 100.0 * double(differingTotal) / (framePixels * views) : 0.0; }
 };
 
-// "aabb", "center-box+small-feature", "aabb+occlusion" (mode On), "aabb+occlusion-auto", and "-centre"
-// appended for the centre-plane cap, e.g. "aabb+occlusion-centre", "-hom" or "-hom-approx" for the occlusion map. The
-// occlusion part is left out when the mode is Off or the strategy is None (which disables occlusion).
+// "aabb", "center-box+small-feature", "aabb+screen-rect", "aabb+occlusion" (mode On), "aabb+occlusion-auto", and
+// "-centre" appended for the centre-plane cap, e.g. "aabb+occlusion-centre", "-hom" or "-hom-approx" for the occlusion
+// map. The occlusion part is left out when the mode is Off or the strategy is None (which disables occlusion).
 std::string settingName(const sg::CullSettings& s);
 
 // Every conservative method: the three frustum strategies alone (sphere, aabb, sphere-sphere), then boxes

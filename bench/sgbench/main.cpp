@@ -126,6 +126,7 @@ static void usage() {
         "                [--max-occluders K] [--resolution P] [--json]\n"
         "       sgbench terrain [--sizes 1025,2049,4097] [--fov 60,90,120] [--frames 5] [--reps 100] [--tile 33]\n"
         "                [--spacing 10] [--seed 2002] [--no-draw] [--json]\n"
+        "       sgbench pcvr [--frames N] [--clusters K1,K2,...] [--seed S] [--no-pixels] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -141,6 +142,7 @@ int main(int argc, char** argv) {
         if (a.command == "load") return bench::runLoad(a);
         if (a.command == "pvs") return bench::runPvs(a);
         if (a.command == "terrain") return bench::runTerrain(a);
+        if (a.command == "pcvr") return bench::runPcvr(a);
         usage();
         return 2;
     } catch (const std::exception& e) {

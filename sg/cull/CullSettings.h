@@ -127,6 +127,14 @@ struct CullSettings {
     // the eye's cell are culled before any other test. Null: none. Not used by the reference
     // (CullStrategy::None) nor for orthographic cameras; the table must match the scene.
     const PvsTable* pvs = nullptr;
+    // PCVR's screen-rectangle rejection (sg/cull/TriangleClusters.h): after the object test, each drawn geometry
+    // not wholly inside the frustum has its triangles, in clusters of screenRectTriangles consecutive ones (index
+    // order), left out where the cluster's box lies beyond one side of the viewport; the rest are drawn as index
+    // ranges (DrawList::parts). Tested in clip space (x < -w and the like), which for boxes in front of the eye is
+    // the paper's "projected rectangle outside the screen" and stays exact for boxes crossing the near plane:
+    // conservative in pixels. Not used by CullStrategy::None. Off: items draw whole meshes, as before.
+    bool screenRect = false;
+    uint32_t screenRectTriangles = 32;  // 1..65536; measured in docs/benchmarks.md (PCVR)
 };
 
 struct CullStats {
@@ -168,6 +176,11 @@ struct CullStats {
     uint64_t pagedCoarse = 0;     // wanted but not loaded yet: their coarse level was drawn
     double ms = 0.0;
     uint64_t culledPvs = 0;  // entries culled as hidden from the eye's cell (CullSettings::pvs)
+    // Screen-rectangle rejection (CullSettings::screenRect); `triangles` above counts what is left.
+    uint64_t screenRectClusters = 0;          // clusters tested
+    uint64_t culledScreenRectClusters = 0;    // clusters outside the viewport
+    uint64_t culledScreenRectTriangles = 0;   // their triangles
+    uint64_t culledScreenRectGeometries = 0;  // geometries every cluster of which was outside (not drawn)
 };
 
 }  // namespace sg

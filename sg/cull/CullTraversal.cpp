@@ -98,6 +98,14 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     fade_ = 1.0f;
     const FlatImage& img = scene.image();
     checkLodScale(set.lodScale, fn);
+    screenRect_ = set.screenRect && set.strategy != CullStrategy::None;
+    if (screenRect_) {
+        if (set.screenRectTriangles < 1 || set.screenRectTriangles > 65536)
+            throw std::invalid_argument(std::string(fn) + ": screenRectTriangles " +
+                                        std::to_string(set.screenRectTriangles) + " is not in 1..65536");
+        viewProj_ = cam.projection() * cam.viewRotation();
+    }
+    clusters_.nextFrame();  // every frame: clusters of meshes no longer drawn (or of the option off) age out
     const LodBudgetSettings& lb = set.lodBudget;
     if (lb.enabled && (!lb.model || !(lb.budgetMs > 0.0 && std::isfinite(lb.budgetMs)) ||
                        !(lb.hysteresis >= 0.0 && std::isfinite(lb.hysteresis))))
@@ -264,6 +272,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
     if ((fl & FlatImage::kMasked) && !(img.maskedNode(i)->nodeMask() & set_->traversalMask)) return;
+    const uint32_t maskIn = mask;
 
     // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
     struct BatchScope {
@@ -299,7 +308,10 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     }
 
     switch (img.kind[i]) {
-        case NodeKind::Geometry: emit(c, i, m); break;
+        case NodeKind::Geometry:
+            // (the centre-box test clears the mask without the bound being inside)
+            emit(c, i, m, maskIn == 0 || (mask == 0 && set_->strategy != CullStrategy::CenterBox));
+            break;
         case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
         case NodeKind::LOD: {
             if (planning_ && c.img == &scene_->image()) {  // the budget decides, once the walk is done
@@ -505,7 +517,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
         ++visited;
         switch (kind) {
             case NodeKind::Geometry:
-                emit(c, j, fr[top].m);
+                emit(c, j, fr[top].m, true);
                 ++j;
                 break;
             case NodeKind::Group: ++j; break;  // its children follow
@@ -529,7 +541,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
                     } else if (img.kind[k] == NodeKind::Geometry &&
                                !(img.flags[k] & FlatImage::kSlowPath)) {  // the usual child
                         ++visited;
-                        emit(c, k, fr[top].m);
+                        emit(c, k, fr[top].m, true);
                     } else {
                         const dmat4 lm = fr[top].m;
                         framesTop_ = top + 1;
@@ -559,10 +571,12 @@ void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4
     visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
 }
 
-void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
+void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh) return;
+    // The rejection's path is its own function: the usual path stays as short as without the option.
+    if (screenRect_ && !inside) return emitTrimmed(c, i, m);
     // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds
     // stay unread: the order is a drawing heuristic, not a visibility decision).
     const bool invalid = img.flags[i] & FlatImage::kInvalid;
@@ -575,6 +589,39 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m) {
     if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
     triangles_ += d.mesh->triangleCount();
     if (invalid) stats_->invalidDrawn++;
+}
+
+// emit() with the screen-rectangle rejection: the clusters off screen are left out, the rest drawn as ranges.
+void CullTraversal::emitTrimmed(Ctx& c, uint32_t i, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Draw& d = img.draws[img.aux[i]];
+    const uint32_t triangles = d.mesh->triangleCount();
+    if ((img.flags[i] & FlatImage::kInvalid) || triangles == 0) return emit(c, i, m, true);
+    const TriangleClusters& tc = clusters_.get(*d.mesh, set_->screenRectTriangles);
+    std::vector<IndexRange>& ranges = out_->ranges;
+    const size_t firstRange = ranges.size();
+    const uint32_t kept =
+        tc.keepInViewport(viewProj_, m, ranges, stats_->screenRectClusters, stats_->culledScreenRectClusters);
+    stats_->culledScreenRectTriangles += triangles - kept;
+    if (kept == 0) {
+        stats_->culledScreenRectGeometries++;
+        ranges.resize(firstRange);
+        return;
+    }
+    if (kept == triangles) {  // every cluster on screen: the whole mesh, batched with its like
+        ranges.resize(firstRange);
+        return emit(c, i, m, true);
+    }
+    const dvec3& vd = c.viewDir;
+    const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
+    DrawItem& it = out_->push(d.state, depth);
+    it.mesh = d.mesh;
+    it.material = d.material;
+    toFloat(m, it.model);
+    const uint32_t item = uint32_t(out_->items.size() - 1);
+    if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
+    out_->parts.push_back({item, uint32_t(firstRange), uint32_t(ranges.size() - firstRange)});
+    triangles_ += kept;
 }
 
 }  // namespace sg

@@ -7,6 +7,7 @@
 #include "sg/cull/LodBudgetPlanner.h"
 #include "sg/cull/LodHistory.h"
 #include "sg/cull/OcclusionPass.h"
+#include "sg/cull/TriangleClusters.h"
 #include "sg/scene/Scene.h"
 
 #include <vector>
@@ -38,7 +39,9 @@ private:
     void fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width);
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
-    void emit(Ctx& c, uint32_t i, const dmat4& m);
+    // `inside`: the entry's bound is known inside the frustum (no screen-rectangle test to run).
+    void emit(Ctx& c, uint32_t i, const dmat4& m, bool inside);
+    void emitTrimmed(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
 
     const Scene* scene_ = nullptr;
@@ -62,6 +65,10 @@ private:
     OcclusionPass occlusion_;
     LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
+    // Screen-rectangle rejection (CullSettings::screenRect): on this frame, and its clusters by mesh.
+    bool screenRect_ = false;
+    dmat4 viewProj_{1.0};
+    TriangleClusters::Cache clusters_;
     // The PVS table last found to match the scene (its address and hash), at that scene's version and size:
     // checked again when any of them changes.
     const void* pvsChecked_ = nullptr;

@@ -23,6 +23,11 @@ struct DrawItem {
     mat4 matrix() const { return mat4(model); }
 };
 
+// Indices [first, first + count) of an item's mesh (CullSettings::screenRect draws items in part).
+struct IndexRange {
+    uint32_t first, count;
+};
+
 class DrawList {
 public:
     // Items in emission order (front to back through BspGroups) and, for each, its sort key: state
@@ -32,11 +37,20 @@ public:
     // Items drawn dissolved (LOD fade), by item index, in emission order: f in (0, 1) keeps the pixels whose
     // screen-door pattern value is below f, f in (-1, 0) those at or above 1 + f. Items not listed: opaque.
     std::vector<std::pair<uint32_t, float>> fades;
+    // Items drawn in part (CullSettings::screenRect), by item index: the item draws only the index ranges
+    // ranges[first, first + count), ascending and disjoint. Items not listed: their whole mesh.
+    struct Part {
+        uint32_t item, first, count;
+    };
+    std::vector<Part> parts;
+    std::vector<IndexRange> ranges;
 
     void clear() {
         items.clear();
         order.clear();
         fades.clear();
+        parts.clear();
+        ranges.clear();
         keys_.clear();
     }
     // Appends an item with its depth along the view (its sort key is made here).

@@ -367,6 +367,25 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         for (const auto& [i, f] : list.fades)
             if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
     }
+    parts_.clear();
+    if (!list.parts.empty()) {  // like fades: a dense copy only in frames that draw items in part
+        parts_.assign(list.items.size(), kWhole);
+        for (size_t p = 0; p < list.parts.size(); ++p) {
+            const DrawList::Part& part = list.parts[p];
+            const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
+            bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
+            for (uint32_t r = 0; ok && r < part.count; ++r) {
+                const IndexRange& ir = list.ranges[size_t(part.first) + r];
+                ok = uint64_t(ir.first) + ir.count <= m->indexCount();
+            }
+            if (!ok)
+                throw std::out_of_range("Renderer::draw(): parts[" + std::to_string(p) + "] (item " +
+                                        std::to_string(part.item) + ", ranges " + std::to_string(part.first) + " + " +
+                                        std::to_string(part.count) + ") is past the items, the " +
+                                        std::to_string(list.ranges.size()) + " ranges or its mesh's indices");
+            parts_[part.item] = uint32_t(p);
+        }
+    }
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
         if (i >= list.items.size())
@@ -375,9 +394,10 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         const DrawItem& it = list.items[i];
         if (!it.mesh || it.mesh->indexCount() == 0) continue;
         const float fade = fades_.empty() ? 1.0f : fades_[i];
+        const uint32_t part = parts_.empty() ? kWhole : parts_[i];
         if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
-            runs_.back().fade != fade)
-            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade});
+            runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole)
+            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade, part});
         runs_.back().count++;
         instances_.push_back(it.matrix());
     }
@@ -433,10 +453,26 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
             glUniform1f(uShininess_, r.material ? r.material->shininess : 1.0f);
             glUniform1f(uFade_, r.fade);
             glUniform1f(uAlphaCutoff_, cutoff);
-            glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
+            if (r.part == kWhole) {
+                glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
+                stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
+            } else {
+                // One item, its ranges: a non-instanced draw reads the instance attributes' first element.
+                const DrawList::Part& p = list.parts[r.part];
+                const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
+                rangeCounts_.clear();
+                rangeOffsets_.clear();
+                for (uint32_t k = 0; k < p.count; ++k) {
+                    const IndexRange& ir = list.ranges[size_t(p.first) + k];
+                    rangeCounts_.push_back(GLsizei(ir.count));
+                    rangeOffsets_.push_back(reinterpret_cast<const void*>(size_t(ir.first) * bytes));
+                    stats_.triangles += ir.count / 3;
+                }
+                glMultiDrawElements(GL_TRIANGLES, rangeCounts_.data(), g.indexType, rangeOffsets_.data(),
+                                    GLsizei(p.count));
+            }
             stats_.drawCalls++;
             stats_.instances += r.count;
-            stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
         }
         glBindVertexArray(0);
         glUseProgram(0);

@@ -33,11 +33,13 @@ public:
 
     // Viewport (0, 0, camera.width(), camera.height()), clear, then the items in list.order (all items
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
-    // material pointers become one instanced draw call. Colour: base colour (white without a material)
+    // material pointers become one instanced draw call; an item drawn in part (DrawList::parts) draws its
+    // index ranges alone, in one glMultiDrawElements. Colour: base colour (white without a material)
     // x texture (when the mesh has UVs) x vertex colour, lit by a two-sided headlight unless the
     // material is unlit or the mesh has no normals, or by the light setLight() gave (see there); fragments whose alpha
     // is below the material's alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order
-    // index past the items; in debug builds std::runtime_error on a GL error.
+    // index past the items or a part whose item or ranges are out of range; in debug builds std::runtime_error on a GL
+    // error.
     void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
     const RenderStats& lastStats() const { return stats_; }
     // The light of the next draws. A sun shades a lit fragment with albedo x (ambient + color x sun x
@@ -94,10 +96,15 @@ private:
         const Material* material;
         uint32_t first, count;  // range in instances_
         float fade;             // DrawList::fades
+        uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
     };
+    static constexpr uint32_t kWhole = ~0u;
     std::vector<mat4> instances_;  // the frame's model matrices, in draw order
     std::vector<Run> runs_;
-    std::vector<float> fades_;  // per item, filled only in frames with dissolving items
+    std::vector<float> fades_;     // per item, filled only in frames with dissolving items
+    std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts
+    std::vector<int> rangeCounts_;
+    std::vector<const void*> rangeOffsets_;
     uint64_t frame_ = 0;
     RenderStats stats_;
 };

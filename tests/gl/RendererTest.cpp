@@ -530,3 +530,77 @@ TEST_F(RendererTest, SetLightRefusesASunWithoutDirection) {
     EXPECT_TRUE(renderer.light().headlight);
     EXPECT_NO_THROW(renderer.setLight(DirectionalLight{}));  // the headlight has no direction of its own
 }
+
+// DrawList::parts (the screen-rectangle rejection's output): an item drawn in part draws exactly the triangles of its
+// ranges, with its own matrix, in both index widths, beside whole items of the same mesh.
+TEST_F(RendererTest, PartsDrawTheirRangesLikeAMeshOfJustThoseTriangles) {
+    for (int div : {4, 110}) {  // 16-bit and 32-bit indices
+        auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5), div);
+        const uint32_t tris = mesh->triangleCount();
+        // The ranges: the first third and the last sixth of the triangles.
+        const uint32_t a = tris / 3, b = tris - tris / 6;
+        std::vector<uint32_t> sub;
+        for (uint32_t i = 0; i < a * 3; ++i) sub.push_back(mesh->index(i));
+        for (uint32_t i = b * 3; i < tris * 3; ++i) sub.push_back(mesh->index(i));
+        auto subMesh = make<Mesh>();
+        subMesh->set(mesh->positions(), mesh->normals(), sub, mesh->uvs());
+        auto mat = make<Material>(vec4(0.3f, 0.8f, 0.4f, 1.0f));
+        const Camera cam = lookingAt(dvec3(1.2, 1.5, 4.0), dvec3(0.0));
+        auto item = [&](const Mesh* m, const dvec3& at) {
+            DrawItem it;
+            it.mesh = m;
+            it.material = mat.get();
+            it.model = glm::mat4x3(glm::translate(dmat4(1.0), at - cam.eye()));
+            return it;
+        };
+        // Reference: a whole box at the left, the sub-mesh at the right, a whole box above.
+        DrawList ref;
+        ref.items = {item(mesh.get(), dvec3(-0.8, 0, 0)), item(subMesh.get(), dvec3(0.8, 0, 0)),
+                     item(mesh.get(), dvec3(0, 1.1, 0))};
+        renderer.draw(ref, cam, kClear);
+        const Image want = renderer.readColor();
+        // The same with the middle item the whole mesh drawn in part: it must not take the first item's matrix,
+        // nor batch with the others.
+        DrawList got;
+        got.items = {item(mesh.get(), dvec3(-0.8, 0, 0)), item(mesh.get(), dvec3(0.8, 0, 0)),
+                     item(mesh.get(), dvec3(0, 1.1, 0))};
+        got.ranges = {{0, a * 3}, {b * 3, (tris - b) * 3}};
+        got.parts = {{1, 0, 2}};
+        renderer.draw(got, cam, kClear);
+        const Image image = renderer.readColor();
+        EXPECT_EQ(countDifferingPixels(want, image, 0), 0u) << "div " << div;
+        EXPECT_EQ(renderer.lastStats().triangles, uint64_t(2 * tris + a + (tris - b)));
+        EXPECT_EQ(renderer.lastStats().drawCalls, 3u);
+        // Not vacuous: the whole box in the middle would differ.
+        got.parts.clear();
+        renderer.draw(got, cam, kClear);
+        EXPECT_GT(countDifferingPixels(want, renderer.readColor(), 0), 100u) << "div " << div;
+        // Ranges that cover every triangle, split in three: the whole box's pixels, batched or not.
+        got.ranges = {{0, 3 * 5}, {3 * 5, 3 * 7}, {3 * 12, (tris - 12) * 3}};
+        got.parts = {{1, 0, 3}};
+        renderer.draw(got, cam, kClear);
+        const Image split = renderer.readColor();
+        got.parts.clear();
+        renderer.draw(got, cam, kClear);
+        EXPECT_EQ(countDifferingPixels(split, renderer.readColor(), 0), 0u) << "div " << div;
+    }
+}
+
+TEST_F(RendererTest, PartsPastTheItemsOrTheIndicesThrow) {
+    auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5));
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    DrawItem it;
+    it.mesh = mesh.get();
+    DrawList list;
+    list.items.push_back(it);
+    list.ranges = {{0, 36}};
+    list.parts = {{1, 0, 1}};  // no item 1
+    EXPECT_THROW(renderer.draw(list, cam), std::out_of_range);
+    list.parts = {{0, 0, 2}};  // past the ranges
+    EXPECT_THROW(renderer.draw(list, cam), std::out_of_range);
+    list.ranges = {{3, 36}};  // past the mesh's 36 indices
+    list.parts = {{0, 0, 1}};
+    EXPECT_THROW(renderer.draw(list, cam), std::out_of_range);
+    list.ranges = {{0, 36}};
+    EXPECT_NO_THROW(renderer.draw(list, cam));
+}

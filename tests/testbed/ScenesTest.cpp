@@ -5,6 +5,7 @@
 #include "sg/cull/CullTraversal.h"
 #include "testbed/City.h"
 #include "testbed/Office.h"
+#include "testbed/PcvrCity.h"
 
 #include <gtest/gtest.h>
 
@@ -81,4 +82,35 @@ TEST(Scenes, OfficeHasItsRoomsWallsAndFurniture) {
             ASSERT_FALSE(grown.contains(eye)) << "frame " << f << " eye " << eye.x << " " << eye.y;
         }
     }
+}
+
+TEST(Scenes, PcvrCityHas25ObjectsAnd23400TrianglesForEverySeedAndAStreetLevelPath) {
+    for (uint64_t seed : {1u, 2u, 3u, 99u}) {
+        Scene scene(scenes::buildPcvrCity(seed));
+        scene.update();
+        // Everything in view of a camera far above, culling off: every object, every triangle.
+        Camera above;
+        above.setViewport(64, 64);
+        above.setPerspective(90.0, 1.0, 1.0, 5000.0);
+        above.setLookAt(dvec3(200, 200, 1000), dvec3(200, 200, 0), dvec3(0, 1, 0));
+        CullSettings none;
+        none.strategy = CullStrategy::None;
+        DrawList list;
+        CullStats st;
+        CullTraversal().cull(scene, above, none, list, st);
+        EXPECT_EQ(st.geometries, uint64_t(scenes::kPcvrObjects)) << seed;
+        EXPECT_EQ(st.triangles, uint64_t(scenes::kPcvrTriangles)) << seed;
+    }
+    // The path: eye 1.5 m up, on the streets' inner square, level; it closes on itself.
+    for (int f = 0; f < scenes::kPcvrFrames; f += 7) {
+        const Camera c = scenes::pcvrCityCamera(f);
+        EXPECT_DOUBLE_EQ(c.eye().z, 1.5);
+        EXPECT_NEAR(c.viewDirection().z, 0.0, 1e-12);
+        const bool onStreet = std::abs(c.eye().x - 100) < 1e-9 || std::abs(c.eye().x - 300) < 1e-9 ||
+                              std::abs(c.eye().y - 100) < 1e-9 || std::abs(c.eye().y - 300) < 1e-9;
+        EXPECT_TRUE(onStreet) << f;
+        EXPECT_EQ(c.width(), 1024);
+        EXPECT_EQ(c.height(), 768);
+    }
+    EXPECT_EQ(scenes::pcvrCityCamera(scenes::kPcvrFrames).eye(), scenes::pcvrCityCamera(0).eye());
 }
