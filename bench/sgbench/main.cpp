@@ -124,6 +124,9 @@ static void usage() {
         "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
         "       sgbench pvs [--scene city|office|both] [--n N] [--r R] [--sweep cells|occluders|both] [--cell-size M]\n"
         "                [--max-occluders K] [--resolution P] [--json]\n"
+        "       sgbench pareto [--quick] [--scenes city-orbit,city-street,office,factory] [--out DIR] [--views K]\n"
+        "                [--rounds R] [--methods M1,M2] [--n N] [--r R] [--width W --height H] [--budget-ms B]\n"
+        "                [--strict-reference]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -138,6 +141,7 @@ int main(int argc, char** argv) {
         if (a.command == "pick") return bench::runPick(a);
         if (a.command == "load") return bench::runLoad(a);
         if (a.command == "pvs") return bench::runPvs(a);
+        if (a.command == "pareto") return bench::runPareto(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
