@@ -391,17 +391,21 @@ std::string markdown(const std::vector<Row>& rows) {
     return s;
 }
 
-std::vector<std::string> defaultOffFront(const std::vector<Row>& rows) {
-    std::vector<std::string> out;
+std::vector<OffFront> defaultOffFront(const std::vector<Row>& rows, double tolerance) {
+    std::vector<OffFront> out;
     for (const Row& d : rows) {
         if (!d.isDefault || d.onFront) continue;
         std::string by;
+        bool beyond = false;
         for (const Row& w : rows)
-            if (w.scene == d.scene && w.frameMs < d.frameMs && w.errorPixels <= d.errorPixels)
+            if (w.scene == d.scene && w.frameMs < d.frameMs && w.errorPixels <= d.errorPixels) {
+                beyond = beyond || w.frameMs < d.frameMs * (1.0 - tolerance);
                 by += (by.empty() ? "" : ", ") + w.method + " (" + fixed(w.frameMs, 2) + " ms, " +
                       fixed(100.0 * (w.frameMs / d.frameMs - 1.0), 1) + "%, error " + fixed(w.errorPixels, 1) + ")";
-        out.push_back(d.scene + ": the default (" + fixed(d.frameMs, 2) + " ms, error " + fixed(d.errorPixels, 1) +
-                      ") is beaten by " + by);
+            }
+        out.push_back({d.scene, beyond,
+                       d.scene + ": the default (" + fixed(d.frameMs, 2) + " ms, error " + fixed(d.errorPixels, 1) +
+                           ") is beaten by " + by});
     }
     return out;
 }
@@ -452,6 +456,12 @@ std::string gnuplotScript(const std::vector<Row>& rows, const std::string& png) 
                 " using 1:2 with lines" + lc + " notitle, \\\n     $front" + id +
                 " using 1:2:3 with labels offset 1,0.5 left font ',7' tc lt " + std::to_string(k + 1) + " notitle";
     }
+    // The default of every scene, ringed.
+    s += "$default << EOD\n";
+    for (const Row& w : rows)
+        if (w.isDefault) s += fixed(w.errorPixels + 1.0, 3) + " " + fixed(ratios ? w.frameRatio : w.frameMs, 5) + "\n";
+    s += "EOD\n";
+    plot += ", \\\n     $default using 1:2 with points pt 6 ps 2.4 lc rgb 'black' title 'default (CullSettings{})'";
     return s + plot + "\n";
 }
 

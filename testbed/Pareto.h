@@ -81,8 +81,14 @@ std::string csvHeader();
 std::string csv(const std::vector<Row>& rows);
 // A markdown table per scene, front members in bold, the default marked.
 std::string markdown(const std::vector<Row>& rows);
-// For each scene whose default row is not on its front: a line naming the scene and the methods that beat it.
-std::vector<std::string> defaultOffFront(const std::vector<Row>& rows);
+// A scene whose default row is not on its front, and the methods that beat it (faster, at most as wrong).
+struct OffFront {
+    std::string scene;
+    bool beyondNoise = false;  // some method is faster by more than the tolerance
+    std::string text;          // "scene: the default (... ms, error ...) is beaten by method (ms, -x%, error), ..."
+};
+// `tolerance`: the share of the default's frame time a method must save to be beyond noise (e.g. 0.05).
+std::vector<OffFront> defaultOffFront(const std::vector<Row>& rows, double tolerance);
 // A gnuplot script (data inline) drawing `png`: x error pixels + 1 (log), y frame ms as a ratio to none (log),
 // one colour per scene, each front joined by a line.
 std::string gnuplotScript(const std::vector<Row>& rows, const std::string& png);

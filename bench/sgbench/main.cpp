@@ -126,7 +126,7 @@ static void usage() {
         "                [--max-occluders K] [--resolution P] [--json]\n"
         "       sgbench pareto [--quick] [--scenes city-orbit,city-street,office,factory] [--out DIR] [--views K]\n"
         "                [--rounds R] [--methods M1,M2] [--n N] [--r R] [--width W --height H] [--budget-ms B]\n"
-        "                [--strict-reference]\n"
+        "                [--strict-reference] [--tolerance PERCENT]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }

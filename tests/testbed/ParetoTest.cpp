@@ -1,6 +1,7 @@
 // sgbench pareto's core on a tiny office: the front on hand-made points, the invariants of a measured table (the
 // reference and the conservative methods exact, a method that culls everything caught), the CSV's columns.
 #include "sg/gl/OsmesaContext.h"
+#include "testbed/City.h"
 #include "testbed/Office.h"
 #include "testbed/Pareto.h"
 
@@ -44,10 +45,13 @@ TEST(ParetoFront, MarksPerSceneAndNamesWhatBeatsTheDefault) {
     EXPECT_FALSE(rows[1].onFront);
     EXPECT_TRUE(rows[2].onFront);
     EXPECT_FALSE(rows[3].onFront);
-    const std::vector<std::string> off = pareto::defaultOffFront(rows);
+    const std::vector<pareto::OffFront> off = pareto::defaultOffFront(rows, 0.05);
     ASSERT_EQ(off.size(), 1u);
-    EXPECT_NE(off[0].find("a: the default"), std::string::npos) << off[0];
-    EXPECT_NE(off[0].find("fast"), std::string::npos) << off[0];
+    EXPECT_EQ(off[0].scene, "a");
+    EXPECT_TRUE(off[0].beyondNoise);  // 1 ms against 2
+    EXPECT_NE(off[0].text.find("a: the default"), std::string::npos) << off[0].text;
+    EXPECT_NE(off[0].text.find("fast"), std::string::npos) << off[0].text;
+    EXPECT_FALSE(pareto::defaultOffFront(rows, 0.6)[0].beyondNoise);  // 50% faster is within a 60% tolerance
 }
 
 TEST(ParetoMethods, SelectsByNameAndRejectsUnknown) {
@@ -130,6 +134,32 @@ TEST(Pareto, TinyOfficeInvariantsAndCsv) {
     EXPECT_NE(md.find("### office-2 (3 views at 160x90"), std::string::npos) << md;
     const std::string gp = pareto::gnuplotScript(rows, "x.png");
     EXPECT_NE(gp.find("set output 'x.png'"), std::string::npos);
+}
+
+// Far from a small city every building is drawn at its coarse level: another mesh at the same place, which the
+// error counts in pixels but not as a wrongly culled geometry.
+TEST(Pareto, CoarseLevelsAreNotWronglyCulled) {
+    const int w = 160, h = 90;
+    sg::OsmesaContext ctx(w, h);
+    sg::Renderer renderer;
+    sg::Scene scene(scenes::buildCity({3, false}));
+    scene.update();
+    pareto::SceneViews sv;
+    sv.name = "city-3";
+    sv.scene = &scene;
+    sv.hasLods = true;
+    sg::Camera cam;
+    cam.setPerspective(20, double(w) / h, 1, 3000);
+    cam.setLookAt(sg::dvec3(30, -400, 100), sg::dvec3(30, 30, 0), sg::dvec3(0, 0, 1));
+    cam.setViewport(w, h);
+    sv.views = {cam};
+    const auto rows = pareto::measure(renderer, sv, pareto::selectMethods(pareto::methods(), "none,aabb"), {});
+    ASSERT_EQ(rows.size(), 2u);
+    for (const pareto::Row& r : rows) {
+        EXPECT_EQ(r.objects, 18.0) << r.method;         // 9 buildings, 9 cars
+        EXPECT_EQ(r.triangles, 18.0 * 12) << r.method;  // every building at its 12-triangle level
+        EXPECT_EQ(r.wronglyCulledTotal, 0u) << r.method;
+    }
 }
 
 }  // namespace
