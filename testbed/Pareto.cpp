@@ -312,6 +312,7 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
         w.viewsWithError = a.viewsWithError;
         w.wronglyCulledTotal = a.wrong;
         w.wronglyCulled = double(a.wrong) / double(V);
+        w.frames = a.frame;
     }
     for (const Row& none : rows)
         if (none.method == "none")
@@ -397,12 +398,26 @@ std::vector<OffFront> defaultOffFront(const std::vector<Row>& rows, double toler
         if (!d.isDefault || d.onFront) continue;
         std::string by;
         bool beyond = false;
-        for (const Row& w : rows)
-            if (w.scene == d.scene && w.frameMs < d.frameMs && w.errorPixels <= d.errorPixels) {
-                beyond = beyond || w.frameMs < d.frameMs * (1.0 - tolerance);
-                by += (by.empty() ? "" : ", ") + w.method + " (" + fixed(w.frameMs, 2) + " ms, " +
-                      fixed(100.0 * (w.frameMs / d.frameMs - 1.0), 1) + "%, error " + fixed(w.errorPixels, 1) + ")";
+        for (const Row& w : rows) {
+            if (w.scene != d.scene || !(w.frameMs < d.frameMs) || !(w.errorPixels <= d.errorPixels)) continue;
+            double ratio = w.frameMs / d.frameMs;
+            std::string paired;
+            if (!w.frames.empty() && w.frames.size() == d.frames.size()) {
+                std::vector<double> r;
+                size_t faster = 0;
+                for (size_t i = 0; i < w.frames.size(); ++i) {
+                    r.push_back(w.frames[i] / d.frames[i]);
+                    faster += w.frames[i] < d.frames[i];
+                }
+                ratio = medianOf(r);
+                paired = ", frame by frame " + fixed(100.0 * (ratio - 1.0), 1) + "% (median), faster in " +
+                         std::to_string(faster) + " of " + std::to_string(r.size());
             }
+            beyond = beyond || ratio < 1.0 - tolerance;
+            by += (by.empty() ? "" : "; ") + w.method + " (" + fixed(w.frameMs, 2) + " ms, " +
+                  fixed(100.0 * (w.frameMs / d.frameMs - 1.0), 1) + "%, error " + fixed(w.errorPixels, 1) + paired +
+                  ")";
+        }
         out.push_back({d.scene, beyond,
                        d.scene + ": the default (" + fixed(d.frameMs, 2) + " ms, error " + fixed(d.errorPixels, 1) +
                            ") is beaten by " + by});

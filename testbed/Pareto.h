@@ -58,6 +58,9 @@ struct Row {
     int viewsWithError = 0;
     double wronglyCulled = 0.0;  // reference-visible geometries the method did not draw, mean per view
     uint64_t wronglyCulledTotal = 0;
+    // Every timed frame's ms, round by round, view by view: the same order for every method of a scene, so that
+    // two methods compare frame by frame (the view's own cost cancels).
+    std::vector<double> frames;
 };
 
 // Every method on every view, methods interleaved per view (each view starts one further along the table, so
@@ -84,10 +87,12 @@ std::string markdown(const std::vector<Row>& rows);
 // A scene whose default row is not on its front, and the methods that beat it (faster, at most as wrong).
 struct OffFront {
     std::string scene;
-    bool beyondNoise = false;  // some method is faster by more than the tolerance
-    std::string text;          // "scene: the default (... ms, error ...) is beaten by method (ms, -x%, error), ..."
+    bool beyondNoise = false;  // some method is faster by more than the tolerance, frame by frame
+    std::string text;  // "scene: the default (... ms, error ...) is beaten by method (ms, error, frame by frame ...)"
 };
-// `tolerance`: the share of the default's frame time a method must save to be beyond noise (e.g. 0.05).
+// `tolerance`: the share of the default's frame time a method must save to be beyond noise (e.g. 0.05), judged on
+// the median over frames of the method's time over the default's in the same frame (Row::frames; the ratio of
+// the medians when the rows have no frames).
 std::vector<OffFront> defaultOffFront(const std::vector<Row>& rows, double tolerance);
 // A gnuplot script (data inline) drawing `png`: x error pixels + 1 (log), y frame ms as a ratio to none (log),
 // one colour per scene, each front joined by a line.

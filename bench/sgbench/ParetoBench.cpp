@@ -143,11 +143,12 @@ int runPareto(const Args& a) {
     // --tolerance percent is said so, quietly.
     const double tolerance = double(a.num("tolerance", 5)) / 100.0;
     const std::vector<pareto::OffFront> off = pareto::defaultOffFront(rows, tolerance);
+    for (const pareto::Row& d : rows)
+        if (d.isDefault && d.onFront) std::cout << d.scene << ": the default settings lie on the Pareto front\n";
     for (const pareto::OffFront& o : off)
         std::cout << (o.beyondNoise ? "!!! DEFAULT NOT ON THE PARETO FRONT: "
                                     : "default off the strict front only within the tolerance (timing noise?): ")
                   << o.text << "\n";
-    if (off.empty()) std::cout << "The default settings lie on the Pareto front of every scene.\n";
     const bool plotted = std::system("command -v gnuplot >/dev/null 2>&1") == 0 &&
                          std::system(("gnuplot '" + out + "/pareto.gp'").c_str()) == 0;
     std::cout << (plotted ? "wrote " + out + "/pareto.png"

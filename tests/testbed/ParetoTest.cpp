@@ -52,6 +52,13 @@ TEST(ParetoFront, MarksPerSceneAndNamesWhatBeatsTheDefault) {
     EXPECT_NE(off[0].text.find("a: the default"), std::string::npos) << off[0].text;
     EXPECT_NE(off[0].text.find("fast"), std::string::npos) << off[0].text;
     EXPECT_FALSE(pareto::defaultOffFront(rows, 0.6)[0].beyondNoise);  // 50% faster is within a 60% tolerance
+    // Frame by frame: "fast" wins the medians by half but loses on most frames (the views' costs cancel).
+    rows[0].frames = {1, 10, 10, 10};
+    rows[1].frames = {9, 9, 9, 9};
+    const std::vector<pareto::OffFront> paired = pareto::defaultOffFront(rows, 0.05);
+    ASSERT_EQ(paired.size(), 1u);
+    EXPECT_FALSE(paired[0].beyondNoise) << paired[0].text;
+    EXPECT_NE(paired[0].text.find("faster in 1 of 4"), std::string::npos) << paired[0].text;
 }
 
 TEST(ParetoMethods, SelectsByNameAndRejectsUnknown) {
