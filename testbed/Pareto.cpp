@@ -442,6 +442,7 @@ std::string gnuplotScript(const std::vector<Row>& rows, const std::string& png) 
         png +
         "'\n"
         "set logscale x\nset logscale y\nset grid\nset key outside right top\n"
+        "set autoscale fix\nset offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05\n"
         "set xlabel 'differing pixels per view + 1 (against the unculled full-detail render)'\n"
         "set ylabel '" +
         std::string(ratios ? "frame ms over the frame ms of none (medians)" : "frame ms (median)") + "'\n";
