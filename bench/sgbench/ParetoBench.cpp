@@ -133,6 +133,8 @@ int runPareto(const Args& a) {
                 sv.scene->update();
             };
         }
+        // The terrain's place, once scenes::buildTerrain lands: its name in `known` above and
+        //   } else if (name == "terrain") { own = ...buildTerrain...; sv.hasLods = true; sv.views = its path; }
         const std::vector<pareto::Row> got = pareto::measure(renderer, sv, methods, opt);
         rows.insert(rows.end(), got.begin(), got.end());
         std::fprintf(stderr, "sgbench pareto: %s, %zu views, %zu methods: %.1f s\n", name.c_str(), sv.views.size(),
