@@ -5,7 +5,8 @@ pkgs=(build-essential cmake ninja-build pkg-config libglm-dev libtinygltf-dev li
       libgl-dev libegl-dev libmeshoptimizer-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
       nlohmann-json3-dev libglu1-mesa-dev  # the map converter's TopoJSON reader; GLU's tessellator compared
       clang-14 libclang-rt-14-dev  # clang: the glTF loader's libFuzzer target
-      clang-format)  # the format check of .ci/run
+      clang-format  # the format check of .ci/run
+      gnuplot-nox)  # sgbench pareto's plot (pngcairo)
 [ "${SGKIT_BENCH_OSG:-0}" = 1 ] && pkgs+=(libopenscenegraph-dev)
 missing=()
 for p in "${pkgs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done

@@ -1,6 +1,7 @@
 // sgbench's shared pieces: argument parsing, JSON output, timing and memory readings.
 #pragma once
 #include "sg/core/Camera.h"
+#include "sg/core/Node.h"
 #include "sg/cull/PvsBuilder.h"
 
 #include <cstdint>
@@ -50,8 +51,11 @@ int runLoad(const Args& a);
 int runPvs(const Args& a);
 int runTerrain(const Args& a);
 int runPcvr(const Args& a);
+int runPareto(const Args& a);
 // The PVS grid around city's street path (n) or office's walk (n rooms a side), computed only at the
 // cameras' eyes, for their near planes.
 sg::PvsBuilder::Options pvsPathOptions(bool city, int n, const std::vector<sg::Camera>& cams);
+// Every LOD level below `n` given geometric error 0: the city's two levels are the same box (sgbench lod, pareto).
+void setLevelErrorsToZero(sg::Node& n);
 
 }  // namespace bench

@@ -20,8 +20,6 @@
 
 namespace bench {
 
-namespace {
-
 void setLevelErrorsToZero(sg::Node& n) {
     if (n.kind() == sg::NodeKind::LOD) {
         auto& lod = static_cast<sg::LOD&>(n);
@@ -29,7 +27,6 @@ void setLevelErrorsToZero(sg::Node& n) {
     }
     for (size_t k = 0; k < n.numChildren(); ++k) setLevelErrorsToZero(*n.child(k));
 }
-}  // namespace
 
 int runLod(const Args& a) {
     const std::string sceneName = a.str("scene", "city");

@@ -127,6 +127,9 @@ static void usage() {
         "       sgbench terrain [--sizes 1025,2049,4097] [--fov 60,90,120] [--frames 5] [--reps 100] [--tile 33]\n"
         "                [--spacing 10] [--seed 2002] [--no-draw] [--json]\n"
         "       sgbench pcvr [--frames N] [--clusters K1,K2,...] [--seed S] [--no-pixels] [--json]\n"
+        "       sgbench pareto [--quick] [--scenes city-orbit,city-street,office,factory] [--out DIR] [--views K]\n"
+        "                [--rounds R] [--methods M1,M2] [--n N] [--r R] [--width W --height H] [--budget-ms B]\n"
+        "                [--strict-reference] [--tolerance PERCENT]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -143,6 +146,7 @@ int main(int argc, char** argv) {
         if (a.command == "pvs") return bench::runPvs(a);
         if (a.command == "terrain") return bench::runTerrain(a);
         if (a.command == "pcvr") return bench::runPcvr(a);
+        if (a.command == "pareto") return bench::runPareto(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
