@@ -152,9 +152,22 @@ std::vector<Method> methods() {
     return {
         {"none", frustumOnly(S::None), L::Static, true, false, false},
         {"center-box", frustumOnly(S::CenterBox), L::Static, false, false, false},
-        // Beside it, once CullSettings has it: the 2D screen-rectangle rejection after the object test.
-        // {"center-box+screen-rect", [] { auto c = frustumOnly(S::CenterBox); c.screenRect = true; return c; }(),
-        //  L::Static, false, false, false},
+        // The PCVR paper's pair: centres against the frustum's box, then clusters of triangles whose screen
+        // rectangle is off the viewport dropped (conservative on its own: the error is center-box's).
+        {"center-box+screen-rect",
+         [] {
+             auto c = frustumOnly(S::CenterBox);
+             c.screenRect = true;
+             return c;
+         }(),
+         L::Static, false, false, false},
+        {"aabb+screen-rect",
+         [] {
+             auto c = frustumOnly(S::Aabb);
+             c.screenRect = true;
+             return c;
+         }(),
+         L::Static, true, false, false},
         {"sphere", frustumOnly(S::Sphere), L::Static, true, false, false},
         {"sphere-sphere", frustumOnly(S::SphereSphere), L::Static, true, false, false},
         {"aabb", frustumOnly(S::Aabb), L::Static, true, false, false},

@@ -10,6 +10,8 @@
 #include "testbed/FactoryWalk.h"
 #include "testbed/Office.h"
 #include "testbed/Pareto.h"
+#include "testbed/PcvrCity.h"
+#include "testbed/Terrain.h"
 
 #include <algorithm>
 #include <chrono>
@@ -42,7 +44,7 @@ std::vector<int> spread(int frames, int count) {
 
 int runPareto(const Args& a) {
     const bool quick = a.flag("quick");
-    const std::string names = a.str("scenes", "city-orbit,city-street,office,factory");
+    const std::string names = a.str("scenes", "city-orbit,city-street,office,factory,terrain,pcvr-city");
     const std::string out = a.str("out", ".");
     // Made (and found writable) before the run, not after minutes of it.
     std::error_code ec;
@@ -73,12 +75,11 @@ int runPareto(const Args& a) {
         std::stringstream ss(names);
         for (std::string s; std::getline(ss, s, ',');) wanted.push_back(s);
     }
-    const std::vector<std::string> known = {"city-orbit", "city-street", "office", "factory"};
-    // A new scene: its name here and a branch below, e.g. "terrain" with scenes::buildTerrain and its path.
+    const std::vector<std::string> known = {"city-orbit", "city-street", "office", "factory", "terrain", "pcvr-city"};
     for (const std::string& s : wanted)
         if (std::find(known.begin(), known.end(), s) == known.end())
             throw std::invalid_argument("sgbench pareto: --scenes: no scene '" + s +
-                                        "' (valid: city-orbit, city-street, office, factory)");
+                                        "' (valid: city-orbit, city-street, office, factory, terrain, pcvr-city)");
 
     sg::OsmesaContext ctx(width, height);
     sg::Renderer renderer;
@@ -92,6 +93,7 @@ int runPareto(const Args& a) {
         std::unique_ptr<sg::Scene> own;
         scenes::Factory site;
         scenes::WalkPath walk;
+        scenes::TerrainScene terrain;
         int shown = -2;
         if (name == "city-orbit" || name == "city-street") {
             if (!city) {
@@ -132,9 +134,30 @@ int runPareto(const Args& a) {
                 scenes::setFactoryEye(site, shown = workshops[v]);
                 sv.scene->update();
             };
+        } else if (name == "terrain") {
+            // 1025^2 samples (10 km), the terrain paper's eye turned round the centre in steps, its three fields
+            // of view in turn.
+            terrain = scenes::buildTerrain(1025, 2002);
+            own = std::make_unique<sg::Scene>(terrain.terrain.root);
+            own->update();
+            sv.scene = own.get();
+            sv.hasLods = true;
+            const double fovs[3] = {60.0, 90.0, 120.0};
+            for (int v = 0; v < views; ++v) {
+                sg::Camera cam = scenes::terrainCamera(terrain, fovs[v % 3], width, height);
+                const sg::dmat4 turn =
+                    glm::rotate(sg::dmat4(1.0), 2.0 * glm::pi<double>() * v / views, sg::dvec3(0, 0, 1));
+                cam.setView(cam.view() * turn);  // the world turned under the camera: the eye goes round
+                sv.views.push_back(cam);
+            }
+        } else if (name == "pcvr-city") {
+            // The PCVR paper's city (25 objects, 23,400 triangles) and its drive; no LODs.
+            own = std::make_unique<sg::Scene>(scenes::buildPcvrCity());
+            own->update();
+            sv.scene = own.get();
+            for (int f : spread(scenes::kPcvrFrames, views))
+                sv.views.push_back(scenes::pcvrCityCamera(f, width, height));
         }
-        // The terrain's place, once scenes::buildTerrain lands: its name in `known` above and
-        //   } else if (name == "terrain") { own = ...buildTerrain...; sv.hasLods = true; sv.views = its path; }
         const std::vector<pareto::Row> got = pareto::measure(renderer, sv, methods, opt);
         rows.insert(rows.end(), got.begin(), got.end());
         std::fprintf(stderr, "sgbench pareto: %s, %zu views, %zu methods: %.1f s\n", name.c_str(), sv.views.size(),
