@@ -124,6 +124,7 @@ static void usage() {
         "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
         "       sgbench pvs [--scene city|office|both] [--n N] [--r R] [--sweep cells|occluders|both] [--cell-size M]\n"
         "                [--max-occluders K] [--resolution P] [--json]\n"
+        "       sgbench depth [--n N] [--rounds R] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -138,6 +139,7 @@ int main(int argc, char** argv) {
         if (a.command == "pick") return bench::runPick(a);
         if (a.command == "load") return bench::runLoad(a);
         if (a.command == "pvs") return bench::runPvs(a);
+        if (a.command == "depth") return bench::runDepth(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
