@@ -456,7 +456,12 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     GLint drawTarget = 0, readTarget = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawTarget);
     glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-    const bool reverse = depthMode_ == DepthMode::ReverseZ && bindDepthTarget(camera.width(), camera.height());
+    const bool wantReverse = depthMode_ == DepthMode::ReverseZ;
+    const bool reverse = wantReverse && bindDepthTarget(camera.width(), camera.height());
+    if (wantReverse && !reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
+    }
     lastReverseZ_ = reverse;
     if (reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glViewport(0, 0, camera.width(), camera.height());
