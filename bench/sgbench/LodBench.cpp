@@ -71,6 +71,14 @@ int runLod(const Args& a) {
 
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
+    // The renderer's depth strategy (reverse-z where the context allows it, by default): what it costs.
+    const std::string depth = a.str("depth", "default");
+    if (depth == "classic")
+        renderer.setDepthMode(sg::Renderer::DepthMode::Classic);
+    else if (depth == "reverse-z")
+        renderer.setDepthMode(sg::Renderer::DepthMode::ReverseZ);
+    else if (depth != "default")
+        throw std::invalid_argument("sgbench lod: --depth must be default, classic or reverse-z (got '" + depth + "')");
     sg::CullTraversal refCull;
     sg::DrawList list;
     sg::CullSettings full;  // the reference: every LOD at its finest level
@@ -130,6 +138,7 @@ int runLod(const Args& a) {
     j.add("budget_ms", budget).addInt("frames", long(cams.size())).add("may_drop", a.flag("may-drop") ? "yes" : "no");
     j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known")
         .add("same_view", a.flag("same-view") ? "yes" : "no");
+    j.add("depth", renderer.depthMode() == sg::Renderer::DepthMode::ReverseZ ? "reverse-z" : "classic");
     j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);

@@ -119,7 +119,7 @@ static void usage() {
         "       sgbench lod --scene city|factory [--n N] [--path orbit|street] --budget-ms B --method "
         "static|stress|budget "
         "[--may-drop] [--guess-accuracy] [--same-view] [--every K]\n"
-        "                [--background-load none|spin] [--jitter-draws 60] [--json]\n"
+        "                [--background-load none|spin] [--jitter-draws 60] [--depth classic|reverse-z] [--json]\n"
         "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
         "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
         "       sgbench pvs [--scene city|office|both] [--n N] [--r R] [--sweep cells|occluders|both] [--cell-size M]\n"
@@ -131,6 +131,7 @@ static void usage() {
         "DIR] [--views K]\n"
         "                [--rounds R] [--methods M1,M2] [--n N] [--r R] [--width W --height H] [--budget-ms B]\n"
         "                [--strict-reference] [--tolerance PERCENT]\n"
+        "       sgbench depth [--n N] [--rounds R] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -148,6 +149,7 @@ int main(int argc, char** argv) {
         if (a.command == "terrain") return bench::runTerrain(a);
         if (a.command == "pcvr") return bench::runPcvr(a);
         if (a.command == "pareto") return bench::runPareto(a);
+        if (a.command == "depth") return bench::runDepth(a);
         usage();
         return 2;
     } catch (const std::exception& e) {

@@ -68,6 +68,15 @@ void Camera::derive() {
     near_ = std::max(-planes_[4].d, 1e-9);
 }
 
+dmat4 Camera::reverseZProjection() const {
+    // Clip depth z' = (w - z) / 2: GL's -1 (near) goes to 1, +1 (far) to 0. In double, so that a near/far
+    // ratio of 1e7 keeps its digits in the depth row; for glm::perspective the row is n (z + f) / (f - n).
+    dmat4 remap(1.0);
+    remap[2][2] = -0.5;
+    remap[3][2] = 0.5;
+    return remap * proj_;
+}
+
 std::array<dvec3, 8> Camera::eyeCorners() const {
     const dmat4 inv = glm::inverse(proj_ * viewRot_);
     std::array<dvec3, 8> c;

@@ -21,6 +21,10 @@ public:
 
     const dmat4& view() const { return view_; }
     const dmat4& projection() const { return proj_; }
+    // projection() with depth reversed for a [0, 1] clip range (glClipControl's GL_ZERO_TO_ONE): the near
+    // plane at depth 1, the far plane at 0, x, y and w unchanged. In a float depth buffer the resolution is
+    // then relative to the distance at any near/far ratio (docs/architecture.md, "Depth").
+    dmat4 reverseZProjection() const;
     const dvec3& eye() const { return eye_; }
     // The view without its translation: what the GPU gets, with geometry placed relative to the eye.
     const dmat4& viewRotation() const { return viewRot_; }

@@ -42,7 +42,8 @@ OcclusionMap::Options OcclusionMap::optionsFor(const Camera& cam, const Occlusio
     // A 64th of a screen pixel: the rasterizer snaps vertices to 1/256 pixel, occluder and occludee alike.
     o.marginX = (1.0 / 64.0) * double(o.width) / double(cam.width());
     o.marginY = (1.0 / 64.0) * double(o.height) / double(cam.height());
-    // A 24-bit depth buffer separates depths that differ by z^2 / (near 2^24): keep 8 steps clear of it.
+    // A 24-bit depth buffer separates depths that differ by z^2 / (near 2^24): keep 8 steps clear of it. A float
+    // reverse-Z buffer's interpolation errs as much on a triangle reaching the near plane (architecture.md, Depth).
     o.depthMargin = 8.0 / (cam.nearDistance() * 16777216.0);
     return o;
 }

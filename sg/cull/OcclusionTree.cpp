@@ -77,7 +77,8 @@ OcclusionTree::Options OcclusionTree::optionsFor(const Camera& cam, const Occlus
     o.nearPlane.d -= 1e-5 * zNear;  // what lies within rounding of the near plane may be clipped: not used
     // A 64th of a pixel: the rasterizer snaps vertices to 1/256 pixel, occluder and occludee alike.
     o.edgeMargin = (1.0 / 64.0) / std::max(cam.pixelsPerUnit(), 1e-9);
-    // A 24-bit depth buffer separates depths that differ by z^2 / (near 2^24): keep 8 steps clear of it.
+    // A 24-bit depth buffer separates depths that differ by z^2 / (near 2^24): keep 8 steps clear of it. A float
+    // reverse-Z buffer's interpolation errs as much on a triangle reaching the near plane (architecture.md, Depth).
     o.depthMargin = zNear > 0 ? 8.0 / (zNear * 16777216.0) : 0.0;
     o.screenSplits = std::clamp(s.screenSplits, 0, 8);
     o.viewToWorld = glm::transpose(glm::dmat3(cam.viewRotation()));

@@ -4,6 +4,9 @@
 
 #include <GL/gl.h>
 #include <GL/glext.h>
+#ifdef SGKIT_GL_OSMESA
+#include <GL/osmesa.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -100,6 +103,16 @@ void main() {
 )";
 
 constexpr GLuint kInstanceLoc = 4;
+
+// OSMesa's library exports only part of GL 4.5 (not glClipControl): ask it; the system libGL exports all.
+PFNGLCLIPCONTROLPROC clipControl() {
+#ifdef SGKIT_GL_OSMESA
+    static const auto fn = reinterpret_cast<PFNGLCLIPCONTROLPROC>(OSMesaGetProcAddress("glClipControl"));
+    return fn;
+#else
+    return &glClipControl;
+#endif
+}
 
 #ifndef NDEBUG
 const char* errorName(GLenum e) {
@@ -239,6 +252,15 @@ Renderer::Renderer() {
             break;
         }
     }
+    // Reverse-Z needs the [0, 1] clip depth of glClipControl: with GL's [-1, 1] the window transform's
+    // 0.5 z + 0.5 rounds away the float buffer's resolution near 0, where the far depths are.
+    bool clipControlExt = major * 10 + minor >= 45;
+    for (GLint i = 0; i < extensions && !clipControlExt; ++i) {
+        const auto* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
+        clipControlExt = e && std::strcmp(e, "GL_ARB_clip_control") == 0;
+    }
+    reverseZSupported_ = clipControlExt && clipControl() != nullptr;
+    depthMode_ = reverseZSupported_ ? DepthMode::ReverseZ : DepthMode::Classic;
     try {
         checkGl("Renderer::Renderer()", "after compiling the shaders");
     } catch (...) {
@@ -250,6 +272,7 @@ Renderer::Renderer() {
 
 Renderer::~Renderer() {
     clear();
+    releaseDepthTarget();
     glDeleteBuffers(1, &instanceVbo_);
     glDeleteProgram(program_);
 }
@@ -258,6 +281,53 @@ void Renderer::destroy(GpuMesh& g) {
     glDeleteVertexArrays(1, &g.vao);
     glDeleteBuffers(1, &g.vbo);
     glDeleteBuffers(1, &g.ibo);
+}
+
+void Renderer::setDepthMode(DepthMode mode) {
+    if (mode == DepthMode::ReverseZ && !reverseZSupported_)
+        throw std::invalid_argument(
+            "Renderer::setDepthMode(): reverse-Z needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control), which "
+            "this context lacks");
+    depthMode_ = mode;
+}
+
+bool Renderer::bindDepthTarget(int width, int height) {
+    GLint samples = 0;
+    glGetIntegerv(GL_SAMPLE_BUFFERS, &samples);  // of the bound draw framebuffer: a blit cannot resolve into it
+    if (samples > 0) return false;
+    if (depthFbo_ == 0 || width != depthW_ || height != depthH_) {
+        releaseDepthTarget();
+        glGenRenderbuffers(1, &depthColor_);
+        glBindRenderbuffer(GL_RENDERBUFFER, depthColor_);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+        glGenRenderbuffers(1, &depthBuffer_);
+        glBindRenderbuffer(GL_RENDERBUFFER, depthBuffer_);
+        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
+        glBindRenderbuffer(GL_RENDERBUFFER, 0);
+        glGenFramebuffers(1, &depthFbo_);
+        glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, depthColor_);
+        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer_);
+        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            // A driver without float depth attachments: Classic from now on.
+            releaseDepthTarget();
+            reverseZSupported_ = false;
+            depthMode_ = DepthMode::Classic;
+            return false;
+        }
+        depthW_ = width;
+        depthH_ = height;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_);
+    return true;
+}
+
+void Renderer::releaseDepthTarget() {
+    if (depthFbo_) glDeleteFramebuffers(1, &depthFbo_);
+    if (depthColor_) glDeleteRenderbuffers(1, &depthColor_);
+    if (depthBuffer_) glDeleteRenderbuffers(1, &depthBuffer_);
+    depthFbo_ = depthColor_ = depthBuffer_ = 0;
+    depthW_ = depthH_ = 0;
 }
 
 Renderer::GpuMesh& Renderer::mesh(const Mesh* m) {
@@ -402,15 +472,27 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         instances_.push_back(it.matrix());
     }
 
+    // ReverseZ: the frame goes to the renderer's framebuffer (float depth), then its colour to the target.
+    GLint drawTarget = 0, readTarget = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawTarget);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
+    const bool wantReverse = depthMode_ == DepthMode::ReverseZ;
+    const bool reverse = wantReverse && bindDepthTarget(camera.width(), camera.height());
+    if (wantReverse && !reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
+    }
+    lastReverseZ_ = reverse;
+    if (reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glViewport(0, 0, camera.width(), camera.height());
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
+    glDepthFunc(reverse ? GL_GREATER : GL_LESS);
     glDepthMask(GL_TRUE);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glClearColor(clearColor.r, clearColor.g, clearColor.b, clearColor.a);
-    glClearDepth(1.0);
+    glClearDepth(reverse ? 0.0 : 1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
 
     if (!runs_.empty()) {
@@ -423,7 +505,7 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         glUseProgram(program_);
         // Projection times the view's rotation only, in double: the eye's translation is already in the
         // items' matrices, so no large coordinate ever reaches float.
-        const mat4 viewProj(camera.projection() * camera.viewRotation());
+        const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
         glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
         const vec3 light = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
         glUniform3f(uLightDir_, light.x, light.y, light.z);
@@ -477,6 +559,17 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         glBindVertexArray(0);
         glUseProgram(0);
     }
+    if (reverse) {
+        // Back to GL's defaults for whatever draws next, and the colour to the framebuffer bound at the call.
+        clipControl()(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+        glDepthFunc(GL_LESS);
+        glClearDepth(1.0);
+        const GLint w = camera.width(), h = camera.height();
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthFbo_);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
+        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
+    }
     checkGl("Renderer::draw()", "after drawing");
     stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -515,7 +608,13 @@ std::vector<float> Renderer::readDepth() const {
     const size_t w = size_t(vp[2]), h = size_t(vp[3]);
     std::vector<float> tmp(w * h), out(w * h);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    GLint readTarget = 0;
+    if (lastReverseZ_) {  // the depth is in the renderer's framebuffer, not the target's
+        glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthFbo_);
+    }
     glReadPixels(vp[0], vp[1], vp[2], vp[3], GL_DEPTH_COMPONENT, GL_FLOAT, tmp.data());
+    if (lastReverseZ_) glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
     checkGl("Renderer::readDepth()", "from glReadPixels");
     for (size_t y = 0; y < h; ++y) std::memcpy(&out[y * w], &tmp[(h - 1 - y) * w], w * sizeof(float));
     return out;

@@ -23,13 +23,28 @@ struct RenderStats {
 
 class Renderer {
 public:
+    // How depth is stored and compared. ReverseZ keeps depth resolution relative to the distance at any
+    // near/far ratio (docs/architecture.md, "Depth"); Classic is what a context without glClipControl can do.
+    enum class DepthMode : uint8_t {
+        Classic,   // the bound framebuffer's depth buffer (24-bit fixed point), near -> 0, far -> 1, GL_LESS
+        ReverseZ,  // a 32-bit float depth buffer of the renderer's own, near -> 1, far -> 0, GL_GREATER;
+                   // the colour is copied to the bound framebuffer at the end of draw()
+    };
+
     // Needs a current OpenGL 3.3+ core context, which must stay alive (and be current whenever the
     // renderer is used or destroyed). Throws std::runtime_error when there is no such context or a
-    // shader does not compile or link (the message carries the GLSL info log).
+    // shader does not compile or link (the message carries the GLSL info log). Draws with ReverseZ when
+    // the context has glClipControl (OpenGL 4.5 or GL_ARB_clip_control), Classic otherwise.
     Renderer();
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
+
+    // The depth strategy of the next draws, and whether the context allows ReverseZ. setDepthMode throws
+    // std::invalid_argument when asked for ReverseZ on a context without glClipControl.
+    DepthMode depthMode() const { return depthMode_; }
+    bool reverseZSupported() const { return reverseZSupported_; }
+    void setDepthMode(DepthMode mode);
 
     // Viewport (0, 0, camera.width(), camera.height()), clear, then the items in list.order (all items
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
@@ -39,7 +54,9 @@ public:
     // material is unlit or the mesh has no normals, or by the light setLight() gave (see there); fragments whose alpha
     // is below the material's alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order
     // index past the items or a part whose item or ranges are out of range; in debug builds std::runtime_error on a GL
-    // error.
+    // error. The colour ends in the framebuffer bound for drawing at the call; with ReverseZ that framebuffer's depth
+    // buffer is left as it was (readDepth reads the renderer's own), and a multisampled one is drawn into directly,
+    // with Classic depth.
     void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
     const RenderStats& lastStats() const { return stats_; }
     // The light of the next draws. A sun shades a lit fragment with albedo x (ambient + color x sun x
@@ -52,7 +69,9 @@ public:
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
 
-    // The current viewport's pixels, rows top to bottom.
+    // The current viewport's pixels, rows top to bottom: readColor from the bound read framebuffer, readDepth
+    // the last draw's depth buffer as stored: Classic 0 at the near plane and 1 at the far plane and where
+    // nothing was drawn; ReverseZ 1 at the near plane and 0 at the far plane and where nothing was drawn.
     Image readColor() const;
     std::vector<float> readDepth() const;
 
@@ -82,11 +101,20 @@ private:
     GpuMesh& mesh(const Mesh* m);
     GpuTexture& texture(const Texture* t, bool cut);
     static void destroy(GpuMesh& g);
+    // ReverseZ: makes the renderer's framebuffer width x height and binds it; false when the target is
+    // multisampled (drawn into directly).
+    bool bindDepthTarget(int width, int height);
+    void releaseDepthTarget();
 
     unsigned program_ = 0, instanceVbo_ = 0;
     int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
         uAlphaCutoff_ = -1, uTexture_ = -1, uHeadlight_ = -1, uAmbient_ = -1, uLightColor_ = -1, uBakedLight_ = -1,
         uSpecular_ = -1, uShininess_ = -1;
+    DepthMode depthMode_ = DepthMode::Classic;
+    bool reverseZSupported_ = false;
+    bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
+    unsigned depthFbo_ = 0, depthColor_ = 0, depthBuffer_ = 0;  // ReverseZ: RGBA8 and DEPTH_COMPONENT32F
+    int depthW_ = 0, depthH_ = 0;
     float maxAnisotropy_ = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     DirectionalLight light_;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;

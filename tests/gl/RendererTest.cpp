@@ -177,18 +177,25 @@ TEST_F(RendererTest, SceneTenThousandKilometresAwayRendersLikeAtTheOrigin) {
     EXPECT_GT(countDifferingPixels(atOrigin, renderer.readColor(), 0), 100u);
 }
 
-TEST_F(RendererTest, DepthIsBelowOneOnTheBoxAndOneAtTheCorners) {
+TEST_F(RendererTest, DepthIsTheDistanceOnTheBoxAndTheFarValueAtTheCorners) {
     auto root = make<Group>();
     root->addChild(make<Geometry>(makeBoxMesh(dvec3(-0.5), dvec3(0.5)), make<Material>()));
     const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
-    renderer.draw(cull(root, cam), cam, kClear);
-    const std::vector<float> depth = renderer.readDepth();
-    ASSERT_EQ(depth.size(), size_t(kW) * kH);
-    const float centre = depth[size_t(kH / 2) * kW + kW / 2];
-    EXPECT_GT(centre, 0.0f);
-    EXPECT_LT(centre, 1.0f);
-    for (auto [x, y] : {std::pair{0, 0}, {kW - 1, 0}, {0, kH - 1}, {kW - 1, kH - 1}})
-        EXPECT_EQ(depth[size_t(y) * kW + size_t(x)], 1.0f) << "corner " << x << "," << y;
+    const DrawList list = cull(root, cam);
+    // The front face is 4.5 from the eye; near 0.1, far 100: reverse-Z stores n (f - z) / (z (f - n)), and
+    // the classic buffer one minus that.
+    const double n = 0.1, f = 100.0, z = 4.5, reverse = n * (f - z) / (z * (f - n));
+    ASSERT_TRUE(renderer.reverseZSupported());  // llvmpipe has GL 4.5
+    for (Renderer::DepthMode mode : {Renderer::DepthMode::ReverseZ, Renderer::DepthMode::Classic}) {
+        renderer.setDepthMode(mode);
+        renderer.draw(list, cam, kClear);
+        const std::vector<float> depth = renderer.readDepth();
+        ASSERT_EQ(depth.size(), size_t(kW) * kH);
+        const bool rev = mode == Renderer::DepthMode::ReverseZ;
+        EXPECT_NEAR(depth[size_t(kH / 2) * kW + kW / 2], rev ? reverse : 1.0 - reverse, 1e-6);
+        for (auto [x, y] : {std::pair{0, 0}, {kW - 1, 0}, {0, kH - 1}, {kW - 1, kH - 1}})
+            EXPECT_EQ(depth[size_t(y) * kW + size_t(x)], rev ? 0.0f : 1.0f) << "corner " << x << "," << y;
+    }
 }
 
 TEST(OsmesaContextTest, RejectsEmptySizes) {
