@@ -44,15 +44,14 @@ const char* occlusionMethodName(OcclusionMethod m) {
     switch (m) {
         case OcclusionMethod::Tree: return "tree";
         case OcclusionMethod::Hom: return "hom";
-        case OcclusionMethod::Auto: return "auto";
     }
     return "?";
 }
 
 OcclusionMethod parseOcclusionMethod(const std::string& name) {
-    for (auto m : {OcclusionMethod::Tree, OcclusionMethod::Hom, OcclusionMethod::Auto})
+    for (auto m : {OcclusionMethod::Tree, OcclusionMethod::Hom})
         if (name == occlusionMethodName(m)) return m;
-    throw std::invalid_argument("parseOcclusionMethod(): unknown occlusion method '" + name + "' (tree, hom, auto)");
+    throw std::invalid_argument("parseOcclusionMethod(): unknown occlusion method '" + name + "' (tree, hom)");
 }
 
 }  // namespace sg

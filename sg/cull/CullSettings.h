@@ -33,23 +33,17 @@ enum class OcclusionMethod : uint8_t {
     Tree,  // the occlusion tree (sg/cull/OcclusionTree.h): exact shadow volumes of the occluders, fused
     Hom,   // a hierarchical occlusion map (sg/cull/OcclusionMap.h): occluders rasterized into a coverage
            // pyramid and a depth buffer; cheaper to build, and approximate when homOpacity is below 1
-    // Per frame: the tree when some occluder in view is near (within autoNearRadii of its bounding radius:
-    // the eye among walls or buildings, where the nearest few hide nearly everything and the tree is exact
-    // and cheapest), else the map (the eye away from every occluder, as from above a city: many small ones,
-    // which the map takes four times as many of and fuses). sgbench pareto measured the choice per scene.
-    Auto,
 };
 const char* occlusionModeName(OcclusionMode m);
 const char* occlusionMethodName(OcclusionMethod m);
-// Throws std::invalid_argument listing the valid names ("tree", "hom", "auto").
+// Throws std::invalid_argument listing the valid names ("tree", "hom").
 OcclusionMethod parseOcclusionMethod(const std::string& name);
 // Throws std::invalid_argument listing the valid names ("off", "tree", "auto").
 OcclusionMode parseOcclusionMode(const std::string& name);
 
 struct OcclusionSettings {
     OcclusionMode mode = OcclusionMode::Auto;  // when the pass runs
-    OcclusionMethod method = OcclusionMethod::Auto;
-    double autoNearRadii = 4.0;  // Auto: an occluder nearer than this many of its radii makes it the tree
+    OcclusionMethod method = OcclusionMethod::Tree;
     OccluderCap cap = OccluderCap::FrontFaces;
     uint32_t maxOccluders = 16;       // occluders added to the tree per frame (hidden ones do not count)
     double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used
@@ -158,7 +152,6 @@ struct CullStats {
     // Occlusion pass
     bool occlusionRan = false;        // the tree was built this frame (occluders in view, not skipped)
     bool occlusionSkipped = false;    // Auto mode skipped it this frame
-    bool occlusionMap = false;        // it built the occlusion map, not the tree (OcclusionMethod)
     uint64_t occluderCandidates = 0;  // occluders in view and large enough
     uint64_t occludersUsed = 0;       // added something to the tree
     uint64_t occlusionTreeNodes = 0;

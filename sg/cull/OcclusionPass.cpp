@@ -28,10 +28,7 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     // Nothing to do: no occluders in the scene, the reference render (no culling), the pass turned off,
     // an orthographic camera (the tree's planes pass through an eye point).
     if (img.occluders.empty() || os.mode == OcclusionMode::Off || set.strategy == CullStrategy::None ||
-        !cam.perspective() ||
-        (os.method == OcclusionMethod::Hom    ? os.homMaxOccluders
-         : os.method == OcclusionMethod::Tree ? os.maxOccluders
-                                              : std::max(os.maxOccluders, os.homMaxOccluders)) == 0)
+        !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0)
         return OcclusionTree::kVisible;
     if (os.mode == OcclusionMode::Auto && autoWait_ > 0) {
         --autoWait_;
@@ -41,7 +38,6 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     const auto t0 = Clock::now();
     const dvec3 eye = cam.eye();
     const auto& planes = cam.eyePlanes();
-    bool near = false;  // Auto: some candidate within autoNearRadii of its radius
 
     // Candidates: active occluders in the frustum, large enough on screen, by distance.
     cands_.clear();
@@ -61,17 +57,11 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
             const dvec3 gap = glm::max(glm::abs(c) - h, dvec3(0.0));  // eye to the box
             const double dist = glm::length(gap);
             if (cam.pixelSize(2.0 * img.r[e], dist) < os.minOccluderPixels) continue;
-            near = near || dist < os.autoNearRadii * img.r[e];
             cands_.push_back({dist, j});
         }
     }
     stats.occluderCandidates = cands_.size();
-    hom_ = os.method == OcclusionMethod::Hom || (os.method == OcclusionMethod::Auto && !near);
-    if ((hom_ ? os.homMaxOccluders : os.maxOccluders) == 0) {
-        hom_ = false;
-        return OcclusionTree::kVisible;
-    }
-    stats.occlusionMap = hom_;
+    hom_ = os.method == OcclusionMethod::Hom;
     obbLevels_ = std::clamp(os.homObbLevels, 0, 16);
     if (hom_ && obbLevels_ > 0) obbs_.nextFrame();
     if (hom_) {
