@@ -260,7 +260,7 @@ Renderer::Renderer() {
         clipControlExt = e && std::strcmp(e, "GL_ARB_clip_control") == 0;
     }
     reverseZSupported_ = clipControlExt && clipControl() != nullptr;
-    depthMode_ = reverseZSupported_ ? DepthMode::ReverseZ : DepthMode::Classic;
+    depthMode_ = reverseZSupported_ ? DepthMode::Auto : DepthMode::Classic;
     try {
         checkGl("Renderer::Renderer()", "after compiling the shaders");
     } catch (...) {
@@ -284,7 +284,7 @@ void Renderer::destroy(GpuMesh& g) {
 }
 
 void Renderer::setDepthMode(DepthMode mode) {
-    if (mode == DepthMode::ReverseZ && !reverseZSupported_)
+    if (mode != DepthMode::Classic && !reverseZSupported_)
         throw std::invalid_argument(
             "Renderer::setDepthMode(): reverse-Z needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control), which "
             "this context lacks");
@@ -476,7 +476,12 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     GLint drawTarget = 0, readTarget = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawTarget);
     glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-    const bool wantReverse = depthMode_ == DepthMode::ReverseZ;
+    // Auto: the far/near ratio of a perspective projection is (a - 1) / (a + 1) for a = proj[2][2]
+    // (-(f + n) / (f - n)); an infinite far plane (a = -1) or NaN gives ReverseZ, the safer.
+    const double a = camera.projection()[2][2];
+    const bool wantReverse =
+        depthMode_ == DepthMode::ReverseZ || (depthMode_ == DepthMode::Auto && camera.perspective() &&
+                                              !(std::abs((a - 1.0) / (a + 1.0)) <= kAutoReverseRatio));
     const bool reverse = wantReverse && bindDepthTarget(camera.width(), camera.height());
     if (wantReverse && !reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));

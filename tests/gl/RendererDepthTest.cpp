@@ -98,11 +98,27 @@ struct RendererDepthTest : ::testing::Test {
 
 }  // namespace
 
-TEST_F(RendererDepthTest, ReverseZIsTheDefaultWhereTheContextHasClipControl) {
+TEST_F(RendererDepthTest, AutoIsTheDefaultWhereTheContextHasClipControl) {
     ASSERT_TRUE(renderer.reverseZSupported());  // llvmpipe: OpenGL 4.5
-    EXPECT_EQ(renderer.depthMode(), Renderer::DepthMode::ReverseZ);
+    EXPECT_EQ(renderer.depthMode(), Renderer::DepthMode::Auto);
     renderer.setDepthMode(Renderer::DepthMode::Classic);
     EXPECT_EQ(renderer.depthMode(), Renderer::DepthMode::Classic);
+}
+
+TEST_F(RendererDepthTest, AutoReversesOnlyLongRanges) {
+    // An empty frame's depth is the clear value: 1 with Classic, 0 with ReverseZ (the far plane).
+    auto clearDepth = [&](double zNear, double zFar) {
+        Camera cam;
+        cam.setPerspective(45.0, double(kW) / kH, zNear, zFar);
+        cam.setViewport(kW, kH);
+        renderer.draw(DrawList{}, cam, kClear);
+        return renderer.readDepth().at(0);
+    };
+    EXPECT_EQ(clearDepth(1.0, 1000.0), 1.0f);    // ratio 1e3: Classic, no copy
+    EXPECT_EQ(clearDepth(0.1, 1e6), 0.0f);       // 1e7: ReverseZ
+    EXPECT_EQ(clearDepth(1.0, 1.0001e4), 0.0f);  // just past kAutoReverseRatio
+    renderer.setDepthMode(Renderer::DepthMode::ReverseZ);
+    EXPECT_EQ(clearDepth(1.0, 1000.0), 0.0f);
 }
 
 TEST_F(RendererDepthTest, ReverseZProjectionMapsNearToOneAndFarToZeroWithoutNaN) {
