@@ -19,6 +19,7 @@ std::string settingName(const CullSettings& s) {
         name += s.occlusion.mode == OcclusionMode::Auto ? "+occlusion-auto" : "+occlusion";
         if (s.occlusion.cap == OccluderCap::CenterPlane) name += "-centre";
         if (s.occlusion.method == OcclusionMethod::Hom) name += s.occlusion.homOpacity < 1.0 ? "-hom-approx" : "-hom";
+        if (s.occlusion.method == OcclusionMethod::Auto) name += "-method-auto";
     }
     return name;
 }
@@ -33,6 +34,7 @@ std::vector<CullSettings> conservativeSettings() {
     }
     CullSettings tree;
     tree.occlusion.mode = OcclusionMode::Tree;
+    tree.occlusion.method = OcclusionMethod::Tree;
     s.push_back(tree);
     CullSettings hom = tree;
     hom.occlusion.method = OcclusionMethod::Hom;

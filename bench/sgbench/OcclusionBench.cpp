@@ -65,6 +65,7 @@ int runOcclusion(const Args& a) {
             "'" +
             method + "')");
     const bool hom = occlusionMethod != "tree";
+    occl.occlusion.method = sg::OcclusionMethod::Tree;
     if (hom) {
         occl.occlusion.method = sg::OcclusionMethod::Hom;
         // The approximate map: a pyramid pixel three quarters covered counts as covered (--hom-opacity, %).

@@ -44,14 +44,15 @@ const char* occlusionMethodName(OcclusionMethod m) {
     switch (m) {
         case OcclusionMethod::Tree: return "tree";
         case OcclusionMethod::Hom: return "hom";
+        case OcclusionMethod::Auto: return "auto";
     }
     return "?";
 }
 
 OcclusionMethod parseOcclusionMethod(const std::string& name) {
-    for (auto m : {OcclusionMethod::Tree, OcclusionMethod::Hom})
+    for (auto m : {OcclusionMethod::Tree, OcclusionMethod::Hom, OcclusionMethod::Auto})
         if (name == occlusionMethodName(m)) return m;
-    throw std::invalid_argument("parseOcclusionMethod(): unknown occlusion method '" + name + "' (tree, hom)");
+    throw std::invalid_argument("parseOcclusionMethod(): unknown occlusion method '" + name + "' (tree, hom, auto)");
 }
 
 }  // namespace sg

@@ -28,7 +28,8 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     // Nothing to do: no occluders in the scene, the reference render (no culling), the pass turned off,
     // an orthographic camera (the tree's planes pass through an eye point).
     if (img.occluders.empty() || os.mode == OcclusionMode::Off || set.strategy == CullStrategy::None ||
-        !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0)
+        !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0 ||
+        (os.method == OcclusionMethod::Auto && os.homMaxOccluders == 0))
         return OcclusionTree::kVisible;
     if (os.mode == OcclusionMode::Auto && autoWait_ > 0) {
         --autoWait_;
@@ -61,7 +62,13 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         }
     }
     stats.occluderCandidates = cands_.size();
+    uint64_t used = 0;
     hom_ = os.method == OcclusionMethod::Hom;
+    if (!hom_) {
+        used = addToTree(img, cam, os);
+        hom_ = os.method == OcclusionMethod::Auto && treeLeavesOccludersVisible(img, eye, os.autoMapShare);
+    }
+    stats.occlusionMap = hom_;
     obbLevels_ = std::clamp(os.homObbLevels, 0, 16);
     if (hom_ && obbLevels_ > 0) obbs_.nextFrame();
     if (hom_) {
@@ -70,8 +77,9 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
             const double d = std::max(c.dist, cam.nearDistance()), r = img.r[img.occluders[c.index].entry];
             c.dist = -(r * r) / (d * d * d);
         }
+        tree_.reset(eye, OcclusionTree::Options{});
+        used = addToMap(img, cam, os);
     }
-    const uint64_t used = hom_ ? addToMap(img, cam, os) : addToTree(img, cam, os);
     stats.occlusionRan = true;
     stats.occludersUsed = used;
     stats.occlusionTreeNodes = tree_.nodeCount();
@@ -97,7 +105,8 @@ uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const
     std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByDist());
     tree_.reset(cam.eye(), OcclusionTree::optionsFor(cam, os));
     uint64_t used = 0;
-    for (size_t k = 0; k < keep && used < os.maxOccluders; ++k) {
+    size_t k = 0;
+    for (; k < keep && used < os.maxOccluders; ++k) {
         const FlatImage::OccluderRef& o = img.occluders[cands_[k].index];
         const auto* node = static_cast<const Occluder*>(o.node);
         const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
@@ -112,7 +121,24 @@ uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const
         }
         used += added;
     }
+    treeStop_ = k;
+    treeKept_ = keep;
     return used;
+}
+
+bool OcclusionPass::treeLeavesOccludersVisible(const FlatImage& img, const dvec3& eye, double share) {
+    // The next nearest candidates after those the tree took (sorted by distance up to treeKept_): the ones
+    // the map would add. Fewer than 8: nothing much to add.
+    const size_t n = treeKept_ > treeStop_ ? treeKept_ - treeStop_ : 0;
+    if (n < 8) return false;
+    size_t visible = 0;
+    for (size_t k = treeStop_; k < treeKept_; ++k) {
+        const uint32_t e = img.occluders[cands_[k].index].entry;
+        const dvec3 c = img.origin + dvec3(img.cx[e], img.cy[e], img.cz[e]) - eye, h(img.ex[e], img.ey[e], img.ez[e]);
+        int32_t resume = tree_.root();
+        visible += tree_.testRelative(c - h, c + h, resume) != OcclusionTree::Result::Occluded;
+    }
+    return double(visible) > share * double(n);
 }
 
 uint64_t OcclusionPass::addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {

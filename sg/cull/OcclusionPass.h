@@ -47,6 +47,9 @@ private:
     // distance first); returns how many added something.
     uint64_t addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os);
     uint64_t addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os);
+    // OcclusionMethod::Auto, after addToTree: whether more than `share` of the next nearest candidates (those
+    // the tree could not take, the ones the map would add) are not hidden by the tree.
+    bool treeLeavesOccludersVisible(const FlatImage& img, const dvec3& eye, double share);
 
     OcclusionTree tree_;
     OcclusionMap map_;
@@ -58,9 +61,10 @@ private:
     ObbTree::Cache obbs_;
     std::vector<Candidate> cands_;
     std::vector<dvec3> polyScratch_;
-    int autoWait_ = 0;     // frames left to skip the pass
-    int autoBackoff_ = 0;  // and how many to skip after the next frame where it does not pay
-    double testMs_ = 0.0;  // this frame's tests
+    size_t treeStop_ = 0, treeKept_ = 0;  // addToTree: where it stopped in cands_, how far they are sorted
+    int autoWait_ = 0;                    // frames left to skip the pass
+    int autoBackoff_ = 0;                 // and how many to skip after the next frame where it does not pay
+    double testMs_ = 0.0;                 // this frame's tests
 };
 
 }  // namespace sg

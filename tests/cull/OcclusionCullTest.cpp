@@ -41,6 +41,7 @@ Culled cull(const Scene& s, const Camera& cam, OcclusionMode mode = OcclusionMod
     Culled r;
     CullSettings set;
     set.occlusion.mode = mode;
+    set.occlusion.method = OcclusionMethod::Tree;
     CullTraversal local;
     (t ? *t : local).cull(s, cam, set, r.list, r.stats);
     return r;

@@ -38,6 +38,7 @@ uint32_t entryOf(const FlatImage& img, const Mesh* mesh) {
 CullSettings mode(OcclusionMode m) {
     CullSettings set;
     set.occlusion.mode = m;
+    set.occlusion.method = OcclusionMethod::Tree;
     return set;
 }
 }  // namespace

@@ -68,6 +68,7 @@ TEST(PvsCull, HiddenEntriesAreCulledFirst) {
     }
     // With the occlusion tree as well: the PVS has culled it first.
     set.occlusion.mode = OcclusionMode::Tree;
+    set.occlusion.method = OcclusionMethod::Tree;
     ct.cull(s, camAt(dvec3(0.3, -0.5, 0.9)), set, l, st);
     EXPECT_FALSE(drew(l, w.behind.get()));
     EXPECT_EQ(st.culledPvs, 1u);

@@ -54,6 +54,7 @@ void check(const std::vector<accuracy::Result>& results, const char* scene) {
 CullSettings occlusion(OcclusionMode mode, OccluderCap cap = OccluderCap::FrontFaces) {
     CullSettings c;
     c.occlusion.mode = mode;
+    c.occlusion.method = OcclusionMethod::Tree;  // the map's rows set it
     c.occlusion.cap = cap;
     return c;
 }

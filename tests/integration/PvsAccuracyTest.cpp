@@ -46,6 +46,7 @@ void checkExact(const Scene& s, const PvsTable& t, const std::vector<Camera>& vi
     pvs.occlusion.mode = OcclusionMode::Off;
     CullSettings both = pvs;
     both.occlusion.mode = OcclusionMode::Tree;
+    both.occlusion.method = OcclusionMethod::Tree;
     CullSettings frustum = pvs;
     frustum.pvs = nullptr;
     for (const auto& [set, label] : {std::pair{&pvs, "pvs"}, std::pair{&both, "pvs+tree"}}) {

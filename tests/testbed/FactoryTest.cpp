@@ -253,6 +253,7 @@ TEST(Factory, CullsFromOutsideAndFromInsideAWorkshop) {
     CullStats st;
     CullSettings set;
     set.occlusion.mode = OcclusionMode::Tree;
+    set.occlusion.method = OcclusionMethod::Tree;
     // Outside: hills in view, the closed workshops hide their machines.
     for (int frame : {0, 30, 60, 90}) {
         cull.cull(scene, scenes::factoryOrbitCamera(frame), set, list, st);
