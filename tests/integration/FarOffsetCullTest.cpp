@@ -8,7 +8,9 @@
 #include "testbed/City.h"
 #include "testbed/Factory.h"
 #include "testbed/Office.h"
+#include "testbed/PcvrCity.h"
 #include "testbed/RandomScene.h"
+#include "testbed/Terrain.h"
 
 #include <gtest/gtest.h>
 
@@ -104,4 +106,17 @@ TEST(FarOffsetCull, Factory) {
         views.push_back(scenes::factoryOrbitCamera(k * scenes::kFactoryOrbitFrames / orbit, kW, kH));
     for (int w = 0; w < 4; ++w) views.push_back(scenes::factoryWorkshopCamera(f, w, kW, kH));
     checkOffsets([&] { return ref_ptr<Node>(f.root); }, views, "factory", true);
+}
+
+TEST(FarOffsetCull, TerrainAndPcvrCity) {
+    // The terrain (257^2 samples, its quadtree of LOD tiles) from the terrain paper's eye at its three fields of
+    // view, and the PCVR city along its drive.
+    const scenes::TerrainScene t = scenes::buildTerrain(257, 2002);
+    std::vector<Camera> views;
+    for (double fov : {60.0, 90.0, 120.0}) views.push_back(scenes::terrainCamera(t, fov, kW, kH));
+    checkOffsets([&] { return ref_ptr<Node>(t.terrain.root); }, views, "terrain", false);
+    std::vector<Camera> drive;
+    const int n = testutil::scaled(8);
+    for (int k = 0; k < n; ++k) drive.push_back(scenes::pcvrCityCamera(k * scenes::kPcvrFrames / n, kW, kH));
+    checkOffsets([&] { return ref_ptr<Node>(scenes::buildPcvrCity()); }, drive, "pcvr-city", false);
 }
