@@ -170,21 +170,7 @@ void ObbTree::build(std::vector<uint32_t>& tris, size_t begin, size_t end, uint3
 }
 
 const ObbTree& ObbTree::Cache::get(const Mesh& mesh) {
-    Entry& e = map_[&mesh];
-    if (!e.tree || e.version != mesh.version()) {
-        e.mesh = &mesh;
-        e.version = mesh.version();
-        e.tree = std::make_unique<ObbTree>(mesh);
-    }
-    e.lastUsed = frame_;
-    return *e.tree;
-}
-
-void ObbTree::Cache::nextFrame(uint64_t keepFrames) {
-    ++frame_;
-    if (frame_ % keepFrames) return;
-    for (auto it = map_.begin(); it != map_.end();)
-        it = frame_ - it->second.lastUsed > keepFrames ? map_.erase(it) : std::next(it);
+    return cache_.get(mesh, 0, [&] { return std::make_unique<ObbTree>(mesh); });
 }
 
 }  // namespace sg

@@ -5,10 +5,10 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
+#include "sg/core/MeshCache.h"
 
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 namespace sg {
@@ -40,17 +40,11 @@ public:
     class Cache {
     public:
         const ObbTree& get(const Mesh& mesh);
-        void nextFrame(uint64_t keepFrames = 256);
-        size_t size() const { return map_.size(); }
+        void nextFrame(uint64_t keepFrames = 256) { cache_.nextFrame(keepFrames); }
+        size_t size() const { return cache_.size(); }
 
     private:
-        struct Entry {
-            ref_ptr<const Mesh> mesh;
-            uint64_t version = 0, lastUsed = 0;
-            std::unique_ptr<ObbTree> tree;
-        };
-        std::unordered_map<const Mesh*, Entry> map_;
-        uint64_t frame_ = 0;
+        MeshCache<ObbTree> cache_;
     };
 
 private:

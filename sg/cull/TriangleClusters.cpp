@@ -101,21 +101,7 @@ uint32_t TriangleClusters::keepTrianglesNaive(const Mesh& mesh, const dmat4& vp,
 }
 
 const TriangleClusters& TriangleClusters::Cache::get(const Mesh& mesh, uint32_t per) {
-    Entry& e = map_[&mesh];
-    if (!e.clusters || e.version != mesh.version() || e.clusters->trianglesPerCluster() != per) {
-        e.mesh = &mesh;
-        e.version = mesh.version();
-        e.clusters = std::make_unique<TriangleClusters>(mesh, per);
-    }
-    e.lastUsed = frame_;
-    return *e.clusters;
-}
-
-void TriangleClusters::Cache::nextFrame(uint64_t keepFrames) {
-    ++frame_;
-    if (frame_ % keepFrames) return;
-    for (auto it = map_.begin(); it != map_.end();)
-        it = frame_ - it->second.lastUsed > keepFrames ? map_.erase(it) : std::next(it);
+    return cache_.get(mesh, per, [&] { return std::make_unique<TriangleClusters>(mesh, per); });
 }
 
 }  // namespace sg

@@ -4,11 +4,11 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
+#include "sg/core/MeshCache.h"
 #include "sg/cull/DrawList.h"
 
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
 namespace sg {
@@ -51,17 +51,11 @@ public:
     class Cache {
     public:
         const TriangleClusters& get(const Mesh& mesh, uint32_t trianglesPerCluster);
-        void nextFrame(uint64_t keepFrames = 256);
-        size_t size() const { return map_.size(); }
+        void nextFrame(uint64_t keepFrames = 256) { cache_.nextFrame(keepFrames); }
+        size_t size() const { return cache_.size(); }
 
     private:
-        struct Entry {
-            ref_ptr<const Mesh> mesh;
-            uint64_t version = 0, lastUsed = 0;
-            std::unique_ptr<TriangleClusters> clusters;
-        };
-        std::unordered_map<const Mesh*, Entry> map_;
-        uint64_t frame_ = 0;
+        MeshCache<TriangleClusters> cache_;
     };
 
 private:
