@@ -4,12 +4,22 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 
 namespace scenes {
 
 namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Sleeps to within half a millisecond of `t` (a sleep can overrun by a tenth of one), then spins the rest:
+// a frame rate held to a tenth of a millisecond, at the cost of a spin the renderer's threads never share.
+void waitUntil(Clock::time_point t) {
+    const auto early = t - std::chrono::microseconds(500);
+    if (Clock::now() < early) std::this_thread::sleep_until(early);
+    while (Clock::now() < t) {
+    }
+}
 
 sg::LodStress::Params stressFor(double budgetMs) {
     if (!(budgetMs > 0.0 && std::isfinite(budgetMs)))
@@ -74,13 +84,16 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     renderer_.draw(list_, cam);
     renderer_.finish();
     last_.drawMs = msSince(t1);
-    last_.frameMs = last_.cullMs + last_.drawMs;
-    if (set_.method == LodMethod::Stress) stress_.update(last_.frameMs);
+    last_.workMs = last_.cullMs + last_.drawMs;
+    if (set_.method == LodMethod::Stress) stress_.update(last_.workMs);
     const sg::CullStats& st = last_.stats;
     model_.update({double(st.triangles), double(st.geometries), st.lodPixels}, last_.drawMs);
     // The plan's own prediction against the measured time: the loop closes on what the budget planned
     // (a frame with no LOD in view was not planned).
     if (set_.method == LodMethod::Budget && st.lodObjects > 0) model_.correct(st.lodPredictedMs, last_.drawMs);
+    if (set_.limitRate) waitUntil(t0 + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double, std::milli>(set_.budgetMs)));
+    last_.frameMs = set_.limitRate ? msSince(t0) : last_.workMs;
     return last_;
 }
 

@@ -25,7 +25,8 @@ std::vector<double> timeSameView(sg::Renderer& renderer, sg::Scene& scene, const
 // One frame as the method drew it.
 struct LodFrame {
     double cullMs = 0.0, drawMs = 0.0;  // cull: prepare() included
-    double frameMs = 0.0;               // cull + draw until finished
+    double workMs = 0.0;                // cull + draw until finished
+    double frameMs = 0.0;               // workMs, and with Settings::limitRate the wait for the frame time
     sg::CullStats stats;                // lodPredictedMs, lodDropped... for the budget
 };
 
@@ -36,6 +37,10 @@ public:
         double budgetMs = 33.0;  // the frame time aimed at: stress's load is measured against it too
         bool mayDrop = false;    // LodBudgetSettings::mayDrop
         sg::CullSettings cull;   // what every frame starts from (strategy, occlusion); the method sets its LOD part
+        // A fixed frame rate (Performer's PFPHASE_LIMIT): a frame whose work ends before budgetMs waits out
+        // the rest, so frames come at most 1000 / budgetMs a second and a cheap view does not run ahead; a
+        // late frame is not held further. The methods learn from the work, not from the wait.
+        bool limitRate = false;
     };
     // Draws with `renderer` (its context current). Throws std::invalid_argument for a budget that is not a
     // positive number of milliseconds.

@@ -28,13 +28,14 @@ long integer(const std::string& name, const std::string& v, long lo, long hi) {
 const char* usage() {
     return "usage: factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]\n"
            "               [--cache-dir DIR] [--no-lighting] [--camera ex,ey,ez,cx,cy,cz] [--keys \"...\"]\n"
-           "               [--background-load none|spin] [--help]\n"
+           "               [--background-load none|spin] [--free-run] [--help]\n"
            "  --headless         the scripted walkthrough offscreen: pictures, per-frame CSV, the paper's table\n"
            "                     (without it: the site in a window, 1070x865 by default; needs a display or xvfb-run)\n"
            "  --frames N         headless: the path's length (default 480); window: quit after N frames, writing\n"
            "                     the last to DIR/factory-window.png (each frame then moves 1/30 s)\n"
            "  --size WxH         picture or window size (default 1070x865, the paper's)\n"
-           "  --budget-ms MS     the frame time the budget and stress LOD methods aim at (default 33)\n"
+           "  --budget-ms MS     the frame time the budget and stress LOD methods aim at (default 33); they hold it:\n"
+           "                     a frame done early waits, as at a fixed frame rate   --free-run  they do not wait\n"
            "  --out-dir DIR      pictures, CSV and screenshots (default .)   --json  headless: the summary as JSON\n"
            "  --cache-dir DIR    where the baked lighting is kept   --no-lighting  the site unlit (no bake)\n"
            "  --background-load spin  a thread busy on another core all along: the walkthrough on a busy machine\n"
@@ -79,6 +80,8 @@ Options parseOptions(int argc, char** argv) {
         } else if (k == "--cache-dir") {
             o.cacheDir = value(argc, argv, i);
             if (o.cacheDir.empty()) throw OptionError("--cache-dir is empty");
+        } else if (k == "--free-run") {
+            o.freeRun = true;
         } else if (k == "--no-lighting") {
             o.lighting = false;
         } else if (k == "--background-load") {

@@ -21,6 +21,9 @@ struct Options {
     std::string cacheDir;   // where the bake is cached; empty: sg::VertexLightBaker::defaultCacheDir()
     // A thread spinning on another core for the whole run (jitter and every method): the busy machine.
     scenes::BackgroundLoad::Kind backgroundLoad = scenes::BackgroundLoad::Kind::None;
+    // Budget and stress hold the frame rate at 1000 / budgetMs (frames that finish early wait, as at a
+    // fixed frame rate); freeRun lets them run as fast as they finish.
+    bool freeRun = false;
     bool help = false;
     // The window: quit after `frames` when framesGiven (writing the last one to outDir/factory-window.png),
     // the keys of `keys` replayed one frame after another (parseKeyScript), the start view from --camera.

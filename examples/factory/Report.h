@@ -13,6 +13,7 @@ struct ModeSummary {
     std::string name;
     double budgetMs = 0.0;
     double fpsMedian = 0, frameMsMedian = 0, frameMsMean = 0, frameMsP95 = 0, drawMsMean = 0;
+    double workMsMean = 0, workMsP95 = 0;  // cull + draw, without the wait of a held frame rate
     double trianglesMean = 0, verticesMean = 0, imageMae = -1, budgetAbsDevP95 = 0;
     // Frames whose picture is the full-detail one (MAE 0: every LOD in view at its finest; a budget cannot make
     // them slower), and the mean frame time of the others (where a budget binds); -1 without compared frames.

@@ -12,6 +12,8 @@
 namespace factory {
 
 namespace {
+constexpr int kWarmupFrames = 40;  // per mode, before the timed path
+
 // Every (mesh, material) under `n`: all children of Switches and LODs, and Instances' prototypes.
 void allGeometry(sg::Node& n, std::set<std::pair<const sg::Mesh*, const sg::Material*>>& out) {
     if (n.kind() == sg::NodeKind::Geometry) {
@@ -78,36 +80,50 @@ std::vector<double> Walkthrough::sameView(int frame, int draws) {
     return scenes::timeSameView(renderer_, scene_, scenes::pathCamera(p, width_, height_), draws);
 }
 
-ModeRun Walkthrough::run(LodMode mode, double budgetMs, bool compare,
-                         const std::function<void(int, const sg::Image&)>& onFrame) {
-    ModeRun out;
-    out.mode = mode;
-    out.budgetMs = budgetMs;
+std::vector<ModeRun> Walkthrough::run(const std::vector<LodMode>& modes, double budgetMs, bool limitRate,
+                                      bool compare,
+                                      const std::function<void(size_t, int, const sg::Image&)>& onFrame) {
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
-    scenes::LodRun lodRun(renderer_, {mode, budgetMs, false, sg::CullSettings{}});
-    const auto camera = [&](int i) { return scenes::pathCamera(path_.frames[size_t(i)], width_, height_); };
-    const auto prepare = [&](int i) { showWorkshop(path_.frames[size_t(i)].workshop); };
+    std::vector<ModeRun> out(modes.size());
+    std::vector<std::unique_ptr<scenes::LodRun>> runs;
+    for (size_t k = 0; k < modes.size(); ++k) {
+        out[k].mode = modes[k];
+        out[k].budgetMs = budgetMs;
+        scenes::LodRun::Settings set{modes[k], budgetMs, false, sg::CullSettings{}};
+        set.limitRate = limitRate && modes[k] != LodMode::Static;  // static aims at no frame time
+        runs.push_back(std::make_unique<scenes::LodRun>(renderer_, set));
+    }
     const int n = int(path_.frames.size());
-    lodRun.run(scene_, n, 40, camera, prepare, [&](int i, const scenes::LodFrame& f) {
-        FrameRecord r;
-        r.frame = i;
-        r.cullMs = f.cullMs;
-        r.drawMs = f.drawMs;
-        r.frameMs = f.frameMs;
-        r.triangles = f.stats.triangles;
-        r.geometries = f.stats.geometries;
-        r.vertices = vertices(lodRun.list());
-        if (compare || onFrame) {
-            const sg::Image got = renderer_.readColor();
-            if (onFrame) onFrame(i, got);
-            if (compare) {
-                sg::CullStats rs;
-                r.mae = sg::meanAbsoluteError(got, render(i, full, rs));
+    auto frame = [&](size_t k, int i) -> const scenes::LodFrame& {
+        const scenes::PathFrame& p = path_.frames[size_t(i)];
+        return runs[k]->frame(scene_, scenes::pathCamera(p, width_, height_), [&] { showWorkshop(p.workshop); });
+    };
+    for (size_t k = 0; k < modes.size(); ++k)  // the warm-up: the stress scale and the model settle on the path
+        for (int i = 0; i < std::min(n, kWarmupFrames); ++i) frame(k, i);
+    for (int i = 0; i < n; ++i)
+        for (size_t k = 0; k < modes.size(); ++k) {
+            const scenes::LodFrame& f = frame(k, i);
+            FrameRecord r;
+            r.frame = i;
+            r.cullMs = f.cullMs;
+            r.drawMs = f.drawMs;
+            r.workMs = f.workMs;
+            r.frameMs = f.frameMs;
+            r.predictedMs = f.stats.lodPredictedMs;
+            r.triangles = f.stats.triangles;
+            r.geometries = f.stats.geometries;
+            r.vertices = vertices(runs[k]->list());
+            if (compare || onFrame) {
+                const sg::Image got = renderer_.readColor();
+                if (onFrame) onFrame(k, i, got);
+                if (compare) {
+                    sg::CullStats rs;
+                    r.mae = sg::meanAbsoluteError(got, render(i, full, rs));
+                }
             }
+            out[k].frames.push_back(r);
         }
-        out.frames.push_back(r);
-    });
     return out;
 }
 

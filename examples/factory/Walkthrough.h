@@ -7,6 +7,7 @@
 #include "testbed/LodRun.h"
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace factory {
@@ -16,7 +17,10 @@ const char* modeName(LodMode m);
 
 struct FrameRecord {
     int frame = 0;
-    double cullMs = 0.0, drawMs = 0.0, frameMs = 0.0;  // frame: switch update + cull + draw until finished
+    double cullMs = 0.0, drawMs = 0.0;  // cull: the switch update included
+    double workMs = 0.0;                // cull + draw until finished
+    double frameMs = 0.0;               // workMs, and the wait when the frame rate is held
+    double predictedMs = 0.0;           // the budget's plan: its predicted draw time
     uint64_t triangles = 0, vertices = 0, geometries = 0;
     double mae = -1.0;  // against the full-detail render of the same view (0-255), -1 when not compared
 };
@@ -33,11 +37,14 @@ public:
     // Uploads every mesh and texture of the site (all levels, switched-off interiors) before any frame.
     Walkthrough(scenes::Factory& f, sg::Scene& scene, const scenes::WalkPath& path, int width, int height);
 
-    // The whole path once in `mode` (after a warm-up on its first frames, so that the stress scale and the
-    // draw-cost model have settled). With compare, each frame is also drawn at full detail for image_mae.
-    // onFrame(i, image) sees every timed frame's picture when set (it costs a read-back).
-    ModeRun run(LodMode mode, double budgetMs, bool compare,
-                const std::function<void(int, const sg::Image&)>& onFrame = nullptr);
+    // The whole path once in each of `modes`, interleaved frame by frame (frame i in every mode, then frame
+    // i + 1) so that the machine's drift over the run falls on every mode alike; after a warm-up on the first
+    // frames of each, so that the stress scale and the draw-cost model have settled. With limitRate the
+    // budget and stress hold the frame rate (LodRun::Settings::limitRate). With compare, each frame is also
+    // drawn at full detail for image_mae. onFrame(k, i, image) sees mode k's frame i when set (it costs a
+    // read-back).
+    std::vector<ModeRun> run(const std::vector<LodMode>& modes, double budgetMs, bool limitRate, bool compare,
+                             const std::function<void(size_t, int, const sg::Image&)>& onFrame = nullptr);
     // Path frame `frame` drawn `draws` times with the static settings: the frame times.
     std::vector<double> sameView(int frame, int draws);
     // Path frame `frame` with `set` (Switch state as the path has it): its picture and cull counts.

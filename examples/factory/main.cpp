@@ -77,22 +77,20 @@ int main(int argc, char** argv) {
         const std::map<int, std::string> pictures = {{fixedView, "factory-outside.png"},
                                                      {frameOf(path, "machines", 0.3), "factory-inside.png"},
                                                      {int(path.frames.size()) - 1, "factory-overview.png"}};
-        std::vector<ModeRun> runs;
-        for (LodMode m : {LodMode::Static, LodMode::Budget, LodMode::Stress}) {
-            const auto tm = Clock::now();
-            std::fprintf(stderr, "factory: %s run...\n", modeName(m));
-            const int n = int(path.frames.size());
-            const auto save = [&](int i, const sg::Image& img) {
-                if ((i + 1) % std::max(1, n / 4) == 0 && i + 1 < n)
-                    std::fprintf(stderr, "factory: %s %d/%d frames\n", modeName(m), i + 1, n);
-                const auto it = pictures.find(i);
-                if (m == LodMode::Static && it != pictures.end())
-                    sg::savePng((std::filesystem::path(o.outDir) / it->second).string(), img);
-            };
-            runs.push_back(walk.run(m, o.budgetMs, true, save));
-            s.modes.push_back(summarize(runs.back()));
-            std::fprintf(stderr, "factory: %s run in %.1f s\n", modeName(m), secondsSince(tm));
-        }
+        const std::vector<LodMode> modes = {LodMode::Static, LodMode::Budget, LodMode::Stress};
+        const int n = int(path.frames.size());
+        std::fprintf(stderr, "factory: the three LOD methods, interleaved frame by frame...\n");
+        const auto tm = Clock::now();
+        const auto save = [&](size_t k, int i, const sg::Image& img) {
+            if (k == 0 && (i + 1) % std::max(1, n / 4) == 0 && i + 1 < n)
+                std::fprintf(stderr, "factory: %d/%d frames\n", i + 1, n);
+            const auto it = pictures.find(i);
+            if (modes[k] == LodMode::Static && it != pictures.end())
+                sg::savePng((std::filesystem::path(o.outDir) / it->second).string(), img);
+        };
+        const std::vector<ModeRun> runs = walk.run(modes, o.budgetMs, !o.freeRun, true, save);
+        for (const ModeRun& r : runs) s.modes.push_back(summarize(r));
+        std::fprintf(stderr, "factory: path drawn in %.1f s\n", secondsSince(tm));
         const std::string csv = (std::filesystem::path(o.outDir) / "factory-frames.csv").string();
         writeCsv(csv, path, runs);
         if (o.json)

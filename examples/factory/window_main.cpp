@@ -217,6 +217,7 @@ int FactoryWindow::run() {
         const sg::Camera cam = scenes::pathCamera(view, w, h);
 
         lod.settings().method = mode_;
+        lod.settings().limitRate = !o_.freeRun && mode_ != scenes::LodMethod::Static;  // as the headless run
         lod.settings().cull.occlusion.mode = occlusion_;
         const scenes::LodFrame& fr = lod.frame(scene_, cam, [&] {
             showWorkshop();

@@ -42,6 +42,10 @@ struct CullTraversal::Ctx {
     size_t clsOffset = 0;  // into cls_, valid when clsBase != kNone
     uint32_t clsBase = ~0u;
     const uint64_t* pvsHidden = nullptr;  // the eye cell's hidden entries (main image only), or null
+    // The LOD budget: this image's index in places_ once one of its LODs is set aside (-1: none yet), and
+    // which placement it is (0: the scene's image; an Instance's: its parent's key and its entry, mixed).
+    int32_t place = -1;
+    uint64_t key = 0;
 };
 
 namespace {
@@ -147,22 +151,40 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         const int32_t occ = occlusion_.build(img, cam, set, stats);
         framesTop_ = 0;
         planner_.clear();
+        places_.clear();
+        placeKey_.clear();
         planning_ = lb.enabled;
         visit(c, 0, mask, glm::translate(dmat4(1.0), -cam.eye()), occ);
         planning_ = false;
         const auto& deferred = planner_.deferred();
         if (!deferred.empty()) {
-            // The budget's choice for every visible LOD at once; then their chosen children are walked.
-            planner_.plan(img, scene.version(), cam, lb, {double(triangles_), double(out.items.size()), 0.0},
-                          lodHistory_, stats);
+            // The budget's choice for every visible LOD at once; then their chosen children are walked, each
+            // in its image's context (the scene's, or a prototype's at its placement, set up again).
+            planner_.plan(places_, scene.version(), cam, lb, {double(triangles_), double(out.items.size()), 0.0},
+                          stats);
+            protoShown_.clear();
             for (size_t k = 0; k < deferred.size(); ++k) {
-                const int chosen = planner_.chosen(k);
-                if (chosen < 0) continue;
                 const LodBudgetPlanner::Deferred& d = deferred[k];
+                const int chosen = planner_.chosen(k);
+                const uint8_t shown = LodHistory::child(chosen);
+                const bool inScene = places_[d.place].img == &img;
+                if (inScene)
+                    lodHistory_.show(d.entry, shown);
+                else
+                    protoShown_[placeKey_[d.place] ^ (uint64_t(d.entry) << 40)] = shown;
+                if (chosen < 0) continue;
+                Ctx sub;
+                Ctx* at = &c;
+                if (!inScene) {
+                    setupCtx(sub, *places_[d.place].img, places_[d.place].imgToEye);
+                    sub.key = placeKey_[d.place];
+                    at = &sub;
+                }
                 uint32_t j = d.entry + 1;
-                for (int n = 0; n < chosen; ++n) j = img.end[j];
-                visit(c, j, d.mask, d.m, d.occ);
+                for (int n = 0; n < chosen; ++n) j = at->img->end[j];
+                visit(*at, j, d.mask, d.m, d.occ);
             }
+            protoLast_.swap(protoShown_);
         }
         occlusion_.finish(set.occlusion, stats);
     }
@@ -314,8 +336,8 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
             break;
         case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
         case NodeKind::LOD: {
-            if (planning_ && c.img == &scene_->image()) {  // the budget decides, once the walk is done
-                planner_.defer({i, mask, occ, m});
+            if (planning_) {  // the budget decides, once the walk is done
+                defer(c, i, mask, occ, m);
                 break;
             }
             const double value = lodValue(c, i);
@@ -566,9 +588,25 @@ void CullTraversal::visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4
     const dmat4 pm = m * in->matrix();
     Ctx sub;
     setupCtx(sub, *p, glm::translate(pm, p->origin));
+    sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;  // this placement, under its parent's
     // Same six planes, transformed: planes the placement's bound was inside of stay done. The placement's
     // own bound had its occlusion test; its prototype's bounds are not world boxes, so none below.
     visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
+}
+
+void CullTraversal::defer(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const dmat4& m) {
+    if (c.place < 0) {
+        c.place = int32_t(places_.size());
+        places_.push_back({c.img, c.eyeImg, c.imgToEye, c.scale, c.rigid});
+        placeKey_.push_back(c.key);
+    }
+    uint8_t last = LodHistory::kNone;
+    if (c.img == &scene_->image()) {
+        last = lodHistory_.last(i);
+    } else if (const auto it = protoLast_.find(c.key ^ (uint64_t(i) << 40)); it != protoLast_.end()) {
+        last = it->second;
+    }
+    planner_.defer({i, mask, occ, m, uint32_t(c.place), last});
 }
 
 void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {

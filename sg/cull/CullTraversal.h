@@ -10,6 +10,7 @@
 #include "sg/cull/TriangleClusters.h"
 #include "sg/scene/Scene.h"
 
+#include <unordered_map>
 #include <vector>
 
 namespace sg {
@@ -39,6 +40,8 @@ private:
     void fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width);
     bool test(Ctx& c, uint32_t i, uint32_t& mask);
     void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    // Sets LOD entry i of c's image aside for the budget's plan.
+    void defer(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const dmat4& m);
     // `inside`: the entry's bound is known inside the frustum (no screen-rectangle test to run).
     void emit(Ctx& c, uint32_t i, const dmat4& m, bool inside);
     void emitTrimmed(Ctx& c, uint32_t i, const dmat4& m);
@@ -61,10 +64,15 @@ private:
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
     float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none
-    bool planning_ = false;  // the walk sets the main image's visible LODs aside for planner_
+    bool planning_ = false;  // the walk sets the visible LODs aside for planner_
     OcclusionPass occlusion_;
     LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
+    // The budget's images this frame (the scene's, prototypes' at each placement) and each one's placement
+    // key; a prototype's LODs' last children by placement and entry (last frame's, this frame's).
+    std::vector<LodBudgetPlanner::Place> places_;
+    std::vector<uint64_t> placeKey_;
+    std::unordered_map<uint64_t, uint8_t> protoLast_, protoShown_;
     // Screen-rectangle rejection (CullSettings::screenRect): on this frame, and its clusters by mesh.
     bool screenRect_ = false;
     dmat4 viewProj_{1.0};

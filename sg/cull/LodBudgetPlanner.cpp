@@ -8,25 +8,33 @@
 
 namespace sg {
 
-void LodBudgetPlanner::track(const FlatImage& img, uint64_t version) {
-    if (workImage_ == &img && workVersion_ == version && workAt_.size() == img.size()) return;
-    workAt_.assign(img.size(), ~0u);
-    work_.clear();
-    workImage_ = &img;
-    workVersion_ = version;
+std::vector<uint32_t>& LodBudgetPlanner::track(const FlatImage& img, uint64_t version) {
+    if (workVersion_ != version) {
+        images_.clear();
+        work_.clear();
+        workVersion_ = version;
+    }
+    for (ImageWork& w : images_)
+        if (w.img == &img && w.at.size() == img.size()) return w.at;
+    for (ImageWork& w : images_)  // the same image, another size: its work is stale (work_ keeps the old)
+        if (w.img == &img) {
+            w.at.assign(img.size(), ~0u);
+            return w.at;
+        }
+    images_.push_back({&img, std::vector<uint32_t>(img.size(), ~0u)});
+    return images_.back().at;
 }
 
 const LodBudgetPlanner::ChildWork* LodBudgetPlanner::work(const FlatImage& img, uint64_t version, uint32_t i,
                                                           uint32_t& count) {
-    track(img, version);
-    const uint32_t at = workIndex(img, i);
+    const uint32_t at = workIndex(img, track(img, version), i);
     count = work_[at].count;
     return &work_[at + 1].child;
 }
 
 // Detail grows ever more slowly with the triangles: a tenth of the triangles keeps ~56% of the value.
-uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, uint32_t i) {
-    if (workAt_[i] != ~0u) return workAt_[i];
+uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, std::vector<uint32_t>& workAt, uint32_t i) {
+    if (workAt[i] != ~0u) return workAt[i];
     const size_t at = work_.size();
     work_.emplace_back();  // the header: the children's count
     float trisMax = 0.0f;
@@ -46,15 +54,15 @@ uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, uint32_t i) {
     work_[at].count = uint32_t(work_.size() - at - 1);
     for (size_t k = at + 1; k < work_.size(); ++k)
         if (trisMax > 0.0f) work_[k].child.detail = std::sqrt(std::sqrt(work_[k].child.tris / trisMax));
-    workAt_[i] = uint32_t(at);
+    workAt[i] = uint32_t(at);
     return uint32_t(at);
 }
 
 // The options the budget may choose from: children 0 .. the last that the ranges show at `scale`; all of
 // them when the ranges show none there.
-int LodBudgetPlanner::finestAllowed(const FlatImage& img, uint32_t i, const dvec3& eyeImg, const Camera& cam,
-                                    double scale, int count) {
-    const double value = lodValue(img, i, true, eyeImg, dmat4(1.0), 1.0, &cam, scale);
+int LodBudgetPlanner::finestAllowed(const Place& p, uint32_t i, const Camera& cam, double scale, int count) {
+    const FlatImage& img = *p.img;
+    const double value = lodValue(img, i, p.rigid, p.eyeImg, p.imgToEye, p.scale, &cam, scale);
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
     const FlatImage::Range* rg = &img.ranges[lod.firstRange];
     int last = -1;
@@ -65,20 +73,30 @@ int LodBudgetPlanner::finestAllowed(const FlatImage& img, uint32_t i, const dvec
 
 void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
                             const DrawCostModel::Work& fixedWork, LodHistory& history, CullStats& stats) {
+    one_.assign(1, Place{&img, cam.eye() - img.origin, dmat4(1.0), 1.0, true});
+    for (Deferred& d : deferred_) {
+        d.place = 0;
+        d.last = history.last(d.entry);
+    }
+    plan(one_, version, cam, b, fixedWork, stats);
+    for (size_t k = 0; k < deferred_.size(); ++k) history.show(deferred_[k].entry, LodHistory::child(chosen_[k]));
+}
+
+void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, const Camera& cam,
+                            const LodBudgetSettings& b, const DrawCostModel::Work& fixedWork, CullStats& stats) {
     const auto t0 = std::chrono::steady_clock::now();
     const DrawCostModel& model = *b.model;
-    const dvec3 eyeImg = cam.eye() - img.origin;
     const double screen = double(cam.width()) * cam.height();
     const DrawCostModel::Rates rates = model.rates();
-    track(img, version);
-    // Each LOD's children's work and detail, from the image (kept while the scene's version stays); then
+    // Each LOD's children's work and detail, from its image (kept while the scene's version stays); then
     // room for every option at once.
     const size_t n = deferred_.size();
     objects_.resize(n);
     workOf_.resize(n);
     size_t total = 0;
     for (size_t k = 0; k < n; ++k) {
-        workOf_[k] = workIndex(img, deferred_[k].entry);
+        const FlatImage& img = *places[deferred_[k].place].img;
+        workOf_[k] = workIndex(img, track(img, version), deferred_[k].entry);
         total += work_[workOf_[k]].count;
     }
     if (options_.size() < total) options_.resize(total);
@@ -86,12 +104,22 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
     LodSelector::Option* op = options_.data();
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = deferred_[k].entry;
+        const Place& place = places[deferred_[k].place];
+        const FlatImage& img = *place.img;
         const Work* work = &work_[workOf_[k]];
         LodSelector::Object& obj = objects_[k];
         obj.count = int(work->count);
-        // Projected area of the LOD's bound, the value of drawing it at all.
-        const double dx = img.cx[i] - eyeImg.x, dy = img.cy[i] - eyeImg.y, dz = img.cz[i] - eyeImg.z;
-        const double pxPerUnit = cam.pixelSize(1.0, std::sqrt(dx * dx + dy * dy + dz * dz));
+        // Projected area of the LOD's bound, the value of drawing it at all. Its centre's distance and a
+        // length's pixels are the world's: through the placement for a prototype's entry.
+        double dist;
+        if (place.rigid) {
+            const dvec3& e = place.eyeImg;
+            const double dx = img.cx[i] - e.x, dy = img.cy[i] - e.y, dz = img.cz[i] - e.z;
+            dist = std::sqrt(dx * dx + dy * dy + dz * dz);
+        } else {
+            dist = glm::length(dvec3(place.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0)));
+        }
+        const double pxPerUnit = cam.pixelSize(1.0, dist) * place.scale;  // pixels per image unit
         const double size = 2.0 * img.r[i] * pxPerUnit;
         const double area = std::min(0.785398 * size * size, screen);
         const FlatImage::Lod& lod = img.lods[img.aux[i]];
@@ -105,11 +133,11 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
             const double acc = lod.hasErrors ? 1.0 / (1.0 + rg[c].error * pxPerUnit) : ch.detail;
             op[c] = {std::max(0.0, cost), area * acc};
         }
-        if (b.coarsestScale > 0.0) obj.count = finestAllowed(img, i, eyeImg, cam, b.coarsestScale, obj.count);
+        if (b.coarsestScale > 0.0) obj.count = finestAllowed(place, i, cam, b.coarsestScale, obj.count);
         obj.options = op;
         op += work->count;
         area_[k] = area;
-        const uint8_t last = history.last(i);
+        const uint8_t last = deferred_[k].last;
         obj.last = last != LodHistory::kNone && last < obj.count ? int(last) : -1;
     }
     // What the rest of the frame already costs comes off the budget.
@@ -119,7 +147,6 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
                          b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest);
     chosen_ = sel.level;
     for (size_t k = 0; k < n; ++k) {
-        history.show(deferred_[k].entry, LodHistory::child(chosen_[k]));
         stats.lodDropped += chosen_[k] < 0;
         if (chosen_[k] >= 0) {
             stats.lodLevels[std::min(chosen_[k], 3)]++;

@@ -16,11 +16,24 @@ namespace sg {
 class LodBudgetPlanner {
 public:
     // A visible LOD entry met by the walk, with the walk's state there (its planes still in play, its
-    // occlusion node, its matrix) so that the chosen child is walked as it would have been.
+    // occlusion node, its matrix) so that the chosen child is walked as it would have been. `place`: the
+    // image it is an entry of and where that image is (an index into plan()'s places: the scene's image, or
+    // an Instance's prototype at one placement); `last`: the child it showed last frame (LodHistory::kNone).
     struct Deferred {
         uint32_t entry, mask;
         int32_t occ;
         dmat4 m;
+        uint32_t place = 0;
+        uint8_t last = LodHistory::kNone;
+    };
+    // An image as the eye sees it: the scene's own (rigid: distances taken in image coordinates, the eye at
+    // eyeImg), or a prototype's through its placement (imgToEye to eye-relative world, lengths times scale).
+    struct Place {
+        const FlatImage* img = nullptr;
+        dvec3 eyeImg{0.0};
+        dmat4 imgToEye{1.0};
+        double scale = 1.0;
+        bool rigid = true;
     };
     // What the budget needs of one LOD child, from the image: the work below it (triangles and draw items
     // of its geometries, nested LODs and switches counted whole: an upper bound) and its detail, a guess at
@@ -34,10 +47,14 @@ public:
     void defer(const Deferred& d) { deferred_.push_back(d); }
     const std::vector<Deferred>& deferred() const { return deferred_; }
 
-    // Chooses a child for every LOD set aside (entries of `img`, whose contents are those of `version`,
-    // Scene::version()): priced for `cam` by b.model, within b.budgetMs less what `fixed` (the rest of the
-    // frame) costs, last frame's choices in `history` favoured by b.hysteresis. Records the choices in
-    // `history` and the plan's figures (lodObjects ... lodSelectMs) in `stats`.
+    // Chooses a child for every LOD set aside (entries of their places' images, whose contents are those
+    // of `version`, Scene::version()): priced for `cam` by b.model, within b.budgetMs less what `fixed`
+    // (the rest of the frame) costs, each LOD's `last` child favoured by b.hysteresis. Records the plan's
+    // figures (lodObjects ... lodSelectMs) in `stats`.
+    void plan(const std::vector<Place>& places, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
+              const DrawCostModel::Work& fixed, CullStats& stats);
+    // The same for LODs that are all entries of the scene's image `img` (their place 0), their last children
+    // read from `history` and this frame's choices recorded there.
     void plan(const FlatImage& img, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
               const DrawCostModel::Work& fixed, LodHistory& history, CullStats& stats);
     // The child the plan chose for deferred()[k]; -1: none.
@@ -53,19 +70,25 @@ private:
         uint32_t count;
         ChildWork child;
     };
-    uint32_t workIndex(const FlatImage& img, uint32_t i);  // its header's index in work_
-    void track(const FlatImage& img, uint64_t version);
-    static int finestAllowed(const FlatImage& img, uint32_t i, const dvec3& eyeImg, const Camera& cam, double scale,
-                             int count);
+    // Its header's index in work_; `at`: the image's headers by entry (~0u: not worked out yet).
+    uint32_t workIndex(const FlatImage& img, std::vector<uint32_t>& at, uint32_t i);
+    std::vector<uint32_t>& track(const FlatImage& img, uint64_t version);  // the image's headers by entry
+    static int finestAllowed(const Place& p, uint32_t i, const Camera& cam, double scale, int count);
 
     std::vector<Deferred> deferred_;
     std::vector<int> chosen_;   // per deferred LOD: the child shown, -1: none
     std::vector<double> area_;  // per deferred LOD: its projected area, pixels
     std::vector<Work> work_;
-    std::vector<uint32_t> workAt_;  // per image entry: its Work header, ~0u: not worked out yet
-    std::vector<uint32_t> workOf_;  // per deferred LOD: its Work header
-    const FlatImage* workImage_ = nullptr;
+    // Per image met (the scene's, prototypes'): per entry, its Work header; all of them forgotten when the
+    // scene's version changes.
+    struct ImageWork {
+        const FlatImage* img;
+        std::vector<uint32_t> at;
+    };
+    std::vector<ImageWork> images_;
     uint64_t workVersion_ = 0;
+    std::vector<uint32_t> workOf_;  // per deferred LOD: its Work header
+    std::vector<Place> one_;        // plan()'s single place, for the scene's image alone
     std::vector<LodSelector::Option> options_;
     std::vector<LodSelector::Object> objects_;
     LodSelector selector_;

@@ -2,6 +2,7 @@
 // objects first when the budget is short, levels valued by their errors when the LOD has them.
 #include "TestUtil.h"
 #include "nodes/Geometry.h"
+#include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
@@ -168,4 +169,47 @@ TEST(LodBudget, AMeshChangedBetweenFramesIsPricedAfresh) {
     const int n = shown(heavy.get());
     EXPECT_GT(n, 0);
     EXPECT_LT(n, 4);  // (4 - 1) ms buys two at 1.2 ms each
+}
+
+// LODs under Instances (one prototype placed many times, as machines in a hall) are planned with the rest:
+// each placement chooses its own level, priced and valued where it stands, and the budget holds.
+TEST(LodBudget, PlansTheLodsOfInstancesPlacementByPlacement) {
+    Row row(false);
+    // The same twenty places, half of them through placements of one prototype LOD (its own fine and coarse
+    // meshes, the row's): a direct LOD and a placed one alternate along the row.
+    auto proto = make<LOD>();
+    auto mat = make<Material>();
+    proto->addChild(make<Geometry>(row.fine, mat), 0.0f, 1e6f);
+    proto->addChild(make<Geometry>(row.coarse, mat), 1e6f, 2e6f);
+    auto root = make<Group>();
+    for (int k = 0; k < 20; ++k) {
+        const dvec3 at(0, 20 + 10 * k, 0);
+        if (k % 2) {
+            root->addChild(make<Instance>(proto, glm::translate(dmat4(1.0), at)));
+        } else {
+            auto t = make<Transform>();
+            t->setTranslation(at);
+            t->addChild(row.lods[size_t(k)]);
+            root->addChild(t);
+        }
+    }
+    Scene s(root);
+    s.update();
+    const DrawCostModel model = testutil::trainedCostModel();
+    Frame f = cull(s, row, budgeted(model, 100.0));
+    EXPECT_EQ(f.stats.lodObjects, 20u);  // the placed ones too
+    EXPECT_EQ(f.fine, 20);
+
+    f = cull(s, row, budgeted(model, 1.5));  // short: the nearest fine, direct and placed alike
+    EXPECT_EQ(f.stats.lodObjects, 20u);
+    EXPECT_EQ(f.fine + f.coarse, 20);
+    EXPECT_GE(f.coarse, 15);
+    EXPECT_GE(f.fine, 2);
+    EXPECT_LE(f.stats.lodPredictedMs, 1.5 + 0.05);
+    for (double y : f.fineY) EXPECT_LT(y, 60.0);
+    // Placed LODs far away went coarse, near ones fine: the choice is per placement, not per prototype.
+    EXPECT_EQ(f.stats.lodLevels[0], uint64_t(f.fine));
+    bool placedFine = false;
+    for (double y : f.fineY) placedFine |= int(std::lround((y - 20.0) / 10.0)) % 2 == 1;
+    EXPECT_TRUE(placedFine);
 }

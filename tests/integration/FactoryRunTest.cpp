@@ -66,7 +66,7 @@ TEST(FactoryRun, StaticRunDrawsLessThanTheSiteAndSwitchesInside) {
     Site& s = site();
     sg::OsmesaContext ctx(kW, kH);
     Walkthrough walk(s.f, s.scene, s.path, kW, kH);
-    const ModeRun run = walk.run(LodMode::Static, 33.0, false);
+    const ModeRun run = walk.run({LodMode::Static}, 33.0, false, false)[0];
     ASSERT_EQ(int(run.frames.size()), kFrames);
     for (const FrameRecord& r : run.frames) {
         EXPECT_GT(r.triangles, 0u);
@@ -98,7 +98,7 @@ TEST(FactoryRun, EveryMeshIsUploadedBeforeTheFirstFrame) {
     Walkthrough walk(s.f, s.scene, s.path, kW, kH);
     // The interiors, off until the door, and every coarse level are there already: no frame uploads one.
     EXPECT_EQ(walk.renderer().cachedMeshes(), meshes.size());
-    walk.run(LodMode::Static, 33.0, false);
+    walk.run({LodMode::Static}, 33.0, false, false);
     EXPECT_EQ(walk.renderer().cachedMeshes(), meshes.size());
 }
 
