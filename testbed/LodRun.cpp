@@ -91,8 +91,9 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     // The plan's own prediction against the measured time: the loop closes on what the budget planned
     // (a frame with no LOD in view was not planned).
     if (set_.method == LodMethod::Budget && st.lodObjects > 0) model_.correct(st.lodPredictedMs, last_.drawMs);
-    if (set_.limitRate) waitUntil(t0 + std::chrono::duration_cast<Clock::duration>(
-                                           std::chrono::duration<double, std::milli>(set_.budgetMs)));
+    if (set_.limitRate)
+        waitUntil(
+            t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(set_.budgetMs)));
     last_.frameMs = set_.limitRate ? msSince(t0) : last_.workMs;
     return last_;
 }

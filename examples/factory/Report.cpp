@@ -78,11 +78,11 @@ void writeCsv(const std::string& file, const scenes::WalkPath& path, const std::
     for (const ModeRun& run : runs)
         for (const FrameRecord& r : run.frames) {
             const scenes::PathFrame& p = path.frames[size_t(r.frame)];
-            std::fprintf(f, "%s,%d,%s,%d,%.3f,%.3f,%.3f,%llu,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f\n", modeName(run.mode),
-                         r.frame, p.segment.c_str(), p.workshop, p.eye.x, p.eye.y, p.eye.z,
+            std::fprintf(f, "%s,%d,%s,%d,%.3f,%.3f,%.3f,%llu,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f\n",
+                         modeName(run.mode), r.frame, p.segment.c_str(), p.workshop, p.eye.x, p.eye.y, p.eye.z,
                          (unsigned long long)r.triangles, (unsigned long long)r.vertices,
-                         (unsigned long long)r.geometries, r.cullMs, r.drawMs, r.workMs, r.frameMs,
-                         r.predictedMs, r.mae);
+                         (unsigned long long)r.geometries, r.cullMs, r.drawMs, r.workMs, r.frameMs, r.predictedMs,
+                         r.mae);
         }
     if (std::fclose(f) != 0) throw std::runtime_error("cannot write " + file);
 }

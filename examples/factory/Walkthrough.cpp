@@ -80,8 +80,7 @@ std::vector<double> Walkthrough::sameView(int frame, int draws) {
     return scenes::timeSameView(renderer_, scene_, scenes::pathCamera(p, width_, height_), draws);
 }
 
-std::vector<ModeRun> Walkthrough::run(const std::vector<LodMode>& modes, double budgetMs, bool limitRate,
-                                      bool compare,
+std::vector<ModeRun> Walkthrough::run(const std::vector<LodMode>& modes, double budgetMs, bool limitRate, bool compare,
                                       const std::function<void(size_t, int, const sg::Image&)>& onFrame) {
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
