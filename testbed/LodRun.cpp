@@ -10,6 +10,8 @@ namespace scenes {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+constexpr double kMissFrames = 10.0;   // the budget's miss is smoothed over about this many frames
+constexpr double kMaxMissShare = 0.2;  // and comes off its plan up to this share of the budget
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // Sleeps to within half a millisecond of `t` (a sleep can overrun by a tenth of one), then spins the rest:
@@ -72,7 +74,10 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     if (set_.method == LodMethod::Budget) {
         set.lodBudget.enabled = true;
         set.lodBudget.model = &model_;
-        set.lodBudget.budgetMs = std::max(1.0, set_.budgetMs - last_.cullMs);  // the cull's own time comes off
+        // The cull's own time comes off, and with a held frame rate the plan's usual miss.
+        set.lodBudget.budgetMs =
+            std::max(1.0, set_.budgetMs - last_.cullMs -
+                              (set_.limitRate ? std::min(missMs_, kMaxMissShare * set_.budgetMs) : 0.0));
         set.lodBudget.mayDrop = set_.mayDrop;
         set.lodBudget.coarsestScale = stress_.params().maxScale;  // never a worse picture than stress's
     }
@@ -90,7 +95,10 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     model_.update({double(st.triangles), double(st.geometries), st.lodPixels}, last_.drawMs);
     // The plan's own prediction against the measured time: the loop closes on what the budget planned
     // (a frame with no LOD in view was not planned).
-    if (set_.method == LodMethod::Budget && st.lodObjects > 0) model_.correct(st.lodPredictedMs, last_.drawMs);
+    if (set_.method == LodMethod::Budget && st.lodObjects > 0) {
+        model_.correct(st.lodPredictedMs, last_.drawMs);
+        missMs_ += (std::abs(last_.drawMs - st.lodPredictedMs) - missMs_) / kMissFrames;
+    }
     if (set_.limitRate)
         waitUntil(
             t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(set_.budgetMs)));

@@ -16,6 +16,9 @@ constexpr double kMaxTrace = 1e6;              // P grows as 1/lambda^n when fra
 constexpr double kCorrectionFrames = 4.0;      // the correction's time constant, frames
 constexpr double kMinCorrection = 1.0 / 16.0;  // a frame can be this much faster or slower than the fit
 constexpr double kMaxCorrection = 16.0;
+constexpr double kMinTriangleShare = 0.25;    // of the frames' mean time per triangle: a triangle's least price
+constexpr double kMeanFrames = 10.0;          // that mean's time constant, frames
+constexpr double kMeanMinTriangles = 1000.0;  // frames with fewer triangles tell nothing of them
 }  // namespace
 
 DrawCostModel::DrawCostModel(double forgetting) : lambda_(forgetting) {
@@ -40,14 +43,14 @@ double DrawCostModel::fit(const Work& w) const {
 double DrawCostModel::predict(const Work& w) const { return std::max(0.0, correction_ * fit(w)); }
 
 double DrawCostModel::marginal(const Work& w) const {
-    const auto x = features(w);
-    double y = 0.0;
-    for (int i = 1; i < kN; ++i) y += w_[i] * x[i];
-    return std::max(0.0, correction_ * y);
+    const Rates r = rates();
+    return r.perTriangle * w.triangles + r.perItem * w.items + r.perPixel * w.pixels;
 }
 
 DrawCostModel::Rates DrawCostModel::rates() const {
-    return {correction_ * w_[1] * kTri, correction_ * w_[2] * kItems, correction_ * w_[3] * kPixels};
+    const double perTriangle = std::max(w_[1] * kTri, kMinTriangleShare * msPerTriangle_);
+    return {correction_ * perTriangle, correction_ * std::max(0.0, w_[2] * kItems),
+            correction_ * std::max(0.0, w_[3] * kPixels)};
 }
 
 void DrawCostModel::update(const Work& work, double ms) {
@@ -77,6 +80,11 @@ void DrawCostModel::update(const Work& work, double ms) {
     if (trace > kMaxTrace)
         for (auto& row : p_)
             for (double& v : row) v *= kMaxTrace / trace;
+    if (work.triangles >= kMeanMinTriangles) {
+        const double perTriangle = ms / work.triangles;
+        msPerTriangle_ =
+            msPerTriangle_ > 0.0 ? msPerTriangle_ + (perTriangle - msPerTriangle_) / kMeanFrames : perTriangle;
+    }
     samples_++;
 }
 

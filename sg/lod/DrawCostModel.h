@@ -29,7 +29,10 @@ public:
     // The cost of adding this work to a frame (the fixed per-frame part left out): what one object costs.
     double marginal(const Work& w) const;
     // marginal() as milliseconds per unit of each kind of work, to price many objects in a loop: the cost
-    // of w is max(0, perTriangle * w.triangles + perItem * w.items + perPixel * w.pixels).
+    // of w is perTriangle * w.triangles + perItem * w.items + perPixel * w.pixels. No rate is negative, and a
+    // triangle costs at least a quarter of what recent frames took per triangle drawn (all their time over
+    // all their triangles): on a path the fit's parts move together and its own triangle rate can come out
+    // at zero or below, and a budget that prices triangles at nothing buys the finest level of everything.
     struct Rates {
         double perTriangle, perItem, perPixel;
     };
@@ -56,6 +59,7 @@ private:
     uint64_t samples_ = 0;
     double lastError_ = 0.0;
     double correction_ = 1.0;
+    double msPerTriangle_ = 0.0;  // recent frames' time over their triangles, smoothed (0: none yet)
 };
 
 }  // namespace sg

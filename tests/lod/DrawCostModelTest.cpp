@@ -81,6 +81,32 @@ TEST(DrawCostModel, FollowsTheMachineWhenItsSpeedChanges) {
     EXPECT_GT(worstRelativeError(remembering, truth, g), 0.05);  // the factor is what makes it follow
 }
 
+// A machine whose frames take the same time whatever they draw (bound by something else, here): the fit
+// finds triangles free, or less; the budget must still see a triangle's price, or it buys every finest level.
+TEST(DrawCostModel, ATriangleIsNeverFree) {
+    std::mt19937_64 g(9);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    DrawCostModel m;
+    double tris = 0.0, ms = 0.0;
+    for (int f = 0; f < 300; ++f) {
+        const auto w = randomWork(g);
+        const double t = 30.0 * (1.0 + noise(g));
+        m.update(w, t);
+        if (f >= 280) {
+            tris += w.triangles;
+            ms += t;
+        }
+    }
+    const DrawCostModel::Rates r = m.rates();
+    EXPECT_GE(r.perTriangle, 0.2 * ms / tris);  // a quarter of the recent mean, give or take its smoothing
+    EXPECT_GE(r.perItem, 0.0);
+    EXPECT_GE(r.perPixel, 0.0);
+    const DrawCostModel::Work one{1200, 1, 5000};
+    EXPECT_GT(m.marginal(one), 0.0);
+    EXPECT_NEAR(r.perTriangle * one.triangles + r.perItem * one.items + r.perPixel * one.pixels, m.marginal(one),
+                1e-12);
+}
+
 TEST(DrawCostModel, RepetitiveFramesStayFinite) {
     // The same frame over and over excites one direction only: the fit must not wind up.
     DrawCostModel m(0.9);
