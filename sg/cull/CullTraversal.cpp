@@ -148,6 +148,11 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
             c.pvsHidden = t.hiddenFor(cam.eye());
         }
         const uint32_t mask = set.strategy == CullStrategy::None ? 0u : kAllPlanes & set.frustumPlanes;
+        if (&scene != occlusionScene_ || scene.version() != occlusionVersion_) {  // Auto's back-off starts over
+            occlusion_.wake();
+            occlusionScene_ = &scene;
+            occlusionVersion_ = scene.version();
+        }
         const int32_t occ = occlusion_.build(img, cam, set, stats);
         framesTop_ = 0;
         planner_.clear();

@@ -66,6 +66,8 @@ private:
     float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none
     bool planning_ = false;  // the walk sets the visible LODs aside for planner_
     OcclusionPass occlusion_;
+    const Scene* occlusionScene_ = nullptr;  // the scene and version the occlusion pass's back-off saw
+    uint64_t occlusionVersion_ = 0;
     LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
     // The budget's images this frame (the scene's, prototypes' at each placement) and each one's placement

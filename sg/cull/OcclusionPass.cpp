@@ -18,6 +18,7 @@ bool outsideFrustum(const std::array<Plane, 6>& planes, const dvec3& lo, const d
     }
     return false;
 }
+constexpr double kWakeShare = 0.25;  // Auto: the eye's move, over its distance to the nearest occluder, that wakes it
 }  // namespace
 
 int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats) {
@@ -31,6 +32,12 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0 ||
         (os.method == OcclusionMethod::Auto && os.homMaxOccluders == 0))
         return OcclusionTree::kVisible;
+    // Auto's back-off holds while the view is much as it was when the pass last ran: the eye has moved less
+    // than a quarter of the way to the nearest occluder it had then (an eye inside an occluder's box, at 0,
+    // wakes it with any step: leaving a building, the site behind the next one is culled at once).
+    if (os.mode == OcclusionMode::Auto && autoWait_ > 0 && ranNear_ >= 0.0 &&
+        glm::length(cam.eye() - ranEye_) > kWakeShare * ranNear_)
+        wake();
     if (os.mode == OcclusionMode::Auto && autoWait_ > 0) {
         --autoWait_;
         stats.occlusionSkipped = true;
@@ -62,6 +69,9 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         }
     }
     stats.occluderCandidates = cands_.size();
+    ranEye_ = eye;
+    ranNear_ = -1.0;  // no candidate: nothing the eye could come nearer to
+    for (const Candidate& c : cands_) ranNear_ = ranNear_ < 0.0 ? c.dist : std::min(ranNear_, c.dist);
     uint64_t used = 0;
     hom_ = os.method == OcclusionMethod::Hom;
     if (!hom_) {

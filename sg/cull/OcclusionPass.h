@@ -34,6 +34,11 @@ public:
     // that paid makes it run every frame again.
     void recordGain(double gain, double minGain);
     int framesToSkip() const { return autoWait_; }
+    // The back-off starts over and the next frame runs the pass: the scene changed (a node moved), or the
+    // eye moved more than a quarter of its distance to the nearest occluder when the pass last ran (the
+    // eye leaving a building would otherwise see the whole site for up to 64 frames before occlusion
+    // comes back).
+    void wake() { autoWait_ = autoBackoff_ = 0; }
 
     const OcclusionTree& tree() const { return tree_; }
     const OcclusionMap& map() const { return map_; }
@@ -64,6 +69,8 @@ private:
     size_t treeStop_ = 0, treeKept_ = 0;  // addToTree: where it stopped in cands_, how far they are sorted
     int autoWait_ = 0;                    // frames left to skip the pass
     int autoBackoff_ = 0;                 // and how many to skip after the next frame where it does not pay
+    dvec3 ranEye_{0.0};                   // the eye when the pass last ran
+    double ranNear_ = -1.0;               // and its distance to the nearest candidate then (-1: none)
     double testMs_ = 0.0;                 // this frame's tests
 };
 

@@ -188,3 +188,69 @@ TEST(OcclusionPass, AutoSkipsTheFramesOfItsBackOffThenRunsAgain) {
     pass.finish(set.occlusion, stats);
     EXPECT_EQ(pass.framesToSkip(), 8);
 }
+
+// The back-off learned of one view does not outlive it: once the eye has moved a quarter of its distance to
+// the nearest occluder, or the scene has changed, the next frame runs the pass again.
+TEST(OcclusionPass, AutoRunsAgainWhenTheEyeMovesOrTheSceneChanges) {
+    auto root = make<Group>();
+    auto o = make<Occluder>();
+    o->setBox(Box{dvec3(-10, 20, -10), dvec3(10, 21, 10)});
+    root->addChild(o);
+    auto before = make<Group>();  // boxes in front of the wall: the wall hides nothing
+    for (int k = 0; k < 20; ++k) {
+        const double x = -9.3 + k;  // no side in the eye's plane x = 0
+        before->addChild(make<Geometry>(makeBoxMesh(dvec3(x, 10, -1), dvec3(x + 0.5, 11, 1)), make<Material>()));
+    }
+    root->addChild(before);
+    auto away = make<Transform>();  // more boxes, beside the wall at first
+    away->setTranslation(dvec3(300, 0, 0));
+    for (int k = 0; k < 20; ++k) {
+        const double x = -9.3 + k;  // no side in the eye's plane x = 0
+        away->addChild(make<Geometry>(makeBoxMesh(dvec3(x, 40, -1), dvec3(x + 0.5, 41, 1)), make<Material>()));
+    }
+    root->addChild(away);
+    Scene s(root);
+    s.update();
+    Camera cam = testutil::lookingAlongY(500.0);  // the eye 20 from the wall
+    CullSettings set = mode(OcclusionMode::Auto);
+    CullTraversal cull;
+    DrawList list;
+    CullStats st;
+    auto frame = [&] {
+        st = CullStats{};
+        cull.cull(s, cam, set, list, st);
+    };
+    frame();  // the wall hides nothing: the pass did not pay, and backs off
+    ASSERT_TRUE(st.occlusionRan);
+    frame();
+    ASSERT_TRUE(st.occlusionSkipped);
+    auto moveEye = [&](double dy) {
+        cam.setLookAt(cam.eye() + dvec3(0, dy, 0), cam.eye() + dvec3(0, dy + 1, 0), dvec3(0, 0, 1));
+    };
+    moveEye(3.0);  // less than a quarter of 20: still backing off
+    frame();
+    EXPECT_TRUE(st.occlusionSkipped);
+    moveEye(3.0);  // 6 in all since it ran: it runs
+    frame();
+    EXPECT_TRUE(st.occlusionRan);
+    frame();
+    EXPECT_TRUE(st.occlusionSkipped);  // and, still not paying, backs off again
+    // The boxes move behind the wall: a new scene version, and the pass runs on the next frame.
+    away->setTranslation(dvec3(0.0));
+    s.update();
+    frame();
+    EXPECT_TRUE(st.occlusionRan);
+    EXPECT_FALSE(st.occlusionSkipped);
+    auto behindDrawn = [&] {
+        int n = 0;
+        for (const DrawItem& it : list.items)
+            for (size_t k = 0; k < away->numChildren(); ++k)
+                n += it.mesh == static_cast<Geometry*>(away->child(k))->mesh();
+        return n;
+    };
+    EXPECT_EQ(behindDrawn(), 0);  // every box behind the wall culled
+    EXPECT_GT(st.geometries, 0u);
+    CullStats all;
+    CullTraversal().cull(s, cam, mode(OcclusionMode::Off), list, all);
+    EXPECT_GT(behindDrawn(), 10);  // where the frustum alone keeps them
+}
