@@ -66,12 +66,13 @@ double Session::frame() {
     const Camera camera = view_.camera();
     cull_.cull(atlas_.scene(), camera, settings_, list_, cullStats_);
     display_.draw(list_, camera, overlay ? overlayText() : std::string());
-    // A level read or left: the loader's scratch memory and the level's freed meshes go back to the system, so
-    // that the resident memory follows what is loaded.
-    if (step_.entered || release_) malloc_trim(0);
-    if (release_) {
+    // A level read or left: the GPU copies of the meshes this frame did not draw (the level left, or the level
+    // above at the detail it had while this one loaded), then the loader's scratch memory and the level's freed
+    // meshes go back to the system, so that the resident memory follows what is loaded and drawn.
+    if (step_.entered || release_) {
         display_.releaseUnused();
         release_ = false;
+        malloc_trim(0);
     }
     const double ms = msSince(t0);
     frameMs_.push_back(ms);
@@ -186,6 +187,13 @@ size_t Session::residentKb() {
     return resident * size_t(sysconf(_SC_PAGESIZE)) / 1024;
 }
 
+size_t Session::residentFileKb() {
+    std::ifstream in("/proc/self/statm");
+    size_t pages = 0, resident = 0, shared = 0;
+    in >> pages >> resident >> shared;
+    return shared * size_t(sysconf(_SC_PAGESIZE)) / 1024;
+}
+
 std::string Session::stats() const {
     const PagerStats& p = atlas_.pager().stats();
     std::vector<double> recent(frameMs_.end() - long(std::min<size_t>(frameMs_.size(), 60)), frameMs_.end());
@@ -198,7 +206,9 @@ std::string Session::stats() const {
     s += fmt("\tfailures %.0f", double(p.failures)) + fmt("\tresident %.0f", double(p.resident));
     s += fmt("\tbytes_resident %.0f", double(p.bytesResident)) + fmt("\tqueued %.0f", double(p.queued));
     s += fmt("\tgeometry_kb %.0f", atlas_.bytesLoaded() / 1024.0) + fmt("\trss_kb %.0f", double(residentKb()));
+    s += fmt("\trss_file_kb %.0f", double(residentFileKb()));
     if (emptyKb > 0) s += fmt("\tempty_kb %.0f", double(emptyKb));
+    if (readyKb > 0) s += fmt("\tready_kb %.0f", double(readyKb));
     return s;
 }
 

@@ -28,6 +28,7 @@ public:
     Atlas& atlas() { return atlas_; }
     bool overlay = true;
     size_t emptyKb = 0;  // resident memory of the program before the map was read (0: not known)
+    size_t readyKb = 0;  // the same once the renderer has drawn one box (its shaders compiled; 0: not known)
     // What the overlay says: the level, the picked region, the frame rate, the pager.
     std::string overlayText() const;
     // After the view moved (a zoom, a drag, goto): enters the region under the window's centre when it covers
@@ -40,8 +41,9 @@ public:
     std::string back();
 
     const std::vector<double>& frameMs() const { return frameMs_; }
-    // Resident memory of the process (kilobytes), from /proc.
+    // Resident memory of the process (kilobytes), from /proc; the part of it that maps files (the libraries' code).
     static size_t residentKb();
+    static size_t residentFileKb();
 
 private:
     std::string regionLine(int index) const;

@@ -27,11 +27,16 @@ layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec2 aUv;
 layout(location = 3) in vec4 aColor;
 layout(location = 4) in mat4 aModel;  // per instance: locations 4 to 7
+// The material's base colour, per instance: the value that differs between most materials. As a uniform it
+// would change between most draws, and llvmpipe stores its whole rasterizer state (tens of kilobytes) again
+// for every draw whose uniforms differ from the one before.
+layout(location = 8) in vec4 aBaseColor;
 uniform mat4 uViewProj;
 out vec3 vNormal;
 out vec3 vFromEye;  // world offset from the eye: the models' matrices carry the eye's translation
 out vec2 vUv;
 out vec4 vColor;
+flat out vec4 vBaseColor;
 void main() {
     vec4 world = aModel * vec4(aPosition, 1.0);
     vFromEye = world.xyz;
@@ -42,6 +47,7 @@ void main() {
     vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
     vUv = aUv;
     vColor = aColor;
+    vBaseColor = aBaseColor;
 }
 )";
 
@@ -50,7 +56,7 @@ in vec3 vNormal;
 in vec3 vFromEye;
 in vec2 vUv;
 in vec4 vColor;
-uniform vec4 uBaseColor;
+flat in vec4 vBaseColor;
 uniform vec3 uLightDir;  // unit, toward the light (the headlight: the view direction)
 uniform bool uHeadlight;
 uniform vec3 uAmbient, uLightColor;  // DirectionalLight, when not the headlight
@@ -69,7 +75,7 @@ void main() {
         float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
         if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
     }
-    vec4 c = uBaseColor;
+    vec4 c = vBaseColor;
     if (uUseTexture) c *= texture(uTexture, vUv);
     float sun = 1.0;
     if (uUseColor) {
@@ -103,6 +109,7 @@ void main() {
 )";
 
 constexpr GLuint kInstanceLoc = 4;
+constexpr GLuint kInstanceAttribs = 5;  // the matrix's 4 columns, the base colour
 
 // OSMesa's library exports only part of GL 4.5 (not glClipControl): ask it; the system libGL exports all.
 PFNGLCLIPCONTROLPROC clipControl() {
@@ -217,18 +224,17 @@ Renderer::Renderer() {
     program_ = buildGlProgram(kVertexShader, kFragmentShader, "Renderer::Renderer()");
     uViewProj_ = glGetUniformLocation(program_, "uViewProj");
     uLightDir_ = glGetUniformLocation(program_, "uLightDir");
-    uBaseColor_ = glGetUniformLocation(program_, "uBaseColor");
     uUseTexture_ = glGetUniformLocation(program_, "uUseTexture");
     uUseColor_ = glGetUniformLocation(program_, "uUseColor");
     uLit_ = glGetUniformLocation(program_, "uLit");
-    uHeadlight_ = glGetUniformLocation(program_, "uHeadlight");
-    uAmbient_ = glGetUniformLocation(program_, "uAmbient");
-    uLightColor_ = glGetUniformLocation(program_, "uLightColor");
     uBakedLight_ = glGetUniformLocation(program_, "uBakedLight");
     uSpecular_ = glGetUniformLocation(program_, "uSpecular");
     uShininess_ = glGetUniformLocation(program_, "uShininess");
     uFade_ = glGetUniformLocation(program_, "uFade");
     uAlphaCutoff_ = glGetUniformLocation(program_, "uAlphaCutoff");
+    uHeadlight_ = glGetUniformLocation(program_, "uHeadlight");
+    uAmbient_ = glGetUniformLocation(program_, "uAmbient");
+    uLightColor_ = glGetUniformLocation(program_, "uLightColor");
     uTexture_ = glGetUniformLocation(program_, "uTexture");
     glUseProgram(program_);
     glUniform1i(uTexture_, 0);
@@ -382,12 +388,13 @@ Renderer::GpuMesh& Renderer::mesh(const Mesh* m) {
                      GL_STATIC_DRAW);
     }
     g.indexCount = GLsizei(m->indexCount());
-    // The instance matrix: its pointers are set per run, to the run's place in the instance buffer.
+    // The instance's matrix and material: their pointers are set per run, to the run's place in the instance
+    // buffer.
     glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-    for (GLuint c = 0; c < 4; ++c) {
+    for (GLuint c = 0; c < kInstanceAttribs; ++c) {
         glEnableVertexAttribArray(kInstanceLoc + c);
         glVertexAttribDivisor(kInstanceLoc + c, 1);
-        glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(mat4),
+        glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
                               reinterpret_cast<const void*>(c * sizeof(vec4)));
     }
     glBindVertexArray(0);
@@ -421,6 +428,34 @@ Renderer::GpuTexture& Renderer::texture(const Texture* t, bool cut) {
     return cache.emplace(t, std::move(g)).first->second;
 }
 
+Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
+    Shading s;
+    s.texture = texture != 0;
+    s.colors = g.colors;
+    s.lit = (!mat || !mat->unlit) && g.normals;
+    s.bakedLight = mat && mat->bakedLight;
+    s.specular = mat ? mat->specular : 0.0f;
+    s.shininess = mat ? mat->shininess : 1.0f;
+    s.fade = fade;
+    s.alphaCutoff = mat ? mat->alphaCutoff : 0.0f;
+    return s;
+}
+
+void Renderer::setShading(const Shading& s) {
+    const bool all = !shadingSet_;
+    const Shading& o = shading_;
+    if (all || s.texture != o.texture) glUniform1i(uUseTexture_, s.texture ? 1 : 0);
+    if (all || s.colors != o.colors) glUniform1i(uUseColor_, s.colors ? 1 : 0);
+    if (all || s.lit != o.lit) glUniform1i(uLit_, s.lit ? 1 : 0);
+    if (all || s.bakedLight != o.bakedLight) glUniform1i(uBakedLight_, s.bakedLight ? 1 : 0);
+    if (all || s.specular != o.specular) glUniform1f(uSpecular_, s.specular);
+    if (all || s.shininess != o.shininess) glUniform1f(uShininess_, s.shininess);
+    if (all || s.fade != o.fade) glUniform1f(uFade_, s.fade);
+    if (all || s.alphaCutoff != o.alphaCutoff) glUniform1f(uAlphaCutoff_, s.alphaCutoff);
+    shading_ = s;
+    shadingSet_ = true;
+}
+
 void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
     const auto t0 = std::chrono::steady_clock::now();
     drainGl();
@@ -431,6 +466,7 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
     instances_.clear();
     runs_.clear();
+    Instance instance;
     fades_.clear();
     if (!list.fades.empty()) {  // dissolving items are few: a dense copy only in frames that have them
         fades_.assign(list.items.size(), 1.0f);
@@ -466,10 +502,20 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         const float fade = fades_.empty() ? 1.0f : fades_[i];
         const uint32_t part = parts_.empty() ? kWhole : parts_[i];
         if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
-            runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole)
+            runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole) {
             runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade, part});
+            instance.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
+        }
         runs_.back().count++;
-        instances_.push_back(it.matrix());
+        instance.model = it.matrix();
+        instances_.push_back(instance);
+    }
+    // Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
+    // draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
+    for (Run& r : runs_) {
+        r.gpu = &mesh(r.mesh);
+        const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
+        r.texture = tex ? texture(tex, r.material->alphaCutoff > 0.0f).id : 0;
     }
 
     // ReverseZ: the frame goes to the renderer's framebuffer (float depth), then its colour to the target.
@@ -503,11 +549,12 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     if (!runs_.empty()) {
         glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
         // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
-        const auto bytes = GLsizeiptr(instances_.size() * sizeof(mat4));
+        const auto bytes = GLsizeiptr(instances_.size() * sizeof(Instance));
         glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
         glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, instances_.data());
 
         glUseProgram(program_);
+        shadingSet_ = false;  // set in full by the first run
         // Projection times the view's rotation only, in double: the eye's translation is already in the
         // items' matrices, so no large coordinate ever reaches float.
         const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
@@ -520,26 +567,16 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         glActiveTexture(GL_TEXTURE0);
 
         for (const Run& r : runs_) {
-            const GpuMesh& g = mesh(r.mesh);
+            const GpuMesh& g = *r.gpu;
             glBindVertexArray(g.vao);
             glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-            // GL 3.3 has no base instance: point the instance attributes at the run's first matrix.
-            for (GLuint c = 0; c < 4; ++c)
-                glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(mat4),
-                                      reinterpret_cast<const void*>(size_t(r.first) * sizeof(mat4) + c * sizeof(vec4)));
-            const vec4 base = r.material ? r.material->baseColor : vec4(1.0f);
-            glUniform4f(uBaseColor_, base.r, base.g, base.b, base.a);
-            const Texture* tex = r.material && g.uvs ? r.material->texture.get() : nullptr;
-            const float cutoff = r.material ? r.material->alphaCutoff : 0.0f;
-            if (tex) glBindTexture(GL_TEXTURE_2D, texture(tex, cutoff > 0.0f).id);
-            glUniform1i(uUseTexture_, tex ? 1 : 0);
-            glUniform1i(uUseColor_, g.colors ? 1 : 0);
-            glUniform1i(uLit_, (!r.material || !r.material->unlit) && g.normals ? 1 : 0);
-            glUniform1i(uBakedLight_, r.material && r.material->bakedLight ? 1 : 0);
-            glUniform1f(uSpecular_, r.material ? r.material->specular : 0.0f);
-            glUniform1f(uShininess_, r.material ? r.material->shininess : 1.0f);
-            glUniform1f(uFade_, r.fade);
-            glUniform1f(uAlphaCutoff_, cutoff);
+            // GL 3.3 has no base instance: point the instance attributes at the run's first instance.
+            const size_t first = size_t(r.first) * sizeof(Instance);
+            for (GLuint c = 0; c < kInstanceAttribs; ++c)
+                glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
+                                      reinterpret_cast<const void*>(first + c * sizeof(vec4)));
+            if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
+            setShading(shading(g, r.material, r.fade, r.texture));
             if (r.part == kWhole) {
                 glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
                 stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);

@@ -103,6 +103,19 @@ private:
         unsigned id = 0;
         uint64_t lastFrame = 0;
     };
+    // An item's matrix and base colour, read by the shaders as instanced attributes (locations 4 to 8).
+    struct Instance {
+        mat4 model{1.0f};
+        vec4 baseColor{1.0f};
+    };
+    // The rest of a run's material and mesh, as uniforms: set only where they differ from the run before,
+    // because on llvmpipe every draw after a uniform's change stores the whole rasterizer state again.
+    struct Shading {
+        bool texture = false, colors = false, lit = false, bakedLight = false;
+        float specular = 0.0f, shininess = 1.0f, fade = 1.0f, alphaCutoff = 0.0f;
+    };
+    static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
+    void setShading(const Shading& s);
     GpuMesh& mesh(const Mesh* m);
     GpuTexture& texture(const Texture* t, bool cut);
     static void destroy(GpuMesh& g);
@@ -112,9 +125,11 @@ private:
     void releaseDepthTarget();
 
     unsigned program_ = 0, instanceVbo_ = 0;
-    int uViewProj_ = -1, uLightDir_ = -1, uBaseColor_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
+    int uViewProj_ = -1, uLightDir_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
         uAlphaCutoff_ = -1, uTexture_ = -1, uHeadlight_ = -1, uAmbient_ = -1, uLightColor_ = -1, uBakedLight_ = -1,
         uSpecular_ = -1, uShininess_ = -1;
+    Shading shading_;          // the values the program's uniforms hold
+    bool shadingSet_ = false;  // whether shading_ is known (from the frame's first run on)
     DepthMode depthMode_ = DepthMode::Classic;
     bool reverseZSupported_ = false;
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
@@ -130,9 +145,11 @@ private:
         uint32_t first, count;  // range in instances_
         float fade;             // DrawList::fades
         uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
+        const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
+        unsigned texture = 0;          // GL name, 0 without a texture
     };
     static constexpr uint32_t kWhole = ~0u;
-    std::vector<mat4> instances_;  // the frame's model matrices, in draw order
+    std::vector<Instance> instances_;  // the frame's items, in draw order
     std::vector<Run> runs_;
     std::vector<float> fades_;     // per item, filled only in frames with dissolving items
     std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts

@@ -135,6 +135,57 @@ TEST_F(RendererTest, InstancedRunsGiveTheSameImageWithFewerDrawCalls) {
     if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_grid.png", batched);  // to look at by eye
 }
 
+TEST_F(RendererTest, MaterialsChangingEveryDrawLookAsTheyDoAlone) {
+    // Every item its own material, the shading changing from one draw to the next in every way the renderer
+    // tracks (base colour per instance; lit, vertex colours, baked light, highlight, cutoff as uniforms set on
+    // change): each box must come out as it does drawn alone, before and after the crowd.
+    auto plain = makeBoxMesh(dvec3(-0.4), dvec3(0.4));
+    auto coloured = makeBoxMesh(dvec3(-0.4), dvec3(0.4));
+    coloured->set(plain->positions(), plain->normals(), {plain->indices16().begin(), plain->indices16().end()}, {},
+                  std::vector<vec4>(plain->positions().size(), vec4(0.5f, 1.0f, 0.25f, 0.75f)));
+    std::vector<ref_ptr<Material>> mats;
+    for (int k = 0; k < 6; ++k) {
+        auto m = make<Material>(vec4(0.2f + 0.13f * float(k), 0.9f - 0.1f * float(k), 0.5f, 1.0f));
+        m->unlit = k % 3 == 1;
+        m->bakedLight = k == 4;
+        m->specular = k == 2 ? 0.5f : 0.0f;
+        m->alphaCutoff = k == 5 ? 0.1f : 0.0f;
+        mats.push_back(m);
+    }
+    auto root = make<Group>();
+    for (int k = 0; k < 12; ++k)
+        root->addChild(placed(k % 4 == 3 ? coloured : plain, mats[size_t(k % 6)],
+                              dvec3(-3.25 + 1.3 * (k % 6), k < 6 ? 0.7 : -0.7, 0.0)));  // apart on screen
+    const Camera cam = lookingAt(dvec3(0.0, 0.0, 9.0), dvec3(0.0));
+    DrawList crowd = cull(root, cam);
+    crowd.keepEmissionOrder();  // materials alternate: every item is a run of its own
+    ASSERT_EQ(crowd.items.size(), 12u);
+    renderer.setLight(DirectionalLight::sun(vec3(0.3f, 0.5f, 1.0f), vec3(0.3f), vec3(0.7f)));
+    auto alone = [&](size_t i) {
+        DrawList one;
+        one.items.push_back(crowd.items[i]);
+        renderer.draw(one, cam, kClear);
+        return renderer.readColor();
+    };
+    const Image before = alone(7);
+    renderer.draw(crowd, cam, kClear);
+    ASSERT_EQ(renderer.lastStats().drawCalls, 12u);
+    const Image all = renderer.readColor();
+    for (size_t i = 0; i < crowd.items.size(); ++i) {
+        const Image one = alone(i);
+        size_t covered = 0, differing = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kW; ++x) {
+                if (pixel(one, x, y) == kClear8) continue;
+                ++covered;
+                differing += pixel(one, x, y) != pixel(all, x, y);
+            }
+        EXPECT_GT(covered, 100u) << "item " << i;
+        EXPECT_EQ(differing, 0u) << "item " << i;
+    }
+    EXPECT_EQ(countDifferingPixels(before, alone(7), 0), 0u);
+}
+
 TEST_F(RendererTest, SceneTenThousandKilometresAwayRendersLikeAtTheOrigin) {
     auto mesh = makeBoxMesh(dvec3(-0.5), dvec3(0.5), 3);
     auto matA = make<Material>(vec4(0.9f, 0.6f, 0.1f, 1.0f));
