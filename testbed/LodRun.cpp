@@ -80,6 +80,7 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
                               (set_.limitRate ? std::min(missMs_, kMaxMissShare * set_.budgetMs) : 0.0));
         set.lodBudget.mayDrop = set_.mayDrop;
         set.lodBudget.coarsestScale = stress_.params().maxScale;  // never a worse picture than stress's
+        set.lodBudget.finestScale = set.lodScale;  // never finer than the ranges (at a pixel's error): no one sees it
     }
     const auto t0 = Clock::now();
     if (prepare) prepare();
@@ -97,7 +98,7 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     // (a frame with no LOD in view was not planned).
     if (set_.method == LodMethod::Budget && st.lodObjects > 0) {
         model_.correct(st.lodPredictedMs, last_.drawMs);
-        missMs_ += (std::abs(last_.drawMs - st.lodPredictedMs) - missMs_) / kMissFrames;
+        missMs_ += (std::max(0.0, last_.drawMs - st.lodPredictedMs) - missMs_) / kMissFrames;  // overruns only
     }
     if (set_.limitRate)
         waitUntil(

@@ -40,9 +40,9 @@ public:
         // A fixed frame rate (Performer's PFPHASE_LIMIT): a frame whose work ends before budgetMs waits out
         // the rest, so frames come at most 1000 / budgetMs a second and a cheap view does not run ahead; a
         // late frame is not held further. The methods learn from the work, not from the wait. The budget
-        // then plans for budgetMs less its recent miss (the smoothed |measured - predicted| draw time, at
-        // most a fifth of the budget): a frame planned a little short waits, one planned to the edge runs
-        // over half the time.
+        // then plans for budgetMs less its recent overrun (the smoothed max(0, measured - predicted) draw
+        // time, at most a fifth of the budget): a frame planned a little short waits, one planned to the
+        // edge runs over half the time.
         bool limitRate = false;
     };
     // Draws with `renderer` (its context current). Throws std::invalid_argument for a budget that is not a
@@ -75,7 +75,7 @@ private:
     sg::DrawCostModel model_;
     sg::LodStress stress_;
     LodFrame last_;
-    double missMs_ = 0.0;  // the budget's recent |measured - predicted| draw time, smoothed
+    double missMs_ = 0.0;  // the budget's recent overrun of its predicted draw time, smoothed
 };
 
 }  // namespace scenes

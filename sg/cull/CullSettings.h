@@ -91,8 +91,14 @@ struct LodBudgetSettings {
     // Above 0: no LOD drawn coarser than its ranges show it at this LOD scale (CullSettings::lodScale), e.g.
     // stress's largest (LodStress::Params::maxScale), so that when the budget cannot be met the picture is
     // no worse than stress's at its coarsest and the frame runs over as stress's does. An LOD these ranges
-    // leave out is not limited. 0: any level.
+    // leave out is not limited. An LOD with known level errors (LOD::setError) is also drawn at no level
+    // whose error projects to more than coarsestScale pixels at its bound's nearest point. 0: any level.
     double coarsestScale = 0.0;
+    // Above 0: no LOD drawn finer than its ranges show it at this LOD scale, e.g. 1 where the ranges switch
+    // where a level's error projects to a pixel: a finer level is not seen, and the triangles it would take
+    // show more elsewhere (priced by projected area, the finest level of a hill beside the eye outbid the
+    // buildings). An LOD these ranges leave out is not limited. 0: any level.
+    double finestScale = 0.0;
 };
 
 // CullSettings::frustumPlanes without the near, top and bottom planes.

@@ -58,17 +58,19 @@ uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, std::vector<uint32_t>
     return uint32_t(at);
 }
 
-// The options the budget may choose from: children 0 .. the last that the ranges show at `scale`; all of
-// them when the ranges show none there.
-int LodBudgetPlanner::finestAllowed(const Place& p, uint32_t i, const Camera& cam, double scale, int count) {
+// The children the ranges show at `scale`: the first and the last (-1, -1 when they show none there).
+void LodBudgetPlanner::shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, int& first,
+                               int& last) {
     const FlatImage& img = *p.img;
     const double value = lodValue(img, i, p.rigid, p.eyeImg, p.imgToEye, p.scale, &cam, scale);
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
     const FlatImage::Range* rg = &img.ranges[lod.firstRange];
-    int last = -1;
+    first = last = -1;
     for (int c = 0; c < count; ++c)
-        if (value >= rg[c].min && value < rg[c].max) last = c;
-    return last < 0 ? count : last + 1;
+        if (value >= rg[c].min && value < rg[c].max) {
+            if (first < 0) first = c;
+            last = c;
+        }
 }
 
 void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
@@ -101,6 +103,7 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
     }
     if (options_.size() < total) options_.resize(total);
     area_.resize(n);
+    first_.resize(n);
     LodSelector::Option* op = options_.data();
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = deferred_[k].entry;
@@ -121,6 +124,10 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
         }
         const double pxPerUnit = cam.pixelSize(1.0, dist) * place.scale;  // pixels per image unit
         const double size = 2.0 * img.r[i] * pxPerUnit;
+        // A level's error shows most at the bound's nearest point: beside a building's wall its coarse level is
+        // metres off on screen, however far its centre is.
+        const double nearest = std::max(dist - img.r[i] * place.scale, cam.nearDistance());
+        const double errPxPerUnit = cam.pixelSize(1.0, nearest) * place.scale;
         const double area = std::min(0.785398 * size * size, screen);
         const FlatImage::Lod& lod = img.lods[img.aux[i]];
         const FlatImage::Range* rg = &img.ranges[lod.firstRange];
@@ -129,23 +136,44 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
             const double cost =
                 rates.perTriangle * ch.tris + rates.perItem * ch.items + rates.perPixel * area;  // model.marginal()
             // Accuracy: from the levels' geometric errors when the LOD has them (LOD::setError, makeLod), as
-            // 1 / (1 + the error's projected pixels); else the detail guessed from the triangles.
-            const double acc = lod.hasErrors ? 1.0 / (1.0 + rg[c].error * pxPerUnit) : ch.detail;
+            // 1 / (1 + the error's projected pixels at the nearest point); else the detail guessed from the
+            // triangles.
+            const double acc = lod.hasErrors ? 1.0 / (1.0 + rg[c].error * errPxPerUnit) : ch.detail;
             op[c] = {std::max(0.0, cost), area * acc};
         }
-        if (b.coarsestScale > 0.0) obj.count = finestAllowed(place, i, cam, b.coarsestScale, obj.count);
-        obj.options = op;
+        // The options: children `first` .. `limit` - 1 (finest first), as the settings' scales bound them.
+        int first = 0, limit = obj.count, a, z;
+        if (b.coarsestScale > 0.0) {
+            shownAt(place, i, cam, b.coarsestScale, obj.count, a, z);
+            if (z >= 0) limit = z + 1;
+        }
+        if (b.coarsestScale > 0.0 && lod.hasErrors) {
+            // And none whose error shows more than coarsestScale pixels at the bound's nearest point: the
+            // ranges measure from the centre, and beside a building's wall its coarse level is metres off
+            // on screen, however far its centre is. The finest level always stays.
+            int c = 1;
+            while (c < limit && rg[c].error * errPxPerUnit <= b.coarsestScale) ++c;
+            limit = c;
+        }
+        if (b.finestScale > 0.0) {
+            shownAt(place, i, cam, b.finestScale, obj.count, a, z);
+            if (a >= 0) first = std::min(a, limit - 1);
+        }
+        obj.options = op + first;
+        obj.count = limit - first;
+        first_[k] = first;
         op += work->count;
         area_[k] = area;
-        const uint8_t last = deferred_[k].last;
-        obj.last = last != LodHistory::kNone && last < obj.count ? int(last) : -1;
+        const int last = deferred_[k].last == LodHistory::kNone ? -1 : int(deferred_[k].last);
+        obj.last = last >= first && last < limit ? last - first : -1;
     }
     // What the rest of the frame already costs comes off the budget.
     const double fixed = model.predict(fixedWork);
     const LodSelector::Selection& sel =
         selector_.select(objects_, std::max(0.0, b.budgetMs - fixed), b.hysteresis,
                          b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest);
-    chosen_ = sel.level;
+    chosen_.resize(n);
+    for (size_t k = 0; k < n; ++k) chosen_[k] = sel.level[k] < 0 ? -1 : sel.level[k] + first_[k];
     for (size_t k = 0; k < n; ++k) {
         stats.lodDropped += chosen_[k] < 0;
         if (chosen_[k] >= 0) {

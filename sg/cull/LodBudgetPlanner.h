@@ -73,11 +73,12 @@ private:
     // Its header's index in work_; `at`: the image's headers by entry (~0u: not worked out yet).
     uint32_t workIndex(const FlatImage& img, std::vector<uint32_t>& at, uint32_t i);
     std::vector<uint32_t>& track(const FlatImage& img, uint64_t version);  // the image's headers by entry
-    static int finestAllowed(const Place& p, uint32_t i, const Camera& cam, double scale, int count);
+    static void shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, int& first, int& last);
 
     std::vector<Deferred> deferred_;
     std::vector<int> chosen_;   // per deferred LOD: the child shown, -1: none
     std::vector<double> area_;  // per deferred LOD: its projected area, pixels
+    std::vector<int> first_;    // per deferred LOD: its finest option's child (LodBudgetSettings::finestScale)
     std::vector<Work> work_;
     // Per image met (the scene's, prototypes'): per entry, its Work header; all of them forgotten when the
     // scene's version changes.

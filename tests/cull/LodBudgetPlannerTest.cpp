@@ -165,3 +165,29 @@ TEST(LodBudgetPlanner, NoLevelCoarserThanTheRangesShowAtTheCoarsestScale) {
     EXPECT_GT(limited.lodPredictedMs, 1.3);  // over the budget, as stress at its largest scale would be
     EXPECT_GE(plan(1e5).lodLevels[1], 10u);  // 2e6 and beyond: the ranges show nothing there, no limit
 }
+
+// finestScale: no LOD drawn finer than its ranges show it at that scale, however much room is left; an LOD the
+// ranges leave out at that scale is not limited.
+TEST(LodBudgetPlanner, NoLevelFinerThanTheRangesShowAtTheFinestScale) {
+    Row row(20);
+    Scene s(row.root);
+    s.update();
+    const FlatImage& img = s.image();
+    const std::vector<uint32_t> lods = lodEntries(img);
+    const DrawCostModel model = testutil::trainedCostModel();
+    LodBudgetSettings b;
+    b.enabled = true;
+    b.model = &model;
+    b.budgetMs = 100.0;   // room for every fine level
+    b.finestScale = 5e4;  // 20 and 30 m look like 1e6 and 1.5e6: the coarse range; 40 m and on, none
+    LodHistory history;
+    history.track(img, s.structureVersion());
+    LodBudgetPlanner planner;
+    for (uint32_t i : lods) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
+    CullStats stats;
+    planner.plan(img, s.version(), testutil::lookingAlongY(), b, {}, history, stats);
+    EXPECT_EQ(planner.chosen(0), 1);
+    EXPECT_EQ(planner.chosen(1), 1);
+    for (size_t k = 2; k < lods.size(); ++k) EXPECT_EQ(planner.chosen(k), 0) << "LOD " << k;
+    EXPECT_EQ(history.last(lods[0]), 1);  // the history has the child, not the option's index
+}
