@@ -135,29 +135,41 @@ TEST(LodBudgetPlanner, ChoosesLevelsThatFitTheBudgetNearestFirst) {
     }
 }
 
-// coarsestScale: no LOD drawn coarser than its ranges show it at that scale, however tight the budget; an
-// LOD the ranges leave out at that scale is not limited.
-TEST(LodBudgetPlanner, NoLevelCoarserThanTheRangesShowAtTheCoarsestScale) {
-    Row row(20);
-    Scene s(row.root);
-    s.update();
-    const FlatImage& img = s.image();
-    const std::vector<uint32_t> lods = lodEntries(img);
-    const DrawCostModel model = testutil::trainedCostModel();
+namespace {
+// The planner over a Row of twenty LODs, every one deferred at each plan().
+struct RowPlan {
+    Row row{20};
+    Scene s{row.root};
+    std::vector<uint32_t> lods;
+    DrawCostModel model = testutil::trainedCostModel();
     LodBudgetSettings b;
-    b.enabled = true;
-    b.model = &model;
-    b.budgetMs = 1.3;  // most LODs coarse without the limit (as in ChoosesLevelsThatFitTheBudgetNearestFirst)
     LodHistory history;
-    history.track(img, s.structureVersion());
     LodBudgetPlanner planner;
-    auto plan = [&](double coarsestScale) {
-        b.coarsestScale = coarsestScale;
+    RowPlan() {
+        s.update();
+        lods = lodEntries(s.image());
+        b.enabled = true;
+        b.model = &model;
+        history.track(s.image(), s.structureVersion());
+    }
+    CullStats plan() {
         planner.clear();
         for (uint32_t i : lods) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
         CullStats stats;
-        planner.plan(img, s.version(), testutil::lookingAlongY(), b, {}, history, stats);
+        planner.plan(s.image(), s.version(), testutil::lookingAlongY(), b, {}, history, stats);
         return stats;
+    }
+};
+}  // namespace
+
+// coarsestScale: no LOD drawn coarser than its ranges show it at that scale, however tight the budget; an
+// LOD the ranges leave out at that scale is not limited.
+TEST(LodBudgetPlanner, NoLevelCoarserThanTheRangesShowAtTheCoarsestScale) {
+    RowPlan p;
+    p.b.budgetMs = 1.3;  // most LODs coarse without the limit (as in ChoosesLevelsThatFitTheBudgetNearestFirst)
+    auto plan = [&](double coarsestScale) {
+        p.b.coarsestScale = coarsestScale;
+        return p.plan();
     };
     EXPECT_GE(plan(0.0).lodLevels[1], 10u);  // off: the budget goes coarse
     const CullStats limited = plan(16.0);    // 20-210 m times 16 is still in the fine range, [0, 1e6)
@@ -169,25 +181,12 @@ TEST(LodBudgetPlanner, NoLevelCoarserThanTheRangesShowAtTheCoarsestScale) {
 // finestScale: no LOD drawn finer than its ranges show it at that scale, however much room is left; an LOD the
 // ranges leave out at that scale is not limited.
 TEST(LodBudgetPlanner, NoLevelFinerThanTheRangesShowAtTheFinestScale) {
-    Row row(20);
-    Scene s(row.root);
-    s.update();
-    const FlatImage& img = s.image();
-    const std::vector<uint32_t> lods = lodEntries(img);
-    const DrawCostModel model = testutil::trainedCostModel();
-    LodBudgetSettings b;
-    b.enabled = true;
-    b.model = &model;
-    b.budgetMs = 100.0;   // room for every fine level
-    b.finestScale = 5e4;  // 20 and 30 m look like 1e6 and 1.5e6: the coarse range; 40 m and on, none
-    LodHistory history;
-    history.track(img, s.structureVersion());
-    LodBudgetPlanner planner;
-    for (uint32_t i : lods) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
-    CullStats stats;
-    planner.plan(img, s.version(), testutil::lookingAlongY(), b, {}, history, stats);
-    EXPECT_EQ(planner.chosen(0), 1);
-    EXPECT_EQ(planner.chosen(1), 1);
-    for (size_t k = 2; k < lods.size(); ++k) EXPECT_EQ(planner.chosen(k), 0) << "LOD " << k;
-    EXPECT_EQ(history.last(lods[0]), 1);  // the history has the child, not the option's index
+    RowPlan p;
+    p.b.budgetMs = 100.0;   // room for every fine level
+    p.b.finestScale = 5e4;  // 20 and 30 m look like 1e6 and 1.5e6: the coarse range; 40 m and on, none
+    p.plan();
+    EXPECT_EQ(p.planner.chosen(0), 1);
+    EXPECT_EQ(p.planner.chosen(1), 1);
+    for (size_t k = 2; k < p.lods.size(); ++k) EXPECT_EQ(p.planner.chosen(k), 0) << "LOD " << k;
+    EXPECT_EQ(p.history.last(p.lods[0]), 1);  // the history has the child, not the option's index
 }
