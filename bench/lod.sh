@@ -11,7 +11,7 @@ out=${OUT:-lod}
 {
   for b in 20 33 50; do
     for m in static stress budget; do "$build/bench/sgbench" lod --scene city --n "$n" --budget-ms "$b" --method "$m" --every "$every" --json; done
-    "$build/bench/sgbench" lod --scene city --n "$n" --budget-ms "$b" --method budget --may-drop --every "$every" --json
+    "$build/bench/sgbench" lod --scene city --n "$n" --budget-ms "$b" --method budget --no-drop --every "$every" --json
   done
 } > "$out.jsonl"
 python3 - "$out" <<'PY'

@@ -35,8 +35,10 @@ public:
     struct Settings {
         LodMethod method = LodMethod::Budget;
         double budgetMs = 33.0;  // the frame time aimed at: stress's load is measured against it too
-        bool mayDrop = false;    // LodBudgetSettings::mayDrop
-        sg::CullSettings cull;   // what every frame starts from (strategy, occlusion); the method sets its LOD part
+        // LodBudgetSettings::mayDrop: with the budget's coarsest bound at stress's largest scale, the budget
+        // leaves out only what stress at its coarsest leaves out, and only when the rest does not fit.
+        bool mayDrop = true;
+        sg::CullSettings cull;  // what every frame starts from (strategy, occlusion); the method sets its LOD part
         // A fixed frame rate (Performer's PFPHASE_LIMIT): a frame whose work ends before budgetMs waits out
         // the rest, so frames come at most 1000 / budgetMs a second and a cheap view does not run ahead; a
         // late frame is not held further. The methods learn from the work, not from the wait. The budget

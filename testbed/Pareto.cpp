@@ -224,7 +224,7 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
             culls[k] = std::make_unique<CullTraversal>();
         else
             runs[k] = std::make_unique<scenes::LodRun>(
-                r, scenes::LodRun::Settings{use[k]->lod, o.budgetMs, false, use[k]->cull});
+                r, scenes::LodRun::Settings{use[k]->lod, o.budgetMs, true, use[k]->cull});
     }
     CullSettings ref = frustumOnly(o.strictReference ? CullStrategy::None : CullStrategy::Aabb);
     ref.lodScale = 1e-9;  // every LOD at its finest level

@@ -83,7 +83,9 @@ int runLod(const Args& a) {
     sg::DrawList list;
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
-    scenes::LodRun run(renderer, {scenes::parseLodMethod(method), budget, a.flag("may-drop"), sg::CullSettings{}});
+    // The budget may leave out what stress at its coarsest leaves out (LodRun's default); --no-drop: never.
+    const bool mayDrop = !a.flag("no-drop");
+    scenes::LodRun run(renderer, {scenes::parseLodMethod(method), budget, mayDrop, sg::CullSettings{}});
     // The load runs from before the same-view draws to the end, so that both see the same machine.
     const scenes::BackgroundLoad load(scenes::BackgroundLoad::parse(a.str("background-load", "none")));
     renderer.draw(list, cams[0]);  // uploads
@@ -135,7 +137,9 @@ int runLod(const Args& a) {
         .addInt("n", factory ? 0 : n)
         .add("path", path)
         .add("method", method);
-    j.add("budget_ms", budget).addInt("frames", long(cams.size())).add("may_drop", a.flag("may-drop") ? "yes" : "no");
+    j.add("budget_ms", budget)
+        .addInt("frames", long(cams.size()))
+        .add("may_drop", mayDrop && method == "budget" ? "yes" : "no");
     j.add("level_errors", a.flag("guess-accuracy") ? "guessed" : "known")
         .add("same_view", a.flag("same-view") ? "yes" : "no");
     j.add("depth", renderer.depthMode() == sg::Renderer::DepthMode::ReverseZ ? "reverse-z" : "classic");

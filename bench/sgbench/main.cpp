@@ -118,7 +118,7 @@ static void usage() {
         "                [--obb-levels L] [--cell-size M] [--pvs-occluders K] [--pixels]\n"
         "       sgbench lod --scene city|factory [--n N] [--path orbit|street] --budget-ms B --method "
         "static|stress|budget "
-        "[--may-drop] [--guess-accuracy] [--same-view] [--every K]\n"
+        "[--no-drop] [--guess-accuracy] [--same-view] [--every K]\n"
         "                [--background-load none|spin] [--jitter-draws 60] [--depth classic|reverse-z] [--json]\n"
         "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
         "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"

@@ -89,7 +89,7 @@ std::vector<ModeRun> Walkthrough::run(const std::vector<LodMode>& modes, double 
     for (size_t k = 0; k < modes.size(); ++k) {
         out[k].mode = modes[k];
         out[k].budgetMs = budgetMs;
-        scenes::LodRun::Settings set{modes[k], budgetMs, false, sg::CullSettings{}};
+        scenes::LodRun::Settings set{modes[k], budgetMs, true, sg::CullSettings{}};
         set.limitRate = limitRate && modes[k] != LodMode::Static;  // static aims at no frame time
         runs.push_back(std::make_unique<scenes::LodRun>(renderer_, set));
     }

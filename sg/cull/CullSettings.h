@@ -86,7 +86,8 @@ struct LodBudgetSettings {
     // Whether a visible LOD may be left out to fit: off, every one is drawn at least at its cheapest level
     // (a coarse object reads better than a hole), and the budget buys the upgrades. On, LODs are left out
     // only when their cheapest levels alone overrun the budget, those showing least per millisecond first,
-    // and then no LOD is drawn finer than its cheapest (LodSelector::Floor::CheapestFirst).
+    // and then no LOD is drawn finer than its cheapest (LodSelector::Floor::CheapestFirst). With a
+    // coarsestScale, only LODs its ranges leave out may be left out: the others are drawn at their cheapest.
     bool mayDrop = false;
     // Above 0: no LOD drawn coarser than its ranges show it at this LOD scale (CullSettings::lodScale), e.g.
     // stress's largest (LodStress::Params::maxScale), so that when the budget cannot be met the picture is

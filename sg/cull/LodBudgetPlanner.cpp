@@ -143,9 +143,13 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
         }
         // The options: children `first` .. `limit` - 1 (finest first), as the settings' scales bound them.
         int first = 0, limit = obj.count, a, z;
+        obj.keep = false;
         if (b.coarsestScale > 0.0) {
             shownAt(place, i, cam, b.coarsestScale, obj.count, a, z);
             if (z >= 0) limit = z + 1;
+            // Left out (b.mayDrop) only where those ranges leave it out too: never a hole where stress at its
+            // coarsest draws something.
+            obj.keep = z >= 0;
         }
         if (b.coarsestScale > 0.0 && lod.hasErrors) {
             // And none whose error shows more than coarsestScale pixels at the bound's nearest point: the

@@ -131,7 +131,7 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
             onlyCheapest ? 1 : std::size_t(obj.count);  // cand[0]: the cheapest, the best of equal costs
         Candidate base{0.0, 0.0, -1};
         std::size_t first = 0;
-        if (floor == Floor::Cheapest) {
+        if (floor == Floor::Cheapest || obj.keep) {
             base = cand[0];
             first = 1;
             sel_.level[o] = base.option;

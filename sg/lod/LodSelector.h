@@ -24,12 +24,15 @@ public:
         const Option* options = nullptr;  // one per level, in any order; read only during select()
         int count = 0;
         int last = -1;  // the option chosen last frame, or -1 for nothing
+        // Never left out, whatever the floor: drawn at least at its cheapest option, as Floor::Cheapest
+        // draws every object (when CheapestFirst leaves others out, at its cheapest).
+        bool keep = false;
     };
     // Whether an object may be left out: Nothing lets the budget drop it; Cheapest draws every object at
     // least at its cheapest option, even when those alone overrun the budget. CheapestFirst drops last:
     // when every object's cheapest option fits, as Cheapest; else no upgrade at all, and only cheapest
     // options are bought, the most benefit per cost first, so that no object is left out while another is
-    // drawn finer than its cheapest.
+    // drawn finer than its cheapest. An object's `keep` overrides the floor for it.
     enum class Floor { Nothing, Cheapest, CheapestFirst };
     struct Selection {
         std::vector<int> level;  // per object: the index of the chosen option, or -1 for nothing

@@ -190,3 +190,25 @@ TEST(LodBudgetPlanner, NoLevelFinerThanTheRangesShowAtTheFinestScale) {
     for (size_t k = 2; k < p.lods.size(); ++k) EXPECT_EQ(p.planner.chosen(k), 0) << "LOD " << k;
     EXPECT_EQ(p.history.last(p.lods[0]), 1);  // the history has the child, not the option's index
 }
+
+// mayDrop with a coarsestScale: only LODs the ranges leave out at that scale are left out, however tight the
+// budget; the others are drawn at their cheapest allowed level.
+TEST(LodBudgetPlanner, LeavesOutOnlyWhatTheRangesLeaveOutAtTheCoarsestScale) {
+    RowPlan p;
+    p.b.budgetMs = 0.0;  // below the fixed cost: every LOD would go
+    p.b.mayDrop = true;
+    p.b.coarsestScale = 1e4;  // 20-170 m look like 2e5-1.7e6: shown (fine below 100 m); 200 m and on: none
+    const CullStats st = p.plan();
+    for (size_t k = 0; k < p.lods.size(); ++k) {
+        const double d = 20.0 + 10.0 * double(k);
+        if (d < 95.0)
+            EXPECT_EQ(p.planner.chosen(k), 0) << "LOD " << k;  // its coarse level is coarser than allowed
+        else if (d > 105.0 && d < 185.0)
+            EXPECT_EQ(p.planner.chosen(k), 1) << "LOD " << k;
+        else if (d > 205.0)
+            EXPECT_EQ(p.planner.chosen(k), -1) << "LOD " << k;
+    }
+    EXPECT_EQ(st.lodDropped, 2u);  // 200 and 210 m
+    p.b.coarsestScale = 0.0;       // no bound: every LOD may go
+    EXPECT_EQ(p.plan().lodDropped, 20u);
+}

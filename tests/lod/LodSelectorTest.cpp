@@ -278,3 +278,21 @@ TEST(LodSelector, CheapestFirstDropsOnlyWhenTheCheapestDoNotFit) {
     EXPECT_EQ(tight.level, (std::vector<int>{0, 0, -1}));
     EXPECT_LE(tight.costMs, 2.5);
 }
+
+// An object to keep is drawn at least at its cheapest whatever the floor: CheapestFirst leaves out another
+// in its place, and Nothing draws it with no budget at all.
+TEST(LodSelector, AnObjectToKeepIsNeverLeftOut) {
+    Instance in;
+    in.options = {{{1.0, 10.0}, {2.0, 40.0}}, {{1.0, 2.0}, {3.0, 3.0}}, {{1.0, 1.0}, {3.0, 1.5}}};
+    LodSelector sel;
+    std::vector<Object> objects = in.objects();
+    objects[2].keep = true;  // the least worth per ms, which CheapestFirst left out at 2.5 ms
+    const auto& tight = sel.select(objects, 2.5, 0.0, LodSelector::Floor::CheapestFirst);
+    EXPECT_EQ(tight.level, (std::vector<int>{0, -1, 0}));
+    EXPECT_LE(tight.costMs, 2.5);
+    const auto& none = sel.select(objects, 0.0, 0.0, LodSelector::Floor::Nothing);
+    EXPECT_EQ(none.level, (std::vector<int>{-1, -1, 0}));
+    EXPECT_EQ(none.costMs, 1.0);  // over the budget, as Cheapest's floor would be
+    // With room, a kept object is upgraded like any other.
+    EXPECT_EQ(sel.select(objects, 100.0, 0.0, LodSelector::Floor::Nothing).level, (std::vector<int>{1, 1, 1}));
+}
