@@ -5,6 +5,7 @@
 #include "nodes/Billboard.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "sg/core/Assert.h"
 #include "sg/intersect/IntersectPrimitives.h"
 #include "sg/intersect/MeshBvh.h"
@@ -969,11 +970,17 @@ void shareTerrainColors(Factory& f) {
             throw std::invalid_argument("scenes::shareTerrainColors(): terrain tile " + std::to_string(t) +
                                         " is not as buildFactory() made it");
         const double x0 = fp[0].x, y0 = fp[0].y, step = (double(fp[size_t(per)].x) - x0) / per;
+        LOD& lod = static_cast<LOD&>(tile);
         for (size_t level = 1; level < tile.numChildren(); ++level) {
             Mesh& m = *static_cast<Geometry&>(*tile.child(level)).mesh();
             // Half the level's spacing, in cells: the neighbourhood an inner vertex stands for.
             const int r = int(std::lround(0.5 * per / cells[level]));
             std::vector<vec4> col(m.positions().size());
+            // The level's light as an error in metres, for the LOD budget's valuation: a shadow's edge that
+            // a coarse vertex blurs over its neighbourhood counts as an edge that far out of place, scaled by
+            // how much the colour changes there (the worst channel's difference from the mean, 0-1). The
+            // geometry can be exact (a flat yard) while the shadow of the building beside it is lost.
+            float worst = 0.0f;
             for (size_t v = 0; v < col.size(); ++v) {
                 const int li = int(std::lround((m.positions()[v].x - x0) / step)),
                           lj = int(std::lround((m.positions()[v].y - y0) / step));
@@ -987,7 +994,14 @@ void shareTerrainColors(Factory& f) {
                     for (int i = std::max(0, li - r); i <= std::min(per, li + r); ++i, ++n)
                         sum += fc[size_t(j * side + i)];
                 col[v] = sum / float(n);
+                for (int j = std::max(0, lj - r); j <= std::min(per, lj + r); ++j)
+                    for (int i = std::max(0, li - r); i <= std::min(per, li + r); ++i) {
+                        const vec4 d = glm::abs(fc[size_t(j * side + i)] - col[v]);
+                        worst = std::max({worst, d.r, d.g, d.b});
+                    }
             }
+            const float light = worst * float(step * per / cells[level]);
+            lod.setError(level, std::max({lod.error(level), lod.error(level - 1), light}));
             std::vector<uint32_t> idx(m.indexCount());
             for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
             m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));

@@ -82,7 +82,10 @@ Factory buildFactory(const FactoryParams& params = {});
 // Gives the coarse levels of every terrain tile colours from its finest level, after those have changed (baked
 // light): a border vertex, shared with the neighbours, takes the finest colour at its point; an inner vertex
 // the mean of the finest colours within half its level's spacing (a coarse level stands for that area).
-// Throws std::invalid_argument naming the function for a terrain that buildFactory() did not make.
+// Each coarse level's error (LOD::setError, the LOD budget's measure of accuracy) becomes at least the error
+// of its light: the worst colour difference from the finest level times the level's spacing (a shadow on a
+// flat yard is lost by a coarse level whose geometry is exact). Throws std::invalid_argument naming the function for a
+// terrain that buildFactory() did not make.
 void shareTerrainColors(Factory& f);
 
 // Gives the coarse levels of every building model colours from its detailed level, after those have changed

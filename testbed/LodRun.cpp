@@ -10,8 +10,9 @@ namespace scenes {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-constexpr double kMissFrames = 10.0;   // the budget's miss is smoothed over about this many frames
-constexpr double kMaxMissShare = 0.2;  // and comes off its plan up to this share of the budget
+constexpr double kMissFrames = 10.0;    // the budget's miss is smoothed over about this many frames
+constexpr double kMaxMissShare = 0.2;   // and comes off its plan up to this share of the budget
+constexpr double kOverrunShare = 0.15;  // the most an upgrade worth four times the usual may overrun the plan
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 // Sleeps to within half a millisecond of `t` (a sleep can overrun by a tenth of one), then spins the rest:
@@ -80,7 +81,8 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
                               (set_.limitRate ? std::min(missMs_, kMaxMissShare * set_.budgetMs) : 0.0));
         set.lodBudget.mayDrop = set_.mayDrop;
         set.lodBudget.coarsestScale = stress_.params().maxScale;  // never a worse picture than stress's
-        set.lodBudget.finestScale = set.lodScale;  // never finer than the ranges (at a pixel's error): no one sees it
+        set.lodBudget.finestScale = set.lodScale;    // never finer than the ranges (at a pixel's error): no one sees it
+        set.lodBudget.overrunShare = kOverrunShare;  // a frame late anyway still buys the detail it needs most
     }
     const auto t0 = Clock::now();
     if (prepare) prepare();

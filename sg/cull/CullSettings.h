@@ -98,8 +98,16 @@ struct LodBudgetSettings {
     // Above 0: no LOD drawn finer than its ranges show it at this LOD scale, e.g. 1 where the ranges switch
     // where a level's error projects to a pixel: a finer level is not seen, and the triangles it would take
     // show more elsewhere (priced by projected area, the finest level of a hill beside the eye outbid the
-    // buildings). An LOD these ranges leave out is not limited. 0: any level.
+    // buildings). An LOD these ranges leave out is not limited. A child fading out (LOD::setTransition) is
+    // still shown: the ranges draw it to the end of its band. 0: any level.
     double finestScale = 0.0;
+    // Above 0: upgrades past the budget (LodSelector::Overrun), up to this share of it, when they are worth
+    // overrunWorth times what a millisecond bought at the budget's edge in recent frames that fit. A frame
+    // whose cheapest levels already overrun is late anyway: with the wall in front of the eye drawn at its
+    // coarse level, it saves a millisecond or two and shows every pixel of the wall wrong. 0: the budget
+    // is a hard limit.
+    double overrunShare = 0.0;
+    double overrunWorth = 4.0;
 };
 
 // CullSettings::frustumPlanes without the near, top and bottom planes.

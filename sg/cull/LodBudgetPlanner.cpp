@@ -8,6 +8,10 @@
 
 namespace sg {
 
+namespace {
+constexpr double kPriceFrames = 8.0;  // the time constant of the price of a millisecond, frames
+}  // namespace
+
 std::vector<uint32_t>& LodBudgetPlanner::track(const FlatImage& img, uint64_t version) {
     if (workVersion_ != version) {
         images_.clear();
@@ -58,16 +62,18 @@ uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, std::vector<uint32_t>
     return uint32_t(at);
 }
 
-// The children the ranges show at `scale`: the first and the last (-1, -1 when they show none there).
-void LodBudgetPlanner::shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, int& first,
-                               int& last) {
+// The children the ranges show at `scale`: the first and the last (-1, -1 when they show none there). With
+// `fading`, a child also where it fades in or out (LOD::setTransition), as the cull draws it with lodFade.
+void LodBudgetPlanner::shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, bool fading,
+                               int& first, int& last) {
     const FlatImage& img = *p.img;
     const double value = lodValue(img, i, p.rigid, p.eyeImg, p.imgToEye, p.scale, &cam, scale);
     const FlatImage::Lod& lod = img.lods[img.aux[i]];
     const FlatImage::Range* rg = &img.ranges[lod.firstRange];
+    const double h = fading ? 0.5 * double(lod.fade) : 0.0;
     first = last = -1;
     for (int c = 0; c < count; ++c)
-        if (value >= rg[c].min && value < rg[c].max) {
+        if (value >= rg[c].min - h && value < rg[c].max + h) {
             if (first < 0) first = c;
             last = c;
         }
@@ -145,7 +151,7 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
         int first = 0, limit = obj.count, a, z;
         obj.keep = false;
         if (b.coarsestScale > 0.0) {
-            shownAt(place, i, cam, b.coarsestScale, obj.count, a, z);
+            shownAt(place, i, cam, b.coarsestScale, obj.count, false, a, z);
             if (z >= 0) limit = z + 1;
             // Left out (b.mayDrop) only where those ranges leave it out too: never a hole where stress at its
             // coarsest draws something.
@@ -160,7 +166,9 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
             limit = c;
         }
         if (b.finestScale > 0.0) {
-            shownAt(place, i, cam, b.finestScale, obj.count, a, z);
+            // With the fade band: at a switch the ranges still draw the finer child, fading out, and its
+            // detail (a shadow baked into a terrain tile's vertices) shows until the band ends.
+            shownAt(place, i, cam, b.finestScale, obj.count, true, a, z);
             if (a >= 0) first = std::min(a, limit - 1);
         }
         obj.options = op + first;
@@ -173,9 +181,16 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
     }
     // What the rest of the frame already costs comes off the budget.
     const double fixed = model.predict(fixedWork);
+    LodSelector::Overrun overrun;
+    if (b.overrunShare > 0.0 && price_ > 0.0 && std::isfinite(b.overrunShare * b.overrunWorth * price_)) {
+        overrun.minRatio = std::max(0.0, b.overrunWorth * price_);
+        overrun.maxMs = b.overrunShare * b.budgetMs;
+    }
     const LodSelector::Selection& sel =
         selector_.select(objects_, std::max(0.0, b.budgetMs - fixed), b.hysteresis,
-                         b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest);
+                         b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest, overrun);
+    if (sel.fit && sel.leftRatio > 0.0 && std::isfinite(sel.leftRatio))
+        price_ = price_ > 0.0 ? price_ * std::pow(sel.leftRatio / price_, 1.0 / kPriceFrames) : sel.leftRatio;
     chosen_.resize(n);
     for (size_t k = 0; k < n; ++k) chosen_[k] = sel.level[k] < 0 ? -1 : sel.level[k] + first_[k];
     for (size_t k = 0; k < n; ++k) {

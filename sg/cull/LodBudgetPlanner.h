@@ -73,7 +73,8 @@ private:
     // Its header's index in work_; `at`: the image's headers by entry (~0u: not worked out yet).
     uint32_t workIndex(const FlatImage& img, std::vector<uint32_t>& at, uint32_t i);
     std::vector<uint32_t>& track(const FlatImage& img, uint64_t version);  // the image's headers by entry
-    static void shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, int& first, int& last);
+    static void shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, bool fading, int& first,
+                        int& last);
 
     std::vector<Deferred> deferred_;
     std::vector<int> chosen_;   // per deferred LOD: the child shown, -1: none
@@ -93,6 +94,9 @@ private:
     std::vector<LodSelector::Option> options_;
     std::vector<LodSelector::Object> objects_;
     LodSelector selector_;
+    // What a millisecond bought at the budget's edge (LodSelector::Selection::leftRatio) in recent frames that
+    // fit, smoothed in logs; 0: no such frame yet.
+    double price_ = 0.0;
 };
 
 }  // namespace sg

@@ -63,8 +63,10 @@ const std::uint64_t* sortByKey(std::uint64_t* v, std::uint64_t* tmp, std::size_t
 }  // namespace
 
 const LodSelector::Selection& LodSelector::select(const std::vector<Object>& objects, double budgetMs,
-                                                  double hysteresis, Floor floor) {
+                                                  double hysteresis, Floor floor, const Overrun& overrun) {
     if (!amount(budgetMs)) refuse(-1, -1, "budgetMs", budgetMs, "is negative or not finite");
+    if (!amount(overrun.minRatio)) refuse(-1, -1, "overrun minRatio", overrun.minRatio, "is negative or not finite");
+    if (!amount(overrun.maxMs)) refuse(-1, -1, "overrun maxMs", overrun.maxMs, "is negative or not finite");
     if (!amount(hysteresis)) refuse(-1, -1, "hysteresis", hysteresis, "is negative or not finite");
     const std::size_t n = objects.size();
     sel_.level.assign(n, -1);
@@ -153,6 +155,7 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
             cand[top++] = p;
         }
         double prevCost = base.cost, prevRank = base.rank;
+        int prevOption = base.option;
         for (std::size_t i = first; i < top; ++i) {
             const double dCost = cand[i].cost - prevCost;
             // The budget cut below sums step costs by bucket: a negative step would undercount.
@@ -160,7 +163,8 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
             SG_ASSERT(nSteps < total, "LodSelector::select(): more hull steps than options");
             const double ratio =
                 dCost > 0 ? (cand[i].rank - prevRank) / dCost : std::numeric_limits<double>::infinity();
-            steps_[nSteps++] = {static_cast<int>(o), cand[i].option, descendingKey(ratio), dCost};
+            steps_[nSteps++] = {static_cast<int>(o), cand[i].option, prevOption, descendingKey(ratio), dCost};
+            prevOption = cand[i].option;
             prevCost = cand[i].cost;
             prevRank = cand[i].rank;
         }
@@ -215,6 +219,38 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
             stuck_[st.object] = 1;
     }
     greedy(nRest);
+    // What the budget left out: the best of it, and with an overrun, what of it is worth the time. A step is
+    // left out when its object stands on the option it steps up from.
+    std::uint32_t best = ~0u;
+    const std::uint32_t worth = descendingKey(overrun.minRatio);
+    nRest = 0;
+    for (std::size_t k = 0; k < nSteps; ++k) {
+        const Step& st = steps_[k];
+        if (sel_.level[st.object] != st.prev) continue;
+        best = std::min(best, st.key);
+        if (overrun.maxMs > 0.0 && st.key <= worth) order_[nRest++] = std::uint64_t(st.key) << 32 | k;
+    }
+    sel_.fit = spent <= budgetMs;
+    sel_.leftRatio = 0.0;
+    if (best != ~0u) {
+        const std::uint32_t bits = 0x7fffffffu - best;
+        float f;
+        std::memcpy(&f, &bits, sizeof f);
+        sel_.leftRatio = double(f);
+    }
+    if (nRest > 0) {
+        // In ratio order an object's steps come in hull order, so each finds its object on the option it
+        // steps up from unless an earlier one of them did not fit.
+        const double limit = std::max(budgetMs, spent) + overrun.maxMs;
+        const std::uint64_t* sorted = sortByKey(order_.data(), scratch_.data(), nRest);
+        for (std::size_t k = 0; k < nRest; ++k) {
+            const Step& st = steps_[sorted[k] & 0xffffffffu];
+            if (sel_.level[st.object] == st.prev && spent + st.dCost <= limit) {
+                spent += st.dCost;
+                sel_.level[st.object] = st.option;
+            }
+        }
+    }
     sel_.costMs = spent;
     sel_.benefit = 0.0;
     for (std::size_t o = 0; o < n; ++o)

@@ -37,7 +37,20 @@ public:
     struct Selection {
         std::vector<int> level;  // per object: the index of the chosen option, or -1 for nothing
         double costMs = 0.0;     // the chosen costs, summed as chosen; <= the budget unless the floor overran it
+                                 // or an Overrun took more
         double benefit = 0.0;    // the chosen benefits, without the hysteresis bonus
+        // The best benefit per ms of the steps the budget left out (0: none left out): what a ms was worth at
+        // the budget's edge this frame, before any Overrun.
+        double leftRatio = 0.0;
+        bool fit = true;  // the budget's choice (before any Overrun) kept within it: the floor did not overrun
+    };
+    // Past the budget: upgrades worth at least minRatio benefit per ms are still bought, the best first, up
+    // to maxMs over the budget. A frame whose cheapest options alone overrun is late anyway, and the
+    // upgrade it needs most (the wall in front of the eye) costs little against what it shows; at the
+    // price a ms had in frames that fit (times a margin), it is worth the overrun.
+    struct Overrun {
+        double minRatio = 0.0;
+        double maxMs = 0.0;  // 0: none
     };
 
     // Chooses the options for this frame. The option chosen last frame ranks as if its benefit were
@@ -45,9 +58,13 @@ public:
     // does not fit the remaining budget is skipped and cheaper ones after it still considered. The
     // result stays valid until the next call. Throws std::invalid_argument naming the value: a cost,
     // benefit or budget negative or not finite, hysteresis negative or not finite, `last` not an option,
-    // a negative count or missing options.
+    // a negative count or missing options, an overrun's minRatio or maxMs negative or not finite.
+    const Selection& select(const std::vector<Object>& objects, double budgetMs, double hysteresis, Floor floor,
+                            const Overrun& overrun);
     const Selection& select(const std::vector<Object>& objects, double budgetMs, double hysteresis,
-                            Floor floor = Floor::Nothing);
+                            Floor floor = Floor::Nothing) {
+        return select(objects, budgetMs, hysteresis, floor, Overrun{});
+    }
     const Selection& selection() const { return sel_; }
 
 private:
@@ -55,6 +72,7 @@ private:
     struct Step {
         int object;
         int option;
+        int prev;           // the option it steps up from (-1: nothing)
         std::uint32_t key;  // descending benefit per cost as an ascending integer (31 bits)
         double dCost;
     };

@@ -201,14 +201,69 @@ TEST(LodBudgetPlanner, LeavesOutOnlyWhatTheRangesLeaveOutAtTheCoarsestScale) {
     const CullStats st = p.plan();
     for (size_t k = 0; k < p.lods.size(); ++k) {
         const double d = 20.0 + 10.0 * double(k);
-        if (d < 95.0)
+        if (d < 95.0) {
             EXPECT_EQ(p.planner.chosen(k), 0) << "LOD " << k;  // its coarse level is coarser than allowed
-        else if (d > 105.0 && d < 185.0)
+        } else if (d > 105.0 && d < 185.0) {
             EXPECT_EQ(p.planner.chosen(k), 1) << "LOD " << k;
-        else if (d > 205.0)
+        } else if (d > 205.0) {
             EXPECT_EQ(p.planner.chosen(k), -1) << "LOD " << k;
+        }
     }
     EXPECT_EQ(st.lodDropped, 2u);  // 200 and 210 m
     p.b.coarsestScale = 0.0;       // no bound: every LOD may go
     EXPECT_EQ(p.plan().lodDropped, 20u);
+}
+
+// overrunShare: with the budget below the cheapest levels, the nearest LOD, worth many times what a ms bought
+// at the edge of the frame before, is still drawn fine; without it, every LOD is coarse.
+TEST(LodBudgetPlanner, ALateFrameStillBuysWhatIsWorthManyTimesTheUsualPrice) {
+    RowPlan p;
+    p.b.budgetMs = 2.0;  // fits: fine up to 100 m, coarse from 110 m, what a ms buys at the edge
+    p.plan();
+    ASSERT_EQ(p.planner.chosen(8), 0);
+    ASSERT_EQ(p.planner.chosen(9), 1);
+    p.b.budgetMs = 0.1;  // below the cheapest levels
+    const CullStats late = p.plan();
+    EXPECT_EQ(late.lodLevels[1], 20u);
+    p.b.overrunShare = 10.0;  // up to 1 ms over
+    const CullStats st = p.plan();
+    // Worth four times the edge's price: about a quarter of its distance, a sixteenth of its pixels.
+    EXPECT_EQ(p.planner.chosen(0), 0);
+    EXPECT_EQ(p.planner.chosen(1), 0);
+    for (size_t k = 5; k < p.lods.size(); ++k) EXPECT_EQ(p.planner.chosen(k), 1) << "LOD " << k;
+    EXPECT_GT(st.lodPredictedMs, late.lodPredictedMs);
+    EXPECT_LE(st.lodPredictedMs, late.lodPredictedMs + 1.0 + 1e-9);
+}
+
+// finestScale and a fade band: past a switch the ranges still draw the finer child, fading out, to the end of
+// the band; the budget may draw it there, not beyond.
+TEST(LodBudgetPlanner, TheFinestLevelAllowedIncludesTheFadeBand) {
+    auto root = make<Group>();
+    const ref_ptr<Mesh> fine = triangles(1000), coarse = triangles(10);
+    for (double y : {30.0, 40.0}) {  // 5 and 15 m past the switch at 25 m; the band ends at 35 m
+        auto t = make<Transform>();
+        t->setTranslation(dvec3(0, y, 0));
+        auto lod = make<LOD>();
+        lod->addChild(make<Geometry>(fine, make<Material>()), 0.0f, 25.0f);
+        lod->addChild(make<Geometry>(coarse, make<Material>()), 25.0f, 1e6f);
+        lod->setTransition(20.0f);
+        t->addChild(lod);
+        root->addChild(t);
+    }
+    Scene s(root);
+    s.update();
+    const DrawCostModel model = testutil::trainedCostModel();
+    LodBudgetSettings b;
+    b.enabled = true;
+    b.model = &model;
+    b.budgetMs = 100.0;
+    b.finestScale = 1.0;
+    LodHistory history;
+    history.track(s.image(), s.structureVersion());
+    LodBudgetPlanner planner;
+    for (uint32_t i : lodEntries(s.image())) planner.defer({i, 0u, OcclusionTree::kVisible, dmat4(1.0)});
+    CullStats stats;
+    planner.plan(s.image(), s.version(), testutil::lookingAlongY(), b, {}, history, stats);
+    EXPECT_EQ(planner.chosen(0), 0);  // in the band: the fine child, still drawn by the ranges
+    EXPECT_EQ(planner.chosen(1), 1);  // past it: no finer than the ranges show
 }

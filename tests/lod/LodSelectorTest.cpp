@@ -296,3 +296,29 @@ TEST(LodSelector, AnObjectToKeepIsNeverLeftOut) {
     // With room, a kept object is upgraded like any other.
     EXPECT_EQ(sel.select(objects, 100.0, 0.0, LodSelector::Floor::Nothing).level, (std::vector<int>{1, 1, 1}));
 }
+
+// Past the budget, an Overrun buys only the upgrades worth its ratio, and only within its allowance; the
+// selection tells the best ratio the budget left out and whether its floor fit.
+TEST(LodSelector, AnOverrunBuysOnlyWhatIsWorthItWithinItsAllowance) {
+    Instance in;
+    in.options = {{{1.0, 10.0}, {2.0, 1000.0}},  // an upgrade worth 990 per ms
+                  {{1.0, 5.0}, {1.5, 6.0}}};     // one worth 2 per ms
+    LodSelector sel;
+    const auto F = LodSelector::Floor::Cheapest;
+    const auto& plain = sel.select(in.objects(), 2.0, 0.0, F);
+    EXPECT_EQ(plain.level, (std::vector<int>{0, 0}));
+    EXPECT_TRUE(plain.fit);
+    EXPECT_NEAR(plain.leftRatio, 990.0, 1e-3);
+    const auto& worth = sel.select(in.objects(), 2.0, 0.0, F, {100.0, 1.5});
+    EXPECT_EQ(worth.level, (std::vector<int>{1, 0}));  // 3 ms: over by 1, within 1.5; the other not worth it
+    EXPECT_DOUBLE_EQ(worth.costMs, 3.0);
+    EXPECT_NEAR(worth.leftRatio, 990.0, 1e-3);  // what the budget left out, before the overrun
+    EXPECT_EQ(sel.select(in.objects(), 2.0, 0.0, F, {100.0, 0.5}).level, (std::vector<int>{0, 0}));  // no room
+    EXPECT_EQ(sel.select(in.objects(), 2.0, 0.0, F, {1.0, 1.5}).level, (std::vector<int>{1, 1}));    // both worth
+    // The floor alone overruns 1 ms: the allowance counts from where the floor ends.
+    const auto& late = sel.select(in.objects(), 1.0, 0.0, F, {100.0, 1.0});
+    EXPECT_FALSE(late.fit);
+    EXPECT_EQ(late.level, (std::vector<int>{1, 0}));
+    EXPECT_THROW(sel.select(in.objects(), 2.0, 0.0, F, {-1.0, 1.0}), std::invalid_argument);
+    EXPECT_THROW(sel.select(in.objects(), 2.0, 0.0, F, {1.0, std::nan("")}), std::invalid_argument);
+}

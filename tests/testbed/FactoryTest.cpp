@@ -452,6 +452,41 @@ TEST(Factory, CoarseTerrainLevelsTakeTheirColoursFromTheFinest) {
     }
 }
 
+// A coarse terrain level's error counts the light it loses: uniform colours leave the geometric errors as
+// they were; a checkerboard of light and shadow, which every coarse level averages out, makes each error at
+// least half a coarse cell (2 fine cells of 3.2 m at the least, the colour 0.5 off).
+TEST(Factory, ACoarseTerrainLevelsErrorCountsTheLightItLoses) {
+    auto paint = [](scenes::Factory& f, bool checker) {
+        std::vector<std::vector<float>> before;
+        for (size_t t = 0; t < f.terrain->numChildren(); ++t) {
+            const LOD& lod = tile(f, t);
+            before.emplace_back();
+            for (size_t level = 0; level < lod.numChildren(); ++level) before.back().push_back(lod.error(level));
+            Mesh& m = *levelMesh(lod, 0);
+            std::vector<vec4> col;
+            for (const vec3& p : m.positions()) {
+                const long i = std::lround((p.x + 400.0) / 3.2258064516), j = std::lround((p.y + 400.0) / 3.2258064516);
+                col.emplace_back(checker ? float((i + j) % 2) : 0.5f, 0.5f, 0.5f, 1.0f);
+            }
+            std::vector<uint32_t> idx(m.indexCount());
+            for (size_t i = 0; i < idx.size(); ++i) idx[i] = m.index(i);
+            m.set(m.positions(), m.normals(), std::move(idx), m.uvs(), std::move(col));
+        }
+        scenes::shareTerrainColors(f);
+        return before;
+    };
+    auto even = scenes::buildFactory();
+    const auto geometric = paint(even, false);
+    auto checker = scenes::buildFactory();
+    paint(checker, true);
+    for (size_t t = 0; t < even.terrain->numChildren(); ++t)
+        for (size_t level = 1; level < tile(even, t).numChildren(); ++level) {
+            EXPECT_EQ(tile(even, t).error(level), geometric[t][level]) << "tile " << t << " level " << level;
+            EXPECT_GE(tile(checker, t).error(level), std::max(geometric[t][level], 0.5f * 2.0f * 3.2258f))
+                << "tile " << t << " level " << level;
+        }
+}
+
 TEST(Factory, CoarseBuildingLevelsTakeTheirColoursFromTheDetailedSurfaceFacingTheSameWay) {
     auto f = scenes::buildFactory();
     // Detailed colours that tell the way a face looks: a coarse outer wall must take its own side's.
