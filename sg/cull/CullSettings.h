@@ -104,8 +104,8 @@ struct LodBudgetSettings {
     // Above 0: upgrades past the budget (LodSelector::Overrun), up to this share of it, when they are worth
     // overrunWorth times what a millisecond bought at the budget's edge in recent frames that fit. A frame
     // whose cheapest levels already overrun is late anyway: with the wall in front of the eye drawn at its
-    // coarse level, it saves a millisecond or two and shows every pixel of the wall wrong. 0: the budget
-    // is a hard limit.
+    // coarse level, it saves a millisecond or two and shows every pixel of the wall wrong. 0 (or either
+    // value negative or not finite): the budget is a hard limit.
     double overrunShare = 0.0;
     double overrunWorth = 4.0;
 };

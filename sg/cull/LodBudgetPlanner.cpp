@@ -182,8 +182,9 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
     // What the rest of the frame already costs comes off the budget.
     const double fixed = model.predict(fixedWork);
     LodSelector::Overrun overrun;
-    if (b.overrunShare > 0.0 && price_ > 0.0 && std::isfinite(b.overrunShare * b.overrunWorth * price_)) {
-        overrun.minRatio = std::max(0.0, b.overrunWorth * price_);
+    if (b.overrunShare > 0.0 && b.overrunWorth >= 0.0 && price_ > 0.0 &&
+        std::isfinite(b.overrunShare * b.overrunWorth * price_)) {
+        overrun.minRatio = b.overrunWorth * price_;
         overrun.maxMs = b.overrunShare * b.budgetMs;
     }
     const LodSelector::Selection& sel =

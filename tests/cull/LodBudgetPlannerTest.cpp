@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace sg;
 
@@ -233,6 +234,14 @@ TEST(LodBudgetPlanner, ALateFrameStillBuysWhatIsWorthManyTimesTheUsualPrice) {
     for (size_t k = 5; k < p.lods.size(); ++k) EXPECT_EQ(p.planner.chosen(k), 1) << "LOD " << k;
     EXPECT_GT(st.lodPredictedMs, late.lodPredictedMs);
     EXPECT_LE(st.lodPredictedMs, late.lodPredictedMs + 1.0 + 1e-9);
+    // Impossible settings turn the overrun off, as 0 does.
+    for (double worth : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+        p.b.overrunWorth = worth;
+        EXPECT_EQ(p.plan().lodLevels[1], 20u) << worth;
+    }
+    p.b.overrunWorth = 4.0;
+    p.b.overrunShare = std::nan("");
+    EXPECT_EQ(p.plan().lodLevels[1], 20u);
 }
 
 // finestScale and a fade band: past a switch the ranges still draw the finer child, fading out, to the end of
