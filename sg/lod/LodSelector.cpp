@@ -228,7 +228,8 @@ const LodSelector::Selection& LodSelector::select(const std::vector<Object>& obj
         const Step& st = steps_[k];
         if (sel_.level[st.object] != st.prev) continue;
         best = std::min(best, st.key);
-        if (overrun.maxMs > 0.0 && st.key <= worth) order_[nRest++] = std::uint64_t(st.key) << 32 | k;
+        // An overrun buys detail for what is drawn, never back what the budget left out to fit.
+        if (overrun.maxMs > 0.0 && st.prev >= 0 && st.key <= worth) order_[nRest++] = std::uint64_t(st.key) << 32 | k;
     }
     sel_.fit = spent <= budgetMs;
     sel_.leftRatio = 0.0;

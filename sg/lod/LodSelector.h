@@ -45,8 +45,8 @@ public:
         bool fit = true;  // the budget's choice (before any Overrun) kept within it: the floor did not overrun
     };
     // Past the budget: upgrades worth at least minRatio benefit per ms are still bought, the best first, up
-    // to maxMs over the budget. A frame whose cheapest options alone overrun is late anyway, and the
-    // upgrade it needs most (the wall in front of the eye) costs little against what it shows; at the
+    // to maxMs over the budget; an object left out stays out. A frame whose cheapest options alone overrun is late
+    // anyway, and the upgrade it needs most (the wall in front of the eye) costs little against what it shows; at the
     // price a ms had in frames that fit (times a margin), it is worth the overrun.
     struct Overrun {
         double minRatio = 0.0;

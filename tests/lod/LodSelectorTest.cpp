@@ -319,6 +319,9 @@ TEST(LodSelector, AnOverrunBuysOnlyWhatIsWorthItWithinItsAllowance) {
     const auto& late = sel.select(in.objects(), 1.0, 0.0, F, {100.0, 1.0});
     EXPECT_FALSE(late.fit);
     EXPECT_EQ(late.level, (std::vector<int>{1, 0}));
+    // An object the budget left out stays out: the overrun upgrades what is drawn.
+    EXPECT_EQ(sel.select(in.objects(), 0.0, 0.0, LodSelector::Floor::Nothing, {0.0, 100.0}).level,
+              (std::vector<int>{-1, -1}));
     EXPECT_THROW(sel.select(in.objects(), 2.0, 0.0, F, {-1.0, 1.0}), std::invalid_argument);
     EXPECT_THROW(sel.select(in.objects(), 2.0, 0.0, F, {1.0, std::nan("")}), std::invalid_argument);
 }
