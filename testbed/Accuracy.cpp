@@ -17,7 +17,7 @@ std::string settingName(const CullSettings& s) {
     if (s.screenRect && s.strategy != CullStrategy::None) name += "+screen-rect";
     if (s.strategy != CullStrategy::None && s.occlusion.mode != OcclusionMode::Off) {
         name += s.occlusion.mode == OcclusionMode::Auto ? "+occlusion-auto" : "+occlusion";
-        if (s.occlusion.cap == OccluderCap::CenterPlane) name += "-centre";
+        if (s.occlusion.measureOnly.cap == OccluderCap::CenterPlane) name += "-centre";
         if (s.occlusion.method == OcclusionMethod::Hom) name += s.occlusion.homOpacity < 1.0 ? "-hom-approx" : "-hom";
         if (s.occlusion.method == OcclusionMethod::Auto) name += "-method-auto";
     }

@@ -26,7 +26,7 @@ int runAccuracy(const Args& a) {
     const std::string cap = a.str("cap", "front");
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench accuracy: --cap must be front or centre (got '" + cap + "')");
-    set.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
+    set.occlusion.measureOnly.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
     const bool occlusion = set.occlusion.mode != sg::OcclusionMode::Off;
 
     sg::ref_ptr<sg::Node> root;
@@ -63,7 +63,7 @@ int runAccuracy(const Args& a) {
     const accuracy::Result res = harness.run(scene, cams, {set})[0];
     // Occlusion counts as conservative only with the front-faces cap.
     const bool conservative = sg::isConservative(set.strategy) && set.smallFeaturePixels == 0 &&
-                              (!occlusion || set.occlusion.cap == sg::OccluderCap::FrontFaces);
+                              (!occlusion || set.occlusion.measureOnly.cap == sg::OccluderCap::FrontFaces);
     Json j;
     j.add("command", "accuracy").add("scene", sceneName).add("strategy", res.name).addInt("seed", long(seed));
     j.addInt("width", w).addInt("height", h).addInt("views", res.views);

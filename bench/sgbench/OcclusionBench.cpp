@@ -53,7 +53,7 @@ int runOcclusion(const Args& a) {
     const std::string cap = a.str("cap", "front");
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
-    occl.occlusion.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
+    occl.occlusion.measureOnly.cap = cap == "front" ? sg::OccluderCap::FrontFaces : sg::OccluderCap::CenterPlane;
     // --method: tree, hom or hom-approx, each alone or after the PVS ("pvs+tree"), or the PVS alone ("pvs").
     const std::string method = a.str("method", "tree");
     const bool usesPvs = method.rfind("pvs", 0) == 0;
@@ -76,7 +76,7 @@ int runOcclusion(const Args& a) {
     }
     occl.occlusion.maxOccluders = uint32_t(a.num("max-occluders", occl.occlusion.maxOccluders));
     occl.occlusion.minOccluderPixels = double(a.num("min-pixels", long(occl.occlusion.minOccluderPixels)));
-    occl.occlusion.screenSplits = int(a.num("splits", 0));
+    occl.occlusion.measureOnly.screenSplits = int(a.num("splits", 0));
     sg::CullSettings none = frustum;
     none.strategy = sg::CullStrategy::None;
 
@@ -236,7 +236,7 @@ int runOcclusion(const Args& a) {
     if (usesPvs) j.add("pvs_build_ms", pvsBuildMs).add("culled_pvs_mean", culledPvs / double(cams.size()));
     if (pixels) j.add("differing_pixels_total", differing).add("views_with_error", viewsWithError);
     j.addInt("max_occluders", long(hom ? occl.occlusion.homMaxOccluders : occl.occlusion.maxOccluders))
-        .addInt("splits", occl.occlusion.screenSplits);
+        .addInt("splits", occl.occlusion.measureOnly.screenSplits);
     j.add("triangles_total", total / k)
         .add("triangles_frustum_mean", trisF / k)
         .add("triangles_occlusion_mean", trisO / k);

@@ -112,19 +112,19 @@ struct Refinement {
 std::vector<Refinement> refinements() {
     sg::CullSettings plain;
     plain.strategy = sg::CullStrategy::Aabb;
-    plain.planeMasking = false;
-    plain.eyeInsideSkip = false;
+    plain.measureOnly.planeMasking = false;
+    plain.measureOnly.eyeInsideSkip = false;
     plain.occlusion.mode = sg::OcclusionMode::Off;
     std::vector<Refinement> r;
     r.push_back({"plain (boxes, 6 planes)", plain});
     r.push_back({"+ screen radius < 1 px", plain});
     r.back().set.smallFeaturePixels = 1.0;
     r.push_back({"+ eye-inside shortcut", plain});
-    r.back().set.eyeInsideSkip = true;
+    r.back().set.measureOnly.eyeInsideSkip = true;
     r.push_back({"+ inside subtrees untested", plain});
-    r.back().set.planeMasking = true;
+    r.back().set.measureOnly.planeMasking = true;
     r.push_back({"+ fewer planes (l, r, far)", plain});
-    r.back().set.frustumPlanes = sg::kTerrainPaperPlanes;
+    r.back().set.measureOnly.frustumPlanes = sg::kTerrainPaperPlanes;
     r.push_back({"spheres for boxes", plain});
     r.back().set.strategy = sg::CullStrategy::Sphere;
     r.push_back({"+ frustum sphere pre-test", plain});

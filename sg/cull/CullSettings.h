@@ -1,9 +1,20 @@
 // What the cull does (strategy, small-feature threshold, traversal mask) and what it counted.
 #pragma once
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 namespace sg {
+
+// A setting out of its range: the message names the entry point, the setting, its value and what is allowed.
+class SettingError : public std::invalid_argument {
+public:
+    SettingError(const std::string& caller, std::string setting, const std::string& value, const std::string& allowed);
+    const std::string& setting() const { return setting_; }
+
+private:
+    std::string setting_;
+};
 
 enum class CullStrategy : uint8_t {
     None,          // no culling of any kind, occlusion included (the accuracy reference)
@@ -50,14 +61,12 @@ OcclusionMode parseOcclusionMode(const std::string& name);
 struct OcclusionSettings {
     OcclusionMode mode = OcclusionMode::Auto;  // when the pass runs
     OcclusionMethod method = OcclusionMethod::Auto;
-    // Auto: the share of the next nearest occluders left showing by the tree above which the map is used.
-    // 0.15 was measured on city (orbit: the map in 53 of 60 frames; street: 11 of 120), office (15 of 120,
-    // fewer objects drawn than either method alone) and the factory (none).
+    // Auto: the share of the next nearest occluders left showing by the tree above which the map is used, in
+    // [0, 1]: the map where scattered occluders stay visible past the tree's (docs/benchmarks.md, "Run time
+    // against error", has the share measured per scene).
     double autoMapShare = 0.15;
-    OccluderCap cap = OccluderCap::FrontFaces;
     uint32_t maxOccluders = 16;       // occluders added to the tree per frame (hidden ones do not count)
-    double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used
-    int screenSplits = 0;             // two-level tree: 2^k screen regions above the occluders (0: one level)
+    double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used; >= 0
     double autoMinGain = 0.1;         // Auto: a frame "pays" when occlusion removed this share of the entries
     // Hom: the map's size in pixels over the viewport (powers of two, 8 to 1024), and the opacity at which
     // a pyramid pixel counts as covered: 1 is conservative; below 1 a bound seen only through holes that
@@ -65,23 +74,35 @@ struct OcclusionSettings {
     int homWidth = 256, homHeight = 256;
     double homOpacity = 1.0;
     // Hom: occluders rasterized per frame, largest solid angle over distance first (maxOccluders is the
-    // tree's). Rasterizing one costs little: on city's street path 64 cull more than 16 at the same pass time.
+    // tree's): rasterizing one costs little, so the map takes more than the tree (docs/benchmarks.md).
     uint32_t homMaxOccluders = 64;
     // Hom: a geometry its world box does not show hidden is tested again by the oriented boxes of its
-    // mesh's ObbTree (sg/cull/ObbTree.h), tighter on screen, down this many levels below the root (0: off).
+    // mesh's ObbTree (sg/cull/ObbTree.h), tighter on screen, down this many levels below the root (0: off);
+    // 0..16.
     int homObbLevels = 0;
+
+    // Switches that exist to measure the papers' refinements against their absence: not options to tune.
+    struct MeasureOnly {
+        // FrontFaces is conservative; CenterPlane is the paper's cap, NOT conservative (grazing rays miss it).
+        OccluderCap cap = OccluderCap::FrontFaces;
+        int screenSplits = 0;  // two-level tree: 2^k screen regions above the occluders (0: one level), 0..8
+    };
+    MeasureOnly measureOnly;
+
+    // Throws SettingError naming `caller`, the setting, its value and the values allowed.
+    void validate(const char* caller) const;
 };
 
 class DrawCostModel;
 class PvsTable;
 
 // Time-budgeted LOD selection (Funkhouser and Sequin's adaptive display): every visible LOD of the scene
-// (not inside Instance prototypes) offers its children as options, priced by the draw-cost model and
-// valued by projected size times accuracy; sg/lod/LodSelector.h picks one per LOD, or none, to fit the budget.
+// (those of Instance prototypes at each placement too) offers its children as options, priced by the draw-cost model
+// and valued by projected size times accuracy; sg/lod/LodSelector.h picks one per LOD, or none, to fit the budget.
 struct LodBudgetSettings {
     bool enabled = false;
-    double budgetMs = 33.3;                // predicted draw time the frame must fit
-    double hysteresis = 0.1;               // last frame's choice ranks (1 + this) times higher
+    double budgetMs = 33.3;                // predicted draw time the frame must fit; > 0
+    double hysteresis = 0.1;               // last frame's choice ranks (1 + this) times higher; >= 0
     const DrawCostModel* model = nullptr;  // required when enabled; feed it measured frames
     // Whether a visible LOD may be left out to fit: off, every one is drawn at least at its cheapest level
     // (a coarse object reads better than a hole), and the budget buys the upgrades. On, LODs are left out
@@ -104,40 +125,32 @@ struct LodBudgetSettings {
     // Above 0: upgrades past the budget (LodSelector::Overrun), up to this share of it, when they are worth
     // overrunWorth times what a millisecond bought at the budget's edge in recent frames that fit. A frame
     // whose cheapest levels already overrun is late anyway: with the wall in front of the eye drawn at its
-    // coarse level, it saves a millisecond or two and shows every pixel of the wall wrong. 0 (or either
-    // value negative or not finite): the budget is a hard limit.
+    // coarse level, it saves a millisecond or two and shows every pixel of the wall wrong. 0: the budget is a
+    // hard limit. Both finite and >= 0.
     double overrunShare = 0.0;
     double overrunWorth = 4.0;
+
+    // Throws SettingError naming `caller` (CullSettings::validate() calls it when the budget is enabled).
+    void validate(const char* caller) const;
 };
 
-// CullSettings::frustumPlanes without the near, top and bottom planes.
+// CullSettings::MeasureOnly::frustumPlanes without the near, top and bottom planes.
 constexpr uint32_t kTerrainPaperPlanes = 0x23;
 
 struct CullSettings {
-    // Boxes: as fast as spheres on `city` (fewer instructions per frame under callgrind, since fewer
-    // geometries pass and get sorted; within timing noise otherwise) and tighter, as tight as
-    // OpenSceneGraph's per-drawable box test. bench/strategies.sh measures them all.
+    // Boxes: as fast as spheres (fewer geometries pass and get sorted) and tighter, as tight as OpenSceneGraph's
+    // per-drawable box test. bench/strategies.sh measures them all (docs/benchmarks.md).
     CullStrategy strategy = CullStrategy::Aabb;
     // Drop bounds smaller than this many pixels across (the bound's diameter at its centre's distance); 0:
-    // off. At 1 it is the terrain paper's screen-radius test r = wR / (2 d tan(theta / 2)) < 1 pixel.
+    // off; >= 0. At 1 it is the terrain paper's screen-radius test r = wR / (2 d tan(theta / 2)) < 1 pixel.
     double smallFeaturePixels = 0.0;
-    // A bound whose sphere holds the eye is entered without a test (its children are tested): it is seen, or
-    // cut by the near plane. The sphere holds the box, so this also takes every bound whose box holds the eye
-    // (the terrain paper's shortcut). Off: measurement only (sgbench terrain).
-    bool eyeInsideSkip = true;
-    // A bound inside a plane frees its subtree of that plane; a bound inside them all, of every test. Off: every
-    // bound below is tested against every plane (measurement only: it costs more and culls the same).
-    bool planeMasking = true;
-    // The planes tested, one bit each in Camera::eyePlanes() order: left 1, right 2, bottom 4, top 8, near 16,
-    // far 32. Leaving planes out (the terrain paper leaves out near, top and bottom: kTerrainPaperPlanes)
-    // halves a bound's work and never culls more: it draws a superset, the pixels stay exact.
-    uint32_t frustumPlanes = 0x3f;
     uint32_t traversalMask = 0xffffffffu;
     bool sort = true;  // sort the draw list by state, then front to back
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
     // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
     // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs
     // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
+    // In [0, 1).
     double lodHysteresis = 0.0;
     // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
     // and OpenSceneGraph's LOD scale; sg/lod/LodStress.h drives it from the frame time.
@@ -160,53 +173,28 @@ struct CullSettings {
     // conservative in pixels. Not used by CullStrategy::None. Off: items draw whole meshes, as before.
     bool screenRect = false;
     uint32_t screenRectTriangles = 32;  // 1..65536; measured in docs/benchmarks.md (PCVR)
-};
 
-struct CullStats {
-    uint64_t nodesVisited = 0;
-    uint64_t boundsTested = 0;
-    uint64_t kernelEntries = 0;       // bounds classified by the flat kernel (straddling subtrees)
-    uint64_t culledFrustum = 0;       // by the plane tests
-    uint64_t culledSphereSphere = 0;  // by the frustum-sphere pre-test
-    uint64_t culledCenterBox = 0;
-    uint64_t culledSmallFeature = 0;
-    uint64_t instancesVisited = 0;
-    uint64_t geometries = 0;
-    uint64_t triangles = 0;
-    uint64_t invalidDrawn = 0;  // geometries with a NaN/infinite bound, drawn because never culled
-    // Occlusion pass
-    bool occlusionRan = false;        // the tree was built this frame (occluders in view, not skipped)
-    bool occlusionSkipped = false;    // Auto mode skipped it this frame
-    bool occlusionMap = false;        // the pass built the occlusion map, not the tree (OcclusionMethod)
-    uint64_t occluderCandidates = 0;  // occluders in view and large enough
-    uint64_t occludersUsed = 0;       // added something to the tree
-    uint64_t occlusionTreeNodes = 0;
-    uint64_t occlusionPolygonSplits = 0;  // occluder polygons split while growing the tree
-    uint64_t occlusionBoxSplits = 0;      // bounds split by a tree plane while tested
-    uint64_t occlusionTests = 0;
-    uint64_t culledOcclusion = 0;  // bounds culled as occluded
-    uint64_t culledObb = 0;  // of them, geometries culled by their oriented boxes (OcclusionSettings::homObbLevels)
-    uint64_t occludedEntries = 0;  // image entries below them (work the walk skipped)
-    double occlusionMs = 0.0;      // growing the tree plus the tests
-    // LOD budget
-    uint64_t lodObjects = 0;      // visible LODs planned
-    uint64_t lodDropped = 0;      // left out to fit the budget
-    uint64_t lodLevels[4] = {};   // LODs shown at child 0, 1, 2, and 3 or more
-    double lodBudgetMs = 0.0;     // the budget planned for (LodBudgetSettings::budgetMs)
-    double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
-    double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
-    double lodSelectMs = 0.0;
-    // Paged nodes (PagedLOD)
-    uint64_t pagedWanted = 0;     // seen with their detail in range
-    uint64_t pagedRequested = 0;  // posted for loading (once per update each)
-    uint64_t pagedCoarse = 0;     // wanted but not loaded yet: their coarse level was drawn
-    double ms = 0.0;
-    uint64_t culledPvs = 0;  // entries culled as hidden from the eye's cell (CullSettings::pvs)
-    // Screen-rectangle rejection (CullSettings::screenRect); `triangles` above counts what is left.
-    uint64_t screenRectClusters = 0;          // clusters tested
-    uint64_t culledScreenRectClusters = 0;    // clusters outside the viewport
-    uint64_t culledScreenRectTriangles = 0;   // their triangles
-    uint64_t culledScreenRectGeometries = 0;  // geometries every cluster of which was outside (not drawn)
+    // Switches that exist to measure the papers' refinements against their absence (sgbench terrain and
+    // accuracy): the defaults are what a user wants.
+    struct MeasureOnly {
+        // A bound whose sphere holds the eye is entered without a test (its children are tested): it is seen,
+        // or cut by the near plane. The sphere holds the box, so this also takes every bound whose box holds
+        // the eye (the terrain paper's shortcut).
+        bool eyeInsideSkip = true;
+        // A bound inside a plane frees its subtree of that plane; a bound inside them all, of every test. Off:
+        // every bound below is tested against every plane (it costs more and culls the same).
+        bool planeMasking = true;
+        // The planes tested, one bit each in Camera::eyePlanes() order: left 1, right 2, bottom 4, top 8, near
+        // 16, far 32. Leaving planes out (the terrain paper leaves out near, top and bottom: kTerrainPaperPlanes)
+        // halves a bound's work and never culls more: it draws a superset, the pixels stay exact.
+        uint32_t frustumPlanes = 0x3f;
+    };
+    MeasureOnly measureOnly;
+
+    // Checks every value, the occlusion and budget parts included: throws SettingError naming `caller` (the
+    // entry point, e.g. "CullTraversal::cull()"), the setting, its value and the values allowed. Every entry
+    // point that takes CullSettings calls it.
+    void validate(const char* caller = "CullSettings::validate()") const;
 };
 
 }  // namespace sg

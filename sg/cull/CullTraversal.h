@@ -3,17 +3,22 @@
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/cull/CullStats.h"
 #include "sg/cull/DrawList.h"
 #include "sg/cull/LodBudgetPlanner.h"
 #include "sg/cull/LodHistory.h"
 #include "sg/cull/OcclusionPass.h"
 #include "sg/cull/TriangleClusters.h"
+#include "sg/scene/ImageFrame.h"
 #include "sg/scene/Scene.h"
 
 #include <unordered_map>
 #include <vector>
 
 namespace sg {
+
+class LodChooser;
+class PvsTable;
 
 class CullTraversal {
 public:
@@ -30,22 +35,32 @@ public:
 
 private:
     struct Ctx;
-    // `occ`: the occlusion tree node where this entry's test starts; OcclusionTree::kVisible: no test.
+    // The walk: visit() runs entry i's tests, then the handler of its kind. `occ`: the occlusion tree node
+    // where this entry's test starts; OcclusionTree::kVisible: no occlusion test below (0, the root, is a
+    // node like the others: tested against the whole tree, or against the map when the map was built).
     void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
-    void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
-    void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
-    void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
-    double lodValue(const Ctx& c, uint32_t i) const;
+    bool test(Ctx& c, uint32_t i, uint32_t& mask);  // the bound against the planes
+    // The handlers, one per kind (Transform's and Occluder's are a line in visit()).
+    void group(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    template <class Walk>
+    void lod(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const dmat4& m, const Walk& walk);
+    void switchChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    void billboard(Ctx& c, uint32_t i, const dmat4& m);
+    void instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
+    void bspGroup(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     void pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
-    void fadedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ, double value, float width);
-    bool test(Ctx& c, uint32_t i, uint32_t& mask);
-    void visitInstance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
-    // Sets LOD entry i of c's image aside for the budget's plan.
+    void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    // Entries [begin, end) known inside the frustum, no occlusion test left: the fast path.
+    void inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m);
+    // Sets LOD entry i of c's image aside for the budget's plan; after the walk, the plan's children walked.
     void defer(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const dmat4& m);
+    void replayBudget(Ctx& sceneCtx, const LodBudgetSettings& lb);
     // `inside`: the entry's bound is known inside the frustum (no screen-rectangle test to run).
     void emit(Ctx& c, uint32_t i, const dmat4& m, bool inside);
     void emitTrimmed(Ctx& c, uint32_t i, const dmat4& m);
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye);
+    void checkPvs(const Scene& scene, const Camera& cam, const PvsTable& t);
 
     const Scene* scene_ = nullptr;
     const Camera* cam_ = nullptr;
@@ -68,11 +83,13 @@ private:
     OcclusionPass occlusion_;
     const Scene* occlusionScene_ = nullptr;  // the scene and version the occlusion pass's back-off saw
     uint64_t occlusionVersion_ = 0;
-    LodHistory lodHistory_;  // the main image's LODs (hysteresis, budget)
+    const LodChooser* chooser_ = nullptr;  // this frame's LOD rules (sg/scene/LodChooser.h)
+    bool lodTracked_ = false;              // the scene's LODs remember what they showed (hysteresis)
+    LodHistory lodHistory_;                // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
     // The budget's images this frame (the scene's, prototypes' at each placement) and each one's placement
     // key; a prototype's LODs' last children by placement and entry (last frame's, this frame's).
-    std::vector<LodBudgetPlanner::Place> places_;
+    std::vector<ImageFrame> places_;
     std::vector<uint64_t> placeKey_;
     std::unordered_map<uint64_t, uint8_t> protoLast_, protoShown_;
     // Screen-rectangle rejection (CullSettings::screenRect): on this frame, and its clusters by mesh.

@@ -1,6 +1,6 @@
 #include "sg/cull/LodBudgetPlanner.h"
 
-#include "sg/scene/LodValue.h"
+#include "sg/scene/LodChooser.h"
 
 #include <algorithm>
 #include <chrono>
@@ -62,26 +62,12 @@ uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, std::vector<uint32_t>
     return uint32_t(at);
 }
 
-// The children the ranges show at `scale`: the first and the last (-1, -1 when they show none there). With
-// `fading`, a child also where it fades in or out (LOD::setTransition), as the cull draws it with lodFade.
-void LodBudgetPlanner::shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, bool fading,
-                               int& first, int& last) {
-    const FlatImage& img = *p.img;
-    const double value = lodValue(img, i, p.rigid, p.eyeImg, p.imgToEye, p.scale, &cam, scale);
-    const FlatImage::Lod& lod = img.lods[img.aux[i]];
-    const FlatImage::Range* rg = &img.ranges[lod.firstRange];
-    const double h = fading ? 0.5 * double(lod.fade) : 0.0;
-    first = last = -1;
-    for (int c = 0; c < count; ++c)
-        if (value >= rg[c].min - h && value < rg[c].max + h) {
-            if (first < 0) first = c;
-            last = c;
-        }
-}
-
 void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
                             const DrawCostModel::Work& fixedWork, LodHistory& history, CullStats& stats) {
-    one_.assign(1, Place{&img, cam.eye() - img.origin, dmat4(1.0), 1.0, true});
+    ImageFrame f;
+    f.img = &img;
+    f.eyeImg = cam.eye() - img.origin;
+    one_.assign(1, f);
     for (Deferred& d : deferred_) {
         d.place = 0;
         d.last = history.last(d.entry);
@@ -90,12 +76,14 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
     for (size_t k = 0; k < deferred_.size(); ++k) history.show(deferred_[k].entry, LodHistory::child(chosen_[k]));
 }
 
-void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, const Camera& cam,
+void LodBudgetPlanner::plan(const std::vector<ImageFrame>& places, uint64_t version, const Camera& cam,
                             const LodBudgetSettings& b, const DrawCostModel::Work& fixedWork, CullStats& stats) {
     const auto t0 = std::chrono::steady_clock::now();
+    b.validate("LodBudgetPlanner::plan()");
     const DrawCostModel& model = *b.model;
     const double screen = double(cam.width()) * cam.height();
     const DrawCostModel::Rates rates = model.rates();
+    const LodChooser chooser({&cam});
     // Each LOD's children's work and detail, from its image (kept while the scene's version stays); then
     // room for every option at once.
     const size_t n = deferred_.size();
@@ -113,21 +101,14 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
     LodSelector::Option* op = options_.data();
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = deferred_[k].entry;
-        const Place& place = places[deferred_[k].place];
+        const ImageFrame& place = places[deferred_[k].place];
         const FlatImage& img = *place.img;
         const Work* work = &work_[workOf_[k]];
         LodSelector::Object& obj = objects_[k];
         obj.count = int(work->count);
         // Projected area of the LOD's bound, the value of drawing it at all. Its centre's distance and a
         // length's pixels are the world's: through the placement for a prototype's entry.
-        double dist;
-        if (place.rigid) {
-            const dvec3& e = place.eyeImg;
-            const double dx = img.cx[i] - e.x, dy = img.cy[i] - e.y, dz = img.cz[i] - e.z;
-            dist = std::sqrt(dx * dx + dy * dy + dz * dz);
-        } else {
-            dist = glm::length(dvec3(place.imgToEye * dvec4(img.cx[i], img.cy[i], img.cz[i], 1.0)));
-        }
+        const double dist = place.distance(img.cx[i], img.cy[i], img.cz[i]);
         const double pxPerUnit = cam.pixelSize(1.0, dist) * place.scale;  // pixels per image unit
         const double size = 2.0 * img.r[i] * pxPerUnit;
         // A level's error shows most at the bound's nearest point: beside a building's wall its coarse level is
@@ -151,7 +132,7 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
         int first = 0, limit = obj.count, a, z;
         obj.keep = false;
         if (b.coarsestScale > 0.0) {
-            shownAt(place, i, cam, b.coarsestScale, obj.count, false, a, z);
+            chooser.shownAt(place, i, b.coarsestScale, false, a, z);
             if (z >= 0) limit = z + 1;
             // Left out (b.mayDrop) only where those ranges leave it out too: never a hole where stress at its
             // coarsest draws something.
@@ -168,7 +149,7 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
         if (b.finestScale > 0.0) {
             // With the fade band: at a switch the ranges still draw the finer child, fading out, and its
             // detail (a shadow baked into a terrain tile's vertices) shows until the band ends.
-            shownAt(place, i, cam, b.finestScale, obj.count, true, a, z);
+            chooser.shownAt(place, i, b.finestScale, true, a, z);
             if (a >= 0) first = std::min(a, limit - 1);
         }
         obj.options = op + first;
@@ -182,8 +163,7 @@ void LodBudgetPlanner::plan(const std::vector<Place>& places, uint64_t version, 
     // What the rest of the frame already costs comes off the budget.
     const double fixed = model.predict(fixedWork);
     LodSelector::Overrun overrun;
-    if (b.overrunShare > 0.0 && b.overrunWorth >= 0.0 && price_ > 0.0 &&
-        std::isfinite(b.overrunShare * b.overrunWorth * price_)) {
+    if (b.overrunShare > 0.0 && price_ > 0.0 && std::isfinite(b.overrunShare * b.overrunWorth * price_)) {
         overrun.minRatio = b.overrunWorth * price_;
         overrun.maxMs = b.overrunShare * b.budgetMs;
     }

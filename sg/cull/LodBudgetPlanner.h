@@ -4,10 +4,12 @@
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/cull/CullStats.h"
 #include "sg/cull/LodHistory.h"
 #include "sg/lod/DrawCostModel.h"
 #include "sg/lod/LodSelector.h"
 #include "sg/scene/FlatImage.h"
+#include "sg/scene/ImageFrame.h"
 
 #include <vector>
 
@@ -17,23 +19,14 @@ class LodBudgetPlanner {
 public:
     // A visible LOD entry met by the walk, with the walk's state there (its planes still in play, its
     // occlusion node, its matrix) so that the chosen child is walked as it would have been. `place`: the
-    // image it is an entry of and where that image is (an index into plan()'s places: the scene's image, or
-    // an Instance's prototype at one placement); `last`: the child it showed last frame (LodHistory::kNone).
+    // image it is an entry of and where that image is (an index into plan()'s places, ImageFrames: the scene's
+    // image, or an Instance's prototype at one placement); `last`: the child it showed last frame (LodHistory::kNone).
     struct Deferred {
         uint32_t entry, mask;
         int32_t occ;
         dmat4 m;
         uint32_t place = 0;
         uint8_t last = LodHistory::kNone;
-    };
-    // An image as the eye sees it: the scene's own (rigid: distances taken in image coordinates, the eye at
-    // eyeImg), or a prototype's through its placement (imgToEye to eye-relative world, lengths times scale).
-    struct Place {
-        const FlatImage* img = nullptr;
-        dvec3 eyeImg{0.0};
-        dmat4 imgToEye{1.0};
-        double scale = 1.0;
-        bool rigid = true;
     };
     // What the budget needs of one LOD child, from the image: the work below it (triangles and draw items
     // of its geometries, nested LODs and switches counted whole: an upper bound) and its detail, a guess at
@@ -51,7 +44,7 @@ public:
     // of `version`, Scene::version()): priced for `cam` by b.model, within b.budgetMs less what `fixed`
     // (the rest of the frame) costs, each LOD's `last` child favoured by b.hysteresis. Records the plan's
     // figures (lodObjects ... lodSelectMs) in `stats`.
-    void plan(const std::vector<Place>& places, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
+    void plan(const std::vector<ImageFrame>& places, uint64_t version, const Camera& cam, const LodBudgetSettings& b,
               const DrawCostModel::Work& fixed, CullStats& stats);
     // The same for LODs that are all entries of the scene's image `img` (their place 0), their last children
     // read from `history` and this frame's choices recorded there.
@@ -73,8 +66,6 @@ private:
     // Its header's index in work_; `at`: the image's headers by entry (~0u: not worked out yet).
     uint32_t workIndex(const FlatImage& img, std::vector<uint32_t>& at, uint32_t i);
     std::vector<uint32_t>& track(const FlatImage& img, uint64_t version);  // the image's headers by entry
-    static void shownAt(const Place& p, uint32_t i, const Camera& cam, double scale, int count, bool fading, int& first,
-                        int& last);
 
     std::vector<Deferred> deferred_;
     std::vector<int> chosen_;   // per deferred LOD: the child shown, -1: none
@@ -90,7 +81,7 @@ private:
     std::vector<ImageWork> images_;
     uint64_t workVersion_ = 0;
     std::vector<uint32_t> workOf_;  // per deferred LOD: its Work header
-    std::vector<Place> one_;        // plan()'s single place, for the scene's image alone
+    std::vector<ImageFrame> one_;   // plan()'s single place, for the scene's image alone
     std::vector<LodSelector::Option> options_;
     std::vector<LodSelector::Object> objects_;
     LodSelector selector_;

@@ -13,8 +13,6 @@ namespace sg {
 namespace {
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 
-bool powerOfTwo(int v) { return v >= 8 && v <= 1024 && (v & (v - 1)) == 0; }
-
 // The corners of face (axis a, side s) of a box with corners indexed by bits (x, y, z), in order around it.
 void faceCorners(int a, int s, int out[4]) {
     const int b = (a + 1) % 3, c = (a + 2) % 3;
@@ -29,12 +27,7 @@ double cross(double ax, double ay, double bx, double by) { return ax * by - ay *
 }  // namespace
 
 OcclusionMap::Options OcclusionMap::optionsFor(const Camera& cam, const OcclusionSettings& s) {
-    if (!powerOfTwo(s.homWidth) || !powerOfTwo(s.homHeight))
-        throw std::invalid_argument("OcclusionMap::optionsFor(): the map size " + std::to_string(s.homWidth) + "x" +
-                                    std::to_string(s.homHeight) + " is not powers of two from 8 to 1024");
-    if (!(s.homOpacity > 0.0 && s.homOpacity <= 1.0))
-        throw std::invalid_argument("OcclusionMap::optionsFor(): the opacity threshold " +
-                                    std::to_string(s.homOpacity) + " is not in (0, 1]");
+    s.validate("OcclusionMap::optionsFor()");
     Options o;
     o.width = s.homWidth;
     o.height = s.homHeight;

@@ -23,6 +23,7 @@ constexpr double kWakeShare = 0.25;  // Auto: the eye's move, over its distance 
 
 int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats) {
     const OcclusionSettings& os = set.occlusion;
+    os.validate("OcclusionPass::build()");
     testMs_ = 0.0;
     hom_ = false;
     tree_.reset(cam.eye(), OcclusionTree::Options{});
@@ -79,7 +80,7 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         hom_ = os.method == OcclusionMethod::Auto && treeLeavesOccludersVisible(img, eye, os.autoMapShare);
     }
     stats.occlusionMap = hom_;
-    obbLevels_ = std::clamp(os.homObbLevels, 0, 16);
+    obbLevels_ = os.homObbLevels;
     if (hom_ && obbLevels_ > 0) obbs_.nextFrame();
     if (hom_) {
         // Larger and nearer first: the solid angle (radius over distance, squared) over the distance.

@@ -4,6 +4,7 @@
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/cull/CullStats.h"
 #include "sg/cull/ObbTree.h"
 #include "sg/cull/OcclusionMap.h"
 #include "sg/cull/OcclusionTree.h"

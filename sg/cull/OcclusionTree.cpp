@@ -69,8 +69,9 @@ int OcclusionTree::silhouette(int rx, int ry, int rz, uint8_t out[6]) {
 }
 
 OcclusionTree::Options OcclusionTree::optionsFor(const Camera& cam, const OcclusionSettings& s) {
+    s.validate("OcclusionTree::optionsFor()");
     Options o;
-    o.cap = s.cap;
+    o.cap = s.measureOnly.cap;
     o.hasNear = true;
     o.nearPlane = cam.eyePlanes()[4];
     const double zNear = std::max(-o.nearPlane.d, 0.0);
@@ -80,7 +81,7 @@ OcclusionTree::Options OcclusionTree::optionsFor(const Camera& cam, const Occlus
     // A 24-bit depth buffer separates depths that differ by z^2 / (near 2^24): keep 8 steps clear of it. A float
     // reverse-Z buffer's interpolation errs as much on a triangle reaching the near plane (architecture.md, Depth).
     o.depthMargin = zNear > 0 ? 8.0 / (zNear * 16777216.0) : 0.0;
-    o.screenSplits = std::clamp(s.screenSplits, 0, 8);
+    o.screenSplits = s.measureOnly.screenSplits;
     o.viewToWorld = glm::transpose(glm::dmat3(cam.viewRotation()));
     const dmat4& p = cam.projection();
     o.tanX = 1.0 / std::max(std::abs(p[0][0]), 1e-12) + std::abs(p[2][0]);

@@ -10,7 +10,7 @@
 #include "sg/core/Camera.h"
 #include "sg/intersect/IntersectPrimitives.h"
 #include "sg/scene/ImageWalk.h"
-#include "sg/scene/LodValue.h"
+#include "sg/scene/LodChooser.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -42,24 +42,16 @@ void checkRadius(const char* fn, double r) {
 }
 }  // namespace
 
-// Per image: the query in that image's coordinates, and what the LOD choice needs (as the cull's Ctx).
-struct IntersectTraversal::Ctx {
-    const FlatImage* img = nullptr;
-    dmat4 imgToRel{1.0};
+// Per image: where it is (ImageFrame: its "eye" is the query's relative origin, the camera's eye or the
+// query's start), and the query in that image's coordinates.
+struct IntersectTraversal::Ctx : ImageFrame {
     dvec3 o{0.0}, d{0.0}, inv{0.0};  // ray modes
     Box region;                      // sphere modes
-    dvec3 eyeImg{0.0};
-    double scale = 1.0;
-    bool rigid = true;
 };
 
 void IntersectTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) const {
-    c.img = &img;
-    c.imgToRel = t;
+    static_cast<ImageFrame&>(c) = ImageFrame::make(img, t);
     const dmat4 inv = glm::inverse(t);
-    c.eyeImg = dvec3(inv * dvec4(0, 0, 0, 1));
-    c.scale = maxScale(t);
-    c.rigid = isRigid(t);
     if (mode_ == Mode::Nearest || mode_ == Mode::All) {
         c.o = dvec3(inv * dvec4(o_, 1.0));
         c.d = glm::dmat3(inv) * d_;
@@ -88,9 +80,14 @@ void IntersectTraversal::run(const Scene& scene, const QueryOptions& opt, const 
         const dvec3 reach(radius_);
         region_ = Box{glm::min(o_, o_ + d_) - reach, glm::max(o_, o_ + d_) + reach};
     }
+    // As drawn: the cull's ranges and LOD scale (no hysteresis, budget or fade), measured from the relative
+    // origin; Highest, or a pixel-size LOD without a camera: the finest child.
+    const LodChooser chooser({opt.camera, opt.lodScale, 0.0, false, opt.lod == LodChoice::Highest});
+    chooser_ = &chooser;
     Ctx c;
     setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - q_));
     visit(c, 0, scene.root(), glm::translate(dmat4(1.0), -q_), false);
+    chooser_ = nullptr;
 }
 
 bool IntersectTraversal::intersect(const Scene& scene, const Ray& ray, const QueryOptions& opt, Hit& out) {
@@ -179,21 +176,10 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
     switch (img.kind[i]) {
         case NodeKind::Geometry: geometry(n, m); break;
         case NodeKind::Transform: children(c, i, n, transformed(img, i, m)); break;
-        case NodeKind::LOD: {
-            const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
-            const int only = lodChild(c, i, n);
-            double value = 0.0;
-            // As drawn: the cull's value, measured from the relative origin (the camera's eye, or without a
-            // camera the query's origin; a pixel-size LOD then has its finest child, from lodChild()).
-            if (only < 0)
-                value = lodValue(img, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, opt_->camera, opt_->lodScale);
-            int k = 0;
-            for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k, ++rg) {
-                const bool shown = only >= 0 ? k == only : (value >= rg->min && value < rg->max);
-                if (shown) visit(c, j, n->child(size_t(k)), m, false);
-            }
+        case NodeKind::LOD:
+            chooser_->choose(c, i, {},
+                             [&](const LodChooser::Shown& k) { visit(c, k.entry, n->child(k.child), m, false); });
             break;
-        }
         case NodeKind::Switch: {
             const auto* sw = static_cast<const Switch*>(n);
             size_t k = 0;
@@ -227,14 +213,8 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
             // The detail when attached and shown (as the LOD choice says), else the coarse children. The
             // detail's image is in this image's frame, shifted to its own origin.
             const FlatImage::Paged& p = img.paged[img.aux[i]];
-            bool fine = p.detail != nullptr;
             const auto* pl = static_cast<const PagedLOD*>(n);
-            if (fine && pl->trigger() == PagedLOD::Trigger::Range && opt_->lod == LodChoice::AsDrawn &&
-                (opt_->camera || pl->mode() == PagedLOD::Mode::Distance)) {
-                const double value =
-                    lodValue(img, p.lod, i, c.rigid, c.eyeImg, c.imgToRel, c.scale, opt_->camera, opt_->lodScale);
-                fine = value >= p.min && value < p.max;
-            }
+            const bool fine = p.detail != nullptr && chooser_->detailWanted(c, i);
             if (!fine) {  // the entry's children are the node's but the detail
                 size_t k = 0;
                 for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k) {
@@ -245,7 +225,7 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
             }
             if (p.detail->size() == 0) break;
             Ctx sub;
-            setupCtx(sub, *p.detail, c.imgToRel * glm::translate(dmat4(1.0), p.detail->origin - img.origin));
+            setupCtx(sub, *p.detail, c.imgToEye * glm::translate(dmat4(1.0), p.detail->origin - img.origin));
             visit(sub, 0, pl->detail(), m, false);
             break;
         }
@@ -253,19 +233,6 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
         default: children(c, i, n, m); break;
     }
     path_.pop_back();
-}
-
-// The LOD child seen whatever the distance (Highest, or a pixel-size LOD without a camera), or -1: by range.
-int IntersectTraversal::lodChild(const Ctx& c, uint32_t i, Node* n) const {
-    const FlatImage& img = *c.img;
-    const bool pixel = static_cast<const LOD*>(n)->mode() == LOD::Mode::PixelSize;
-    if (opt_->lod == LodChoice::AsDrawn && (opt_->camera || !pixel)) return -1;
-    // The most detailed: nearest range (distance) or largest pixel size.
-    const FlatImage::Range* rg = &img.ranges[img.lods[img.aux[i]].firstRange];
-    int best = 0, k = 0;
-    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j], ++k)
-        if (pixel ? rg[k].max > rg[best].max : rg[k].min < rg[best].min) best = k;
-    return best;
 }
 
 // A child's sphere from a Group's side-by-side columns (FlatImage::Wide) against the query: a cheap first

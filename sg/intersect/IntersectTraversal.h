@@ -9,6 +9,8 @@
 
 namespace sg {
 
+class LodChooser;
+
 struct IntersectStats {
     uint64_t entriesVisited = 0;    // image entries reached (after masks)
     uint64_t geometriesTested = 0;  // geometries whose BVH was queried
@@ -52,13 +54,13 @@ private:
     void visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool tested);
     void children(Ctx& c, uint32_t i, Node* n, const dmat4& m);
     void geometry(Node* n, const dmat4& m);
-    int lodChild(const Ctx& c, uint32_t i, Node* n) const;
 
     // The query, in coordinates relative to `q_` (the camera's eye, or the query's origin): matrices map
     // a node's frame there, so that a scene far from the world origin keeps its precision.
     Mode mode_ = Mode::Nearest;
     const Scene* scene_ = nullptr;
     const QueryOptions* opt_ = nullptr;
+    const LodChooser* chooser_ = nullptr;  // the query's LOD rules (sg/scene/LodChooser.h)
     dvec3 q_{0.0};
     dvec3 o_{0.0}, d_{0.0};  // ray, or sphere centre and motion
     double tMax_ = 0.0, radius_ = 0.0;

@@ -15,7 +15,7 @@ namespace sg {
 
 // One entry per node per path (a shared child appears once under each parent; an Instance's prototype
 // has an image of its own). Bounds are world-space boxes and spheres sharing one centre, stored in float
-// relative to `origin`, each rounded outward by its own rounding error (see sg/Math.h, eps).
+// relative to `origin`, each rounded outward by its own rounding error (see sg/core/Math.h, eps).
 struct FlatImage {
     enum Flag : uint8_t {
         kInvalid = 1,   // non-finite bound: never culled, always drawn, counted

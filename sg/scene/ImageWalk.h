@@ -1,7 +1,8 @@
 // What the walks over a Scene's flat image (the cull, the intersection traversal) share: an entry's
-// transform composed with its parent's, whether a frame keeps lengths, and the checks before a walk.
+// transform composed with its parent's, and the checks before a walk.
 // Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
 #pragma once
+#include "sg/scene/ImageFrame.h"
 #include "sg/scene/Scene.h"
 
 #include <cmath>
@@ -14,16 +15,6 @@ namespace sg {
 inline dmat4 transformed(const FlatImage& img, uint32_t i, const dmat4& parent) {
     return (img.flags[i] & FlatImage::kGeneral) ? parent * *img.matrices[img.aux[i]]
                                                 : mulTranslate(parent, img.translations[img.aux[i]]);
-}
-
-// Whether `t` keeps lengths (A^T A == I within eps::kRigid for its linear part A): distances may then be taken in
-// the frame it maps from.
-inline bool isRigid(const dmat4& t) {
-    const glm::dmat3 a(t);
-    const glm::dmat3 ata = glm::transpose(a) * a;
-    return glm::length(ata[0] - dvec3(1, 0, 0)) + glm::length(ata[1] - dvec3(0, 1, 0)) +
-               glm::length(ata[2] - dvec3(0, 0, 1)) <
-           eps::kRigid;
 }
 
 // Throws std::logic_error naming `fn` when the scene changed since its last update() (its image is stale).

@@ -196,7 +196,7 @@ TEST(LodBudgetPlanner, NoLevelFinerThanTheRangesShowAtTheFinestScale) {
 // budget; the others are drawn at their cheapest allowed level.
 TEST(LodBudgetPlanner, LeavesOutOnlyWhatTheRangesLeaveOutAtTheCoarsestScale) {
     RowPlan p;
-    p.b.budgetMs = 0.0;  // below the fixed cost: every LOD would go
+    p.b.budgetMs = 1e-6;  // below the fixed cost: every LOD would go
     p.b.mayDrop = true;
     p.b.coarsestScale = 1e4;  // 20-170 m look like 2e5-1.7e6: shown (fine below 100 m); 200 m and on: none
     const CullStats st = p.plan();
@@ -234,14 +234,24 @@ TEST(LodBudgetPlanner, ALateFrameStillBuysWhatIsWorthManyTimesTheUsualPrice) {
     for (size_t k = 5; k < p.lods.size(); ++k) EXPECT_EQ(p.planner.chosen(k), 1) << "LOD " << k;
     EXPECT_GT(st.lodPredictedMs, late.lodPredictedMs);
     EXPECT_LE(st.lodPredictedMs, late.lodPredictedMs + 1.0 + 1e-9);
-    // Impossible settings turn the overrun off, as 0 does.
+    p.b.overrunShare = 0.0;  // off: the budget is a hard limit
+    EXPECT_EQ(p.plan().lodLevels[1], 20u);
+    // Impossible settings are refused by name.
+    p.b.overrunShare = 10.0;
     for (double worth : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
         p.b.overrunWorth = worth;
-        EXPECT_EQ(p.plan().lodLevels[1], 20u) << worth;
+        try {
+            p.plan();
+            ADD_FAILURE() << "overrunWorth " << worth << " accepted";
+        } catch (const SettingError& e) {
+            EXPECT_EQ(e.setting(), "lodBudget.overrunWorth");
+            EXPECT_NE(std::string(e.what()).find("LodBudgetPlanner::plan(): lodBudget.overrunWorth"), std::string::npos)
+                << e.what();
+        }
     }
     p.b.overrunWorth = 4.0;
     p.b.overrunShare = std::nan("");
-    EXPECT_EQ(p.plan().lodLevels[1], 20u);
+    EXPECT_THROW(p.plan(), SettingError);
 }
 
 // finestScale and a fade band: past a switch the ranges still draw the finer child, fading out, to the end of

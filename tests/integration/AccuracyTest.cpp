@@ -55,7 +55,7 @@ CullSettings occlusion(OcclusionMode mode, OccluderCap cap = OccluderCap::FrontF
     CullSettings c;
     c.occlusion.mode = mode;
     c.occlusion.method = OcclusionMethod::Tree;  // the map's rows set it
-    c.occlusion.cap = cap;
+    c.occlusion.measureOnly.cap = cap;
     return c;
 }
 

@@ -34,9 +34,9 @@ TEST(TerrainCull, RefinementsAreConservative) {
     CullSettings base;
     base.occlusion.mode = OcclusionMode::Off;
     std::vector<CullSettings> s(7, base);
-    s[1].planeMasking = false;
-    s[2].eyeInsideSkip = false;
-    s[3].frustumPlanes = kTerrainPaperPlanes;
+    s[1].measureOnly.planeMasking = false;
+    s[2].measureOnly.eyeInsideSkip = false;
+    s[3].measureOnly.frustumPlanes = kTerrainPaperPlanes;
     s[4].strategy = CullStrategy::Sphere;
     s[5].strategy = CullStrategy::SphereSphere;
     s[6].smallFeaturePixels = 1.0;

@@ -1,0 +1,55 @@
+// CullStats: what one cull counted (tests by kind, what each culled, the occlusion pass, the LOD budget, paged
+// nodes, the screen-rectangle rejection) and how long it took.
+#pragma once
+#include <cstdint>
+
+namespace sg {
+
+struct CullStats {
+    uint64_t nodesVisited = 0;
+    uint64_t boundsTested = 0;
+    uint64_t kernelEntries = 0;       // bounds classified by the flat kernel (straddling subtrees)
+    uint64_t culledFrustum = 0;       // by the plane tests
+    uint64_t culledSphereSphere = 0;  // by the frustum-sphere pre-test
+    uint64_t culledCenterBox = 0;
+    uint64_t culledSmallFeature = 0;
+    uint64_t instancesVisited = 0;
+    uint64_t geometries = 0;
+    uint64_t triangles = 0;
+    uint64_t invalidDrawn = 0;  // geometries with a NaN/infinite bound, drawn because never culled
+    // Occlusion pass
+    bool occlusionRan = false;        // the pass ran: a tree or a map was built (occluders in view, not skipped)
+    bool occlusionSkipped = false;    // Auto mode skipped it this frame
+    bool occlusionMap = false;        // the pass built the occlusion map, not the tree (OcclusionMethod)
+    uint64_t occluderCandidates = 0;  // occluders in view and large enough
+    uint64_t occludersUsed = 0;       // added something to the tree
+    uint64_t occlusionTreeNodes = 0;
+    uint64_t occlusionPolygonSplits = 0;  // occluder polygons split while growing the tree
+    uint64_t occlusionBoxSplits = 0;      // bounds split by a tree plane while tested
+    uint64_t occlusionTests = 0;
+    uint64_t culledOcclusion = 0;  // bounds culled as occluded
+    uint64_t culledObb = 0;  // of them, geometries culled by their oriented boxes (OcclusionSettings::homObbLevels)
+    uint64_t occludedEntries = 0;  // image entries below them (work the walk skipped)
+    double occlusionMs = 0.0;      // growing the tree plus the tests
+    // LOD budget
+    uint64_t lodObjects = 0;      // visible LODs planned
+    uint64_t lodDropped = 0;      // left out to fit the budget
+    uint64_t lodLevels[4] = {};   // LODs shown at child 0, 1, 2, and 3 or more
+    double lodBudgetMs = 0.0;     // the budget planned for (LodBudgetSettings::budgetMs)
+    double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
+    double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
+    double lodSelectMs = 0.0;
+    // Paged nodes (PagedLOD)
+    uint64_t pagedWanted = 0;     // seen with their detail in range
+    uint64_t pagedRequested = 0;  // posted for loading (once per update each)
+    uint64_t pagedCoarse = 0;     // wanted but not loaded yet: their coarse level was drawn
+    double ms = 0.0;
+    uint64_t culledPvs = 0;  // entries culled as hidden from the eye's cell (CullSettings::pvs)
+    // Screen-rectangle rejection (CullSettings::screenRect); `triangles` above counts what is left.
+    uint64_t screenRectClusters = 0;          // clusters tested
+    uint64_t culledScreenRectClusters = 0;    // clusters outside the viewport
+    uint64_t culledScreenRectTriangles = 0;   // their triangles
+    uint64_t culledScreenRectGeometries = 0;  // geometries every cluster of which was outside (not drawn)
+};
+
+}  // namespace sg

@@ -1,0 +1,159 @@
+// The cull's walk: visit() runs an entry's tests, then the handler of its node kind, each a few lines.
+#include "nodes/Billboard.h"
+#include "nodes/BspGroup.h"
+#include "nodes/Instance.h"
+#include "nodes/PagedLOD.h"
+#include "nodes/Switch.h"
+#include "sg/cull/CullContext.h"
+#include "sg/scene/ImageWalk.h"
+
+namespace sg {
+
+// Entry i's tests in order (the PVS, masks, the planes, small features, occlusion), then its kind's handler.
+void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    const FlatImage& img = *c.img;
+    stats_->nodesVisited++;
+    if (cull::pvsHides(c.pvsHidden, i)) {
+        stats_->culledPvs++;
+        return;
+    }
+    const uint8_t fl = img.flags[i];
+    if (fl & FlatImage::kEmpty) return;
+    if ((fl & FlatImage::kMasked) && !(img.maskedNode(i)->nodeMask() & set_->traversalMask)) return;
+    const uint32_t maskIn = mask;
+    // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
+    struct BatchScope {
+        CullTraversal& t;
+        Ctx& c;
+        const uint32_t base;
+        const size_t off;
+        ~BatchScope() {
+            if (c.clsBase != base) t.cls_.resize(c.clsOffset);
+            c.clsBase = base;
+            c.clsOffset = off;
+        }
+    } scope{*this, c, c.clsBase, c.clsOffset};
+    if (mask && !(fl & FlatImage::kNoTest) && !(fl & FlatImage::kInvalid)) {
+        const uint32_t before = mask;
+        if (!test(c, i, mask)) return;
+        if (!set_->measureOnly.planeMasking) mask = before;
+    }
+    if (set_->smallFeaturePixels > 0.0 && !(fl & FlatImage::kInvalid)) {
+        const double dist = glm::length(img.center(i) - img.origin - c.eyeImg);
+        if (cam_->pixelSize(2.0 * img.r[i] * c.scale, dist) < set_->smallFeaturePixels) {
+            stats_->culledSmallFeature++;
+            return;
+        }
+    }
+    // Occlusion: Transform and LOD entries leave it to their children (same bounds, one test fewer).
+    if (occ != OcclusionTree::kVisible && !(fl & FlatImage::kInvalid)) {
+        const NodeKind k = img.kind[i];
+        if (k != NodeKind::Transform && k != NodeKind::LOD && k != NodeKind::Occluder &&
+            !occlusion_.test(img, c.originRel, i, occ, *stats_, k == NodeKind::Geometry ? &m : nullptr))
+            return;
+    }
+    switch (img.kind[i]) {
+        case NodeKind::Geometry:
+            // (the centre-box test clears the mask without the bound being inside)
+            emit(c, i, m, maskIn == 0 || (mask == 0 && set_->strategy != CullStrategy::CenterBox));
+            break;
+        case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
+        case NodeKind::LOD: lod(c, i, mask, occ, m, [&](uint32_t j) { visit(c, j, mask, m, occ); }); break;
+        case NodeKind::Switch: switchChildren(c, i, mask, m, occ); break;
+        case NodeKind::Billboard: billboard(c, i, m); break;
+        case NodeKind::Instance: instance(c, i, mask, m); break;
+        case NodeKind::BspGroup: bspGroup(c, i, mask, m, occ); break;
+        case NodeKind::PagedLOD: pagedLod(c, i, mask, m, occ); break;
+        case NodeKind::Occluder: break;  // used by the occlusion passes, never drawn
+        case NodeKind::Group: group(c, i, mask, m, occ); break;
+    }
+}
+
+void CullTraversal::group(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    if (mask && c.img->aux[i] && c.clsBase == ~0u) return wideChildren(c, i, mask, m, occ);
+    children(c, i, mask, m, occ);
+}
+
+void CullTraversal::switchChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    const FlatImage& img = *c.img;
+    const auto* sw = static_cast<Switch*>(img.nodes[img.aux[i]]);
+    uint32_t j = i + 1;
+    for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j])
+        if (sw->isOn(k)) visit(c, j, mask, m, occ);
+}
+
+void CullTraversal::billboard(Ctx& c, uint32_t i, const dmat4& m) {
+    const auto* bb = static_cast<Billboard*>(c.img->nodes[c.img->aux[i]]);
+    const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
+    // Its own tests covered the children (their bounds are the billboard's).
+    children(c, i, 0u, m * bb->rotationToward(eyeLocal), OcclusionTree::kVisible);
+}
+
+void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
+    const auto* in = static_cast<Instance*>(c.img->nodes[c.img->aux[i]]);
+    const FlatImage* p = in->prototype() ? scene_->prototypeImage(in->prototype()) : nullptr;
+    if (!p || p->size() == 0) return;
+    stats_->instancesVisited++;
+    const dmat4 pm = m * in->matrix();
+    Ctx sub;
+    setupCtx(sub, *p, glm::translate(pm, p->origin));
+    sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;  // this placement, under its parent's
+    // Same six planes, transformed: planes the placement's bound was inside of stay done. The placement's
+    // own bound had its occlusion test; its prototype's bounds are not world boxes, so none below.
+    visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
+}
+
+void CullTraversal::bspGroup(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    const FlatImage& img = *c.img;
+    const auto* g = static_cast<BspGroup*>(img.nodes[img.aux[i]]);
+    const dvec3 eyeLocal(glm::inverse(m) * dvec4(0, 0, 0, 1));
+    // Child entry indices by child number, then the BSP's front-to-back order over them; indexed, as the
+    // BspGroups below push onto scratch_ too.
+    const size_t base = scratch_.size();
+    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) scratch_.push_back(j);
+    const size_t nChildren = scratch_.size() - base;
+    g->order(eyeLocal, bspOrder_);
+    scratch_.insert(scratch_.end(), bspOrder_.begin(), bspOrder_.end());
+    const size_t orderEnd = scratch_.size();
+    for (size_t o = base + nChildren; o < orderEnd; ++o)
+        if (scratch_[o] < nChildren) visit(c, scratch_[base + scratch_[o]], mask, m, occ);
+    scratch_.resize(base);
+}
+
+// The detail when it is wanted and attached, else the coarse children. A wanted detail that is not loaded is
+// posted for the pager once per update, and the coarse level drawn meanwhile: the frame never waits for it.
+void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Paged& p = img.paged[img.aux[i]];
+    auto* node = static_cast<PagedLOD*>(p.node);
+    const bool wanted = chooser_->detailWanted(c, i);
+    if (wanted && node->trigger() == PagedLOD::Trigger::Range) {
+        stats_->pagedWanted++;
+        if (node->markNeeded(scene_->updateCount()) && node->state() == PagedLOD::State::Unloaded) {
+            scene_->pageRequests().post(node);
+            stats_->pagedRequested++;
+        }
+    }
+    if (wanted && p.detail) {
+        // The detail's image is in this image's frame, shifted to its own origin: the same planes (and the
+        // plane mask), the same occlusion tree.
+        const FlatImage& d = *p.detail;
+        if (d.size() == 0) return;
+        Ctx sub;
+        setupCtx(sub, d, c.imgToEye * glm::translate(dmat4(1.0), d.origin - img.origin));
+        sub.originRel = c.originRel + (d.origin - img.origin);
+        visit(sub, 0, mask, m, occ);
+        return;
+    }
+    if (wanted) stats_->pagedCoarse++;
+    children(c, i, mask, m, occ);
+}
+
+void CullTraversal::children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
+    const FlatImage& img = *c.img;
+    if (mask == 0 && set_->smallFeaturePixels == 0.0 && occ == OcclusionTree::kVisible)
+        return inside(c, i + 1, img.end[i], m);
+    for (uint32_t j = i + 1; j < img.end[i]; j = img.end[j]) visit(c, j, mask, m, occ);
+}
+
+}  // namespace sg
