@@ -1,6 +1,7 @@
 #include "sg/gl/Renderer.h"
 
 #include "sg/gl/GlProgram.h"
+#include "sg/io/ImageOps.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -9,7 +10,6 @@
 #endif
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -154,65 +154,6 @@ void drainGl() {
 inline void checkGl(const char*, const char*) {}
 inline void drainGl() {}
 #endif
-
-// The texels with alpha 0 take the colour of their nearest visible texels, ring by ring (the average of
-// the neighbours filled before them): filtering and mipmaps at a cut edge then mix only colours of the
-// picture, never the hidden ones, which are often black or white.
-std::vector<uint8_t> bleedIntoTransparent(const Texture& t) {
-    const int w = t.width(), h = t.height();
-    std::vector<uint8_t> px = t.rgba();
-    std::vector<int> ring;
-    std::vector<char> filled(size_t(w) * size_t(h));
-    for (size_t i = 0; i < filled.size(); ++i) filled[i] = px[i * 4 + 3] != 0;
-    auto edge = [&](int x, int y) {
-        if (filled[size_t(y) * size_t(w) + size_t(x)]) return false;
-        return (x > 0 && filled[size_t(y) * size_t(w) + size_t(x - 1)]) ||
-               (x + 1 < w && filled[size_t(y) * size_t(w) + size_t(x + 1)]) ||
-               (y > 0 && filled[size_t(y - 1) * size_t(w) + size_t(x)]) ||
-               (y + 1 < h && filled[size_t(y + 1) * size_t(w) + size_t(x)]);
-    };
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (edge(x, y)) ring.push_back(y * w + x);
-    std::vector<int> next;
-    std::vector<std::array<uint8_t, 3>> colour;
-    while (!ring.empty()) {
-        colour.clear();
-        for (int i : ring) {
-            const int x = i % w, y = i / w;
-            int sum[3] = {0, 0, 0}, n = 0;
-            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                const size_t j = size_t(ny) * size_t(w) + size_t(nx);
-                if (!filled[j]) continue;
-                for (int c = 0; c < 3; ++c) sum[c] += px[j * 4 + size_t(c)];
-                ++n;
-            }
-            colour.push_back(
-                {uint8_t((sum[0] + n / 2) / n), uint8_t((sum[1] + n / 2) / n), uint8_t((sum[2] + n / 2) / n)});
-        }
-        for (size_t k = 0; k < ring.size(); ++k) {
-            const size_t i = size_t(ring[k]);
-            filled[i] = 1;
-            for (size_t c = 0; c < 3; ++c) px[i * 4 + c] = colour[k][c];
-        }
-        next.clear();
-        for (int i : ring) {
-            const int x = i % w, y = i / w;
-            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                const int j = ny * w + nx;
-                if (!filled[size_t(j)]) next.push_back(j);
-            }
-        }
-        std::sort(next.begin(), next.end());
-        next.erase(std::unique(next.begin(), next.end()), next.end());
-        ring.swap(next);
-    }
-    return px;
-}
 
 }  // namespace
 
@@ -438,9 +379,13 @@ Renderer::GpuTexture& Renderer::texture(const Texture* t, bool cut) {
     glBindTexture(GL_TEXTURE_2D, g.id);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     // The first row of the RGBA array is v = 0.
-    const std::vector<uint8_t> bled = cut ? bleedIntoTransparent(*t) : std::vector<uint8_t>{};
+    Image bled;
+    if (cut) {
+        bled = Image{t->width(), t->height(), t->rgba()};
+        bleedIntoTransparent(bled);
+    }
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 cut ? bled.data() : t->rgba().data());
+                 cut ? bled.rgba.data() : t->rgba().data());
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
