@@ -1,7 +1,8 @@
 #include "sg/gl/Renderer.h"
 
 #include "sg/gl/GlProgram.h"
-#include "sg/io/ImageOps.h"
+#include "sg/gl/GpuCache.h"
+#include "sg/gl/Shaders.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -23,96 +24,6 @@
 namespace sg {
 
 namespace {
-
-const char* kVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in vec3 aNormal;
-layout(location = 2) in vec2 aUv;
-layout(location = 3) in vec4 aColor;
-layout(location = 4) in mat4 aModel;  // per instance: locations 4 to 7
-// The material's base colour, per instance: the value that differs between most materials. As a uniform it
-// would change between most draws, and llvmpipe stores its whole rasterizer state (tens of kilobytes) again
-// for every draw whose uniforms differ from the one before.
-layout(location = 8) in vec4 aBaseColor;
-uniform mat4 uViewProj;
-out vec3 vNormal;
-out vec3 vFromEye;  // world offset from the eye: the models' matrices carry the eye's translation
-out vec2 vUv;
-out vec4 vColor;
-flat out vec4 vBaseColor;
-void main() {
-    vec4 world = aModel * vec4(aPosition, 1.0);
-    vFromEye = world.xyz;
-    gl_Position = uViewProj * world;
-    // The cofactor matrix is det * inverse-transpose: right under non-uniform scale, and its sign does
-    // not matter with two-sided lighting.
-    mat3 m = mat3(aModel);
-    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
-    vUv = aUv;
-    vColor = aColor;
-    vBaseColor = aBaseColor;
-}
-)";
-
-const char* kFragmentShader = R"(#version 330 core
-in vec3 vNormal;
-in vec3 vFromEye;
-in vec2 vUv;
-in vec4 vColor;
-flat in vec4 vBaseColor;
-uniform vec3 uLightDir;  // unit, toward the light (the headlight: the view direction)
-uniform bool uHeadlight;
-uniform vec3 uAmbient, uLightColor;  // DirectionalLight, when not the headlight
-uniform bool uUseTexture;
-uniform bool uUseColor;
-uniform bool uBakedLight;  // Material::bakedLight: vertex alpha is sun visibility, not opacity
-uniform bool uLit;
-uniform float uSpecular, uShininess;
-uniform sampler2D uTexture;
-uniform float uAlphaCutoff;  // Material::alphaCutoff
-uniform float uFade;  // DrawList::fades: 1 opaque; f > 0 keeps pattern < f; f < 0 keeps pattern >= 1 + f
-out vec4 fragColor;
-void main() {
-    if (uFade < 1.0) {
-        // Interleaved gradient noise (Jimenez 2014): a pattern value per pixel, evenly spread, no visible grid.
-        float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
-        if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
-    }
-    vec4 c = vBaseColor;
-    if (uUseTexture) c *= texture(uTexture, vUv);
-    float sun = 1.0;
-    if (uUseColor) {
-        if (uBakedLight) {
-            c.rgb *= vColor.rgb;
-            sun = vColor.a;
-        } else {
-            c *= vColor;
-        }
-    }
-    if (c.a < uAlphaCutoff) discard;
-    if (uLit) {
-        float len = length(vNormal);
-        if (uHeadlight) {
-            float d = len > 0.0 ? abs(dot(vNormal / len, uLightDir)) : 1.0;
-            c.rgb *= 0.35 + 0.65 * d * sun;
-        } else {
-            vec3 v = -normalize(vFromEye);
-            vec3 n = len > 0.0 ? vNormal / len : v;
-            if (dot(n, v) < 0.0) n = -n;  // the side the eye sees: normals' sign varies with winding and mirroring
-            float nl = max(dot(n, uLightDir), 0.0);
-            vec3 direct = uLightColor * (nl * sun);
-            vec3 rgb = c.rgb * (uAmbient + direct);
-            if (uSpecular > 0.0 && nl > 0.0)
-                rgb += uLightColor * (sun * uSpecular * pow(max(dot(n, normalize(uLightDir + v)), 0.0), uShininess));
-            c.rgb = rgb;
-        }
-    }
-    fragColor = c;
-}
-)";
-
-constexpr GLuint kInstanceLoc = 4;
-constexpr GLuint kInstanceAttribs = 5;  // the matrix's 4 columns, the base colour
 
 // OSMesa's library exports only part of GL 4.5 (not glClipControl): ask it; the system libGL exports all.
 PFNGLCLIPCONTROLPROC clipControl() {
@@ -212,13 +123,14 @@ Renderer::Renderer() {
                           rendererName.find("softpipe") != std::string::npos ||
                           rendererName.find("swrast") != std::string::npos;
     if (software) keepFreedMemory();
+    float maxAnisotropy = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     GLint extensions = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
     for (GLint i = 0; i < extensions && !software; ++i) {
         const auto* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
         if (e && (std::strcmp(e, "GL_EXT_texture_filter_anisotropic") == 0 ||
                   std::strcmp(e, "GL_ARB_texture_filter_anisotropic") == 0)) {
-            glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &maxAnisotropy_);
+            glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &maxAnisotropy);
             break;
         }
     }
@@ -238,19 +150,14 @@ Renderer::Renderer() {
         glDeleteProgram(program_);
         throw;
     }
+    cache_ = std::make_unique<GpuCache>(instanceVbo_, maxAnisotropy);
 }
 
 Renderer::~Renderer() {
-    clear();
+    cache_.reset();
     releaseDepthTarget();
     glDeleteBuffers(1, &instanceVbo_);
     glDeleteProgram(program_);
-}
-
-void Renderer::destroy(GpuMesh& g) {
-    glDeleteVertexArrays(1, &g.vao);
-    glDeleteBuffers(1, &g.vbo);
-    glDeleteBuffers(1, &g.ibo);
 }
 
 void Renderer::setDepthMode(DepthMode mode) {
@@ -300,102 +207,6 @@ void Renderer::releaseDepthTarget() {
     depthW_ = depthH_ = 0;
 }
 
-Renderer::GpuMesh& Renderer::mesh(const Mesh* m) {
-    auto it = meshes_.find(m);
-    if (it != meshes_.end()) {
-        it->second.lastFrame = frame_;
-        return it->second;
-    }
-    GpuMesh g;
-    g.mesh = m;
-    g.lastFrame = frame_;
-    const size_t n = m->positions().size();
-    g.normals = m->normals().size() == n;
-    g.uvs = m->uvs().size() == n;
-    g.colors = m->colors().size() == n;
-    // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
-    const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
-                 uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0;
-    const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes;
-    glGenVertexArrays(1, &g.vao);
-    glBindVertexArray(g.vao);
-    glGenBuffers(1, &g.vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colOff + colBytes), nullptr, GL_STATIC_DRAW);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    if (g.normals) {
-        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(nrmOff), GLsizeiptr(nrmBytes), m->normals().data());
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(nrmOff));
-    }
-    if (g.uvs) {
-        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(uvOff), GLsizeiptr(uvBytes), m->uvs().data());
-        glEnableVertexAttribArray(2);
-        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(uvOff));
-    }
-    if (g.colors) {
-        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(colOff), GLsizeiptr(colBytes), m->colors().data());
-        glEnableVertexAttribArray(3);
-        glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(colOff));
-    }
-    glGenBuffers(1, &g.ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
-    if (!m->indices16().empty()) {
-        g.indexType = GL_UNSIGNED_SHORT;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices16().size() * 2), m->indices16().data(),
-                     GL_STATIC_DRAW);
-    } else {
-        g.indexType = GL_UNSIGNED_INT;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices32().size() * 4), m->indices32().data(),
-                     GL_STATIC_DRAW);
-    }
-    g.indexCount = GLsizei(m->indexCount());
-    // The instance's matrix and material: their pointers are set per run, to the run's place in the instance
-    // buffer.
-    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-    for (GLuint c = 0; c < kInstanceAttribs; ++c) {
-        glEnableVertexAttribArray(kInstanceLoc + c);
-        glVertexAttribDivisor(kInstanceLoc + c, 1);
-        glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
-                              reinterpret_cast<const void*>(c * sizeof(vec4)));
-    }
-    glBindVertexArray(0);
-    return meshes_.emplace(m, std::move(g)).first->second;
-}
-
-Renderer::GpuTexture& Renderer::texture(const Texture* t, bool cut) {
-    auto& cache = cut ? cutTextures_ : textures_;
-    auto it = cache.find(t);
-    if (it != cache.end()) {
-        it->second.lastFrame = frame_;
-        return it->second;
-    }
-    GpuTexture g;
-    g.texture = t;
-    g.lastFrame = frame_;
-    glGenTextures(1, &g.id);
-    glBindTexture(GL_TEXTURE_2D, g.id);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    // The first row of the RGBA array is v = 0.
-    Image bled;
-    if (cut) {
-        bled = Image{t->width(), t->height(), t->rgba()};
-        bleedIntoTransparent(bled);
-    }
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 cut ? bled.rgba.data() : t->rgba().data());
-    glGenerateMipmap(GL_TEXTURE_2D);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    if (maxAnisotropy_ > 1.0f && t->maxAnisotropy > 1.0f)
-        glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, std::min(t->maxAnisotropy, maxAnisotropy_));
-    return cache.emplace(t, std::move(g)).first->second;
-}
-
 Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
     Shading s;
     s.texture = texture != 0;
@@ -427,14 +238,14 @@ void Renderer::setShading(const Shading& s) {
 void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
     const auto t0 = std::chrono::steady_clock::now();
     drainGl();
-    ++frame_;
+    cache_->nextFrame();
     stats_ = RenderStats{};
 
     // Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
-    instances_.clear();
+    items_.clear();
     runs_.clear();
-    Instance instance;
+    ItemAttributes item;
     fades_.clear();
     if (!list.fades.empty()) {  // dissolving items are few: a dense copy only in frames that have them
         fades_.assign(list.items.size(), 1.0f);
@@ -471,19 +282,19 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         const uint32_t part = parts_.empty() ? kWhole : parts_[i];
         if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
             runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole) {
-            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade, part});
-            instance.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
+            runs_.push_back(Run{it.mesh, it.material, uint32_t(items_.size()), 0, fade, part});
+            item.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
         }
         runs_.back().count++;
-        instance.model = it.matrix();
-        instances_.push_back(instance);
+        item.model = it.matrix();
+        items_.push_back(item);
     }
     // Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
     // draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
     for (Run& r : runs_) {
-        r.gpu = &mesh(r.mesh);
+        r.gpu = &cache_->mesh(r.mesh);
         const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
-        r.texture = tex ? texture(tex, r.material->alphaCutoff > 0.0f).id : 0;
+        r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
     }
 
     // ReverseZ: the frame goes to the renderer's framebuffer (float depth), then its colour to the target.
@@ -517,9 +328,9 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     if (!runs_.empty()) {
         glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
         // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
-        const auto bytes = GLsizeiptr(instances_.size() * sizeof(Instance));
+        const auto bytes = GLsizeiptr(items_.size() * sizeof(ItemAttributes));
         glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
-        glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, instances_.data());
+        glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, items_.data());
 
         glUseProgram(program_);
         shadingSet_ = false;  // set in full by the first run
@@ -538,18 +349,14 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
             const GpuMesh& g = *r.gpu;
             glBindVertexArray(g.vao);
             glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-            // GL 3.3 has no base instance: point the instance attributes at the run's first instance.
-            const size_t first = size_t(r.first) * sizeof(Instance);
-            for (GLuint c = 0; c < kInstanceAttribs; ++c)
-                glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
-                                      reinterpret_cast<const void*>(first + c * sizeof(vec4)));
+            pointItemAttributes(r.first);
             if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
             setShading(shading(g, r.material, r.fade, r.texture));
             if (r.part == kWhole) {
                 glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
                 stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
             } else {
-                // One item, its ranges: a non-instanced draw reads the instance attributes' first element.
+                // One item, its ranges: a non-instanced draw reads the item attributes' first element.
                 const DrawList::Part& p = list.parts[r.part];
                 const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
                 rangeCounts_.clear();
@@ -630,33 +437,12 @@ std::vector<float> Renderer::readDepth() const {
     return out;
 }
 
-void Renderer::releaseUnused() {
-    for (auto it = meshes_.begin(); it != meshes_.end();) {
-        if (it->second.lastFrame == frame_) {
-            ++it;
-            continue;
-        }
-        destroy(it->second);
-        it = meshes_.erase(it);
-    }
-    for (auto* cache : {&textures_, &cutTextures_})
-        for (auto it = cache->begin(); it != cache->end();) {
-            if (it->second.lastFrame == frame_) {
-                ++it;
-                continue;
-            }
-            glDeleteTextures(1, &it->second.id);
-            it = cache->erase(it);
-        }
-}
+void Renderer::releaseUnused() { cache_->releaseUnused(); }
 
-void Renderer::clear() {
-    for (auto& [m, g] : meshes_) destroy(g);
-    meshes_.clear();
-    for (auto* cache : {&textures_, &cutTextures_}) {
-        for (auto& [t, g] : *cache) glDeleteTextures(1, &g.id);
-        cache->clear();
-    }
-}
+void Renderer::clear() { cache_->clear(); }
+
+size_t Renderer::cachedMeshes() const { return cache_->meshCount(); }
+
+size_t Renderer::cachedTextures() const { return cache_->textureCount(); }
 
 }  // namespace sg

@@ -8,11 +8,16 @@
 #include "sg/cull/DrawList.h"
 #include "sg/io/ImageIO.h"
 
+#include <cstddef>
 #include <cstdint>
-#include <unordered_map>
+#include <memory>
 #include <vector>
 
 namespace sg {
+
+class GpuCache;  // sg/gl/GpuCache.h, internal
+struct GpuMesh;
+struct ItemAttributes;  // sg/gl/Shaders.h, internal
 
 struct RenderStats {
     uint64_t drawCalls = 0;  // glDrawElementsInstanced calls: one per run of equal mesh and material
@@ -85,29 +90,11 @@ public:
     // releaseUnused() frees those the last draw() did not use; clear() frees all of them.
     void releaseUnused();
     void clear();
-    size_t cachedMeshes() const { return meshes_.size(); }
+    size_t cachedMeshes() const;
     // A texture drawn with an alpha cutoff has its own copy, with colour bled under its transparent texels.
-    size_t cachedTextures() const { return textures_.size() + cutTextures_.size(); }
+    size_t cachedTextures() const;
 
 private:
-    struct GpuMesh {
-        ref_ptr<const Mesh> mesh;
-        unsigned vao = 0, vbo = 0, ibo = 0;
-        unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT
-        int indexCount = 0;
-        bool normals = false, uvs = false, colors = false;
-        uint64_t lastFrame = 0;
-    };
-    struct GpuTexture {
-        ref_ptr<const Texture> texture;
-        unsigned id = 0;
-        uint64_t lastFrame = 0;
-    };
-    // An item's matrix and base colour, read by the shaders as instanced attributes (locations 4 to 8).
-    struct Instance {
-        mat4 model{1.0f};
-        vec4 baseColor{1.0f};
-    };
     // The rest of a run's material and mesh, as uniforms: set only where they differ from the run before,
     // because on llvmpipe every draw after a uniform's change stores the whole rasterizer state again.
     struct Shading {
@@ -116,9 +103,6 @@ private:
     };
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
     void setShading(const Shading& s);
-    GpuMesh& mesh(const Mesh* m);
-    GpuTexture& texture(const Texture* t, bool cut);
-    static void destroy(GpuMesh& g);
     // ReverseZ: makes the renderer's framebuffer width x height and binds it; false when the target is
     // multisampled (drawn into directly).
     bool bindDepthTarget(int width, int height);
@@ -135,27 +119,24 @@ private:
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
     unsigned depthFbo_ = 0, depthColor_ = 0, depthBuffer_ = 0;  // ReverseZ: RGBA8 and DEPTH_COMPONENT32F
     int depthW_ = 0, depthH_ = 0;
-    float maxAnisotropy_ = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     DirectionalLight light_;
-    std::unordered_map<const Mesh*, GpuMesh> meshes_;
-    std::unordered_map<const Texture*, GpuTexture> textures_, cutTextures_;
+    std::unique_ptr<GpuCache> cache_;
     struct Run {
         const Mesh* mesh;
         const Material* material;
-        uint32_t first, count;  // range in instances_
+        uint32_t first, count;  // range in items_
         float fade;             // DrawList::fades
         uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
         const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
         unsigned texture = 0;          // GL name, 0 without a texture
     };
     static constexpr uint32_t kWhole = ~0u;
-    std::vector<Instance> instances_;  // the frame's items, in draw order
+    std::vector<ItemAttributes> items_;  // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
     std::vector<float> fades_;     // per item, filled only in frames with dissolving items
     std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts
     std::vector<int> rangeCounts_;
     std::vector<const void*> rangeOffsets_;
-    uint64_t frame_ = 0;
     RenderStats stats_;
 };
 
