@@ -17,9 +17,6 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
-#if __has_include(<malloc.h>)
-#include <malloc.h>  // mallopt (glibc)
-#endif
 
 namespace sg {
 
@@ -68,25 +65,6 @@ inline void drainGl() {}
 
 }  // namespace
 
-namespace {
-// A software rasterizer allocates its binned scene, tens of megabytes, afresh every frame and frees it after.
-// glibc hands the freed top of its heap back to the system (128 KB and more, by default) and the next frame
-// faults every page in again: on a factory walk that was a quarter of the frame time, and more in larger
-// frames (median 35.6 -> 26.9 ms, p95 71.8 -> 43.7 ms). Freed memory is kept, up to 256 MB, for the next
-// frame; once per process, and only on glibc. An application that wants it back calls malloc_trim(0), as
-// sgmap does when it leaves a level.
-void keepFreedMemory() {
-#ifdef __GLIBC__
-    static const bool once = [] {
-        mallopt(M_TRIM_THRESHOLD, 256 << 20);
-        mallopt(M_TOP_PAD, 64 << 20);
-        return true;
-    }();
-    (void)once;
-#endif
-}
-}  // namespace
-
 Renderer::Renderer() {
     const auto* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     if (!version) throw std::runtime_error("Renderer::Renderer(): no current OpenGL context");
@@ -119,14 +97,12 @@ Renderer::Renderer() {
     // llvmpipe (2x: 2.6x), against almost nothing on a GPU's texture units.
     const auto* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const std::string rendererName = glRenderer ? glRenderer : "";
-    const bool software = rendererName.find("llvmpipe") != std::string::npos ||
-                          rendererName.find("softpipe") != std::string::npos ||
-                          rendererName.find("swrast") != std::string::npos;
-    if (software) keepFreedMemory();
+    software_ = rendererName.find("llvmpipe") != std::string::npos ||
+                rendererName.find("softpipe") != std::string::npos || rendererName.find("swrast") != std::string::npos;
     float maxAnisotropy = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     GLint extensions = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
-    for (GLint i = 0; i < extensions && !software; ++i) {
+    for (GLint i = 0; i < extensions && !software_; ++i) {
         const auto* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
         if (e && (std::strcmp(e, "GL_EXT_texture_filter_anisotropic") == 0 ||
                   std::strcmp(e, "GL_ARB_texture_filter_anisotropic") == 0)) {

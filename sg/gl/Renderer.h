@@ -50,6 +50,10 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
+    // Whether the context rasterizes in software (llvmpipe, softpipe, swrast): where a frame loop wants
+    // keepFreedMemory() (sg/gl/KeepFreedMemory.h), and where the renderer filters textures without anisotropy.
+    bool softwareRasterizer() const { return software_; }
+
     // The depth strategy of the next draws, and whether the context allows ReverseZ. setDepthMode throws
     // std::invalid_argument when asked for ReverseZ or Auto on a context without glClipControl.
     DepthMode depthMode() const { return depthMode_; }
@@ -116,6 +120,7 @@ private:
     bool shadingSet_ = false;  // whether shading_ is known (from the frame's first run on)
     DepthMode depthMode_ = DepthMode::Classic;
     bool reverseZSupported_ = false;
+    bool software_ = false;
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
     unsigned depthFbo_ = 0, depthColor_ = 0, depthBuffer_ = 0;  // ReverseZ: RGBA8 and DEPTH_COMPONENT32F
     int depthW_ = 0, depthH_ = 0;
