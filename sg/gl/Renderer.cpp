@@ -1,5 +1,6 @@
 #include "sg/gl/Renderer.h"
 
+#include "sg/gl/DepthTarget.h"
 #include "sg/gl/GlProgram.h"
 #include "sg/gl/GpuCache.h"
 #include "sg/gl/Shaders.h"
@@ -127,11 +128,12 @@ Renderer::Renderer() {
         throw;
     }
     cache_ = std::make_unique<GpuCache>(instanceVbo_, maxAnisotropy);
+    depthTarget_ = std::make_unique<DepthTarget>();
 }
 
 Renderer::~Renderer() {
     cache_.reset();
-    releaseDepthTarget();
+    depthTarget_.reset();
     glDeleteBuffers(1, &instanceVbo_);
     glDeleteProgram(program_);
 }
@@ -142,45 +144,6 @@ void Renderer::setDepthMode(DepthMode mode) {
             "Renderer::setDepthMode(): reverse-Z needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control), which "
             "this context lacks");
     depthMode_ = mode;
-}
-
-bool Renderer::bindDepthTarget(int width, int height) {
-    GLint samples = 0;
-    glGetIntegerv(GL_SAMPLE_BUFFERS, &samples);  // of the bound draw framebuffer: a blit cannot resolve into it
-    if (samples > 0) return false;
-    if (depthFbo_ == 0 || width != depthW_ || height != depthH_) {
-        releaseDepthTarget();
-        glGenRenderbuffers(1, &depthColor_);
-        glBindRenderbuffer(GL_RENDERBUFFER, depthColor_);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-        glGenRenderbuffers(1, &depthBuffer_);
-        glBindRenderbuffer(GL_RENDERBUFFER, depthBuffer_);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
-        glBindRenderbuffer(GL_RENDERBUFFER, 0);
-        glGenFramebuffers(1, &depthFbo_);
-        glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, depthColor_);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer_);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            // A driver without float depth attachments: Classic from now on.
-            releaseDepthTarget();
-            reverseZSupported_ = false;
-            depthMode_ = DepthMode::Classic;
-            return false;
-        }
-        depthW_ = width;
-        depthH_ = height;
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_);
-    return true;
-}
-
-void Renderer::releaseDepthTarget() {
-    if (depthFbo_) glDeleteFramebuffers(1, &depthFbo_);
-    if (depthColor_) glDeleteRenderbuffers(1, &depthColor_);
-    if (depthBuffer_) glDeleteRenderbuffers(1, &depthBuffer_);
-    depthFbo_ = depthColor_ = depthBuffer_ = 0;
-    depthW_ = depthH_ = 0;
 }
 
 Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
@@ -216,37 +179,54 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
     drainGl();
     cache_->nextFrame();
     stats_ = RenderStats{};
+    buildRuns(list);
+    upload();
+    const Target target = beginFrame(camera, clearColor);
+    if (!runs_.empty()) drawRuns(list, camera, target.reverse);
+    endFrame(target, camera);
+    checkGl("Renderer::draw()", "after drawing");
+    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
-    // Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
+// Dissolving items are few: a dense copy of DrawList::fades only in frames that have them.
+void Renderer::indexFades(const DrawList& list) {
+    fades_.clear();
+    if (list.fades.empty()) return;
+    fades_.assign(list.items.size(), 1.0f);
+    for (const auto& [i, f] : list.fades)
+        if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
+}
+
+// Like fades: a dense copy of DrawList::parts only in frames that draw items in part, each part checked.
+void Renderer::indexParts(const DrawList& list) {
+    parts_.clear();
+    if (list.parts.empty()) return;
+    parts_.assign(list.items.size(), kWhole);
+    for (size_t p = 0; p < list.parts.size(); ++p) {
+        const DrawList::Part& part = list.parts[p];
+        const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
+        bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
+        for (uint32_t r = 0; ok && r < part.count; ++r) {
+            const IndexRange& ir = list.ranges[size_t(part.first) + r];
+            ok = uint64_t(ir.first) + ir.count <= m->indexCount();
+        }
+        if (!ok)
+            throw std::out_of_range("Renderer::draw(): parts[" + std::to_string(p) + "] (item " +
+                                    std::to_string(part.item) + ", ranges " + std::to_string(part.first) + " + " +
+                                    std::to_string(part.count) + ") is past the items, the " +
+                                    std::to_string(list.ranges.size()) + " ranges or its mesh's indices");
+        parts_[part.item] = uint32_t(p);
+    }
+}
+
+// Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
+void Renderer::buildRuns(const DrawList& list) {
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
     items_.clear();
     runs_.clear();
     ItemAttributes item;
-    fades_.clear();
-    if (!list.fades.empty()) {  // dissolving items are few: a dense copy only in frames that have them
-        fades_.assign(list.items.size(), 1.0f);
-        for (const auto& [i, f] : list.fades)
-            if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
-    }
-    parts_.clear();
-    if (!list.parts.empty()) {  // like fades: a dense copy only in frames that draw items in part
-        parts_.assign(list.items.size(), kWhole);
-        for (size_t p = 0; p < list.parts.size(); ++p) {
-            const DrawList::Part& part = list.parts[p];
-            const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
-            bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
-            for (uint32_t r = 0; ok && r < part.count; ++r) {
-                const IndexRange& ir = list.ranges[size_t(part.first) + r];
-                ok = uint64_t(ir.first) + ir.count <= m->indexCount();
-            }
-            if (!ok)
-                throw std::out_of_range("Renderer::draw(): parts[" + std::to_string(p) + "] (item " +
-                                        std::to_string(part.item) + ", ranges " + std::to_string(part.first) + " + " +
-                                        std::to_string(part.count) + ") is past the items, the " +
-                                        std::to_string(list.ranges.size()) + " ranges or its mesh's indices");
-            parts_[part.item] = uint32_t(p);
-        }
-    }
+    indexFades(list);
+    indexParts(list);
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
         if (i >= list.items.size())
@@ -265,106 +245,123 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         item.model = it.matrix();
         items_.push_back(item);
     }
-    // Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
-    // draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
+}
+
+// Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
+// draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
+void Renderer::upload() {
     for (Run& r : runs_) {
         r.gpu = &cache_->mesh(r.mesh);
         const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
         r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
     }
+}
 
-    // ReverseZ: the frame goes to the renderer's framebuffer (float depth), then its colour to the target.
+// Auto: the far/near ratio of a perspective projection is (a - 1) / (a + 1) for a = proj[2][2]
+// (-(f + n) / (f - n)); an infinite far plane (a = -1) or NaN gives ReverseZ, the safer.
+bool Renderer::wantsReverseZ(const Camera& camera) const {
+    const double a = camera.projection()[2][2];
+    return depthMode_ == DepthMode::ReverseZ || (depthMode_ == DepthMode::Auto && camera.perspective() &&
+                                                 !(std::abs((a - 1.0) / (a + 1.0)) <= kAutoReverseRatio));
+}
+
+// Binds where the frame goes (ReverseZ: the renderer's framebuffer, with float depth; its colour goes to the
+// target in endFrame), sets the frame's GL state and clears.
+Renderer::Target Renderer::beginFrame(const Camera& camera, const vec4& clearColor) {
     GLint drawTarget = 0, readTarget = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawTarget);
     glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-    // Auto: the far/near ratio of a perspective projection is (a - 1) / (a + 1) for a = proj[2][2]
-    // (-(f + n) / (f - n)); an infinite far plane (a = -1) or NaN gives ReverseZ, the safer.
-    const double a = camera.projection()[2][2];
-    const bool wantReverse =
-        depthMode_ == DepthMode::ReverseZ || (depthMode_ == DepthMode::Auto && camera.perspective() &&
-                                              !(std::abs((a - 1.0) / (a + 1.0)) <= kAutoReverseRatio));
-    const bool reverse = wantReverse && bindDepthTarget(camera.width(), camera.height());
-    if (wantReverse && !reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
+    Target t{GLuint(drawTarget), GLuint(readTarget), false};
+    if (wantsReverseZ(camera)) {
+        const DepthTarget::Bind bound = depthTarget_->bind(camera.width(), camera.height());
+        t.reverse = bound == DepthTarget::Bind::Bound;
+        if (bound == DepthTarget::Bind::Unsupported) {  // a driver without float depth attachments
+            reverseZSupported_ = false;
+            depthMode_ = DepthMode::Classic;
+        }
+        if (!t.reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.drawFbo);
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, t.readFbo);
+        }
     }
-    lastReverseZ_ = reverse;
-    if (reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    lastReverseZ_ = t.reverse;
+    if (t.reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glViewport(0, 0, camera.width(), camera.height());
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(reverse ? GL_GREATER : GL_LESS);
+    glDepthFunc(t.reverse ? GL_GREATER : GL_LESS);
     glDepthMask(GL_TRUE);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glClearColor(clearColor.r, clearColor.g, clearColor.b, clearColor.a);
-    glClearDepth(reverse ? 0.0 : 1.0);
+    glClearDepth(t.reverse ? 0.0 : 1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    return t;
+}
 
-    if (!runs_.empty()) {
-        glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-        // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
-        const auto bytes = GLsizeiptr(items_.size() * sizeof(ItemAttributes));
-        glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
-        glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, items_.data());
+void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse) {
+    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+    // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
+    const auto bytes = GLsizeiptr(items_.size() * sizeof(ItemAttributes));
+    glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, items_.data());
 
-        glUseProgram(program_);
-        shadingSet_ = false;  // set in full by the first run
-        // Projection times the view's rotation only, in double: the eye's translation is already in the
-        // items' matrices, so no large coordinate ever reaches float.
-        const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
-        glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
-        const vec3 light = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
-        glUniform3f(uLightDir_, light.x, light.y, light.z);
-        glUniform1i(uHeadlight_, light_.headlight ? 1 : 0);
-        glUniform3f(uAmbient_, light_.ambient.r, light_.ambient.g, light_.ambient.b);
-        glUniform3f(uLightColor_, light_.color.r, light_.color.g, light_.color.b);
-        glActiveTexture(GL_TEXTURE0);
+    glUseProgram(program_);
+    shadingSet_ = false;  // set in full by the first run
+    // Projection times the view's rotation only, in double: the eye's translation is already in the
+    // items' matrices, so no large coordinate ever reaches float.
+    const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
+    glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
+    const vec3 light = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
+    glUniform3f(uLightDir_, light.x, light.y, light.z);
+    glUniform1i(uHeadlight_, light_.headlight ? 1 : 0);
+    glUniform3f(uAmbient_, light_.ambient.r, light_.ambient.g, light_.ambient.b);
+    glUniform3f(uLightColor_, light_.color.r, light_.color.g, light_.color.b);
+    glActiveTexture(GL_TEXTURE0);
+    for (const Run& r : runs_) drawRun(list, r);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
 
-        for (const Run& r : runs_) {
-            const GpuMesh& g = *r.gpu;
-            glBindVertexArray(g.vao);
-            glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-            pointItemAttributes(r.first);
-            if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
-            setShading(shading(g, r.material, r.fade, r.texture));
-            if (r.part == kWhole) {
-                glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
-                stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
-            } else {
-                // One item, its ranges: a non-instanced draw reads the item attributes' first element.
-                const DrawList::Part& p = list.parts[r.part];
-                const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
-                rangeCounts_.clear();
-                rangeOffsets_.clear();
-                for (uint32_t k = 0; k < p.count; ++k) {
-                    const IndexRange& ir = list.ranges[size_t(p.first) + k];
-                    rangeCounts_.push_back(GLsizei(ir.count));
-                    rangeOffsets_.push_back(reinterpret_cast<const void*>(size_t(ir.first) * bytes));
-                    stats_.triangles += ir.count / 3;
-                }
-                glMultiDrawElements(GL_TRIANGLES, rangeCounts_.data(), g.indexType, rangeOffsets_.data(),
-                                    GLsizei(p.count));
-            }
-            stats_.drawCalls++;
-            stats_.instances += r.count;
+void Renderer::drawRun(const DrawList& list, const Run& r) {
+    const GpuMesh& g = *r.gpu;
+    glBindVertexArray(g.vao);
+    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+    pointItemAttributes(r.first);
+    if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
+    setShading(shading(g, r.material, r.fade, r.texture));
+    if (r.part == kWhole) {
+        glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
+        stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
+    } else {
+        // One item, its ranges: a non-instanced draw reads the item attributes' first element.
+        const DrawList::Part& p = list.parts[r.part];
+        const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
+        rangeCounts_.clear();
+        rangeOffsets_.clear();
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const IndexRange& ir = list.ranges[size_t(p.first) + k];
+            rangeCounts_.push_back(GLsizei(ir.count));
+            rangeOffsets_.push_back(reinterpret_cast<const void*>(size_t(ir.first) * bytes));
+            stats_.triangles += ir.count / 3;
         }
-        glBindVertexArray(0);
-        glUseProgram(0);
+        glMultiDrawElements(GL_TRIANGLES, rangeCounts_.data(), g.indexType, rangeOffsets_.data(), GLsizei(p.count));
     }
-    if (reverse) {
-        // Back to GL's defaults for whatever draws next, and the colour to the framebuffer bound at the call.
-        clipControl()(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-        glDepthFunc(GL_LESS);
-        glClearDepth(1.0);
-        const GLint w = camera.width(), h = camera.height();
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthFbo_);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
-        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
-    }
-    checkGl("Renderer::draw()", "after drawing");
-    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    stats_.drawCalls++;
+    stats_.instances += r.count;
+}
+
+// ReverseZ: back to GL's defaults for whatever draws next, and the colour to the framebuffer bound at the call.
+void Renderer::endFrame(const Target& target, const Camera& camera) {
+    if (!target.reverse) return;
+    clipControl()(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
+    glClearDepth(1.0);
+    const GLint w = camera.width(), h = camera.height();
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, depthTarget_->framebuffer());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.drawFbo);
+    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target.readFbo);
 }
 
 void Renderer::setLight(const DirectionalLight& light) {
@@ -404,7 +401,7 @@ std::vector<float> Renderer::readDepth() const {
     GLint readTarget = 0;
     if (lastReverseZ_) {  // the depth is in the renderer's framebuffer, not the target's
         glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthFbo_);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthTarget_->framebuffer());
     }
     glReadPixels(vp[0], vp[1], vp[2], vp[3], GL_DEPTH_COMPONENT, GL_FLOAT, tmp.data());
     if (lastReverseZ_) glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));

@@ -15,7 +15,8 @@
 
 namespace sg {
 
-class GpuCache;  // sg/gl/GpuCache.h, internal
+class DepthTarget;  // sg/gl/DepthTarget.h, internal
+class GpuCache;     // sg/gl/GpuCache.h, internal
 struct GpuMesh;
 struct ItemAttributes;  // sg/gl/Shaders.h, internal
 
@@ -105,12 +106,35 @@ private:
         bool texture = false, colors = false, lit = false, bakedLight = false;
         float specular = 0.0f, shininess = 1.0f, fade = 1.0f, alphaCutoff = 0.0f;
     };
+    struct Run {
+        const Mesh* mesh;
+        const Material* material;
+        uint32_t first, count;  // range in items_
+        float fade;             // DrawList::fades
+        uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
+        const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
+        unsigned texture = 0;          // GL name, 0 without a texture
+    };
+    static constexpr uint32_t kWhole = ~0u;
+    // The framebuffers bound at the call, and whether the frame goes to the renderer's own (ReverseZ).
+    struct Target {
+        unsigned drawFbo = 0, readFbo = 0;
+        bool reverse = false;
+    };
+
+    // The steps of draw(), in order.
+    void buildRuns(const DrawList& list);
+    void indexFades(const DrawList& list);
+    void indexParts(const DrawList& list);
+    void upload();
+    bool wantsReverseZ(const Camera& camera) const;
+    Target beginFrame(const Camera& camera, const vec4& clearColor);
+    void drawRuns(const DrawList& list, const Camera& camera, bool reverse);
+    void drawRun(const DrawList& list, const Run& r);
+    void endFrame(const Target& target, const Camera& camera);
+
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
     void setShading(const Shading& s);
-    // ReverseZ: makes the renderer's framebuffer width x height and binds it; false when the target is
-    // multisampled (drawn into directly).
-    bool bindDepthTarget(int width, int height);
-    void releaseDepthTarget();
 
     unsigned program_ = 0, instanceVbo_ = 0;
     int uViewProj_ = -1, uLightDir_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
@@ -122,21 +146,10 @@ private:
     bool reverseZSupported_ = false;
     bool software_ = false;
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
-    unsigned depthFbo_ = 0, depthColor_ = 0, depthBuffer_ = 0;  // ReverseZ: RGBA8 and DEPTH_COMPONENT32F
-    int depthW_ = 0, depthH_ = 0;
     DirectionalLight light_;
     std::unique_ptr<GpuCache> cache_;
-    struct Run {
-        const Mesh* mesh;
-        const Material* material;
-        uint32_t first, count;  // range in items_
-        float fade;             // DrawList::fades
-        uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
-        const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
-        unsigned texture = 0;          // GL name, 0 without a texture
-    };
-    static constexpr uint32_t kWhole = ~0u;
-    std::vector<ItemAttributes> items_;  // the frame's items, in draw order (Shaders.h)
+    std::unique_ptr<DepthTarget> depthTarget_;  // ReverseZ's framebuffer
+    std::vector<ItemAttributes> items_;         // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
     std::vector<float> fades_;     // per item, filled only in frames with dissolving items
     std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts
