@@ -94,8 +94,8 @@ Renderer::Renderer() {
     glUseProgram(0);
     glGenBuffers(1, &instanceVbo_);
     // Anisotropic filtering: core in GL 4.6, an extension before it that nearly every driver has. Not on a
-    // software rasterizer, where each extra sample is paid in full: 8x made a factory frame 3.2x slower on
-    // llvmpipe (2x: 2.6x), against almost nothing on a GPU's texture units.
+    // software rasterizer, where each extra sample is paid in full, unlike on a GPU's texture units (what it
+    // costs: docs/benchmarks.md, "Factory walkthrough").
     const auto* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const std::string rendererName = glRenderer ? glRenderer : "";
     software_ = rendererName.find("llvmpipe") != std::string::npos ||

@@ -21,7 +21,9 @@ struct GpuMesh;
 struct ItemAttributes;  // sg/gl/Shaders.h, internal
 
 struct RenderStats {
-    uint64_t drawCalls = 0;  // glDrawElementsInstanced calls: one per run of equal mesh and material
+    // Draw calls: a glDrawElementsInstanced per run of equal mesh and material, a glMultiDrawElements per item
+    // drawn in part (DrawList::parts).
+    uint64_t drawCalls = 0;
     uint64_t instances = 0;  // draw items drawn
     uint64_t triangles = 0;
     double ms = 0.0;  // CPU time of draw(), without waiting for the GPU to finish
@@ -36,8 +38,8 @@ public:
         ReverseZ,  // a 32-bit float depth buffer of the renderer's own, near -> 1, far -> 0, GL_GREATER;
                    // the colour is copied to the bound framebuffer at the end of draw()
         // Per draw: ReverseZ when the camera's far/near ratio is above kAutoReverseRatio (where 24 bits no
-        // longer resolve a thousandth of the distance at the far plane), Classic below it. The copy ReverseZ
-        // ends with costs 4-6 ms a 1280x720 frame on llvmpipe, which ordinary ranges do not need to pay.
+        // longer resolve a thousandth of the distance at the far plane), Classic below it: ordinary ranges do
+        // not need to pay for the copy ReverseZ ends with (docs/benchmarks.md, "Depth").
         Auto,
     };
     static constexpr double kAutoReverseRatio = 1e4;

@@ -12,8 +12,8 @@ layout(location = 2) in vec2 aUv;
 layout(location = 3) in vec4 aColor;
 layout(location = 4) in mat4 aModel;  // per instance: locations 4 to 7
 // The material's base colour, per instance: the value that differs between most materials. As a uniform it
-// would change between most draws, and llvmpipe stores its whole rasterizer state (tens of kilobytes) again
-// for every draw whose uniforms differ from the one before.
+// would change between most draws, and llvmpipe stores its whole rasterizer state again for every draw whose
+// uniforms differ from the one before (docs/architecture.md, "Draw list and draw").
 layout(location = 8) in vec4 aBaseColor;
 uniform mat4 uViewProj;
 out vec3 vNormal;
