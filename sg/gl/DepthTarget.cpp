@@ -3,12 +3,18 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
+
 namespace sg {
 
-DepthTarget::Bind DepthTarget::bind(int width, int height) {
+DepthTarget::Bind DepthTarget::bind(int width, int height, bool exact) {
     GLint samples = 0;
     glGetIntegerv(GL_SAMPLE_BUFFERS, &samples);  // of the bound draw framebuffer
     if (samples > 0) return Bind::Multisampled;
+    if (!exact) {
+        width = std::max(width, width_);
+        height = std::max(height, height_);
+    }
     if (fbo_ == 0 || width != width_ || height != height_) {
         release();
         glGenRenderbuffers(1, &color_);

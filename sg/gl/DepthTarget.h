@@ -19,9 +19,9 @@ public:
     DepthTarget(const DepthTarget&) = delete;
     DepthTarget& operator=(const DepthTarget&) = delete;
 
-    // Makes the framebuffer width x height (reallocated when the size changes) and binds it for drawing and
-    // reading. Unless Bound, the bindings may have moved: the caller binds its target again.
-    Bind bind(int width, int height);
+    // Makes the framebuffer width x height (exact), or at least that large (else: it only grows), and binds it for
+    // drawing and reading. Unless Bound, the bindings may have moved: the caller binds its target again.
+    Bind bind(int width, int height, bool exact);
     void release();
     unsigned framebuffer() const { return fbo_; }
 

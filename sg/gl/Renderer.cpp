@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -63,6 +64,38 @@ void drainGl() {
 inline void checkGl(const char*, const char*) {}
 inline void drainGl() {}
 #endif
+
+std::string describe(const Renderer::Viewport& v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.width) + "x" +
+           std::to_string(v.height) + ")";
+}
+
+// The size of the framebuffer bound for drawing, where GL tells it: OSMesa's buffer, or a framebuffer object's
+// first colour renderbuffer. A window's framebuffer and texture attachments (whose target would have to be bound
+// to ask) give 0 x 0.
+void drawFramebufferSize(GLuint fbo, int& width, int& height) {
+    width = height = 0;
+    if (fbo == 0) {
+#ifdef SGKIT_GL_OSMESA
+        GLint w = 0, h = 0;
+        OSMesaGetIntegerv(OSMESA_WIDTH, &w);
+        OSMesaGetIntegerv(OSMESA_HEIGHT, &h);
+        if (w > 0 && h > 0) width = w, height = h;
+#endif
+        return;
+    }
+    GLint type = GL_NONE, name = 0, bound = 0;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_RENDERBUFFER) return;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    glGetIntegerv(GL_RENDERBUFFER_BINDING, &bound);
+    glBindRenderbuffer(GL_RENDERBUFFER, GLuint(name));
+    glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_WIDTH, &width);
+    glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_HEIGHT, &height);
+    glBindRenderbuffer(GL_RENDERBUFFER, GLuint(bound));
+}
 
 }  // namespace
 
@@ -175,17 +208,50 @@ void Renderer::setShading(const Shading& s) {
 }
 
 void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
+    // The camera's own viewport is not checked against the framebuffer: GL clips what lies outside, as it always has.
+    drawFrame(list, camera, Viewport{0, 0, camera.width(), camera.height()}, clearColor, false);
+}
+
+void Renderer::draw(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor) {
+    drawFrame(list, camera, viewport, clearColor, true);
+}
+
+void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor,
+                         bool inFramebuffer) {
     const auto t0 = std::chrono::steady_clock::now();
     drainGl();
+    Target t = target(viewport, inFramebuffer);
     cache_->nextFrame();
     stats_ = RenderStats{};
     buildRuns(list);
     upload();
-    const Target target = beginFrame(camera, clearColor);
-    if (!runs_.empty()) drawRuns(list, camera, target.reverse);
-    endFrame(target, camera);
+    beginFrame(t, camera, clearColor);
+    if (!runs_.empty()) drawRuns(list, camera, t.reverse);
+    endFrame(t);
     checkGl("Renderer::draw()", "after drawing");
     stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+Renderer::Target Renderer::target(const Viewport& viewport, bool inFramebuffer) {
+    const Viewport& v = viewport;
+    if (v.width <= 0 || v.height <= 0 || v.x < 0 || v.y < 0)
+        throw std::invalid_argument("Renderer::draw(): viewport " + describe(v) +
+                                    (v.width <= 0 || v.height <= 0 ? " has no area" : " has a negative corner"));
+    GLint drawFbo = 0, readFbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFbo);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFbo);
+    Target t;
+    t.drawFbo = GLuint(drawFbo);
+    t.readFbo = GLuint(readFbo);
+    t.viewport = v;
+    drawFramebufferSize(t.drawFbo, t.width, t.height);
+    const int64_t right = int64_t(v.x) + v.width, top = int64_t(v.y) + v.height;
+    if (std::max(right, top) > std::numeric_limits<int>::max())
+        throw std::invalid_argument("Renderer::draw(): viewport " + describe(v) + " reaches past any framebuffer");
+    if (inFramebuffer && t.width > 0 && (right > t.width || top > t.height))
+        throw std::invalid_argument("Renderer::draw(): viewport " + describe(v) + " reaches past the " +
+                                    std::to_string(t.width) + "x" + std::to_string(t.height) + " framebuffer");
+    return t;
 }
 
 // Dissolving items are few: a dense copy of DrawList::fades only in frames that have them.
@@ -265,15 +331,15 @@ bool Renderer::wantsReverseZ(const Camera& camera) const {
                                                  !(std::abs((a - 1.0) / (a + 1.0)) <= kAutoReverseRatio));
 }
 
-// Binds where the frame goes (ReverseZ: the renderer's framebuffer, with float depth; its colour goes to the
-// target in endFrame), sets the frame's GL state and clears.
-Renderer::Target Renderer::beginFrame(const Camera& camera, const vec4& clearColor) {
-    GLint drawTarget = 0, readTarget = 0;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawTarget);
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-    Target t{GLuint(drawTarget), GLuint(readTarget), false};
+// Binds where the frame goes (ReverseZ: the renderer's framebuffer, with float depth, in the target's pixel
+// coordinates; its colour goes to the target in endFrame), sets the frame's GL state and clears the viewport.
+void Renderer::beginFrame(Target& t, const Camera& camera, const vec4& clearColor) {
+    const Viewport& v = t.viewport;
     if (wantsReverseZ(camera)) {
-        const DepthTarget::Bind bound = depthTarget_->bind(camera.width(), camera.height());
+        // As large as the target where its size is known, so that views side by side share one; else as large
+        // as the viewports drawn so far.
+        const int w = std::max(v.x + v.width, t.width), h = std::max(v.y + v.height, t.height);
+        const DepthTarget::Bind bound = depthTarget_->bind(w, h, t.width > 0);
         t.reverse = bound == DepthTarget::Bind::Bound;
         if (bound == DepthTarget::Bind::Unsupported) {  // a driver without float depth attachments
             reverseZSupported_ = false;
@@ -286,7 +352,9 @@ Renderer::Target Renderer::beginFrame(const Camera& camera, const vec4& clearCol
     }
     lastReverseZ_ = t.reverse;
     if (t.reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glViewport(0, 0, camera.width(), camera.height());
+    glViewport(v.x, v.y, v.width, v.height);
+    glScissor(v.x, v.y, v.width, v.height);
+    glEnable(GL_SCISSOR_TEST);  // the clear too: glClear ignores the viewport
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
@@ -296,7 +364,6 @@ Renderer::Target Renderer::beginFrame(const Camera& camera, const vec4& clearCol
     glClearColor(clearColor.r, clearColor.g, clearColor.b, clearColor.a);
     glClearDepth(t.reverse ? 0.0 : 1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    return t;
 }
 
 void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse) {
@@ -351,16 +418,19 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     stats_.instances += r.count;
 }
 
-// ReverseZ: back to GL's defaults for whatever draws next, and the colour to the framebuffer bound at the call.
-void Renderer::endFrame(const Target& target, const Camera& camera) {
+// Back to GL's defaults for whatever draws next; ReverseZ: the viewport's colour to the framebuffer bound at the
+// call, at the same place.
+void Renderer::endFrame(const Target& target) {
+    glDisable(GL_SCISSOR_TEST);
     if (!target.reverse) return;
     clipControl()(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
     glDepthFunc(GL_LESS);
     glClearDepth(1.0);
-    const GLint w = camera.width(), h = camera.height();
+    const Viewport& v = target.viewport;
     glBindFramebuffer(GL_READ_FRAMEBUFFER, depthTarget_->framebuffer());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.drawFbo);
-    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(v.x, v.y, v.x + v.width, v.y + v.height, v.x, v.y, v.x + v.width, v.y + v.height,
+                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target.readFbo);
 }
 
@@ -378,13 +448,20 @@ void Renderer::finish() const { glFinish(); }
 Image Renderer::readColor() const {
     GLint vp[4] = {0, 0, 0, 0};
     glGetIntegerv(GL_VIEWPORT, vp);
+    return readColor(Viewport{vp[0], vp[1], vp[2], vp[3]});
+}
+
+Image Renderer::readColor(const Viewport& rect) const {
+    if (rect.width <= 0 || rect.height <= 0 || rect.x < 0 || rect.y < 0)
+        throw std::invalid_argument("Renderer::readColor(): rectangle " + describe(rect) +
+                                    (rect.width <= 0 || rect.height <= 0 ? " has no area" : " has a negative corner"));
     Image img;
-    img.width = vp[2];
-    img.height = vp[3];
+    img.width = rect.width;
+    img.height = rect.height;
     const size_t row = size_t(img.width) * 4u;
     std::vector<uint8_t> tmp(row * size_t(img.height));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(vp[0], vp[1], img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, tmp.data());
+    glReadPixels(rect.x, rect.y, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, tmp.data());
     checkGl("Renderer::readColor()", "from glReadPixels");
     img.rgba.resize(tmp.size());
     for (int y = 0; y < img.height; ++y)  // GL's first row is the bottom one

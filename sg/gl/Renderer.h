@@ -63,7 +63,13 @@ public:
     bool reverseZSupported() const { return reverseZSupported_; }
     void setDepthMode(DepthMode mode);
 
-    // Viewport (0, 0, camera.width(), camera.height()), clear, then the items in list.order (all items
+    // A rectangle of the framebuffer in pixels, as glViewport takes it: (x, y) its lower left corner.
+    struct Viewport {
+        int x = 0, y = 0, width = 0, height = 0;
+    };
+    inline static const vec4 kClearColor{0.55f, 0.7f, 0.9f, 1.0f};
+
+    // Clears the viewport (0, 0, camera.width(), camera.height()), then draws the items in list.order (all items
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
     // material pointers become one instanced draw call; an item drawn in part (DrawList::parts) draws its
     // index ranges alone, in one glMultiDrawElements. Colour: base colour (white without a material)
@@ -74,7 +80,14 @@ public:
     // error. The colour ends in the framebuffer bound for drawing at the call; with ReverseZ that framebuffer's depth
     // buffer is left as it was (readDepth reads the renderer's own), and a multisampled one is drawn into directly,
     // with Classic depth.
-    void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
+    void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = kClearColor);
+    // The same into `viewport` of the bound framebuffer: no pixel outside it is cleared or drawn (a scissor), so
+    // views side by side in one framebuffer each look as if drawn alone (the camera's projection is the caller's
+    // to match to the viewport's shape). Throws std::invalid_argument, before drawing anything, for a viewport
+    // without area, with a negative corner or reaching past the framebuffer where its size is known (OSMesa's
+    // buffer, a framebuffer object's colour renderbuffer; not a window's).
+    void draw(const DrawList& list, const Camera& camera, const Viewport& viewport,
+              const vec4& clearColor = kClearColor);
     const RenderStats& lastStats() const { return stats_; }
     // The light of the next draws. A sun shades a lit fragment with albedo x (ambient + color x sun x
     // max(0, n.l)) + color x sun x specular x max(0, n.h)^shininess (Blinn-Phong, n turned toward the eye,
@@ -86,10 +99,14 @@ public:
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
 
-    // The current viewport's pixels, rows top to bottom: readColor from the bound read framebuffer, readDepth
-    // the last draw's depth buffer as stored: Classic 0 at the near plane and 1 at the far plane and where
-    // nothing was drawn; ReverseZ 1 at the near plane and 0 at the far plane and where nothing was drawn.
+    // The current viewport's pixels (after a draw, its viewport's), rows top to bottom: readColor from the bound
+    // read framebuffer, readDepth the last draw's depth buffer as stored: Classic 0 at the near plane and 1 at the
+    // far plane and where nothing was drawn; ReverseZ 1 at the near plane and 0 at the far plane and where nothing
+    // was drawn.
     Image readColor() const;
+    // The pixels of `rect` of the bound read framebuffer (several views at once). Throws std::invalid_argument
+    // for a rectangle without area or with a negative corner.
+    Image readColor(const Viewport& rect) const;
     std::vector<float> readDepth() const;
 
     // Meshes and textures are uploaded once and kept (with a reference, so that their pointers stay
@@ -118,22 +135,28 @@ private:
         unsigned texture = 0;          // GL name, 0 without a texture
     };
     static constexpr uint32_t kWhole = ~0u;
-    // The framebuffers bound at the call, and whether the frame goes to the renderer's own (ReverseZ).
+    // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
+    // and whether the frame goes to the renderer's own framebuffer (ReverseZ).
     struct Target {
         unsigned drawFbo = 0, readFbo = 0;
+        int width = 0, height = 0;
+        Viewport viewport;
         bool reverse = false;
     };
 
-    // The steps of draw(), in order.
+    // The steps of draw(), in order. inFramebuffer: the viewport must lie in the framebuffer where its size is known.
+    void drawFrame(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor,
+                   bool inFramebuffer);
+    static Target target(const Viewport& viewport, bool inFramebuffer);
     void buildRuns(const DrawList& list);
     void indexFades(const DrawList& list);
     void indexParts(const DrawList& list);
     void upload();
     bool wantsReverseZ(const Camera& camera) const;
-    Target beginFrame(const Camera& camera, const vec4& clearColor);
+    void beginFrame(Target& target, const Camera& camera, const vec4& clearColor);
     void drawRuns(const DrawList& list, const Camera& camera, bool reverse);
     void drawRun(const DrawList& list, const Run& r);
-    void endFrame(const Target& target, const Camera& camera);
+    void endFrame(const Target& target);
 
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
     void setShading(const Shading& s);
