@@ -7,6 +7,7 @@
 // is at 1; a far plane beyond 10,000 draws with the renderer's reverse-Z framebuffer (as the map does).
 // "files" are resident pages of mapped files (the libraries' code: llvmpipe compiling its shaders pages in
 // much of LLVM's), "anonymous" the rest (heap, GL buffers, framebuffers).
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 
@@ -120,6 +121,7 @@ int main(int argc, char** argv) try {
     OsmesaContext context(width, height);
     phase("context");
     Renderer renderer;
+    if (renderer.softwareRasterizer()) keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     phase("renderer (sgmap's empty program)");
     Camera camera;
     camera.setLookAt(dvec3(0.0), dvec3(0.0, 0.0, -1.0), dvec3(0.0, 1.0, 0.0));

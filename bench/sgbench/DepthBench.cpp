@@ -3,6 +3,7 @@
 // draw time, the time of an empty frame (clear, and for reverse-Z the colour blit to the context's
 // framebuffer), and the pixels that differ between the two modes' images.
 #include "sg/cull/CullTraversal.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sgbench/Bench.h"
@@ -21,6 +22,7 @@ int runDepth(const Args& a) {
     using Mode = sg::Renderer::DepthMode;
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
+    if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     if (!renderer.reverseZSupported())
         throw std::runtime_error("sgbench depth: the context has no glClipControl: reverse-Z is not available");
     scenes::CityOptions opt;

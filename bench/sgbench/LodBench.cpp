@@ -5,6 +5,7 @@
 // compared with the same view at full detail.
 #include "nodes/LOD.h"
 #include "sg/cull/CullTraversal.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sgbench/Bench.h"
@@ -71,6 +72,7 @@ int runLod(const Args& a) {
 
     sg::OsmesaContext ctx(1280, 720);
     sg::Renderer renderer;
+    if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     // The renderer's depth strategy (reverse-z where the context allows it, by default): what it costs.
     const std::string depth = a.str("depth", "default");
     if (depth == "classic")

@@ -4,6 +4,7 @@
 // cull and pass times, the whole frame drawn headless (1280x720), and with --pixels the pixels that differ from the
 // unculled render.
 #include "sg/cull/CullTraversal.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
@@ -136,6 +137,7 @@ int runOcclusion(const Args& a) {
     if (draw) {
         ctx = std::make_unique<sg::OsmesaContext>(1280, 720);
         renderer = std::make_unique<sg::Renderer>();
+        if (renderer->softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     }
     sg::CullTraversal cullNone, cullFrustum, cullOccl;  // one per setting: Auto keeps state per view
     sg::DrawList list;

@@ -2,6 +2,7 @@
 // city's orbit and street paths, office's walk, the factory's walkthrough. Writes pareto.csv, pareto.md and
 // pareto.gp (drawn into pareto.png when gnuplot is installed), and says whether the default settings lie on
 // each scene's Pareto front.
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sgbench/Bench.h"
@@ -83,6 +84,7 @@ int runPareto(const Args& a) {
 
     sg::OsmesaContext ctx(width, height);
     sg::Renderer renderer;
+    if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     std::vector<pareto::Row> rows;
     const auto start = std::chrono::steady_clock::now();
     std::unique_ptr<sg::Scene> city;  // both city paths draw one scene

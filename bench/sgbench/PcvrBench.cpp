@@ -5,6 +5,7 @@
 // rejection at the default cluster size). Every setting is drawn on every frame, in turn, headless at 1024x768.
 #include "sg/cull/CullTraversal.h"
 #include "sg/cull/TriangleClusters.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
@@ -61,6 +62,7 @@ int runPcvr(const Args& a) {
     scene.update();
     sg::OsmesaContext ctx(w, h);
     sg::Renderer renderer;
+    if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
 
     std::vector<Row> rows;
     auto addRow = [&](const std::string& name, sg::CullStrategy s, uint32_t k) {

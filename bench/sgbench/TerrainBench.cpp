@@ -2,6 +2,7 @@
 // `terrain` scene, and each of its refinements measured on its own (docs/benchmarks.md, "Terrain").
 #include "nodes/Geometry.h"
 #include "sg/cull/CullTraversal.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sgbench/Bench.h"
@@ -160,6 +161,7 @@ int runTerrain(const Args& a) {
     if (draw) {
         ctx = std::make_unique<sg::OsmesaContext>(kW, kH);
         renderer = std::make_unique<sg::Renderer>();
+        if (renderer->softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     }
     std::ostringstream t1, t2, t3;
     t1 << "| size | fov | nodes before | tris before | nodes after | tris after | paper nodes before | paper tris "

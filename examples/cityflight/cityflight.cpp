@@ -3,6 +3,7 @@
 //   cityflight [--n N] [--frames F] [--size WxH] [--out city.png] [--strategy S]
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "testbed/City.h"
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
         const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         OsmesaContext ctx(w, h);
         Renderer renderer;
+        if (renderer.softwareRasterizer()) keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
         CullTraversal cull;
         CullSettings set;
         set.strategy = parseStrategy(strategy);

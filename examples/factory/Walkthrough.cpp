@@ -1,6 +1,7 @@
 #include "factory/Walkthrough.h"
 
 #include "nodes/Geometry.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/io/ImageIO.h"
 #include "testbed/FactoryLighting.h"
 
@@ -33,6 +34,7 @@ const char* modeName(LodMode m) { return scenes::lodMethodName(m); }
 
 Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const scenes::WalkPath& path, int width, int height)
     : f_(f), scene_(scene), path_(path), width_(width), height_(height) {
+    if (renderer_.softwareRasterizer()) sg::keepFreedMemory();  // the walk is a frame loop: its frames are measured
     // Every mesh and texture the path may draw goes to the GPU now, as an application loads its database
     // before it walks it: else each is uploaded in the first frame that sees it (the workshop's interior at
     // the door, coarse levels as the eye draws away), and those frames stall.

@@ -8,6 +8,7 @@
 #include "factory/Site.h"
 #include "factory/Walkthrough.h"
 #include "sg/gl/GlfwWindow.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/TextOverlay.h"
 #include "sg/io/ImageIO.h"
 #include "testbed/FactoryLighting.h"
@@ -180,6 +181,7 @@ void FactoryWindow::screenshot(const std::string& name, const sg::Image& img) {
 
 int FactoryWindow::run() {
     sg::Renderer renderer;
+    if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     sg::TextOverlay overlay;
     renderer.setLight(scenes::factoryLight(workshop_));
     // The walkthrough's LOD choice (the same frame loop as the headless run), switched by the M key.

@@ -7,6 +7,7 @@
 #include "map/Options.h"
 #include "map/Session.h"
 #include "sg/gl/GlfwWindow.h"
+#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/Renderer.h"
 #include "sg/gl/TextOverlay.h"
 
@@ -22,6 +23,9 @@ namespace {
 
 class WindowDisplay : public Display {
 public:
+    WindowDisplay() {
+        if (renderer_.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
+    }
     void draw(const sg::DrawList& list, const sg::Camera& camera, const std::string& overlay) override {
         renderer_.draw(list, camera, kSeaColor);
         if (!overlay.empty()) overlay_.draw(overlay, camera.width(), camera.height(), 2.0f);

@@ -1,12 +1,16 @@
 #include "sgview/View.h"
 
+#include "sg/gl/KeepFreedMemory.h"
+
 #include <cstdio>
 
 namespace sgview {
 
 using namespace sg;
 
-View::View(const Scene& scene, std::string title) : scene_(scene), title_(std::move(title)) {}
+View::View(const Scene& scene, std::string title) : scene_(scene), title_(std::move(title)) {
+    if (renderer_.softwareRasterizer()) keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
+}
 
 void View::frame(const Camera& camera, bool overlay, const FrameStats& fs) {
     cullStats_ = CullStats{};

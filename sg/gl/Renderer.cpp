@@ -1,6 +1,9 @@
 #include "sg/gl/Renderer.h"
 
+#include "sg/gl/DepthTarget.h"
 #include "sg/gl/GlProgram.h"
+#include "sg/gl/GpuCache.h"
+#include "sg/gl/Shaders.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -9,110 +12,17 @@
 #endif
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string>
-#if __has_include(<malloc.h>)
-#include <malloc.h>  // mallopt (glibc)
-#endif
 
 namespace sg {
 
 namespace {
-
-const char* kVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in vec3 aNormal;
-layout(location = 2) in vec2 aUv;
-layout(location = 3) in vec4 aColor;
-layout(location = 4) in mat4 aModel;  // per instance: locations 4 to 7
-// The material's base colour, per instance: the value that differs between most materials. As a uniform it
-// would change between most draws, and llvmpipe stores its whole rasterizer state (tens of kilobytes) again
-// for every draw whose uniforms differ from the one before.
-layout(location = 8) in vec4 aBaseColor;
-uniform mat4 uViewProj;
-out vec3 vNormal;
-out vec3 vFromEye;  // world offset from the eye: the models' matrices carry the eye's translation
-out vec2 vUv;
-out vec4 vColor;
-flat out vec4 vBaseColor;
-void main() {
-    vec4 world = aModel * vec4(aPosition, 1.0);
-    vFromEye = world.xyz;
-    gl_Position = uViewProj * world;
-    // The cofactor matrix is det * inverse-transpose: right under non-uniform scale, and its sign does
-    // not matter with two-sided lighting.
-    mat3 m = mat3(aModel);
-    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
-    vUv = aUv;
-    vColor = aColor;
-    vBaseColor = aBaseColor;
-}
-)";
-
-const char* kFragmentShader = R"(#version 330 core
-in vec3 vNormal;
-in vec3 vFromEye;
-in vec2 vUv;
-in vec4 vColor;
-flat in vec4 vBaseColor;
-uniform vec3 uLightDir;  // unit, toward the light (the headlight: the view direction)
-uniform bool uHeadlight;
-uniform vec3 uAmbient, uLightColor;  // DirectionalLight, when not the headlight
-uniform bool uUseTexture;
-uniform bool uUseColor;
-uniform bool uBakedLight;  // Material::bakedLight: vertex alpha is sun visibility, not opacity
-uniform bool uLit;
-uniform float uSpecular, uShininess;
-uniform sampler2D uTexture;
-uniform float uAlphaCutoff;  // Material::alphaCutoff
-uniform float uFade;  // DrawList::fades: 1 opaque; f > 0 keeps pattern < f; f < 0 keeps pattern >= 1 + f
-out vec4 fragColor;
-void main() {
-    if (uFade < 1.0) {
-        // Interleaved gradient noise (Jimenez 2014): a pattern value per pixel, evenly spread, no visible grid.
-        float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
-        if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
-    }
-    vec4 c = vBaseColor;
-    if (uUseTexture) c *= texture(uTexture, vUv);
-    float sun = 1.0;
-    if (uUseColor) {
-        if (uBakedLight) {
-            c.rgb *= vColor.rgb;
-            sun = vColor.a;
-        } else {
-            c *= vColor;
-        }
-    }
-    if (c.a < uAlphaCutoff) discard;
-    if (uLit) {
-        float len = length(vNormal);
-        if (uHeadlight) {
-            float d = len > 0.0 ? abs(dot(vNormal / len, uLightDir)) : 1.0;
-            c.rgb *= 0.35 + 0.65 * d * sun;
-        } else {
-            vec3 v = -normalize(vFromEye);
-            vec3 n = len > 0.0 ? vNormal / len : v;
-            if (dot(n, v) < 0.0) n = -n;  // the side the eye sees: normals' sign varies with winding and mirroring
-            float nl = max(dot(n, uLightDir), 0.0);
-            vec3 direct = uLightColor * (nl * sun);
-            vec3 rgb = c.rgb * (uAmbient + direct);
-            if (uSpecular > 0.0 && nl > 0.0)
-                rgb += uLightColor * (sun * uSpecular * pow(max(dot(n, normalize(uLightDir + v)), 0.0), uShininess));
-            c.rgb = rgb;
-        }
-    }
-    fragColor = c;
-}
-)";
-
-constexpr GLuint kInstanceLoc = 4;
-constexpr GLuint kInstanceAttribs = 5;  // the matrix's 4 columns, the base colour
 
 // OSMesa's library exports only part of GL 4.5 (not glClipControl): ask it; the system libGL exports all.
 PFNGLCLIPCONTROLPROC clipControl() {
@@ -155,84 +65,38 @@ inline void checkGl(const char*, const char*) {}
 inline void drainGl() {}
 #endif
 
-// The texels with alpha 0 take the colour of their nearest visible texels, ring by ring (the average of
-// the neighbours filled before them): filtering and mipmaps at a cut edge then mix only colours of the
-// picture, never the hidden ones, which are often black or white.
-std::vector<uint8_t> bleedIntoTransparent(const Texture& t) {
-    const int w = t.width(), h = t.height();
-    std::vector<uint8_t> px = t.rgba();
-    std::vector<int> ring;
-    std::vector<char> filled(size_t(w) * size_t(h));
-    for (size_t i = 0; i < filled.size(); ++i) filled[i] = px[i * 4 + 3] != 0;
-    auto edge = [&](int x, int y) {
-        if (filled[size_t(y) * size_t(w) + size_t(x)]) return false;
-        return (x > 0 && filled[size_t(y) * size_t(w) + size_t(x - 1)]) ||
-               (x + 1 < w && filled[size_t(y) * size_t(w) + size_t(x + 1)]) ||
-               (y > 0 && filled[size_t(y - 1) * size_t(w) + size_t(x)]) ||
-               (y + 1 < h && filled[size_t(y + 1) * size_t(w) + size_t(x)]);
-    };
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x)
-            if (edge(x, y)) ring.push_back(y * w + x);
-    std::vector<int> next;
-    std::vector<std::array<uint8_t, 3>> colour;
-    while (!ring.empty()) {
-        colour.clear();
-        for (int i : ring) {
-            const int x = i % w, y = i / w;
-            int sum[3] = {0, 0, 0}, n = 0;
-            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                const size_t j = size_t(ny) * size_t(w) + size_t(nx);
-                if (!filled[j]) continue;
-                for (int c = 0; c < 3; ++c) sum[c] += px[j * 4 + size_t(c)];
-                ++n;
-            }
-            colour.push_back(
-                {uint8_t((sum[0] + n / 2) / n), uint8_t((sum[1] + n / 2) / n), uint8_t((sum[2] + n / 2) / n)});
-        }
-        for (size_t k = 0; k < ring.size(); ++k) {
-            const size_t i = size_t(ring[k]);
-            filled[i] = 1;
-            for (size_t c = 0; c < 3; ++c) px[i * 4 + c] = colour[k][c];
-        }
-        next.clear();
-        for (int i : ring) {
-            const int x = i % w, y = i / w;
-            for (auto [dx, dy] : {std::pair{-1, 0}, {1, 0}, {0, -1}, {0, 1}}) {
-                const int nx = x + dx, ny = y + dy;
-                if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                const int j = ny * w + nx;
-                if (!filled[size_t(j)]) next.push_back(j);
-            }
-        }
-        std::sort(next.begin(), next.end());
-        next.erase(std::unique(next.begin(), next.end()), next.end());
-        ring.swap(next);
-    }
-    return px;
+std::string describe(const Renderer::Viewport& v) {
+    return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.width) + "x" +
+           std::to_string(v.height) + ")";
 }
 
-}  // namespace
-
-namespace {
-// A software rasterizer allocates its binned scene, tens of megabytes, afresh every frame and frees it after.
-// glibc hands the freed top of its heap back to the system (128 KB and more, by default) and the next frame
-// faults every page in again: on a factory walk that was a quarter of the frame time, and more in larger
-// frames (median 35.6 -> 26.9 ms, p95 71.8 -> 43.7 ms). Freed memory is kept, up to 256 MB, for the next
-// frame; once per process, and only on glibc. An application that wants it back calls malloc_trim(0), as
-// sgmap does when it leaves a level.
-void keepFreedMemory() {
-#ifdef __GLIBC__
-    static const bool once = [] {
-        mallopt(M_TRIM_THRESHOLD, 256 << 20);
-        mallopt(M_TOP_PAD, 64 << 20);
-        return true;
-    }();
-    (void)once;
+// The size of the framebuffer bound for drawing, where GL tells it: OSMesa's buffer, or a framebuffer object's
+// first colour renderbuffer. A window's framebuffer and texture attachments (whose target would have to be bound
+// to ask) give 0 x 0.
+void drawFramebufferSize(GLuint fbo, int& width, int& height) {
+    width = height = 0;
+    if (fbo == 0) {
+#ifdef SGKIT_GL_OSMESA
+        GLint w = 0, h = 0;
+        OSMesaGetIntegerv(OSMESA_WIDTH, &w);
+        OSMesaGetIntegerv(OSMESA_HEIGHT, &h);
+        if (w > 0 && h > 0) width = w, height = h;
 #endif
+        return;
+    }
+    GLint type = GL_NONE, name = 0, bound = 0;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE, &type);
+    if (type != GL_RENDERBUFFER) return;
+    glGetFramebufferAttachmentParameteriv(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                                          GL_FRAMEBUFFER_ATTACHMENT_OBJECT_NAME, &name);
+    glGetIntegerv(GL_RENDERBUFFER_BINDING, &bound);
+    glBindRenderbuffer(GL_RENDERBUFFER, GLuint(name));
+    glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_WIDTH, &width);
+    glGetRenderbufferParameteriv(GL_RENDERBUFFER, GL_RENDERBUFFER_HEIGHT, &height);
+    glBindRenderbuffer(GL_RENDERBUFFER, GLuint(bound));
 }
+
 }  // namespace
 
 Renderer::Renderer() {
@@ -263,21 +127,20 @@ Renderer::Renderer() {
     glUseProgram(0);
     glGenBuffers(1, &instanceVbo_);
     // Anisotropic filtering: core in GL 4.6, an extension before it that nearly every driver has. Not on a
-    // software rasterizer, where each extra sample is paid in full: 8x made a factory frame 3.2x slower on
-    // llvmpipe (2x: 2.6x), against almost nothing on a GPU's texture units.
+    // software rasterizer, where each extra sample is paid in full, unlike on a GPU's texture units (what it
+    // costs: docs/benchmarks.md, "Factory walkthrough").
     const auto* glRenderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
     const std::string rendererName = glRenderer ? glRenderer : "";
-    const bool software = rendererName.find("llvmpipe") != std::string::npos ||
-                          rendererName.find("softpipe") != std::string::npos ||
-                          rendererName.find("swrast") != std::string::npos;
-    if (software) keepFreedMemory();
+    software_ = rendererName.find("llvmpipe") != std::string::npos ||
+                rendererName.find("softpipe") != std::string::npos || rendererName.find("swrast") != std::string::npos;
+    float maxAnisotropy = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     GLint extensions = 0;
     glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
-    for (GLint i = 0; i < extensions && !software; ++i) {
+    for (GLint i = 0; i < extensions && !software_; ++i) {
         const auto* e = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, GLuint(i)));
         if (e && (std::strcmp(e, "GL_EXT_texture_filter_anisotropic") == 0 ||
                   std::strcmp(e, "GL_ARB_texture_filter_anisotropic") == 0)) {
-            glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &maxAnisotropy_);
+            glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &maxAnisotropy);
             break;
         }
     }
@@ -297,19 +160,15 @@ Renderer::Renderer() {
         glDeleteProgram(program_);
         throw;
     }
+    cache_ = std::make_unique<GpuCache>(instanceVbo_, maxAnisotropy);
+    depthTarget_ = std::make_unique<DepthTarget>();
 }
 
 Renderer::~Renderer() {
-    clear();
-    releaseDepthTarget();
+    cache_.reset();
+    depthTarget_.reset();
     glDeleteBuffers(1, &instanceVbo_);
     glDeleteProgram(program_);
-}
-
-void Renderer::destroy(GpuMesh& g) {
-    glDeleteVertexArrays(1, &g.vao);
-    glDeleteBuffers(1, &g.vbo);
-    glDeleteBuffers(1, &g.ibo);
 }
 
 void Renderer::setDepthMode(DepthMode mode) {
@@ -318,137 +177,6 @@ void Renderer::setDepthMode(DepthMode mode) {
             "Renderer::setDepthMode(): reverse-Z needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control), which "
             "this context lacks");
     depthMode_ = mode;
-}
-
-bool Renderer::bindDepthTarget(int width, int height) {
-    GLint samples = 0;
-    glGetIntegerv(GL_SAMPLE_BUFFERS, &samples);  // of the bound draw framebuffer: a blit cannot resolve into it
-    if (samples > 0) return false;
-    if (depthFbo_ == 0 || width != depthW_ || height != depthH_) {
-        releaseDepthTarget();
-        glGenRenderbuffers(1, &depthColor_);
-        glBindRenderbuffer(GL_RENDERBUFFER, depthColor_);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-        glGenRenderbuffers(1, &depthBuffer_);
-        glBindRenderbuffer(GL_RENDERBUFFER, depthBuffer_);
-        glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, width, height);
-        glBindRenderbuffer(GL_RENDERBUFFER, 0);
-        glGenFramebuffers(1, &depthFbo_);
-        glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, depthColor_);
-        glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer_);
-        if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            // A driver without float depth attachments: Classic from now on.
-            releaseDepthTarget();
-            reverseZSupported_ = false;
-            depthMode_ = DepthMode::Classic;
-            return false;
-        }
-        depthW_ = width;
-        depthH_ = height;
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, depthFbo_);
-    return true;
-}
-
-void Renderer::releaseDepthTarget() {
-    if (depthFbo_) glDeleteFramebuffers(1, &depthFbo_);
-    if (depthColor_) glDeleteRenderbuffers(1, &depthColor_);
-    if (depthBuffer_) glDeleteRenderbuffers(1, &depthBuffer_);
-    depthFbo_ = depthColor_ = depthBuffer_ = 0;
-    depthW_ = depthH_ = 0;
-}
-
-Renderer::GpuMesh& Renderer::mesh(const Mesh* m) {
-    auto it = meshes_.find(m);
-    if (it != meshes_.end()) {
-        it->second.lastFrame = frame_;
-        return it->second;
-    }
-    GpuMesh g;
-    g.mesh = m;
-    g.lastFrame = frame_;
-    const size_t n = m->positions().size();
-    g.normals = m->normals().size() == n;
-    g.uvs = m->uvs().size() == n;
-    g.colors = m->colors().size() == n;
-    // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
-    const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
-                 uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0;
-    const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes;
-    glGenVertexArrays(1, &g.vao);
-    glBindVertexArray(g.vao);
-    glGenBuffers(1, &g.vbo);
-    glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colOff + colBytes), nullptr, GL_STATIC_DRAW);
-    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
-    glEnableVertexAttribArray(0);
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    if (g.normals) {
-        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(nrmOff), GLsizeiptr(nrmBytes), m->normals().data());
-        glEnableVertexAttribArray(1);
-        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(nrmOff));
-    }
-    if (g.uvs) {
-        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(uvOff), GLsizeiptr(uvBytes), m->uvs().data());
-        glEnableVertexAttribArray(2);
-        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(uvOff));
-    }
-    if (g.colors) {
-        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(colOff), GLsizeiptr(colBytes), m->colors().data());
-        glEnableVertexAttribArray(3);
-        glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(colOff));
-    }
-    glGenBuffers(1, &g.ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
-    if (!m->indices16().empty()) {
-        g.indexType = GL_UNSIGNED_SHORT;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices16().size() * 2), m->indices16().data(),
-                     GL_STATIC_DRAW);
-    } else {
-        g.indexType = GL_UNSIGNED_INT;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices32().size() * 4), m->indices32().data(),
-                     GL_STATIC_DRAW);
-    }
-    g.indexCount = GLsizei(m->indexCount());
-    // The instance's matrix and material: their pointers are set per run, to the run's place in the instance
-    // buffer.
-    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-    for (GLuint c = 0; c < kInstanceAttribs; ++c) {
-        glEnableVertexAttribArray(kInstanceLoc + c);
-        glVertexAttribDivisor(kInstanceLoc + c, 1);
-        glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
-                              reinterpret_cast<const void*>(c * sizeof(vec4)));
-    }
-    glBindVertexArray(0);
-    return meshes_.emplace(m, std::move(g)).first->second;
-}
-
-Renderer::GpuTexture& Renderer::texture(const Texture* t, bool cut) {
-    auto& cache = cut ? cutTextures_ : textures_;
-    auto it = cache.find(t);
-    if (it != cache.end()) {
-        it->second.lastFrame = frame_;
-        return it->second;
-    }
-    GpuTexture g;
-    g.texture = t;
-    g.lastFrame = frame_;
-    glGenTextures(1, &g.id);
-    glBindTexture(GL_TEXTURE_2D, g.id);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    // The first row of the RGBA array is v = 0.
-    const std::vector<uint8_t> bled = cut ? bleedIntoTransparent(*t) : std::vector<uint8_t>{};
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 cut ? bled.data() : t->rgba().data());
-    glGenerateMipmap(GL_TEXTURE_2D);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    if (maxAnisotropy_ > 1.0f && t->maxAnisotropy > 1.0f)
-        glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, std::min(t->maxAnisotropy, maxAnisotropy_));
-    return cache.emplace(t, std::move(g)).first->second;
 }
 
 Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
@@ -480,41 +208,91 @@ void Renderer::setShading(const Shading& s) {
 }
 
 void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
+    // The camera's own viewport is not checked against the framebuffer: GL clips what lies outside, as it always has.
+    drawFrame(list, camera, Viewport{0, 0, camera.width(), camera.height()}, clearColor, false);
+}
+
+void Renderer::draw(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor) {
+    drawFrame(list, camera, viewport, clearColor, true);
+}
+
+void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor,
+                         bool inFramebuffer) {
     const auto t0 = std::chrono::steady_clock::now();
     drainGl();
-    ++frame_;
+    Target t = target(viewport, inFramebuffer);
+    cache_->nextFrame();
     stats_ = RenderStats{};
+    buildRuns(list);
+    upload();
+    beginFrame(t, camera, clearColor);
+    if (!runs_.empty()) drawRuns(list, camera, t.reverse);
+    endFrame(t);
+    checkGl("Renderer::draw()", "after drawing");
+    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
-    // Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
-    const size_t n = list.order.empty() ? list.items.size() : list.order.size();
-    instances_.clear();
-    runs_.clear();
-    Instance instance;
+Renderer::Target Renderer::target(const Viewport& viewport, bool inFramebuffer) {
+    const Viewport& v = viewport;
+    if (v.width <= 0 || v.height <= 0 || v.x < 0 || v.y < 0)
+        throw std::invalid_argument("Renderer::draw(): viewport " + describe(v) +
+                                    (v.width <= 0 || v.height <= 0 ? " has no area" : " has a negative corner"));
+    GLint drawFbo = 0, readFbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawFbo);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readFbo);
+    Target t;
+    t.drawFbo = GLuint(drawFbo);
+    t.readFbo = GLuint(readFbo);
+    t.viewport = v;
+    drawFramebufferSize(t.drawFbo, t.width, t.height);
+    const int64_t right = int64_t(v.x) + v.width, top = int64_t(v.y) + v.height;
+    if (std::max(right, top) > std::numeric_limits<int>::max())
+        throw std::invalid_argument("Renderer::draw(): viewport " + describe(v) + " reaches past any framebuffer");
+    if (inFramebuffer && t.width > 0 && (right > t.width || top > t.height))
+        throw std::invalid_argument("Renderer::draw(): viewport " + describe(v) + " reaches past the " +
+                                    std::to_string(t.width) + "x" + std::to_string(t.height) + " framebuffer");
+    return t;
+}
+
+// Dissolving items are few: a dense copy of DrawList::fades only in frames that have them.
+void Renderer::indexFades(const DrawList& list) {
     fades_.clear();
-    if (!list.fades.empty()) {  // dissolving items are few: a dense copy only in frames that have them
-        fades_.assign(list.items.size(), 1.0f);
-        for (const auto& [i, f] : list.fades)
-            if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
-    }
+    if (list.fades.empty()) return;
+    fades_.assign(list.items.size(), 1.0f);
+    for (const auto& [i, f] : list.fades)
+        if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
+}
+
+// Like fades: a dense copy of DrawList::parts only in frames that draw items in part, each part checked.
+void Renderer::indexParts(const DrawList& list) {
     parts_.clear();
-    if (!list.parts.empty()) {  // like fades: a dense copy only in frames that draw items in part
-        parts_.assign(list.items.size(), kWhole);
-        for (size_t p = 0; p < list.parts.size(); ++p) {
-            const DrawList::Part& part = list.parts[p];
-            const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
-            bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
-            for (uint32_t r = 0; ok && r < part.count; ++r) {
-                const IndexRange& ir = list.ranges[size_t(part.first) + r];
-                ok = uint64_t(ir.first) + ir.count <= m->indexCount();
-            }
-            if (!ok)
-                throw std::out_of_range("Renderer::draw(): parts[" + std::to_string(p) + "] (item " +
-                                        std::to_string(part.item) + ", ranges " + std::to_string(part.first) + " + " +
-                                        std::to_string(part.count) + ") is past the items, the " +
-                                        std::to_string(list.ranges.size()) + " ranges or its mesh's indices");
-            parts_[part.item] = uint32_t(p);
+    if (list.parts.empty()) return;
+    parts_.assign(list.items.size(), kWhole);
+    for (size_t p = 0; p < list.parts.size(); ++p) {
+        const DrawList::Part& part = list.parts[p];
+        const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
+        bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
+        for (uint32_t r = 0; ok && r < part.count; ++r) {
+            const IndexRange& ir = list.ranges[size_t(part.first) + r];
+            ok = uint64_t(ir.first) + ir.count <= m->indexCount();
         }
+        if (!ok)
+            throw std::out_of_range("Renderer::draw(): parts[" + std::to_string(p) + "] (item " +
+                                    std::to_string(part.item) + ", ranges " + std::to_string(part.first) + " + " +
+                                    std::to_string(part.count) + ") is past the items, the " +
+                                    std::to_string(list.ranges.size()) + " ranges or its mesh's indices");
+        parts_[part.item] = uint32_t(p);
     }
+}
+
+// Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
+void Renderer::buildRuns(const DrawList& list) {
+    const size_t n = list.order.empty() ? list.items.size() : list.order.size();
+    items_.clear();
+    runs_.clear();
+    ItemAttributes item;
+    indexFades(list);
+    indexParts(list);
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
         if (i >= list.items.size())
@@ -526,117 +304,134 @@ void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clea
         const uint32_t part = parts_.empty() ? kWhole : parts_[i];
         if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
             runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole) {
-            runs_.push_back(Run{it.mesh, it.material, uint32_t(instances_.size()), 0, fade, part});
-            instance.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
+            runs_.push_back(Run{it.mesh, it.material, uint32_t(items_.size()), 0, fade, part});
+            item.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
         }
         runs_.back().count++;
-        instance.model = it.matrix();
-        instances_.push_back(instance);
+        item.model = it.matrix();
+        items_.push_back(item);
     }
-    // Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
-    // draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
-    for (Run& r : runs_) {
-        r.gpu = &mesh(r.mesh);
-        const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
-        r.texture = tex ? texture(tex, r.material->alphaCutoff > 0.0f).id : 0;
-    }
+}
 
-    // ReverseZ: the frame goes to the renderer's framebuffer (float depth), then its colour to the target.
-    GLint drawTarget = 0, readTarget = 0;
-    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &drawTarget);
-    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-    // Auto: the far/near ratio of a perspective projection is (a - 1) / (a + 1) for a = proj[2][2]
-    // (-(f + n) / (f - n)); an infinite far plane (a = -1) or NaN gives ReverseZ, the safer.
-    const double a = camera.projection()[2][2];
-    const bool wantReverse =
-        depthMode_ == DepthMode::ReverseZ || (depthMode_ == DepthMode::Auto && camera.perspective() &&
-                                              !(std::abs((a - 1.0) / (a + 1.0)) <= kAutoReverseRatio));
-    const bool reverse = wantReverse && bindDepthTarget(camera.width(), camera.height());
-    if (wantReverse && !reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
+// Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
+// draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
+void Renderer::upload() {
+    for (Run& r : runs_) {
+        r.gpu = &cache_->mesh(r.mesh);
+        const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
+        r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
     }
-    lastReverseZ_ = reverse;
-    if (reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-    glViewport(0, 0, camera.width(), camera.height());
+}
+
+// Auto: the far/near ratio of a perspective projection is (a - 1) / (a + 1) for a = proj[2][2]
+// (-(f + n) / (f - n)); an infinite far plane (a = -1) or NaN gives ReverseZ, the safer.
+bool Renderer::wantsReverseZ(const Camera& camera) const {
+    const double a = camera.projection()[2][2];
+    return depthMode_ == DepthMode::ReverseZ || (depthMode_ == DepthMode::Auto && camera.perspective() &&
+                                                 !(std::abs((a - 1.0) / (a + 1.0)) <= kAutoReverseRatio));
+}
+
+// Binds where the frame goes (ReverseZ: the renderer's framebuffer, with float depth, in the target's pixel
+// coordinates; its colour goes to the target in endFrame), sets the frame's GL state and clears the viewport.
+void Renderer::beginFrame(Target& t, const Camera& camera, const vec4& clearColor) {
+    const Viewport& v = t.viewport;
+    if (wantsReverseZ(camera)) {
+        // As large as the target where its size is known, so that views side by side share one; else as large
+        // as the viewports drawn so far.
+        const int w = std::max(v.x + v.width, t.width), h = std::max(v.y + v.height, t.height);
+        const DepthTarget::Bind bound = depthTarget_->bind(w, h, t.width > 0);
+        t.reverse = bound == DepthTarget::Bind::Bound;
+        if (bound == DepthTarget::Bind::Unsupported) {  // a driver without float depth attachments
+            reverseZSupported_ = false;
+            depthMode_ = DepthMode::Classic;
+        }
+        if (!t.reverse) {  // drawn into directly: the bindings as they were (a failed setup may move them)
+            glBindFramebuffer(GL_DRAW_FRAMEBUFFER, t.drawFbo);
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, t.readFbo);
+        }
+    }
+    lastReverseZ_ = t.reverse;
+    if (t.reverse) clipControl()(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glViewport(v.x, v.y, v.width, v.height);
+    glScissor(v.x, v.y, v.width, v.height);
+    glEnable(GL_SCISSOR_TEST);  // the clear too: glClear ignores the viewport
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
-    glDepthFunc(reverse ? GL_GREATER : GL_LESS);
+    glDepthFunc(t.reverse ? GL_GREATER : GL_LESS);
     glDepthMask(GL_TRUE);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glClearColor(clearColor.r, clearColor.g, clearColor.b, clearColor.a);
-    glClearDepth(reverse ? 0.0 : 1.0);
+    glClearDepth(t.reverse ? 0.0 : 1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
 
-    if (!runs_.empty()) {
-        glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-        // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
-        const auto bytes = GLsizeiptr(instances_.size() * sizeof(Instance));
-        glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
-        glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, instances_.data());
+void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse) {
+    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+    // Orphaning: the driver hands out fresh storage instead of waiting for last frame's draws.
+    const auto bytes = GLsizeiptr(items_.size() * sizeof(ItemAttributes));
+    glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, items_.data());
 
-        glUseProgram(program_);
-        shadingSet_ = false;  // set in full by the first run
-        // Projection times the view's rotation only, in double: the eye's translation is already in the
-        // items' matrices, so no large coordinate ever reaches float.
-        const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
-        glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
-        const vec3 light = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
-        glUniform3f(uLightDir_, light.x, light.y, light.z);
-        glUniform1i(uHeadlight_, light_.headlight ? 1 : 0);
-        glUniform3f(uAmbient_, light_.ambient.r, light_.ambient.g, light_.ambient.b);
-        glUniform3f(uLightColor_, light_.color.r, light_.color.g, light_.color.b);
-        glActiveTexture(GL_TEXTURE0);
+    glUseProgram(program_);
+    shadingSet_ = false;  // set in full by the first run
+    // Projection times the view's rotation only, in double: the eye's translation is already in the
+    // items' matrices, so no large coordinate ever reaches float.
+    const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
+    glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
+    const vec3 light = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
+    glUniform3f(uLightDir_, light.x, light.y, light.z);
+    glUniform1i(uHeadlight_, light_.headlight ? 1 : 0);
+    glUniform3f(uAmbient_, light_.ambient.r, light_.ambient.g, light_.ambient.b);
+    glUniform3f(uLightColor_, light_.color.r, light_.color.g, light_.color.b);
+    glActiveTexture(GL_TEXTURE0);
+    for (const Run& r : runs_) drawRun(list, r);
+    glBindVertexArray(0);
+    glUseProgram(0);
+}
 
-        for (const Run& r : runs_) {
-            const GpuMesh& g = *r.gpu;
-            glBindVertexArray(g.vao);
-            glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
-            // GL 3.3 has no base instance: point the instance attributes at the run's first instance.
-            const size_t first = size_t(r.first) * sizeof(Instance);
-            for (GLuint c = 0; c < kInstanceAttribs; ++c)
-                glVertexAttribPointer(kInstanceLoc + c, 4, GL_FLOAT, GL_FALSE, sizeof(Instance),
-                                      reinterpret_cast<const void*>(first + c * sizeof(vec4)));
-            if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
-            setShading(shading(g, r.material, r.fade, r.texture));
-            if (r.part == kWhole) {
-                glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
-                stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
-            } else {
-                // One item, its ranges: a non-instanced draw reads the instance attributes' first element.
-                const DrawList::Part& p = list.parts[r.part];
-                const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
-                rangeCounts_.clear();
-                rangeOffsets_.clear();
-                for (uint32_t k = 0; k < p.count; ++k) {
-                    const IndexRange& ir = list.ranges[size_t(p.first) + k];
-                    rangeCounts_.push_back(GLsizei(ir.count));
-                    rangeOffsets_.push_back(reinterpret_cast<const void*>(size_t(ir.first) * bytes));
-                    stats_.triangles += ir.count / 3;
-                }
-                glMultiDrawElements(GL_TRIANGLES, rangeCounts_.data(), g.indexType, rangeOffsets_.data(),
-                                    GLsizei(p.count));
-            }
-            stats_.drawCalls++;
-            stats_.instances += r.count;
+void Renderer::drawRun(const DrawList& list, const Run& r) {
+    const GpuMesh& g = *r.gpu;
+    glBindVertexArray(g.vao);
+    glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
+    pointItemAttributes(r.first);
+    if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
+    setShading(shading(g, r.material, r.fade, r.texture));
+    if (r.part == kWhole) {
+        glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
+        stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
+    } else {
+        // One item, its ranges: a non-instanced draw reads the item attributes' first element.
+        const DrawList::Part& p = list.parts[r.part];
+        const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
+        rangeCounts_.clear();
+        rangeOffsets_.clear();
+        for (uint32_t k = 0; k < p.count; ++k) {
+            const IndexRange& ir = list.ranges[size_t(p.first) + k];
+            rangeCounts_.push_back(GLsizei(ir.count));
+            rangeOffsets_.push_back(reinterpret_cast<const void*>(size_t(ir.first) * bytes));
+            stats_.triangles += ir.count / 3;
         }
-        glBindVertexArray(0);
-        glUseProgram(0);
+        glMultiDrawElements(GL_TRIANGLES, rangeCounts_.data(), g.indexType, rangeOffsets_.data(), GLsizei(p.count));
     }
-    if (reverse) {
-        // Back to GL's defaults for whatever draws next, and the colour to the framebuffer bound at the call.
-        clipControl()(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
-        glDepthFunc(GL_LESS);
-        glClearDepth(1.0);
-        const GLint w = camera.width(), h = camera.height();
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthFbo_);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, GLuint(drawTarget));
-        glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
-    }
-    checkGl("Renderer::draw()", "after drawing");
-    stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    stats_.drawCalls++;
+    stats_.instances += r.count;
+}
+
+// Back to GL's defaults for whatever draws next; ReverseZ: the viewport's colour to the framebuffer bound at the
+// call, at the same place.
+void Renderer::endFrame(const Target& target) {
+    glDisable(GL_SCISSOR_TEST);
+    if (!target.reverse) return;
+    clipControl()(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
+    glDepthFunc(GL_LESS);
+    glClearDepth(1.0);
+    const Viewport& v = target.viewport;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, depthTarget_->framebuffer());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.drawFbo);
+    glBlitFramebuffer(v.x, v.y, v.x + v.width, v.y + v.height, v.x, v.y, v.x + v.width, v.y + v.height,
+                      GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target.readFbo);
 }
 
 void Renderer::setLight(const DirectionalLight& light) {
@@ -653,13 +448,20 @@ void Renderer::finish() const { glFinish(); }
 Image Renderer::readColor() const {
     GLint vp[4] = {0, 0, 0, 0};
     glGetIntegerv(GL_VIEWPORT, vp);
+    return readColor(Viewport{vp[0], vp[1], vp[2], vp[3]});
+}
+
+Image Renderer::readColor(const Viewport& rect) const {
+    if (rect.width <= 0 || rect.height <= 0 || rect.x < 0 || rect.y < 0)
+        throw std::invalid_argument("Renderer::readColor(): rectangle " + describe(rect) +
+                                    (rect.width <= 0 || rect.height <= 0 ? " has no area" : " has a negative corner"));
     Image img;
-    img.width = vp[2];
-    img.height = vp[3];
+    img.width = rect.width;
+    img.height = rect.height;
     const size_t row = size_t(img.width) * 4u;
     std::vector<uint8_t> tmp(row * size_t(img.height));
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(vp[0], vp[1], img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, tmp.data());
+    glReadPixels(rect.x, rect.y, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, tmp.data());
     checkGl("Renderer::readColor()", "from glReadPixels");
     img.rgba.resize(tmp.size());
     for (int y = 0; y < img.height; ++y)  // GL's first row is the bottom one
@@ -676,7 +478,7 @@ std::vector<float> Renderer::readDepth() const {
     GLint readTarget = 0;
     if (lastReverseZ_) {  // the depth is in the renderer's framebuffer, not the target's
         glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &readTarget);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthFbo_);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, depthTarget_->framebuffer());
     }
     glReadPixels(vp[0], vp[1], vp[2], vp[3], GL_DEPTH_COMPONENT, GL_FLOAT, tmp.data());
     if (lastReverseZ_) glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(readTarget));
@@ -685,33 +487,12 @@ std::vector<float> Renderer::readDepth() const {
     return out;
 }
 
-void Renderer::releaseUnused() {
-    for (auto it = meshes_.begin(); it != meshes_.end();) {
-        if (it->second.lastFrame == frame_) {
-            ++it;
-            continue;
-        }
-        destroy(it->second);
-        it = meshes_.erase(it);
-    }
-    for (auto* cache : {&textures_, &cutTextures_})
-        for (auto it = cache->begin(); it != cache->end();) {
-            if (it->second.lastFrame == frame_) {
-                ++it;
-                continue;
-            }
-            glDeleteTextures(1, &it->second.id);
-            it = cache->erase(it);
-        }
-}
+void Renderer::releaseUnused() { cache_->releaseUnused(); }
 
-void Renderer::clear() {
-    for (auto& [m, g] : meshes_) destroy(g);
-    meshes_.clear();
-    for (auto* cache : {&textures_, &cutTextures_}) {
-        for (auto& [t, g] : *cache) glDeleteTextures(1, &g.id);
-        cache->clear();
-    }
-}
+void Renderer::clear() { cache_->clear(); }
+
+size_t Renderer::cachedMeshes() const { return cache_->meshCount(); }
+
+size_t Renderer::cachedTextures() const { return cache_->textureCount(); }
 
 }  // namespace sg

@@ -8,14 +8,22 @@
 #include "sg/cull/DrawList.h"
 #include "sg/io/ImageIO.h"
 
+#include <cstddef>
 #include <cstdint>
-#include <unordered_map>
+#include <memory>
 #include <vector>
 
 namespace sg {
 
+class DepthTarget;  // sg/gl/DepthTarget.h, internal
+class GpuCache;     // sg/gl/GpuCache.h, internal
+struct GpuMesh;
+struct ItemAttributes;  // sg/gl/Shaders.h, internal
+
 struct RenderStats {
-    uint64_t drawCalls = 0;  // glDrawElementsInstanced calls: one per run of equal mesh and material
+    // Draw calls: a glDrawElementsInstanced per run of equal mesh and material, a glMultiDrawElements per item
+    // drawn in part (DrawList::parts).
+    uint64_t drawCalls = 0;
     uint64_t instances = 0;  // draw items drawn
     uint64_t triangles = 0;
     double ms = 0.0;  // CPU time of draw(), without waiting for the GPU to finish
@@ -30,8 +38,8 @@ public:
         ReverseZ,  // a 32-bit float depth buffer of the renderer's own, near -> 1, far -> 0, GL_GREATER;
                    // the colour is copied to the bound framebuffer at the end of draw()
         // Per draw: ReverseZ when the camera's far/near ratio is above kAutoReverseRatio (where 24 bits no
-        // longer resolve a thousandth of the distance at the far plane), Classic below it. The copy ReverseZ
-        // ends with costs 4-6 ms a 1280x720 frame on llvmpipe, which ordinary ranges do not need to pay.
+        // longer resolve a thousandth of the distance at the far plane), Classic below it: ordinary ranges do
+        // not need to pay for the copy ReverseZ ends with (docs/benchmarks.md, "Depth").
         Auto,
     };
     static constexpr double kAutoReverseRatio = 1e4;
@@ -45,13 +53,23 @@ public:
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
 
+    // Whether the context rasterizes in software (llvmpipe, softpipe, swrast): where a frame loop wants
+    // keepFreedMemory() (sg/gl/KeepFreedMemory.h), and where the renderer filters textures without anisotropy.
+    bool softwareRasterizer() const { return software_; }
+
     // The depth strategy of the next draws, and whether the context allows ReverseZ. setDepthMode throws
     // std::invalid_argument when asked for ReverseZ or Auto on a context without glClipControl.
     DepthMode depthMode() const { return depthMode_; }
     bool reverseZSupported() const { return reverseZSupported_; }
     void setDepthMode(DepthMode mode);
 
-    // Viewport (0, 0, camera.width(), camera.height()), clear, then the items in list.order (all items
+    // A rectangle of the framebuffer in pixels, as glViewport takes it: (x, y) its lower left corner.
+    struct Viewport {
+        int x = 0, y = 0, width = 0, height = 0;
+    };
+    inline static const vec4 kClearColor{0.55f, 0.7f, 0.9f, 1.0f};
+
+    // Clears the viewport (0, 0, camera.width(), camera.height()), then draws the items in list.order (all items
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
     // material pointers become one instanced draw call; an item drawn in part (DrawList::parts) draws its
     // index ranges alone, in one glMultiDrawElements. Colour: base colour (white without a material)
@@ -62,7 +80,14 @@ public:
     // error. The colour ends in the framebuffer bound for drawing at the call; with ReverseZ that framebuffer's depth
     // buffer is left as it was (readDepth reads the renderer's own), and a multisampled one is drawn into directly,
     // with Classic depth.
-    void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = {0.55f, 0.7f, 0.9f, 1.0f});
+    void draw(const DrawList& list, const Camera& camera, const vec4& clearColor = kClearColor);
+    // The same into `viewport` of the bound framebuffer: no pixel outside it is cleared or drawn (a scissor), so
+    // views side by side in one framebuffer each look as if drawn alone (the camera's projection is the caller's
+    // to match to the viewport's shape). Throws std::invalid_argument, before drawing anything, for a viewport
+    // without area, with a negative corner or reaching past the framebuffer where its size is known (OSMesa's
+    // buffer, a framebuffer object's colour renderbuffer; not a window's).
+    void draw(const DrawList& list, const Camera& camera, const Viewport& viewport,
+              const vec4& clearColor = kClearColor);
     const RenderStats& lastStats() const { return stats_; }
     // The light of the next draws. A sun shades a lit fragment with albedo x (ambient + color x sun x
     // max(0, n.l)) + color x sun x specular x max(0, n.h)^shininess (Blinn-Phong, n turned toward the eye,
@@ -74,10 +99,14 @@ public:
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
 
-    // The current viewport's pixels, rows top to bottom: readColor from the bound read framebuffer, readDepth
-    // the last draw's depth buffer as stored: Classic 0 at the near plane and 1 at the far plane and where
-    // nothing was drawn; ReverseZ 1 at the near plane and 0 at the far plane and where nothing was drawn.
+    // The current viewport's pixels (after a draw, its viewport's), rows top to bottom: readColor from the bound
+    // read framebuffer, readDepth the last draw's depth buffer as stored: Classic 0 at the near plane and 1 at the
+    // far plane and where nothing was drawn; ReverseZ 1 at the near plane and 0 at the far plane and where nothing
+    // was drawn.
     Image readColor() const;
+    // The pixels of `rect` of the bound read framebuffer (several views at once). Throws std::invalid_argument
+    // for a rectangle without area or with a negative corner.
+    Image readColor(const Viewport& rect) const;
     std::vector<float> readDepth() const;
 
     // Meshes and textures are uploaded once and kept (with a reference, so that their pointers stay
@@ -85,44 +114,52 @@ public:
     // releaseUnused() frees those the last draw() did not use; clear() frees all of them.
     void releaseUnused();
     void clear();
-    size_t cachedMeshes() const { return meshes_.size(); }
+    size_t cachedMeshes() const;
     // A texture drawn with an alpha cutoff has its own copy, with colour bled under its transparent texels.
-    size_t cachedTextures() const { return textures_.size() + cutTextures_.size(); }
+    size_t cachedTextures() const;
 
 private:
-    struct GpuMesh {
-        ref_ptr<const Mesh> mesh;
-        unsigned vao = 0, vbo = 0, ibo = 0;
-        unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT
-        int indexCount = 0;
-        bool normals = false, uvs = false, colors = false;
-        uint64_t lastFrame = 0;
-    };
-    struct GpuTexture {
-        ref_ptr<const Texture> texture;
-        unsigned id = 0;
-        uint64_t lastFrame = 0;
-    };
-    // An item's matrix and base colour, read by the shaders as instanced attributes (locations 4 to 8).
-    struct Instance {
-        mat4 model{1.0f};
-        vec4 baseColor{1.0f};
-    };
     // The rest of a run's material and mesh, as uniforms: set only where they differ from the run before,
     // because on llvmpipe every draw after a uniform's change stores the whole rasterizer state again.
     struct Shading {
         bool texture = false, colors = false, lit = false, bakedLight = false;
         float specular = 0.0f, shininess = 1.0f, fade = 1.0f, alphaCutoff = 0.0f;
     };
+    struct Run {
+        const Mesh* mesh;
+        const Material* material;
+        uint32_t first, count;  // range in items_
+        float fade;             // DrawList::fades
+        uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
+        const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
+        unsigned texture = 0;          // GL name, 0 without a texture
+    };
+    static constexpr uint32_t kWhole = ~0u;
+    // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
+    // and whether the frame goes to the renderer's own framebuffer (ReverseZ).
+    struct Target {
+        unsigned drawFbo = 0, readFbo = 0;
+        int width = 0, height = 0;
+        Viewport viewport;
+        bool reverse = false;
+    };
+
+    // The steps of draw(), in order. inFramebuffer: the viewport must lie in the framebuffer where its size is known.
+    void drawFrame(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor,
+                   bool inFramebuffer);
+    static Target target(const Viewport& viewport, bool inFramebuffer);
+    void buildRuns(const DrawList& list);
+    void indexFades(const DrawList& list);
+    void indexParts(const DrawList& list);
+    void upload();
+    bool wantsReverseZ(const Camera& camera) const;
+    void beginFrame(Target& target, const Camera& camera, const vec4& clearColor);
+    void drawRuns(const DrawList& list, const Camera& camera, bool reverse);
+    void drawRun(const DrawList& list, const Run& r);
+    void endFrame(const Target& target);
+
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
     void setShading(const Shading& s);
-    GpuMesh& mesh(const Mesh* m);
-    GpuTexture& texture(const Texture* t, bool cut);
-    static void destroy(GpuMesh& g);
-    // ReverseZ: makes the renderer's framebuffer width x height and binds it; false when the target is
-    // multisampled (drawn into directly).
-    bool bindDepthTarget(int width, int height);
-    void releaseDepthTarget();
 
     unsigned program_ = 0, instanceVbo_ = 0;
     int uViewProj_ = -1, uLightDir_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
@@ -132,30 +169,17 @@ private:
     bool shadingSet_ = false;  // whether shading_ is known (from the frame's first run on)
     DepthMode depthMode_ = DepthMode::Classic;
     bool reverseZSupported_ = false;
+    bool software_ = false;
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
-    unsigned depthFbo_ = 0, depthColor_ = 0, depthBuffer_ = 0;  // ReverseZ: RGBA8 and DEPTH_COMPONENT32F
-    int depthW_ = 0, depthH_ = 0;
-    float maxAnisotropy_ = 1.0f;  // 1 when GL has no anisotropic filtering, or rasterizes in software
     DirectionalLight light_;
-    std::unordered_map<const Mesh*, GpuMesh> meshes_;
-    std::unordered_map<const Texture*, GpuTexture> textures_, cutTextures_;
-    struct Run {
-        const Mesh* mesh;
-        const Material* material;
-        uint32_t first, count;  // range in instances_
-        float fade;             // DrawList::fades
-        uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
-        const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
-        unsigned texture = 0;          // GL name, 0 without a texture
-    };
-    static constexpr uint32_t kWhole = ~0u;
-    std::vector<Instance> instances_;  // the frame's items, in draw order
+    std::unique_ptr<GpuCache> cache_;
+    std::unique_ptr<DepthTarget> depthTarget_;  // ReverseZ's framebuffer
+    std::vector<ItemAttributes> items_;         // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
     std::vector<float> fades_;     // per item, filled only in frames with dissolving items
     std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts
     std::vector<int> rangeCounts_;
     std::vector<const void*> rangeOffsets_;
-    uint64_t frame_ = 0;
     RenderStats stats_;
 };
 

@@ -662,3 +662,102 @@ TEST_F(RendererTest, PartsPastTheItemsOrTheIndicesThrow) {
     list.ranges = {{0, 36}};
     EXPECT_NO_THROW(renderer.draw(list, cam));
 }
+
+// Two views side by side in one framebuffer, in both depth modes: each half holds exactly the pixels and depths of
+// its view drawn alone into a framebuffer of the half's size, whatever the framebuffer held before.
+TEST_F(RendererTest, ViewsSideBySideLookAsIfDrawnAlone) {
+    constexpr int kHalf = kW / 2;
+    auto root = make<Group>();
+    // Boxes across the middle of both views, so that each view's picture reaches the edge it shares with the other.
+    root->addChild(placed(makeBoxMesh(dvec3(-2.0, -0.4, -0.4), dvec3(2.0, 0.4, 0.4)),
+                          make<Material>(vec4(0.8f, 0.3f, 0.2f, 1.0f)), dvec3(0.0)));
+    root->addChild(placed(makeBoxMesh(dvec3(-0.5), dvec3(0.5), 2), make<Material>(vec4(0.2f, 0.6f, 0.9f, 1.0f)),
+                          dvec3(0.3, 0.9, -1.0)));
+    auto view = [&](const dvec3& eye) {
+        Camera cam;
+        cam.setLookAt(eye, dvec3(0.0), dvec3(0.0, 1.0, 0.0));
+        cam.setPerspective(45.0, double(kHalf) / kH, 0.1, 100.0);
+        cam.setViewport(kHalf, kH);
+        return cam;
+    };
+    const Camera left = view(dvec3(-1.5, 1.0, 4.0)), right = view(dvec3(2.5, -0.8, 3.0));
+    const DrawList leftList = cull(root, left), rightList = cull(root, right);
+    const vec4 rightClear(204.0f / 255.0f, 153.0f / 255.0f, 51.0f / 255.0f, 1.0f);
+    const std::array<int, 4> rightClear8{204, 153, 51, 255};
+    for (Renderer::DepthMode mode : {Renderer::DepthMode::Classic, Renderer::DepthMode::ReverseZ}) {
+        SCOPED_TRACE(mode == Renderer::DepthMode::Classic ? "classic" : "reverse-z");
+        renderer.setDepthMode(mode);
+        context.resize(kHalf, kH);
+        renderer.draw(leftList, left, kClear);
+        const Image leftAlone = renderer.readColor();
+        const std::vector<float> leftDepth = renderer.readDepth();
+        renderer.draw(rightList, right, rightClear);
+        const Image rightAlone = renderer.readColor();
+        const std::vector<float> rightDepth = renderer.readDepth();
+
+        context.resize(kW, kH);
+        renderer.draw(DrawList{}, lookingAt(dvec3(0, 0, 5), dvec3(0.0)), vec4(1.0f));  // white everywhere first
+        renderer.draw(leftList, left, Renderer::Viewport{0, 0, kHalf, kH}, kClear);
+        EXPECT_EQ(renderer.readDepth(), leftDepth);  // the current viewport: the left half, at the same place
+        renderer.draw(rightList, right, Renderer::Viewport{kHalf, 0, kHalf, kH}, rightClear);
+        // Depth within a step of the 24-bit buffer: the rasterizer evaluates depth at window coordinates, which
+        // round in their last bit differently kHalf pixels over (the colours do not change).
+        const std::vector<float> depth = renderer.readDepth();
+        ASSERT_EQ(depth.size(), rightDepth.size());
+        for (size_t i = 0; i < depth.size(); ++i) ASSERT_NEAR(depth[i], rightDepth[i], 0x1p-24) << "at " << i;
+        const Image both = renderer.readColor(Renderer::Viewport{0, 0, kW, kH});
+        ASSERT_EQ(both.width, kW);
+        size_t leftDiffering = 0, rightDiffering = 0, leftCovered = 0, rightCovered = 0;
+        for (int y = 0; y < kH; ++y)
+            for (int x = 0; x < kHalf; ++x) {
+                leftDiffering += pixel(both, x, y) != pixel(leftAlone, x, y);
+                rightDiffering += pixel(both, kHalf + x, y) != pixel(rightAlone, x, y);
+                leftCovered += pixel(leftAlone, x, y) != kClear8;
+                rightCovered += pixel(rightAlone, x, y) != rightClear8;
+            }
+        EXPECT_EQ(leftDiffering, 0u);
+        EXPECT_EQ(rightDiffering, 0u);
+        // Not vacuous: both views show boxes, against their own clear colours, and along their shared edge.
+        EXPECT_GT(leftCovered, 1000u);
+        EXPECT_GT(rightCovered, 1000u);
+        EXPECT_NE(pixel(leftAlone, kHalf - 1, kH / 2), kClear8);
+        EXPECT_NE(pixel(rightAlone, 0, kH / 2), rightClear8);
+        EXPECT_EQ(pixel(both, kHalf - 1, 0), kClear8);
+        EXPECT_EQ(pixel(both, kHalf, 0), rightClear8);
+        if (std::getenv("SGKIT_TEST_IMAGES")) savePng("renderer_two_views.png", both);
+    }
+}
+
+TEST_F(RendererTest, AViewportWithoutAreaOrPastTheFramebufferThrowsBeforeDrawing) {
+    const Camera cam = lookingAt(dvec3(0, 0, 5), dvec3(0.0));
+    renderer.draw(DrawList{}, cam, kClear);
+    for (const Renderer::Viewport& v :
+         {Renderer::Viewport{0, 0, 0, kH}, Renderer::Viewport{0, 0, kW, -1}, Renderer::Viewport{-1, 0, 10, 10},
+          Renderer::Viewport{0, -1, 10, 10}, Renderer::Viewport{kW / 2, 0, kW / 2 + 1, kH},
+          Renderer::Viewport{0, 1, kW, kH}}) {
+        try {
+            renderer.draw(DrawList{}, cam, v, vec4(1.0f));
+            FAIL() << "no exception for " << v.x << ", " << v.y << ", " << v.width << "x" << v.height;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_EQ(std::string(e.what()).rfind("Renderer::draw(): viewport ", 0), 0u) << e.what();
+        }
+    }
+    try {
+        renderer.draw(DrawList{}, cam, Renderer::Viewport{kW / 2, 0, kW / 2 + 1, kH});
+        FAIL() << "no exception";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "Renderer::draw(): viewport (80, 0, 81x120) reaches past the 160x120 framebuffer");
+    }
+    // Nothing was drawn (the white clear would show), and the framebuffer's whole and its last pixel are fine.
+    const Image img = renderer.readColor(Renderer::Viewport{0, 0, kW, kH});
+    for (int y = 0; y < kH; ++y)
+        for (int x = 0; x < kW; ++x) ASSERT_EQ(pixel(img, x, y), kClear8) << "at " << x << "," << y;
+    EXPECT_NO_THROW(renderer.draw(DrawList{}, cam, Renderer::Viewport{0, 0, kW, kH}));
+    EXPECT_NO_THROW(renderer.draw(DrawList{}, cam, Renderer::Viewport{kW - 1, kH - 1, 1, 1}));
+    try {
+        renderer.readColor(Renderer::Viewport{0, 0, 0, 1});
+        FAIL() << "no exception";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_EQ(std::string(e.what()).rfind("Renderer::readColor(): ", 0), 0u) << e.what();
+    }
+}

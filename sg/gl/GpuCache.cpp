@@ -1,0 +1,145 @@
+#include "sg/gl/GpuCache.h"
+
+#include "sg/gl/Shaders.h"
+#include "sg/io/ImageOps.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <algorithm>
+#include <utility>
+
+namespace sg {
+
+GpuCache::GpuCache(unsigned instanceBuffer, float maxAnisotropy)
+    : instanceBuffer_(instanceBuffer), maxAnisotropy_(maxAnisotropy) {}
+
+GpuCache::~GpuCache() { clear(); }
+
+void GpuCache::destroy(GpuMesh& g) {
+    glDeleteVertexArrays(1, &g.vao);
+    glDeleteBuffers(1, &g.vbo);
+    glDeleteBuffers(1, &g.ibo);
+}
+
+const GpuMesh& GpuCache::mesh(const Mesh* m) {
+    auto it = meshes_.find(m);
+    if (it != meshes_.end()) {
+        it->second.lastFrame = frame_;
+        return it->second;
+    }
+    GpuMesh g;
+    g.mesh = m;
+    g.lastFrame = frame_;
+    const size_t n = m->positions().size();
+    g.normals = m->normals().size() == n;
+    g.uvs = m->uvs().size() == n;
+    g.colors = m->colors().size() == n;
+    // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
+    const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
+                 uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0;
+    const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes;
+    glGenVertexArrays(1, &g.vao);
+    glBindVertexArray(g.vao);
+    glGenBuffers(1, &g.vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colOff + colBytes), nullptr, GL_STATIC_DRAW);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
+    glEnableVertexAttribArray(kPositionLocation);
+    glVertexAttribPointer(kPositionLocation, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    if (g.normals) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(nrmOff), GLsizeiptr(nrmBytes), m->normals().data());
+        glEnableVertexAttribArray(kNormalLocation);
+        glVertexAttribPointer(kNormalLocation, 3, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(nrmOff));
+    }
+    if (g.uvs) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(uvOff), GLsizeiptr(uvBytes), m->uvs().data());
+        glEnableVertexAttribArray(kUvLocation);
+        glVertexAttribPointer(kUvLocation, 2, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(uvOff));
+    }
+    if (g.colors) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(colOff), GLsizeiptr(colBytes), m->colors().data());
+        glEnableVertexAttribArray(kColorLocation);
+        glVertexAttribPointer(kColorLocation, 4, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(colOff));
+    }
+    glGenBuffers(1, &g.ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
+    if (!m->indices16().empty()) {
+        g.indexType = GL_UNSIGNED_SHORT;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices16().size() * 2), m->indices16().data(),
+                     GL_STATIC_DRAW);
+    } else {
+        g.indexType = GL_UNSIGNED_INT;
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices32().size() * 4), m->indices32().data(),
+                     GL_STATIC_DRAW);
+    }
+    g.indexCount = GLsizei(m->indexCount());
+    // The item attributes: the renderer points them at each run's place in the instance buffer.
+    glBindBuffer(GL_ARRAY_BUFFER, instanceBuffer_);
+    enableItemAttributes();
+    pointItemAttributes(0);
+    glBindVertexArray(0);
+    return meshes_.emplace(m, std::move(g)).first->second;
+}
+
+unsigned GpuCache::texture(const Texture* t, bool cut) {
+    auto& cache = cut ? cutTextures_ : textures_;
+    auto it = cache.find(t);
+    if (it != cache.end()) {
+        it->second.lastFrame = frame_;
+        return it->second.id;
+    }
+    GpuTexture g;
+    g.texture = t;
+    g.lastFrame = frame_;
+    glGenTextures(1, &g.id);
+    glBindTexture(GL_TEXTURE_2D, g.id);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    // The first row of the RGBA array is v = 0.
+    Image bled;
+    if (cut) {
+        bled = Image{t->width(), t->height(), t->rgba()};
+        bleedIntoTransparent(bled);
+    }
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                 cut ? bled.rgba.data() : t->rgba().data());
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    if (maxAnisotropy_ > 1.0f && t->maxAnisotropy > 1.0f)
+        glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, std::min(t->maxAnisotropy, maxAnisotropy_));
+    return cache.emplace(t, std::move(g)).first->second.id;
+}
+
+void GpuCache::releaseUnused() {
+    for (auto it = meshes_.begin(); it != meshes_.end();) {
+        if (it->second.lastFrame == frame_) {
+            ++it;
+            continue;
+        }
+        destroy(it->second);
+        it = meshes_.erase(it);
+    }
+    for (auto* cache : {&textures_, &cutTextures_})
+        for (auto it = cache->begin(); it != cache->end();) {
+            if (it->second.lastFrame == frame_) {
+                ++it;
+                continue;
+            }
+            glDeleteTextures(1, &it->second.id);
+            it = cache->erase(it);
+        }
+}
+
+void GpuCache::clear() {
+    for (auto& [m, g] : meshes_) destroy(g);
+    meshes_.clear();
+    for (auto* cache : {&textures_, &cutTextures_}) {
+        for (auto& [t, g] : *cache) glDeleteTextures(1, &g.id);
+        cache->clear();
+    }
+}
+
+}  // namespace sg

@@ -1,0 +1,115 @@
+#include "sg/gl/Shaders.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+namespace sg {
+
+const char* const kVertexShader = R"(#version 330 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec2 aUv;
+layout(location = 3) in vec4 aColor;
+layout(location = 4) in mat4 aModel;  // per instance: locations 4 to 7
+// The material's base colour, per instance: the value that differs between most materials. As a uniform it
+// would change between most draws, and llvmpipe stores its whole rasterizer state again for every draw whose
+// uniforms differ from the one before (docs/architecture.md, "Draw list and draw").
+layout(location = 8) in vec4 aBaseColor;
+uniform mat4 uViewProj;
+out vec3 vNormal;
+out vec3 vFromEye;  // world offset from the eye: the models' matrices carry the eye's translation
+out vec2 vUv;
+out vec4 vColor;
+flat out vec4 vBaseColor;
+void main() {
+    vec4 world = aModel * vec4(aPosition, 1.0);
+    vFromEye = world.xyz;
+    gl_Position = uViewProj * world;
+    // The cofactor matrix is det * inverse-transpose: right under non-uniform scale, and its sign does
+    // not matter with two-sided lighting.
+    mat3 m = mat3(aModel);
+    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
+    vUv = aUv;
+    vColor = aColor;
+    vBaseColor = aBaseColor;
+}
+)";
+
+const char* const kFragmentShader = R"(#version 330 core
+in vec3 vNormal;
+in vec3 vFromEye;
+in vec2 vUv;
+in vec4 vColor;
+flat in vec4 vBaseColor;
+uniform vec3 uLightDir;  // unit, toward the light (the headlight: the view direction)
+uniform bool uHeadlight;
+uniform vec3 uAmbient, uLightColor;  // DirectionalLight, when not the headlight
+uniform bool uUseTexture;
+uniform bool uUseColor;
+uniform bool uBakedLight;  // Material::bakedLight: vertex alpha is sun visibility, not opacity
+uniform bool uLit;
+uniform float uSpecular, uShininess;
+uniform sampler2D uTexture;
+uniform float uAlphaCutoff;  // Material::alphaCutoff
+uniform float uFade;  // DrawList::fades: 1 opaque; f > 0 keeps pattern < f; f < 0 keeps pattern >= 1 + f
+out vec4 fragColor;
+void main() {
+    if (uFade < 1.0) {
+        // Interleaved gradient noise (Jimenez 2014): a pattern value per pixel, evenly spread, no visible grid.
+        float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
+        if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
+    }
+    vec4 c = vBaseColor;
+    if (uUseTexture) c *= texture(uTexture, vUv);
+    float sun = 1.0;
+    if (uUseColor) {
+        if (uBakedLight) {
+            c.rgb *= vColor.rgb;
+            sun = vColor.a;
+        } else {
+            c *= vColor;
+        }
+    }
+    if (c.a < uAlphaCutoff) discard;
+    if (uLit) {
+        float len = length(vNormal);
+        if (uHeadlight) {
+            float d = len > 0.0 ? abs(dot(vNormal / len, uLightDir)) : 1.0;
+            c.rgb *= 0.35 + 0.65 * d * sun;
+        } else {
+            vec3 v = -normalize(vFromEye);
+            vec3 n = len > 0.0 ? vNormal / len : v;
+            if (dot(n, v) < 0.0) n = -n;  // the side the eye sees: normals' sign varies with winding and mirroring
+            float nl = max(dot(n, uLightDir), 0.0);
+            vec3 direct = uLightColor * (nl * sun);
+            vec3 rgb = c.rgb * (uAmbient + direct);
+            if (uSpecular > 0.0 && nl > 0.0)
+                rgb += uLightColor * (sun * uSpecular * pow(max(dot(n, normalize(uLightDir + v)), 0.0), uShininess));
+            c.rgb = rgb;
+        }
+    }
+    fragColor = c;
+}
+)";
+
+namespace {
+constexpr GLuint kItemLocation = 4;
+constexpr GLuint kItemVec4s = sizeof(ItemAttributes) / sizeof(vec4);  // the matrix's 4 columns, the base colour
+static_assert(sizeof(ItemAttributes) == 5 * sizeof(vec4), "the vertex shader reads a mat4 and a vec4 per item");
+}  // namespace
+
+void enableItemAttributes() {
+    for (GLuint c = 0; c < kItemVec4s; ++c) {
+        glEnableVertexAttribArray(kItemLocation + c);
+        glVertexAttribDivisor(kItemLocation + c, 1);
+    }
+}
+
+void pointItemAttributes(size_t first) {
+    const size_t offset = first * sizeof(ItemAttributes);
+    for (GLuint c = 0; c < kItemVec4s; ++c)
+        glVertexAttribPointer(kItemLocation + c, 4, GL_FLOAT, GL_FALSE, sizeof(ItemAttributes),
+                              reinterpret_cast<const void*>(offset + c * sizeof(vec4)));
+}
+
+}  // namespace sg
