@@ -70,6 +70,9 @@ GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options = {})
 GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t size,
                              const GltfLoadOptions& options = {});
 
+// A pager's load function (sg::Pager): the root of a glTF file's default scene; throws LoadError.
+ref_ptr<Node> loadGltfPage(const std::string& file);
+
 // Writes the graph below `root` as .glb or .gltf (embedded buffers), chosen by the extension.
 // Throws std::runtime_error naming the file when it cannot be written.
 void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& options = {});

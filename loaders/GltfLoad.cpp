@@ -165,6 +165,8 @@ GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options) {
     return gltf::load(path, baseDir, bytes.size() ? bytes.data() : &empty, bytes.size(), true, progress);
 }
 
+ref_ptr<Node> loadGltfPage(const std::string& file) { return loadGltf(file).root; }
+
 GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t size, const GltfLoadOptions& options) {
     gltf::Progress progress(options);
     static const unsigned char empty = 0;

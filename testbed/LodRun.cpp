@@ -4,50 +4,19 @@
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
-#include <thread>
 
 namespace scenes {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-constexpr double kMissFrames = 10.0;    // the budget's miss is smoothed over about this many frames
-constexpr double kMaxMissShare = 0.2;   // and comes off its plan up to this share of the budget
-constexpr double kOverrunShare = 0.15;  // the most an upgrade worth four times the usual may overrun the plan
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-// Sleeps to within half a millisecond of `t` (a sleep can overrun by a tenth of one), then spins the rest:
-// a frame rate held to a tenth of a millisecond, at the cost of a spin the renderer's threads never share.
-void waitUntil(Clock::time_point t) {
-    const auto early = t - std::chrono::microseconds(500);
-    if (Clock::now() < early) std::this_thread::sleep_until(early);
-    while (Clock::now() < t) {
-    }
-}
-
-sg::LodStress::Params stressFor(double budgetMs) {
+void checkBudget(double budgetMs, const char* fn) {
     if (!(budgetMs > 0.0 && std::isfinite(budgetMs)))
-        throw std::invalid_argument("LodRun::LodRun(): budget " + std::to_string(budgetMs) +
+        throw std::invalid_argument(std::string(fn) + ": budget " + std::to_string(budgetMs) +
                                     " ms is not a positive time");
-    sg::LodStress::Params p;
-    p.budgetMs = budgetMs;
-    return p;
 }
 }  // namespace
-
-const char* lodMethodName(LodMethod m) {
-    switch (m) {
-        case LodMethod::Static: return "static";
-        case LodMethod::Stress: return "stress";
-        case LodMethod::Budget: return "budget";
-    }
-    return "?";
-}
-
-LodMethod parseLodMethod(const std::string& name) {
-    for (LodMethod m : {LodMethod::Static, LodMethod::Stress, LodMethod::Budget})
-        if (name == lodMethodName(m)) return m;
-    throw std::invalid_argument("parseLodMethod(): '" + name + "' is not a method (static, stress, budget)");
-}
 
 std::vector<double> timeSameView(sg::Renderer& renderer, sg::Scene& scene, const sg::Camera& cam, int draws) {
     sg::CullTraversal cull;
@@ -64,48 +33,43 @@ std::vector<double> timeSameView(sg::Renderer& renderer, sg::Scene& scene, const
     return ms;
 }
 
-LodRun::LodRun(sg::Renderer& renderer, const Settings& s)
-    : renderer_(renderer), set_(s), stress_(stressFor(s.budgetMs)) {}
+LodRun::LodRun(sg::Renderer& renderer, const Settings& s) : renderer_(renderer), set_(s) {
+    checkBudget(s.budgetMs, "LodRun::LodRun()");
+}
+
+const sg::View& LodRun::view() const {
+    static const sg::View none;
+    return viewer_ ? viewer_->view() : none;
+}
 
 const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std::function<void()>& prepare) {
-    if (!(set_.budgetMs > 0.0) || !std::isfinite(set_.budgetMs))
-        throw std::invalid_argument("LodRun::frame(): the budget is not a positive number of milliseconds");
-    sg::CullSettings set = set_.cull;
-    if (set_.method == LodMethod::Stress) set.lodScale = stress_.scale();
-    if (set_.method == LodMethod::Budget) {
-        set.lodBudget.enabled = true;
-        set.lodBudget.model = &model_;
-        // The cull's own time comes off, and with a held frame rate the plan's usual miss.
-        set.lodBudget.budgetMs =
-            std::max(1.0, set_.budgetMs - last_.cullMs -
-                              (set_.limitRate ? std::min(missMs_, kMaxMissShare * set_.budgetMs) : 0.0));
-        set.lodBudget.mayDrop = set_.mayDrop;
-        set.lodBudget.coarsestScale = stress_.params().maxScale;  // never a worse picture than stress's
-        set.lodBudget.finestScale = set.lodScale;    // never finer than the ranges (at a pixel's error): no one sees it
-        set.lodBudget.overrunShare = kOverrunShare;  // a frame late anyway still buys the detail it needs most
+    checkBudget(set_.budgetMs, "LodRun::frame()");
+    if (!viewer_) {
+        viewer_ = std::make_unique<sg::Viewer>(scene, renderer_);
+        viewer_->addView();
+        viewer_->onApp([this](const sg::FrameInfo&) {
+            if (prepare_) prepare_();
+        });
     }
-    const auto t0 = Clock::now();
-    if (prepare) prepare();
-    cull_.cull(scene, cam, set, list_, last_.stats);
-    last_.cullMs = msSince(t0);
-    const auto t1 = Clock::now();
-    renderer_.draw(list_, cam);
-    renderer_.finish();
-    last_.drawMs = msSince(t1);
+    viewer_->setScene(scene);
+    sg::ViewerSettings& vs = viewer_->settings();
+    vs.phase = set_.limitRate ? sg::FramePhase::Limit : sg::FramePhase::FreeRun;
+    vs.frameRate = 1000.0 / set_.budgetMs;
+    sg::View& v = viewer_->view();
+    v.camera = cam;
+    v.cull = set_.cull;
+    v.cull.lodBudget.mayDrop = set_.mayDrop;
+    v.lod = set_.method;
+    v.lodBudgetMs = set_.budgetMs;
+    prepare_ = prepare;
+    viewer_->frame();
+    prepare_ = nullptr;
+    const sg::StageTimes& t = viewer_->lastFrame();
+    last_.cullMs = t.appMs + t.pagerMs + t.updateMs + t.cullMs;
+    last_.drawMs = t.drawMs;
     last_.workMs = last_.cullMs + last_.drawMs;
-    if (set_.method == LodMethod::Stress) stress_.update(last_.workMs);
-    const sg::CullStats& st = last_.stats;
-    model_.update({double(st.triangles), double(st.geometries), st.lodPixels}, last_.drawMs);
-    // The plan's own prediction against the measured time: the loop closes on what the budget planned
-    // (a frame with no LOD in view was not planned).
-    if (set_.method == LodMethod::Budget && st.lodObjects > 0) {
-        model_.correct(st.lodPredictedMs, last_.drawMs);
-        missMs_ += (std::max(0.0, last_.drawMs - st.lodPredictedMs) - missMs_) / kMissFrames;  // overruns only
-    }
-    if (set_.limitRate)
-        waitUntil(
-            t0 + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double, std::milli>(set_.budgetMs)));
-    last_.frameMs = set_.limitRate ? msSince(t0) : last_.workMs;
+    last_.frameMs = set_.limitRate ? t.frameMs : last_.workMs;
+    last_.stats = v.cullStats();
     return last_;
 }
 

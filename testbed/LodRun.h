@@ -1,22 +1,19 @@
-// LodRun: the frame loop of the LOD methods (static ranges, Performer's stress, the time budget) shared by
-// sgbench lod and the factory walkthrough: each frame culled, drawn and finished, timed, and the method fed
-// the measured time (the stress scale, the budget's draw-cost model) before the next frame is chosen.
+// LodRun: the LOD methods (static ranges, Performer's stress, the time budget) run frame by frame through an
+// sg::Viewer, as sgbench lod, sgbench pareto and the factory walkthrough compare them: each frame culled, drawn
+// and finished, timed, and the method fed the measured time (the stress scale, the budget's draw-cost model)
+// before the next frame is chosen.
 #pragma once
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/Renderer.h"
 #include "sg/lod/DrawCostModel.h"
 #include "sg/lod/LodStress.h"
+#include "sg/viewer/Viewer.h"
 
 #include <functional>
 #include <string>
 #include <vector>
 
 namespace scenes {
-
-enum class LodMethod { Static, Stress, Budget };
-const char* lodMethodName(LodMethod m);
-// Throws std::invalid_argument listing the valid names ("static", "stress", "budget").
-LodMethod parseLodMethod(const std::string& name);
 
 // The machine's own spread: `cam`'s view of `scene` culled with the static ranges, drawn and finished `draws`
 // times (after three untimed draws that upload the meshes); the frame times, ms.
@@ -33,7 +30,7 @@ struct LodFrame {
 class LodRun {
 public:
     struct Settings {
-        LodMethod method = LodMethod::Budget;
+        sg::LodPolicy method = sg::LodPolicy::Budget;
         double budgetMs = 33.0;  // the frame time aimed at: stress's load is measured against it too
         // LodBudgetSettings::mayDrop: with the budget's coarsest bound at stress's largest scale, the budget
         // leaves out only what stress at its coarsest leaves out, and only when the rest does not fit.
@@ -47,8 +44,8 @@ public:
         // edge runs over half the time.
         bool limitRate = false;
     };
-    // Draws with `renderer` (its context current). Throws std::invalid_argument for a budget that is not a
-    // positive number of milliseconds.
+    // Draws with `renderer` (its context current), through a viewer of its own made at the first frame. Throws
+    // std::invalid_argument for a budget that is not a positive number of milliseconds.
     LodRun(sg::Renderer& renderer, const Settings& s);
 
     // One frame of `scene` seen by `cam`: prepare() (the scene's state for the frame, e.g. switches) and the
@@ -65,19 +62,17 @@ public:
     const Settings& settings() const { return set_; }
     // Changed between frames (a viewer's keys): the next frame uses them; the model and the stress scale go on.
     Settings& settings() { return set_; }
-    const sg::DrawList& list() const { return list_; }
-    const sg::DrawCostModel& model() const { return model_; }
-    const sg::LodStress& stress() const { return stress_; }
+    const sg::DrawList& list() const { return view().drawList(); }
+    const sg::DrawCostModel& model() const { return view().costModel(); }
+    const sg::LodStress& stress() const { return view().stress(); }
 
 private:
+    const sg::View& view() const;
     sg::Renderer& renderer_;
     Settings set_;
-    sg::CullTraversal cull_;
-    sg::DrawList list_;
-    sg::DrawCostModel model_;
-    sg::LodStress stress_;
+    std::unique_ptr<sg::Viewer> viewer_;
+    std::function<void()> prepare_;  // this frame's, run in the viewer's app stage
     LodFrame last_;
-    double missMs_ = 0.0;  // the budget's recent overrun of its predicted draw time, smoothed
 };
 
 }  // namespace scenes

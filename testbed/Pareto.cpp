@@ -148,7 +148,7 @@ std::string fixed(double v, int digits) {
 
 std::vector<Method> methods() {
     using S = CullStrategy;
-    using L = scenes::LodMethod;
+    using L = sg::LodPolicy;
     return {
         {"none", frustumOnly(S::None), L::Static, true, false, false},
         {"center-box", frustumOnly(S::CenterBox), L::Static, false, false, false},
@@ -220,7 +220,7 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
     std::vector<std::unique_ptr<CullTraversal>> culls(M);
     std::vector<std::unique_ptr<scenes::LodRun>> runs(M);
     for (size_t k = 0; k < M; ++k) {
-        if (use[k]->lod == scenes::LodMethod::Static)
+        if (use[k]->lod == sg::LodPolicy::Static)
             culls[k] = std::make_unique<CullTraversal>();
         else
             runs[k] = std::make_unique<scenes::LodRun>(

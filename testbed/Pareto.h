@@ -16,7 +16,7 @@ namespace pareto {
 struct Method {
     std::string name;
     sg::CullSettings cull;
-    scenes::LodMethod lod = scenes::LodMethod::Static;
+    sg::LodPolicy lod = sg::LodPolicy::Static;
     bool conservative = false;  // culls only what cannot be seen: 0 differing pixels where LODs do not differ
     bool isDefault = false;     // CullSettings{} with the scene's static LOD ranges
     bool needsLods = false;     // only on scenes with LODs (the stress and budget methods)

@@ -7,6 +7,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
+#include "sg/cull/CullSettings.h"
 #include "sg/lod/DrawCostModel.h"
 
 #include <functional>
@@ -32,6 +33,20 @@ inline DrawCostModel trainedCostModel() {
         m.update({tris, items, 0.0}, 1.0 + 10.0 * tris / 1e5);
     }
     return m;
+}
+
+// The time budget alone, without the bounds and the overrun the library's defaults put around it (each tested
+// apart): what the planner buys with the budget and nothing else.
+inline LodBudgetSettings plainBudget(const DrawCostModel* model, double budgetMs = 33.3) {
+    LodBudgetSettings b;
+    b.enabled = true;
+    b.model = model;
+    b.budgetMs = budgetMs;
+    b.mayDrop = false;
+    b.coarsestScale = 0.0;
+    b.finestScale = 0.0;
+    b.overrunShare = 0.0;
+    return b;
 }
 
 // Calls f(geometry, world matrix) for every geometry the LOD and Switch selection shows from `cam`

@@ -87,7 +87,7 @@ int runLod(const Args& a) {
     full.lodScale = 1e-9;
     // The budget may leave out what stress at its coarsest leaves out (LodRun's default); --no-drop: never.
     const bool mayDrop = !a.flag("no-drop");
-    scenes::LodRun run(renderer, {scenes::parseLodMethod(method), budget, mayDrop, sg::CullSettings{}});
+    scenes::LodRun run(renderer, {sg::parseLodPolicy(method), budget, mayDrop, sg::CullSettings{}});
     // The load runs from before the same-view draws to the end, so that both see the same machine.
     const scenes::BackgroundLoad load(scenes::BackgroundLoad::parse(a.str("background-load", "none")));
     renderer.draw(list, cams[0]);  // uploads

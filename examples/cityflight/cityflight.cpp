@@ -1,11 +1,9 @@
-// cityflight: the headless demo. Builds the `city` benchmark scene, flies its orbit path with the full
-// frame (update, cull, draw) rendered offscreen, writes the last frame to a PNG and prints a stats table.
+// cityflight: the headless demo. Builds the `city` benchmark scene, flies its orbit path through sg::Viewer
+// (update, cull, draw) rendered offscreen, writes the last frame to a PNG and prints a stats table.
 //   cityflight [--n N] [--frames F] [--size WxH] [--out city.png] [--strategy S]
 #include "nodes/Transform.h"
-#include "sg/cull/CullTraversal.h"
-#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
-#include "sg/gl/Renderer.h"
+#include "sg/viewer/Viewer.h"
 #include "testbed/City.h"
 
 #include <algorithm>
@@ -42,38 +40,27 @@ int main(int argc, char** argv) {
         scene.update();
         const double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         OsmesaContext ctx(w, h);
-        Renderer renderer;
-        if (renderer.softwareRasterizer()) keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
-        CullTraversal cull;
-        CullSettings set;
-        set.strategy = parseStrategy(strategy);
-        DrawList list;
+        Viewer viewer(scene);
+        View& view = viewer.addView();
+        view.cull.strategy = parseStrategy(strategy);
         std::vector<double> cullMs, drawMs, geoms, tris, calls;
         for (int f = 0; f < frames; ++f) {
             // The city's orbit path (docs/scenes.md), sampled evenly over the frames shown.
-            const Camera cam = scenes::cityOrbitCamera(n, f * scenes::kOrbitFrames / frames, w, h);
-            scene.update({uint64_t(f), f / 30.0});
-            CullStats st;
-            cull.cull(scene, cam, set, list, st);
-            renderer.draw(list, cam);
-            const Image img = renderer.readColor();  // waits for the frame: the draw time is real
-            cullMs.push_back(st.ms);
-            drawMs.push_back(renderer.lastStats().ms);
-            geoms.push_back(double(st.geometries));
-            tris.push_back(double(st.triangles));
-            calls.push_back(double(renderer.lastStats().drawCalls));
-            (void)img;
+            view.camera = scenes::cityOrbitCamera(n, f * scenes::kOrbitFrames / frames, w, h);
+            viewer.frame();  // finished: the draw time is real
+            cullMs.push_back(view.cullStats().ms);
+            drawMs.push_back(view.renderStats().ms);
+            geoms.push_back(double(view.cullStats().geometries));
+            tris.push_back(double(view.cullStats().triangles));
+            calls.push_back(double(view.renderStats().drawCalls));
         }
         // The picture: one more frame from above the city's corner, looking across it.
-        Camera overview;
-        overview.setViewport(w, h);
-        overview.setPerspective(60, double(w) / h, 1, 3000);
         const double size = 20.0 * n;
-        overview.setLookAt(dvec3(-0.05 * size, -0.05 * size, 120), dvec3(0.35 * size, 0.35 * size, 0), dvec3(0, 0, 1));
-        CullStats st;
-        cull.cull(scene, overview, set, list, st);
-        renderer.draw(list, overview);
-        savePng(out, renderer.readColor());
+        view.camera.setPerspective(60, double(w) / h, 1, 3000);
+        view.camera.setLookAt(dvec3(-0.05 * size, -0.05 * size, 120), dvec3(0.35 * size, 0.35 * size, 0),
+                              dvec3(0, 0, 1));
+        viewer.frame();
+        savePng(out, viewer.renderer().readColor());
         auto mean = [](const std::vector<double>& v) {
             double s = 0;
             for (double x : v) s += x;

@@ -1,9 +1,8 @@
-// cityview: the `city` scene in a real window (GLFW): the orbit path (docs/scenes.md) plays until the window is
-// closed or Escape is pressed; space pauses; the cull and draw figures go to the terminal once a second.
+// cityview: the `city` scene in a real window (GLFW) through sg::Viewer: the orbit path (docs/scenes.md) plays until
+// the window is closed or Escape is pressed; space pauses; the stage times go to the terminal once a second.
 //   cityview [--n N] [--frames F]   (F > 0: stop after F frames, for scripted runs under xvfb-run)
-#include "sg/cull/CullTraversal.h"
 #include "sg/gl/GlfwWindow.h"
-#include "sg/gl/Renderer.h"
+#include "sg/viewer/Viewer.h"
 #include "testbed/City.h"
 
 #include <cstdio>
@@ -21,37 +20,40 @@ int main(int argc, char** argv) try {
             frames = std::max(0, std::atoi(argv[i + 1]));
     }
     GlfwWindow window(1280, 720, "sgkit cityview");
-    Renderer renderer;
     Scene scene(scenes::buildCity({n, false}));
-    CullTraversal cull;
-    DrawList list;
+    ViewerSettings vs;
+    vs.clock = [&] { return window.time(); };
+    Viewer viewer(scene, vs);
+    View& view = viewer.addView();
     bool paused = false;
     window.setKeyCallback([&](int key, int action, int) {
         if (action != 1) return;          // GLFW_PRESS
         if (key == 256) window.close();   // GLFW_KEY_ESCAPE
         if (key == 32) paused = !paused;  // GLFW_KEY_SPACE
     });
-    int shown = 0, path = 0;
-    double lastReport = window.time(), cullMs = 0, drawMs = 0;
-    while (!window.shouldClose() && (frames == 0 || shown < frames)) {
-        if (!paused) path = (path + 1) % scenes::kOrbitFrames;
-        const Camera cam = scenes::cityOrbitCamera(n, path, window.width(), window.height());
-        scene.update({uint64_t(shown), window.time()});
-        CullStats st;
-        cull.cull(scene, cam, CullSettings{}, list, st);
-        renderer.draw(list, cam);
-        window.swapBuffers();
+    int path = 0;
+    double lastReport = window.time();
+    viewer.onEvents([&] {
         window.pollEvents();
-        cullMs += st.ms;
-        drawMs += renderer.lastStats().ms;
-        ++shown;
+        if (window.shouldClose()) viewer.setDone();
+    });
+    viewer.onApp([&](const FrameInfo&) {
+        if (!paused) path = (path + 1) % scenes::kOrbitFrames;
+        view.camera = scenes::cityOrbitCamera(n, path, window.width(), window.height());
+    });
+    viewer.onPresent([&] {
+        window.swapBuffers();
+        const int shown = int(viewer.frameNumber()) + 1;
         if (window.time() - lastReport > 1.0 || (frames && shown == frames)) {
-            std::printf("frame %d: %llu geometries, %llu triangles, cull %.2f ms, draw submit %.2f ms\n", shown,
-                        (unsigned long long)st.geometries, (unsigned long long)st.triangles, cullMs / shown,
-                        drawMs / shown);
+            const StageTimes m = viewer.history().mean();
+            std::printf("frame %d: %llu geometries, %llu triangles, cull %.2f ms, draw %.2f ms, %.1f fps\n", shown,
+                        (unsigned long long)view.cullStats().geometries, (unsigned long long)view.cullStats().triangles,
+                        m.cullMs, m.drawMs, viewer.history().rate());
             lastReport = window.time();
         }
-    }
+        if (frames && shown >= frames) viewer.setDone();
+    });
+    viewer.run();
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "cityview: %s\n", e.what());

@@ -28,7 +28,7 @@ double jitterP95(const std::vector<double>& frameMs) {
 
 ModeSummary summarize(const ModeRun& run) {
     ModeSummary s;
-    s.name = modeName(run.mode);
+    s.name = sg::lodPolicyName(run.mode);
     s.budgetMs = run.budgetMs;
     std::vector<double> frame, fps, dev, work;
     double draw = 0, tris = 0, verts = 0, mae = 0, reducedMs = 0;
@@ -79,7 +79,7 @@ void writeCsv(const std::string& file, const scenes::WalkPath& path, const std::
         for (const FrameRecord& r : run.frames) {
             const scenes::PathFrame& p = path.frames[size_t(r.frame)];
             std::fprintf(f, "%s,%d,%s,%d,%.3f,%.3f,%.3f,%llu,%llu,%llu,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f\n",
-                         modeName(run.mode), r.frame, p.segment.c_str(), p.workshop, p.eye.x, p.eye.y, p.eye.z,
+                         sg::lodPolicyName(run.mode), r.frame, p.segment.c_str(), p.workshop, p.eye.x, p.eye.y, p.eye.z,
                          (unsigned long long)r.triangles, (unsigned long long)r.vertices,
                          (unsigned long long)r.geometries, r.cullMs, r.drawMs, r.workMs, r.frameMs, r.predictedMs,
                          r.mae);

@@ -30,8 +30,6 @@ uint64_t vertices(const sg::DrawList& list) {
 }
 }  // namespace
 
-const char* modeName(LodMode m) { return scenes::lodMethodName(m); }
-
 Walkthrough::Walkthrough(scenes::Factory& f, sg::Scene& scene, const scenes::WalkPath& path, int width, int height)
     : f_(f), scene_(scene), path_(path), width_(width), height_(height) {
     if (renderer_.softwareRasterizer()) sg::keepFreedMemory();  // the walk is a frame loop: its frames are measured
@@ -82,8 +80,8 @@ std::vector<double> Walkthrough::sameView(int frame, int draws) {
     return scenes::timeSameView(renderer_, scene_, scenes::pathCamera(p, width_, height_), draws);
 }
 
-std::vector<ModeRun> Walkthrough::run(const std::vector<LodMode>& modes, double budgetMs, bool limitRate, bool compare,
-                                      const std::function<void(size_t, int, const sg::Image&)>& onFrame) {
+std::vector<ModeRun> Walkthrough::run(const std::vector<sg::LodPolicy>& modes, double budgetMs, bool limitRate,
+                                      bool compare, const std::function<void(size_t, int, const sg::Image&)>& onFrame) {
     sg::CullSettings full;  // the reference: every LOD at its finest level
     full.lodScale = 1e-9;
     std::vector<ModeRun> out(modes.size());
@@ -92,7 +90,7 @@ std::vector<ModeRun> Walkthrough::run(const std::vector<LodMode>& modes, double 
         out[k].mode = modes[k];
         out[k].budgetMs = budgetMs;
         scenes::LodRun::Settings set{modes[k], budgetMs, true, sg::CullSettings{}};
-        set.limitRate = limitRate && modes[k] != LodMode::Static;  // static aims at no frame time
+        set.limitRate = limitRate && modes[k] != sg::LodPolicy::Static;  // static aims at no frame time
         runs.push_back(std::make_unique<scenes::LodRun>(renderer_, set));
     }
     const int n = int(path_.frames.size());

@@ -12,9 +12,6 @@
 
 namespace factory {
 
-using LodMode = scenes::LodMethod;
-const char* modeName(LodMode m);
-
 struct FrameRecord {
     int frame = 0;
     double cullMs = 0.0, drawMs = 0.0;  // cull: the switch update included
@@ -26,7 +23,7 @@ struct FrameRecord {
 };
 
 struct ModeRun {
-    LodMode mode = LodMode::Static;
+    sg::LodPolicy mode = sg::LodPolicy::Static;
     double budgetMs = 0.0;
     std::vector<FrameRecord> frames;
 };
@@ -43,7 +40,7 @@ public:
     // budget and stress hold the frame rate (LodRun::Settings::limitRate). With compare, each frame is also
     // drawn at full detail for image_mae. onFrame(k, i, image) sees mode k's frame i when set (it costs a
     // read-back).
-    std::vector<ModeRun> run(const std::vector<LodMode>& modes, double budgetMs, bool limitRate, bool compare,
+    std::vector<ModeRun> run(const std::vector<sg::LodPolicy>& modes, double budgetMs, bool limitRate, bool compare,
                              const std::function<void(size_t, int, const sg::Image&)>& onFrame = nullptr);
     // Path frame `frame` drawn `draws` times with the static settings: the frame times.
     std::vector<double> sameView(int frame, int draws);

@@ -77,7 +77,7 @@ int main(int argc, char** argv) {
         const std::map<int, std::string> pictures = {{fixedView, "factory-outside.png"},
                                                      {frameOf(path, "machines", 0.3), "factory-inside.png"},
                                                      {int(path.frames.size()) - 1, "factory-overview.png"}};
-        const std::vector<LodMode> modes = {LodMode::Static, LodMode::Budget, LodMode::Stress};
+        const std::vector<sg::LodPolicy> modes = {sg::LodPolicy::Static, sg::LodPolicy::Budget, sg::LodPolicy::Stress};
         const int n = int(path.frames.size());
         std::fprintf(stderr, "factory: the three LOD methods, interleaved frame by frame...\n");
         const auto tm = Clock::now();
@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
             if (k == 0 && (i + 1) % std::max(1, n / 4) == 0 && i + 1 < n)
                 std::fprintf(stderr, "factory: %d/%d frames\n", i + 1, n);
             const auto it = pictures.find(i);
-            if (modes[k] == LodMode::Static && it != pictures.end())
+            if (modes[k] == sg::LodPolicy::Static && it != pictures.end())
                 sg::savePng((std::filesystem::path(o.outDir) / it->second).string(), img);
         };
         const std::vector<ModeRun> runs = walk.run(modes, o.budgetMs, !o.freeRun, true, save);

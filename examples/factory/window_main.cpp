@@ -88,7 +88,7 @@ private:
     bool dragging_ = false, overlay_ = true, wantShot_ = false;
     double x_ = 0.0, y_ = 0.0;
     double walkSpeed_ = kWalkSpeed, flySpeed_ = kFlySpeed;
-    LodMode mode_ = LodMode::Static;
+    sg::LodPolicy mode_ = sg::LodPolicy::Static;
     sg::CullSettings set0_;  // the walkthrough's settings: what occlusion "on" is
     sg::OcclusionMode occlusion_;
     int workshop_ = -1;
@@ -123,10 +123,10 @@ void FactoryWindow::press(Key k) {
             break;
         }
         case Key::LodMode:
-            mode_ = mode_ == LodMode::Static   ? LodMode::Budget
-                    : mode_ == LodMode::Budget ? LodMode::Stress
-                                               : LodMode::Static;
-            std::printf("lod: %s\n", modeName(mode_));
+            mode_ = mode_ == sg::LodPolicy::Static   ? sg::LodPolicy::Budget
+                    : mode_ == sg::LodPolicy::Budget ? sg::LodPolicy::Stress
+                                                     : sg::LodPolicy::Static;
+            std::printf("lod: %s\n", sg::lodPolicyName(mode_));
             break;
         case Key::Occlusion:
             occlusion_ = occlusion_ == sg::OcclusionMode::Off ? set0_.occlusion.mode : sg::OcclusionMode::Off;
@@ -163,7 +163,7 @@ std::string FactoryWindow::statsText() const {
                   "W/A/S/D + drag move/look   F walk/fly   M LOD mode\n"
                   "O occlusion   P/F12 screenshot   H overlay   Esc quits",
                   common::navModeName(nav_.mode()), where, fps, frameMs_, cullMs_, drawMs_,
-                  (unsigned long long)stats_.triangles, (unsigned long long)stats_.geometries, modeName(mode_),
+                  (unsigned long long)stats_.triangles, (unsigned long long)stats_.geometries, sg::lodPolicyName(mode_),
                   o_.budgetMs, occlusion_ == sg::OcclusionMode::Off ? "off" : "on");
     return buf;
 }
@@ -219,7 +219,7 @@ int FactoryWindow::run() {
         const sg::Camera cam = scenes::pathCamera(view, w, h);
 
         lod.settings().method = mode_;
-        lod.settings().limitRate = !o_.freeRun && mode_ != scenes::LodMethod::Static;  // as the headless run
+        lod.settings().limitRate = !o_.freeRun && mode_ != sg::LodPolicy::Static;  // as the headless run
         lod.settings().cull.occlusion.mode = occlusion_;
         const scenes::LodFrame& fr = lod.frame(scene_, cam, [&] {
             showWorkshop();
@@ -250,7 +250,7 @@ int FactoryWindow::run() {
     }
     const sg::dvec3 e = nav_.eye();
     std::printf("factory: %d frames; eye (%.6f, %.6f, %.6f); %s; lod %s; occlusion %s; workshop %d; triangles %llu\n",
-                shown, e.x, e.y, e.z, common::navModeName(nav_.mode()), modeName(mode_),
+                shown, e.x, e.y, e.z, common::navModeName(nav_.mode()), sg::lodPolicyName(mode_),
                 occlusion_ == sg::OcclusionMode::Off ? "off" : "on", workshop_, (unsigned long long)stats_.triangles);
     return 0;
 }

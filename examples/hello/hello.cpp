@@ -1,12 +1,12 @@
-// hello: the smallest complete sgkit program: build a graph, cull it, render it headless to a PNG.
+// hello: the smallest complete sgkit program: build a graph, run one frame of it through sg::Viewer (update,
+// cull, draw), headless, and write the picture to a PNG.
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
-#include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
-#include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
+#include "sg/viewer/Viewer.h"
 
 #include <cstdio>
 #include <exception>
@@ -29,24 +29,19 @@ int main(int argc, char** argv) try {
     root->addChild(right);
 
     Scene scene(root);
-    Camera camera;
-    camera.setLookAt(dvec3(2.0, 3.0, 6.0), dvec3(0.0), dvec3(0.0, 1.0, 0.0));
-    camera.setPerspective(45.0, 640.0 / 480.0, 0.1, 100.0);
-    camera.setViewport(640, 480);
-    scene.update();
+    OsmesaContext context(640, 480);
+    Viewer viewer(scene);  // the frame loop: app callbacks, update, cull, draw, stats
+    View& view = viewer.addView();
+    view.camera.setLookAt(dvec3(2.0, 3.0, 6.0), dvec3(0.0), dvec3(0.0, 1.0, 0.0));
+    view.camera.setPerspective(45.0, 640.0 / 480.0, 0.1, 100.0);
+    view.camera.setViewport(640, 480);
+    viewer.frame();
+    savePng(out, viewer.renderer().readColor());
 
-    DrawList list;
-    CullStats cullStats;
-    CullTraversal().cull(scene, camera, CullSettings{}, list, cullStats);
-
-    OsmesaContext context(camera.width(), camera.height());
-    Renderer renderer;
-    renderer.draw(list, camera);
-    savePng(out, renderer.readColor());
-
-    const RenderStats& s = renderer.lastStats();
-    std::printf("%s: %llu geometries, %llu draw calls, %llu triangles, %.2f ms\n", out, (unsigned long long)s.instances,
-                (unsigned long long)s.drawCalls, (unsigned long long)s.triangles, s.ms);
+    const RenderStats& s = view.renderStats();
+    std::printf("%s: %llu geometries, %llu draw calls, %llu triangles, frame %.2f ms\n", out,
+                (unsigned long long)s.instances, (unsigned long long)s.drawCalls, (unsigned long long)s.triangles,
+                viewer.lastFrame().frameMs);
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "hello: %s\n", e.what());

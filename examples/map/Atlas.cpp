@@ -271,8 +271,14 @@ std::string Atlas::enter(size_t index) {
 }
 
 Atlas::Step Atlas::update(const FrameInfo& frame) {
-    Step step;
     pager_->update(frame);
+    const Step s = step();
+    scene_->update(frame);
+    return s;
+}
+
+Atlas::Step Atlas::step() {
+    Step step;
     if (entering_ >= 0) {
         const size_t index = size_t(entering_);
         PagedLOD& p = *level().regions[index].paged;
@@ -307,7 +313,6 @@ Atlas::Step Atlas::update(const FrameInfo& frame) {
         }
         if (!step.error.empty()) lastError_ = step.error;
     }
-    scene_->update(frame);
     return step;
 }
 

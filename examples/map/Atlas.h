@@ -3,10 +3,10 @@
 // chain of levels on the current path, the regions of the current one in a PickSet, and where a longitude and
 // latitude lie on it.
 #pragma once
-#include "loaders/Pager.h"
 #include "nodes/Geometry.h"
 #include "nodes/PagedLOD.h"
 #include "sg/intersect/PickSet.h"
+#include "sg/paging/Pager.h"
 #include "sg/scene/Scene.h"
 
 #include <chrono>
@@ -93,13 +93,16 @@ public:
     // The region being entered (-1 when none) and since when.
     int entering() const { return entering_; }
     std::chrono::steady_clock::time_point enterStart() const { return enterStart_; }
-    // The application thread, once per frame: the pager's update, then the level entered when its detail is
-    // attached, or the reason its load failed (the map stays on the level it was on), then the scene's update.
+    // The application thread, once per frame: the pager's update, then step(), then the scene's update (a frame
+    // loop that updates the pager and the scene itself, sg::Viewer, calls step() between them).
     struct Step {
         bool entered = false;
         std::string error;
     };
     Step update(const sg::FrameInfo& frame);
+    // The level entered when its detail is attached, or the reason its load failed (the map stays on the level it
+    // was on).
+    Step step();
     // Leaves the current level for its parent and frees it. Returns an empty string, or why it cannot be done.
     std::string back();
 

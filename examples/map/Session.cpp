@@ -47,8 +47,19 @@ constexpr double kEnterTimeoutMs = 60000.0;  // a load that takes longer is repo
 
 }  // namespace
 
-Session::Session(Atlas& atlas, Display& display, int width, int height) : atlas_(atlas), display_(display) {
-    settings_.traversalMask = ~(kPickable | kCollidable);  // a level's pick-only regions are not drawn
+Session::Session(Atlas& atlas, Display& display, int width, int height)
+    : atlas_(atlas), display_(display), viewer_(atlas.scene(), display.renderer()) {
+    View& v = viewer_.addView();
+    v.cull.traversalMask = ~(kPickable | kCollidable);  // a level's pick-only regions are not drawn
+    v.clearColor = kSeaColor;
+    // The atlas's pager is updated by the viewer; between it and the scene's update, the level entered or failed.
+    viewer_.usePager(&atlas_.pager());
+    viewer_.onUpdate([this](const FrameInfo&) {
+        step_ = atlas_.step();
+        if (step_.entered) picked_.clear();
+        if (!step_.error.empty()) note_ = "error: " + step_.error;
+    });
+    viewer_.overlayText = [this] { return overlayText(); };
     view_.width = width;
     view_.height = height;
     // The whole world level in view.
@@ -60,17 +71,14 @@ Session::Session(Atlas& atlas, Display& display, int width, int height) : atlas_
 double Session::frame() {
     const auto t0 = Clock::now();
     view_.clamp();  // the window's drag and scroll move it directly
-    step_ = atlas_.update({frames_++, std::chrono::duration<double>(t0 - start_).count()});
-    if (step_.entered) picked_.clear();
-    if (!step_.error.empty()) note_ = "error: " + step_.error;
-    const Camera camera = view_.camera();
-    cull_.cull(atlas_.scene(), camera, settings_, list_, cullStats_);
-    display_.draw(list_, camera, overlay ? overlayText() : std::string());
+    viewer_.view().camera = view_.camera();
+    viewer_.overlay = overlay;
+    viewer_.frame();
     // A level read or left: the GPU copies of the meshes this frame did not draw (the level left, or the level
     // above at the detail it had while this one loaded), then the loader's scratch memory and the level's freed
     // meshes go back to the system, so that the resident memory follows what is loaded and drawn.
     if (step_.entered || release_) {
-        display_.releaseUnused();
+        display_.renderer().releaseUnused();
         release_ = false;
         malloc_trim(0);
     }
@@ -303,7 +311,8 @@ std::string Session::command(const std::string& line) {
         for (int i = 0; i < int(v[1]); ++i) ms.push_back(frame());
         const double med = median(ms);
         return "frames" + fmt("\t%.0f", double(ms.size())) + fmt("\tmedian %.2f ms", med) +
-               fmt("\t%.1f fps", med > 0 ? 1000.0 / med : 0.0) + fmt("\t%.0f triangles", double(cullStats_.triangles));
+               fmt("\t%.1f fps", med > 0 ? 1000.0 / med : 0.0) +
+               fmt("\t%.0f triangles", double(viewer_.view().cullStats().triangles));
     }
     return "error\tunknown command: " + c;
 }

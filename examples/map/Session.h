@@ -1,10 +1,11 @@
-// Session: the map application without its window: the frame (pager, level switch, cull, draw), the view, entering
-// by zoom, and the commands of the headless script, which the window's keys and mouse also go through.
+// Session: the map application without its window: the frame (through sg::Viewer: the pager, the level switch, the
+// cull, the draw), the view, entering by zoom, and the commands of the headless script, which the window's keys and
+// mouse also go through.
 #pragma once
 #include "map/Atlas.h"
 #include "map/Display.h"
 #include "map/MapView.h"
-#include "sg/cull/CullTraversal.h"
+#include "sg/viewer/Viewer.h"
 
 #include <chrono>
 #include <iosfwd>
@@ -15,6 +16,7 @@ namespace sgmap {
 
 class Session {
 public:
+    // Draws with the display's renderer (its context current).
     Session(Atlas& atlas, Display& display, int width, int height);
 
     // One frame: the pager's update and a level entered or failed, the cull, the draw. Returns its milliseconds.
@@ -55,13 +57,8 @@ private:
     Atlas& atlas_;
     Display& display_;
     MapView view_;
-    sg::CullTraversal cull_;
-    sg::CullSettings settings_;
-    sg::CullStats cullStats_;
-    sg::DrawList list_;
+    sg::Viewer viewer_;  // its view 0: the map's
     std::vector<double> frameMs_;
-    uint64_t frames_ = 0;
-    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     Atlas::Step step_;      // of the last frame
     bool release_ = false;  // a level was left: free its GPU copies after the next frame
     std::string picked_, note_;

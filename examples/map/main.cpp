@@ -46,7 +46,8 @@ void drawTrivialFrame(Display& display, int width, int height) {
     camera.setLookAt(dvec3(0.0), dvec3(0.0, 0.0, -1.0), dvec3(0.0, 1.0, 0.0));
     camera.setPerspective(30.0, double(width) / height, 1.0, 100.0);
     camera.setViewport(width, height);
-    display.draw(list, camera, {});
+    display.renderer().draw(list, camera, kSeaColor);
+    display.renderer().finish();
 }
 
 #ifdef SGMAP_WINDOW_PROGRAM

@@ -7,9 +7,7 @@
 #include "map/Options.h"
 #include "map/Session.h"
 #include "sg/gl/GlfwWindow.h"
-#include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/Renderer.h"
-#include "sg/gl/TextOverlay.h"
 
 #include <GLFW/glfw3.h>
 
@@ -23,19 +21,10 @@ namespace {
 
 class WindowDisplay : public Display {
 public:
-    WindowDisplay() {
-        if (renderer_.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
-    }
-    void draw(const sg::DrawList& list, const sg::Camera& camera, const std::string& overlay) override {
-        renderer_.draw(list, camera, kSeaColor);
-        if (!overlay.empty()) overlay_.draw(overlay, camera.width(), camera.height(), 2.0f);
-    }
-    sg::Image read() override { return renderer_.readColor(); }
-    void releaseUnused() override { renderer_.releaseUnused(); }
+    sg::Renderer& renderer() override { return renderer_; }
 
 private:
     sg::Renderer renderer_;
-    sg::TextOverlay overlay_;
 };
 
 void say(const std::string& line) {

@@ -5,7 +5,6 @@
 #include "sgview/View.h"
 #include "sgview/ViewCamera.h"
 
-#include <chrono>
 #include <cstdio>
 
 namespace sgview {
@@ -18,18 +17,12 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     view.settings.strategy = o.strategy;
     view.settings.occlusion.mode = o.occlusion;
     const Camera camera = startCamera(o, sceneBound(scene), loaded.up);
-    FrameStats fs{0.0, "headless"};
-    double cullMs = 0.0, drawMs = 0.0, seconds = 0.0;
+    const FrameStats fs{"headless"};
+    double cullMs = 0.0, drawMs = 0.0;
     for (int f = 0; f < o.frames; ++f) {
-        const auto t0 = std::chrono::steady_clock::now();
-        scene.update({uint64_t(f), f / 60.0});
-        view.frame(camera, o.overlay && f == o.frames - 1, fs);
-        view.finish();  // whole-frame times
-        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        seconds += s;
+        view.frame(camera, o.overlay && f == o.frames - 1, fs);  // updated, drawn and finished
         cullMs += view.cullStats().ms;
         drawMs += view.renderStats().ms;
-        fs.fps = (f + 1) / seconds;
     }
     savePng(o.out, view.read());
     IntersectTraversal picker;

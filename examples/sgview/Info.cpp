@@ -51,11 +51,6 @@ size_t nodeBytes(NodeKind k) {
     return sizeof(Node);
 }
 
-size_t meshBytes(const Mesh& m) {
-    return m.positions().size() * sizeof(vec3) + m.normals().size() * sizeof(vec3) + m.uvs().size() * sizeof(vec2) +
-           m.colors().size() * sizeof(vec4) + m.indices16().size() * 2 + m.indices32().size() * 4;
-}
-
 }  // namespace
 
 SceneInfo computeInfo(const Node& root, const Scene& scene) {
@@ -90,7 +85,7 @@ SceneInfo computeInfo(const Node& root, const Scene& scene) {
             const auto& g = static_cast<const Geometry&>(*n);
             if (const Mesh* m = g.mesh()) {
                 s.triangles += m->triangleCount();
-                if (meshes.insert(m).second) info.meshBytes += meshBytes(*m);
+                if (meshes.insert(m).second) info.meshBytes += m->bytes();
             }
             if (const Material* mat = g.material()) {
                 materials.insert(mat);

@@ -71,9 +71,10 @@ private:
 };
 
 int Viewer::run() {
-    int shown = 0, counted = 0;
-    double last = window_.time(), since = last;
+    int shown = 0;
+    double last = window_.time();
     FrameStats fs;
+    scene_.update();  // walking tests the scene as its last update left it (the frames' update it from then on)
     while (!window_.shouldClose() && (o_.frames == 0 || shown < o_.frames)) {
         window_.pollEvents();
         const double now = window_.time();
@@ -84,20 +85,13 @@ int Viewer::run() {
             std::this_thread::sleep_for(std::chrono::milliseconds(20));
             continue;
         }
-        scene_.update({uint64_t(shown), now});
-        nav_.move(keys_, dt);  // after the update: walking tests the scene as it is now
+        nav_.move(keys_, dt);
         fs.mode = navModeName(nav_.mode());
         view_.frame(nav_.camera(w, h), overlay_, fs);
         if (wantShot_) screenshot();
         if (!o_.out.empty() && shown + 1 == o_.frames) savePng(o_.out, view_.read());  // scripted runs
         window_.swapBuffers();
         ++shown;
-        ++counted;
-        if (now - since >= 0.5) {  // the rate over the last half second
-            fs.fps = counted / (now - since);
-            counted = 0;
-            since = now;
-        }
     }
     std::printf("sgview: %d frames; last: %s\n", shown, view_.statsText(fs).c_str());
     return 0;

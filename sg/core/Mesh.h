@@ -31,6 +31,12 @@ public:
         return indices16_.empty() ? indices32_[i] : indices16_[i];
     }
     uint32_t triangleCount() const { return indexCount() / 3; }
+    // The bytes of its arrays (what a pager's memory budget and sgview --info count).
+    size_t bytes() const {
+        return positions_.size() * sizeof(vec3) + normals_.size() * sizeof(vec3) + uvs_.size() * sizeof(vec2) +
+               colors_.size() * sizeof(vec4) + indices16_.size() * sizeof(uint16_t) +
+               indices32_.size() * sizeof(uint32_t);
+    }
 
     // Local bound; `validBound()` is false when a position is NaN or infinite.
     const Box& box() const { return box_; }

@@ -94,9 +94,7 @@ TEST(LodBudgetPlanner, ChoosesLevelsThatFitTheBudgetNearestFirst) {
     const std::vector<uint32_t> lods = lodEntries(img);
     ASSERT_EQ(lods.size(), 20u);
     const DrawCostModel model = testutil::trainedCostModel();
-    LodBudgetSettings b;
-    b.enabled = true;
-    b.model = &model;
+    LodBudgetSettings b = testutil::plainBudget(&model);
     LodHistory history;
     history.track(img, s.structureVersion());
     LodBudgetPlanner planner;
@@ -149,8 +147,7 @@ struct RowPlan {
     RowPlan() {
         s.update();
         lods = lodEntries(s.image());
-        b.enabled = true;
-        b.model = &model;
+        b = testutil::plainBudget(&model);
         history.track(s.image(), s.structureVersion());
     }
     CullStats plan() {
@@ -272,9 +269,7 @@ TEST(LodBudgetPlanner, TheFinestLevelAllowedIncludesTheFadeBand) {
     Scene s(root);
     s.update();
     const DrawCostModel model = testutil::trainedCostModel();
-    LodBudgetSettings b;
-    b.enabled = true;
-    b.model = &model;
+    LodBudgetSettings b = testutil::plainBudget(&model);
     b.budgetMs = 100.0;
     b.finestScale = 1.0;
     LodHistory history;

@@ -48,9 +48,7 @@ struct Row {
 };
 CullSettings budgeted(const DrawCostModel& model, double ms) {
     CullSettings set;
-    set.lodBudget.enabled = true;
-    set.lodBudget.model = &model;
-    set.lodBudget.budgetMs = ms;
+    set.lodBudget = testutil::plainBudget(&model, ms);
     return set;
 }
 struct Frame {

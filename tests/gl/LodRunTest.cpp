@@ -32,7 +32,7 @@ TEST(LodRun, AHeldFrameRateWaitsOutTheBudgetAndTheMethodsSeeTheWork) {
     Renderer renderer;
     Camera cam = testutil::lookingAlongY(100.0);
     cam.setViewport(64, 48);
-    for (scenes::LodMethod m : {scenes::LodMethod::Static, scenes::LodMethod::Budget, scenes::LodMethod::Stress}) {
+    for (sg::LodPolicy m : {sg::LodPolicy::Static, sg::LodPolicy::Budget, sg::LodPolicy::Stress}) {
         scenes::LodRun::Settings set;
         set.method = m;
         set.budgetMs = 25.0;
@@ -40,14 +40,14 @@ TEST(LodRun, AHeldFrameRateWaitsOutTheBudgetAndTheMethodsSeeTheWork) {
         scenes::LodRun held(renderer, set);
         for (int f = 0; f < 3; ++f) {
             const scenes::LodFrame& fr = held.frame(smallScene(), cam);
-            EXPECT_GE(fr.frameMs, 25.0) << scenes::lodMethodName(m) << " frame " << f;
+            EXPECT_GE(fr.frameMs, 25.0) << sg::lodPolicyName(m) << " frame " << f;
             EXPECT_GE(fr.frameMs, fr.workMs);
             EXPECT_DOUBLE_EQ(fr.workMs, fr.cullMs + fr.drawMs);
         }
         set.limitRate = false;
         scenes::LodRun running(renderer, set);
         const scenes::LodFrame& fr = running.frame(smallScene(), cam);
-        EXPECT_DOUBLE_EQ(fr.frameMs, fr.workMs) << scenes::lodMethodName(m);
+        EXPECT_DOUBLE_EQ(fr.frameMs, fr.workMs) << sg::lodPolicyName(m);
         EXPECT_GT(fr.stats.geometries, 0u);
     }
 }

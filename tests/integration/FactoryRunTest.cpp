@@ -66,7 +66,7 @@ TEST(FactoryRun, StaticRunDrawsLessThanTheSiteAndSwitchesInside) {
     Site& s = site();
     sg::OsmesaContext ctx(kW, kH);
     Walkthrough walk(s.f, s.scene, s.path, kW, kH);
-    const ModeRun run = walk.run({LodMode::Static}, 33.0, false, false)[0];
+    const ModeRun run = walk.run({sg::LodPolicy::Static}, 33.0, false, false)[0];
     ASSERT_EQ(int(run.frames.size()), kFrames);
     for (const FrameRecord& r : run.frames) {
         EXPECT_GT(r.triangles, 0u);
@@ -98,7 +98,7 @@ TEST(FactoryRun, EveryMeshIsUploadedBeforeTheFirstFrame) {
     Walkthrough walk(s.f, s.scene, s.path, kW, kH);
     // The interiors, off until the door, and every coarse level are there already: no frame uploads one.
     EXPECT_EQ(walk.renderer().cachedMeshes(), meshes.size());
-    walk.run({LodMode::Static}, 33.0, false, false);
+    walk.run({sg::LodPolicy::Static}, 33.0, false, false);
     EXPECT_EQ(walk.renderer().cachedMeshes(), meshes.size());
 }
 
@@ -159,7 +159,7 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
 TEST(FactoryRun, SummarySeparatesTheFramesDrawnAtFullDetail) {
     // A budget cannot slow a frame that is already at full detail: its mean over the others is reported apart.
     ModeRun run;
-    run.mode = LodMode::Budget;
+    run.mode = sg::LodPolicy::Budget;
     run.budgetMs = 33.0;
     const double ms[4] = {10.0, 20.0, 30.0, 40.0}, mae[4] = {0.0, 0.0, 1.5, 2.5};
     for (int i = 0; i < 4; ++i) {

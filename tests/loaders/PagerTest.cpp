@@ -1,7 +1,7 @@
 #include "TestUtil.h"
 #include "loaders/Gltf.h"
-#include "loaders/Pager.h"
 #include "sg/cull/CullTraversal.h"
+#include "sg/paging/Pager.h"
 #include "testbed/City.h"
 
 #include <gtest/gtest.h>
@@ -97,6 +97,17 @@ struct Latch {
 };
 
 }  // namespace
+
+TEST(Pager, WithoutALoadFunctionItIsRefusedByName) {
+    World w;
+    Scene scene(w.root);
+    try {
+        Pager pager(scene, PageLoadFunction{});
+        ADD_FAILURE() << "a pager without a load function was made";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("no load function"), std::string::npos) << e.what();
+    }
+}
 
 TEST(Pager, AttachesTheDetailAtTheUpdateAfterItsLoadAndDrawsTheCoarseLevelUntilThen) {
     World w;
@@ -206,7 +217,7 @@ TEST(Pager, GltfErrorsOfMissingAndMalformedFilesReachTheNode) {
     for (const std::string& file : {missing, bad}) {
         World w(file);
         Scene scene(w.root);
-        Pager pager(scene);  // the glTF loader
+        Pager pager(scene, loadGltfPage);  // the glTF loader
         Frames f(scene, pager);
         f.run();
         f.run();
@@ -355,7 +366,7 @@ TEST(Pager, AFrameDoesNotStallWhileALargeFileLoads) {
     tile->setTrigger(PagedLOD::Trigger::Command);
     root->addChild(tile);
     Scene scene(root);
-    Pager pager(scene);
+    Pager pager(scene, loadGltfPage);
     CullTraversal cull;
     Camera cam;
     cam.setViewport(1280, 720);

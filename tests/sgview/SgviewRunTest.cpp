@@ -126,14 +126,15 @@ TEST(SgviewRun, OverlayDrawsTextInItsPanelOnly) {
     ASSERT_EQ(r.code, 0) << r.err;
     const fs::path d = scratch();
     const Image plain = loadPng((d / "plain.png").string()), over = loadPng((d / "overlay.png").string());
-    // Five lines of 2x-scaled stb_easy_font on a dark panel at the top left: about 700 x 145 pixels.
+    // Seven lines of 2x-scaled stb_easy_font on a dark panel at the top left (sgview's five, the viewer's stage
+    // times): about 760 x 190 pixels.
     size_t inside = 0, outside = 0, bright = 0;
     for (int y = 0; y < plain.height; ++y)
         for (int x = 0; x < plain.width; ++x) {
             const size_t i = (size_t(y) * plain.width + x) * 4;
             const bool differs = std::memcmp(&plain.rgba[i], &over.rgba[i], 3) != 0;
-            (x < 800 && y < 160 ? inside : outside) += differs;
-            bright += x < 800 && y < 160 && over.rgba[i] > 200 && over.rgba[i + 1] > 200;  // the yellow-white text
+            (x < 800 && y < 200 ? inside : outside) += differs;
+            bright += x < 800 && y < 200 && over.rgba[i] > 200 && over.rgba[i + 1] > 200;  // the yellow-white text
         }
     EXPECT_EQ(outside, 0u);
     EXPECT_GT(inside, size_t(500 * 100));  // the panel
@@ -225,13 +226,13 @@ TEST(SgviewRun, TheWindowShowsWhatHeadlessRenders) {
     const Image off = loadPng((scratch() / "headless.png").string());
     ASSERT_EQ(win.width, 400);
     ASSERT_EQ(win.height, 300);
-    // The window draws its stats panel (1x font below 960 pixels wide: about 340 x 85) over the same picture.
+    // The window draws its stats panel (1x font below 960 pixels wide: about 380 x 95) over the same picture.
     size_t panel = 0, rest = 0;
     for (int y = 0; y < 300; ++y)
         for (int x = 0; x < 400; ++x) {
             const size_t i = (size_t(y) * 400 + size_t(x)) * 4;
             const bool differs = std::memcmp(&win.rgba[i], &off.rgba[i], 3) != 0;
-            (x < 360 && y < 100 ? panel : rest) += differs;
+            (x < 400 && y < 110 ? panel : rest) += differs;
         }
     // The window's camera goes through the navigator's yaw and pitch: equal up to rounding, which may move an
     // edge pixel or two (none here today).

@@ -91,7 +91,7 @@ TEST(Pareto, TinyOfficeInvariantsAndCsv) {
     for (int f : {0, 80, 160}) sv.views.push_back(scenes::officeWalkCamera(2, f, w, h));
     std::vector<pareto::Method> methods = pareto::methods();
     // Culls every geometry: the error measures must see it.
-    pareto::Method everything{"cull-everything", {}, scenes::LodMethod::Static, false, false, false};
+    pareto::Method everything{"cull-everything", {}, sg::LodPolicy::Static, false, false, false};
     everything.cull.smallFeaturePixels = 1e6;
     methods.push_back(everything);
     const std::vector<pareto::Row> rows = pareto::measure(renderer, sv, methods, pareto::Options{});

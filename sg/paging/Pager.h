@@ -1,5 +1,7 @@
 // Pager: loads the details of a Scene's PagedLOD nodes from files on a loader thread, attaches them at the next
 // update and unloads those not needed for a while (Performer's DBASE process, OpenSceneGraph's DatabasePager).
+// The thread, queue and policy live here, below the viewer; file formats reach it as a load function
+// (sg::loadGltfPage in loaders/Gltf.h reads glTF), so that the kernel does not depend on a parser.
 #pragma once
 #include "nodes/PagedLOD.h"
 #include "sg/scene/Scene.h"
@@ -19,8 +21,6 @@ namespace sg {
 // Reads a detail: returns its root, or throws with the reason (the pager adds the file name when the message
 // lacks it). Runs on the loader thread: it must not touch the scene.
 using PageLoadFunction = std::function<ref_ptr<Node>(const std::string& file)>;
-// The default: the default scene of a glTF file (sg::loadGltf).
-ref_ptr<Node> loadGltfPage(const std::string& file);
 
 // Mesh and texture bytes below `root`, each shared mesh or texture counted once: what a detail takes.
 size_t pageBytes(const Node* root);
@@ -56,7 +56,7 @@ struct PagerStats {
 
 class Pager {
 public:
-    // Starts the loader thread. `load` defaults to loadGltfPage.
+    // Starts the loader thread. Throws std::invalid_argument when `load` is empty.
     explicit Pager(Scene& scene, PageLoadFunction load = {}, PagerSettings settings = {});
     // Stops the loader thread: the load running finishes first (a load cannot be interrupted), the queue is
     // dropped and its nodes are Unloaded again. Attached details stay in the graph.

@@ -1,10 +1,10 @@
-#include "loaders/Pager.h"
+#include "sg/paging/Pager.h"
 
-#include "loaders/Gltf.h"
 #include "nodes/Geometry.h"
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
 #include <unordered_set>
 
 #ifdef __linux__
@@ -24,8 +24,6 @@ std::string withFile(const std::string& file, const std::string& message) {
 
 }  // namespace
 
-ref_ptr<Node> loadGltfPage(const std::string& file) { return loadGltf(file).root; }
-
 size_t pageBytes(const Node* root) {
     std::unordered_set<const void*> seen;
     std::vector<const Node*> stack{root};
@@ -37,9 +35,7 @@ size_t pageBytes(const Node* root) {
         if (n->kind() == NodeKind::Geometry) {
             const auto* g = static_cast<const Geometry*>(n);
             if (const Mesh* m = g->mesh(); m && seen.insert(m).second)
-                bytes += m->positions().size() * sizeof(vec3) + m->normals().size() * sizeof(vec3) +
-                         m->uvs().size() * sizeof(vec2) + m->colors().size() * sizeof(vec4) +
-                         m->indices16().size() * 2 + m->indices32().size() * 4;
+                bytes += m->bytes();
             if (const Material* mat = g->material(); mat && mat->texture && seen.insert(mat->texture.get()).second)
                 bytes += mat->texture->rgba().size();
         }
@@ -50,7 +46,8 @@ size_t pageBytes(const Node* root) {
 }
 
 Pager::Pager(Scene& scene, PageLoadFunction load, PagerSettings settings)
-    : scene_(scene), load_(load ? std::move(load) : PageLoadFunction(loadGltfPage)), settings_(settings) {
+    : scene_(scene), load_(std::move(load)), settings_(settings) {
+    if (!load_) throw std::invalid_argument("Pager::Pager(): no load function (sg::loadGltfPage reads glTF files)");
     thread_ = std::thread([this] { run(); });
 }
 
