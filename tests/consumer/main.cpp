@@ -1,9 +1,12 @@
-// Builds a graph with the installed library and culls it: exits 0 when one of two boxes is drawn.
+// Builds a graph with the installed library, culls it and draws it through sg::Viewer (OSMesa): exits 0 when one
+// of two boxes is drawn, in the middle of the picture, and an LOD and a glTF round trip work.
 #include <loaders/Gltf.h>
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
 #include <sg/cull/CullTraversal.h>
+#include <sg/gl/OsmesaContext.h>
 #include <sg/lod/LodGenerator.h>
+#include <sg/viewer/Viewer.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -23,7 +26,21 @@ int main() {
     DrawList list;
     CullStats stats;
     CullTraversal().cull(scene, cam, CullSettings{}, list, stats);
-    std::printf("consumer: %zu of 2 boxes drawn\n", list.items.size());
+    std::printf("consumer: %zu of 2 boxes culled in\n", list.items.size());
+    // The frame loop: the same view drawn; the box fills the middle of the picture, the sky its corner.
+    OsmesaContext context(64, 64);
+    Viewer viewer(scene);
+    View& view = viewer.addView(cam);
+    view.camera.setViewport(64, 64);
+    viewer.frame();
+    const Image picture = viewer.renderer().readColor();
+    const auto rgb = [&](int x, int y) {
+        const uint8_t* p = &picture.rgba[(size_t(y) * 64 + size_t(x)) * 4];
+        return (uint32_t(p[0]) << 16) | (uint32_t(p[1]) << 8) | p[2];
+    };
+    const bool drawn = view.renderStats().instances == 1 && rgb(32, 32) != rgb(0, 0);
+    std::printf("consumer: viewer drew %llu geometries, middle %06x, corner %06x\n",
+                (unsigned long long)view.renderStats().instances, rgb(32, 32), rgb(0, 0));
     // Generated levels: links meshoptimizer through the package's dependencies.
     const auto lod = makeLod(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>(), {0.5f});
     std::printf("consumer: LOD with %zu levels\n", lod->numChildren());
@@ -32,5 +49,5 @@ int main() {
     saveGltf(*root, file);
     const GltfScene loaded = loadGltf(file);
     std::printf("consumer: glTF round trip with %zu of 2 nodes\n", loaded.root->numChildren());
-    return list.items.size() == 1 && lod->numChildren() == 2 && loaded.root->numChildren() == 2 ? 0 : 1;
+    return list.items.size() == 1 && drawn && lod->numChildren() == 2 && loaded.root->numChildren() == 2 ? 0 : 1;
 }
