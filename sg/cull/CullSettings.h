@@ -152,7 +152,8 @@ struct CullSettings {
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
     // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
     // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs
-    // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
+    // one CullTraversal per view (the last choices are kept there); applied to the scene's own LODs only, not
+    // inside Instance prototypes nor loaded PagedLOD details (they have images of their own).
     // In [0, 1).
     double lodHysteresis = 0.0;
     // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's
