@@ -106,7 +106,7 @@ TEST(TerrainBuilder, RejectsBadInputNamingIt) {
 }
 
 TEST(TerrainBuilder, QuadtreeAndLevels) {
-    const scenes::TerrainScene t = scenes::buildTerrain(129, 7, [] {
+    const scenes::TerrainScene t = scenes::buildTerrainScene(129, 7, [] {
         scenes::TerrainSceneParams p;
         p.terrain.tileSamples = 17;
         return p;
@@ -165,7 +165,7 @@ TEST(TerrainBuilder, LevelErrorMatchesBruteForce) {
 TEST(TerrainBuilder, BoundsAreTheTilesPrisms) {
     scenes::TerrainSceneParams prm;
     prm.terrain.tileSamples = 9;
-    const scenes::TerrainScene t = scenes::buildTerrain(65, 11, prm);
+    const scenes::TerrainScene t = scenes::buildTerrainScene(65, 11, prm);
     Scene scene(t.terrain.root);
     scene.update();
     const FlatImage& img = scene.image();
@@ -216,7 +216,7 @@ TEST(TerrainBuilder, NoCracksBetweenLevels) {
     prm.terrain.tileSamples = 17;
     prm.roughness = 0.3;
     prm.reliefMetres = 300.0;
-    const scenes::TerrainScene t = scenes::buildTerrain(65, 5, prm);
+    const scenes::TerrainScene t = scenes::buildTerrainScene(65, 5, prm);
     int k = 0;
     for (const Terrain::QuadNode& q : t.terrain.quad) {
         if (!q.tile) continue;
