@@ -3,7 +3,7 @@
 set(_below_core core)
 set(_below_nodes core nodes)
 set(_below_scene core nodes scene)
-set(_below_lod core nodes scene lod)
+set(_below_lod core nodes scene intersect lod)
 set(_below_cull core nodes scene lod cull)
 set(_below_intersect core nodes scene intersect)
 set(_below_io io)
