@@ -4,6 +4,7 @@
 #include "testbed/Factory.h"
 
 #include "testbed/FactoryTextures.h"
+#include "testbed/Rng.h"
 
 #include "sg/core/Material.h"
 #include "sg/core/Math.h"
@@ -17,12 +18,8 @@ namespace scenes::factory {
 
 using namespace sg;
 
-// mt19937 is specified exactly; the standard distributions are not, so uniforms are made here.
-struct Rng {
-    std::mt19937 g;
-    explicit Rng(uint32_t seed) : g(seed) {}
-    double uniform(double a = 0.0, double b = 1.0) { return a + (b - a) * double(g() >> 8) * (1.0 / 16777216.0); }
-};
+// The factory's stream: 32-bit mt19937, its top 24 bits per uniform (the site's layout depends on it).
+using Rng = BasicRng<std::mt19937>;
 
 // The pure white corner of the wall textures: parts of a building that are not wall sample it and take
 // their colour from their vertices.
