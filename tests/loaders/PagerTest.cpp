@@ -396,8 +396,10 @@ TEST(Pager, AFrameDoesNotStallWhileALargeFileLoads) {
     EXPECT_EQ(attachUpdate.fullRebuilds, 0u);
     std::remove(file.c_str());
     ASSERT_EQ(pager.stats().loads, 1u) << pager.stats().lastError;
-    EXPECT_GE(during.size(), 3u) << "frames went on while the file loaded";
+    // How many frames ran during the load depends on the two threads' speeds: printed, not asserted (that frames go
+    // on while a load is blocked is TheFrameLoopRunsAndDrawsTheCoarseLevelWhileALoadIsBlocked's, with a latch).
     auto pct = [](std::vector<double> v, double q) {
+        if (v.empty()) return 0.0;  // no frame ran during the load
         std::sort(v.begin(), v.end());
         return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
     };
