@@ -14,6 +14,7 @@ run() {
   for st in none sphere aabb sphere-sphere center-box; do "$s" accuracy --scene city --n 24 --views 40 --strategy "$st" --json; done
   "$s" accuracy --scene city --n 24 --views 40 --strategy sphere --small-feature 2 --json
   "$s" accuracy --scene random --views 40 --strategy aabb --json
+  # "tree" is every-frame's older spelling, which builds from before the rename take too.
   "$s" accuracy --scene office --r 4 --views 40 --strategy aabb --occlusion tree --json
   "$s" accuracy --scene city --n 24 --views 40 --strategy aabb --occlusion tree --json
   "$s" occlusion --scene city --n 100 --path street --ideal --json
@@ -29,6 +30,9 @@ import json, sys
 load = lambda p: [json.loads(l) for l in open(p) if l.startswith("{")]
 a, b = load(sys.argv[1]), load(sys.argv[2])
 timing = ("ms", "_s", "_us", "rss", "bytes", "speedup", "per_s", "time", "ratio")
+renamed = {"tree": "every-frame", "auto": "adaptive"}  # the occlusion modes' names before and after
+for r in a + b:
+    if "occlusion" in r: r["occlusion"] = renamed.get(r["occlusion"], r["occlusion"])
 bad = 0 if len(a) == len(b) else 1
 for i, (x, y) in enumerate(zip(a, b)):
     for k in sorted(set(x) | set(y)):

@@ -3,7 +3,7 @@
 set(_below_core core)
 set(_below_nodes core nodes)
 set(_below_scene core nodes scene)
-set(_below_lod core nodes scene lod)
+set(_below_lod core nodes scene intersect lod)
 set(_below_cull core nodes scene lod cull)
 set(_below_intersect core nodes scene intersect)
 set(_below_io io)
@@ -41,3 +41,16 @@ endforeach()
 set(SGKIT_INTERNAL_HEADERS sg/cull/FrustumKernel.h sg/cull/CullContext.h sg/scene/BspBuilder.h sg/scene/LodChooser.h
   sg/scene/ImageWalk.h sg/intersect/IntersectPrimitives.h sg/gl/GlProgram.h sg/gl/Shaders.h sg/gl/GpuCache.h
   sg/gl/DepthTarget.h)
+
+# The testbed and the examples use the library as an application would: none of them includes an internal header.
+file(GLOB_RECURSE _apps RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} CONFIGURE_DEPENDS testbed/*.h testbed/*.cpp
+  examples/*.h examples/*.cpp)
+foreach(f IN LISTS _apps)
+  file(STRINGS ${f} _includes REGEX "^#include \"sg/")
+  foreach(inc IN LISTS _includes)
+    string(REGEX REPLACE "^#include \"([^\"]+)\".*" "\\1" inc "${inc}")
+    if(inc IN_LIST SGKIT_INTERNAL_HEADERS)
+      message(FATAL_ERROR "${f} includes ${inc}, an internal header (SGKIT_INTERNAL_HEADERS in cmake/LayerCheck.cmake)")
+    endif()
+  endforeach()
+endforeach()

@@ -11,6 +11,7 @@
 #include "sg/core/Assert.h"
 #include "sg/core/NodeVisitor.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace sg {
@@ -39,15 +40,25 @@ void Switch::setOn(size_t i, bool on) {
     if (i >= on_.size())
         throw std::out_of_range("Switch::setOn(): child " + std::to_string(i) + " of " + describe() +
                                 " does not exist (" + std::to_string(on_.size()) + " children)");
+    if (on_[i] == on) return;
     on_[i] = on;
+    markDirty(kDirtyChoice);
 }
-void Switch::setAll(bool on) { on_.assign(on_.size(), on); }
+void Switch::setAll(bool on) {
+    if (std::all_of(on_.begin(), on_.end(), [on](bool b) { return b == on; })) return;
+    on_.assign(on_.size(), on);
+    markDirty(kDirtyChoice);
+}
 void Switch::setOnly(size_t i) {
     if (i >= on_.size())
         throw std::out_of_range("Switch::setOnly(): child " + std::to_string(i) + " of " + describe() +
                                 " does not exist (" + std::to_string(on_.size()) + " children)");
-    setAll(false);
-    on_[i] = true;
+    bool changed = false;
+    for (size_t k = 0; k < on_.size(); ++k) {
+        changed |= on_[k] != (k == i);
+        on_[k] = k == i;
+    }
+    if (changed) markDirty(kDirtyChoice);
 }
 void Switch::childInserted(size_t i) {
     on_.insert(on_.begin() + std::ptrdiff_t(i), true);

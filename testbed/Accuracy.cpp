@@ -16,7 +16,7 @@ std::string settingName(const CullSettings& s) {
     if (s.smallFeaturePixels > 0) name += "+small-feature";
     if (s.screenRect && s.strategy != CullStrategy::None) name += "+screen-rect";
     if (s.strategy != CullStrategy::None && s.occlusion.mode != OcclusionMode::Off) {
-        name += s.occlusion.mode == OcclusionMode::Auto ? "+occlusion-auto" : "+occlusion";
+        name += s.occlusion.mode == OcclusionMode::Adaptive ? "+occlusion-adaptive" : "+occlusion";
         if (s.occlusion.measureOnly.cap == OccluderCap::CenterPlane) name += "-centre";
         if (s.occlusion.method == OcclusionMethod::Hom) name += s.occlusion.homOpacity < 1.0 ? "-hom-approx" : "-hom";
         if (s.occlusion.method == OcclusionMethod::Auto) name += "-method-auto";
@@ -33,7 +33,7 @@ std::vector<CullSettings> conservativeSettings() {
         s.push_back(c);
     }
     CullSettings tree;
-    tree.occlusion.mode = OcclusionMode::Tree;
+    tree.occlusion.mode = OcclusionMode::EveryFrame;
     tree.occlusion.method = OcclusionMethod::Tree;
     s.push_back(tree);
     CullSettings hom = tree;

@@ -33,13 +33,14 @@ struct Result {
     double percentOfFrames() const { return views ? 100.0 * double(differingTotal) / (framePixels * views) : 0.0; }
 };
 
-// "aabb", "center-box+small-feature", "aabb+screen-rect", "aabb+occlusion" (mode On), "aabb+occlusion-auto", and
+// "aabb", "center-box+small-feature", "aabb+screen-rect", "aabb+occlusion" (mode EveryFrame),
+// "aabb+occlusion-adaptive", and
 // "-centre" appended for the centre-plane cap, e.g. "aabb+occlusion-centre", "-hom" or "-hom-approx" for the occlusion
 // map. The occlusion part is left out when the mode is Off or the strategy is None (which disables occlusion).
 std::string settingName(const sg::CullSettings& s);
 
 // Every conservative method: the three frustum strategies alone (sphere, aabb, sphere-sphere), then boxes
-// with the occlusion tree and with the occlusion map, both every frame (mode Tree: Auto could skip frames).
+// with the occlusion tree and with the occlusion map, both every frame (mode EveryFrame: Adaptive could skip frames).
 std::vector<sg::CullSettings> conservativeSettings();
 
 // The camera in one line: eye, target (eye + view direction), up, vertical fov, near and far (perspective).
@@ -50,7 +51,7 @@ public:
     // Throws std::runtime_error when no OSMesa context can be made.
     Harness(int width, int height);
     // Every setting against the same reference render of each view. Each setting has its own traversal,
-    // so the occlusion pass's Auto state follows the views in order, as it would follow frames.
+    // so the occlusion pass's Adaptive state follows the views in order, as it would follow frames.
     std::vector<Result> run(const sg::Scene& scene, const std::vector<sg::Camera>& views,
                             const std::vector<sg::CullSettings>& settings);
     // One view: the reference and the culled image (for a test's failure message or a PNG), and the

@@ -9,6 +9,7 @@
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
 #include "sg/core/Mesh.h"
+#include "sg/lod/LevelReshade.h"
 
 #include <cstdint>
 #include <functional>
@@ -29,12 +30,9 @@ struct FactoryParams {
     double fadeFraction = 0.1;     // fade band width, as a share of the distance where the level switches
 };
 
-// How a coarse level of a building model takes its colours from the detailed level: vertex v's colour is the sum,
-// over k in [start[v], start[v + 1]), of weight[k] times the detailed level's colour of its vertex from[k].
-struct FactoryColorShare {
-    std::vector<uint32_t> start, from;
-    std::vector<float> weight;
-};
+// How a coarse level of a building model takes its colours from the detailed level (sg::generateLevels with
+// LevelShading::reshade).
+using FactoryColorShare = sg::LevelColorShare;
 
 // One of the 11 buildings: its placement, its levelled model and the occluder standing for it.
 struct FactoryBuilding {

@@ -37,10 +37,10 @@ CullSettings frustumOnly(CullStrategy s, double smallFeaturePixels = 0.0) {
     return c;
 }
 
-// Boxes and an occlusion method every frame (Auto could skip frames: that is the default's row).
+// Boxes and an occlusion method every frame (Adaptive could skip frames: that is the default's row).
 CullSettings withOcclusion(OcclusionMethod m, double homOpacity) {
     CullSettings c;
-    c.occlusion.mode = OcclusionMode::Tree;
+    c.occlusion.mode = OcclusionMode::EveryFrame;
     c.occlusion.method = m;
     c.occlusion.homOpacity = homOpacity;
     return c;
@@ -215,7 +215,7 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
         if (sv.prepare) sv.prepare(v);
     };
 
-    // One traversal (or LOD run) per method: the occlusion pass's Auto state and the LOD methods' feedback
+    // One traversal (or LOD run) per method: the occlusion pass's Adaptive state and the LOD methods' feedback
     // follow the views as they would follow frames.
     std::vector<std::unique_ptr<CullTraversal>> culls(M);
     std::vector<std::unique_ptr<scenes::LodRun>> runs(M);

@@ -3,23 +3,11 @@
 #pragma once
 #include "nodes/Group.h"
 #include "sg/core/Camera.h"
+#include "testbed/Rng.h"
 
 #include <cstdint>
-#include <random>
 
 namespace scenes {
-
-// Deterministic across standard libraries: only the raw mt19937_64 stream is used.
-class Rng {
-public:
-    explicit Rng(uint64_t seed) : g_(seed) {}
-    double uniform(double a, double b) { return a + (b - a) * double(g_() >> 11) * (1.0 / 9007199254740992.0); }
-    int below(int n) { return int(g_() % uint64_t(n)); }
-    bool chance(double p) { return uniform(0, 1) < p; }
-
-private:
-    std::mt19937_64 g_;
-};
 
 struct RandomSceneOptions {
     int objects = 60;

@@ -41,7 +41,7 @@ std::vector<float> terrainHeights(int n, uint32_t seed, double spacing, double r
     return h;
 }
 
-TerrainScene buildTerrain(int n, uint32_t seed, const TerrainSceneParams& prm) {
+TerrainScene buildTerrainScene(int n, uint32_t seed, const TerrainSceneParams& prm) {
     TerrainScene t;
     t.heights = terrainHeights(n, seed, prm.spacing, prm.roughness, prm.reliefMetres);
     t.samplesPerSide = n;

@@ -29,7 +29,7 @@ struct TerrainScene {
 // std::invalid_argument naming the function for a size that is not 2^k + 1 (3 to 8193).
 std::vector<float> terrainHeights(int samplesPerSide, uint32_t seed, double spacing, double roughness = 0.9,
                                   double reliefMetres = 150.0);
-TerrainScene buildTerrain(int samplesPerSide, uint32_t seed, const TerrainSceneParams& params = {});
+TerrainScene buildTerrainScene(int samplesPerSide, uint32_t seed, const TerrainSceneParams& params = {});
 // The paper's view, +Z up: its eye (0, 3000, 6000) with y up is (0, -6000, 3000) here, looking at the
 // terrain's centre; near 100, far 1,000,000, vertical field of view `fovyDegrees`, 1024 x 768.
 sg::Camera terrainCamera(const TerrainScene& t, double fovyDegrees, int width = 1024, int height = 768);

@@ -808,7 +808,7 @@ int runOcclusion(const OcclusionOptions& o) {
     sg::CullSettings sgFrustum;
     sgFrustum.occlusion.mode = sg::OcclusionMode::Off;
     sg::CullSettings sgOcclusion = sgFrustum;
-    sgOcclusion.occlusion.mode = sg::OcclusionMode::Tree;
+    sgOcclusion.occlusion.mode = sg::OcclusionMode::EveryFrame;
     sgOcclusion.occlusion.method = sg::OcclusionMethod::Tree;
     sg::CullTraversal sgCullFrustum, sgCullOcclusion;  // one per setting, as each keeps per-view state
     sg::DrawList sgList;

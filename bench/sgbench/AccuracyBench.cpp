@@ -21,7 +21,7 @@ int runAccuracy(const Args& a) {
     sg::CullSettings set;
     set.strategy = sg::parseStrategy(a.str("strategy", "aabb"));
     set.smallFeaturePixels = double(a.num("small-feature", 0));
-    // Occlusion is off unless asked for (the settings' own default is Auto).
+    // Occlusion is off unless asked for (the settings' own default is Adaptive).
     set.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "off"));
     const std::string cap = a.str("cap", "front");
     if (cap != "front" && cap != "centre")

@@ -48,9 +48,9 @@ int runOcclusion(const Args& a) {
     sg::CullSettings frustum;
     frustum.occlusion.mode = sg::OcclusionMode::Off;
     sg::CullSettings occl = frustum;
-    occl.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "tree"));
+    occl.occlusion.mode = sg::parseOcclusionMode(a.str("occlusion", "every-frame"));
     if (occl.occlusion.mode == sg::OcclusionMode::Off)
-        throw std::invalid_argument("sgbench occlusion: --occlusion must be tree or auto");
+        throw std::invalid_argument("sgbench occlusion: --occlusion must be every-frame or adaptive");
     const std::string cap = a.str("cap", "front");
     if (cap != "front" && cap != "centre")
         throw std::invalid_argument("sgbench occlusion: --cap must be front or centre");
@@ -139,7 +139,7 @@ int runOcclusion(const Args& a) {
         renderer = std::make_unique<sg::Renderer>();
         if (renderer->softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     }
-    sg::CullTraversal cullNone, cullFrustum, cullOccl;  // one per setting: Auto keeps state per view
+    sg::CullTraversal cullNone, cullFrustum, cullOccl;  // one per setting: Adaptive keeps state per view
     sg::DrawList list;
     sg::CullStats st;
     // One frame: cull (+ draw, finished); returns the whole frame's time.

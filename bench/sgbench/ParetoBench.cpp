@@ -139,7 +139,7 @@ int runPareto(const Args& a) {
         } else if (name == "terrain") {
             // 1025^2 samples (10 km), the terrain paper's eye turned round the centre in steps, its three fields
             // of view in turn.
-            terrain = scenes::buildTerrain(1025, 2002);
+            terrain = scenes::buildTerrainScene(1025, 2002);
             own = std::make_unique<sg::Scene>(terrain.terrain.root);
             own->update();
             sv.scene = own.get();

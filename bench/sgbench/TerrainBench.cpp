@@ -177,7 +177,7 @@ int runTerrain(const Args& a) {
         scenes::TerrainSceneParams prm;
         prm.terrain.tileSamples = tile;
         prm.spacing = double(spacing);
-        scenes::TerrainScene ts = scenes::buildTerrain(n, seed, prm);
+        scenes::TerrainScene ts = scenes::buildTerrainScene(n, seed, prm);
         const double buildS = msSince(t0) / 1000.0;
         sg::Scene scene(ts.terrain.root);
         scene.update();

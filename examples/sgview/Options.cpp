@@ -163,7 +163,7 @@ const char* usageText() {
            "  --camera E,C,U     eye, centre and up (default: the whole scene framed from above one corner)\n"
            "  --size WxH         picture or window size (default 1280x720)\n"
            "  --strategy S       culling: none, sphere, aabb (default), sphere-sphere, center-box\n"
-           "  --occlusion M      occlusion culling: off, tree, auto (default)\n"
+           "  --occlusion M      when occlusion culling runs: off, every-frame, adaptive (default)\n"
            "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable)\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"

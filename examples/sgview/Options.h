@@ -30,7 +30,7 @@ struct Options {
     std::optional<CameraSpec> camera;
     int width = 1280, height = 720;
     sg::CullStrategy strategy = sg::CullStrategy::Aabb;
-    sg::OcclusionMode occlusion = sg::OcclusionMode::Auto;
+    sg::OcclusionMode occlusion = sg::OcclusionMode::Adaptive;
     std::string save;                              // write the scene as glTF here and exit (--save)
     std::vector<std::pair<double, double>> picks;  // headless: pixels to pick in the last frame (--pick X,Y)
 };

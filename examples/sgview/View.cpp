@@ -49,7 +49,7 @@ const char* nextName(CullStrategy& s) {
 }
 
 const char* nextName(OcclusionMode& m) {
-    m = m == OcclusionMode::Auto ? OcclusionMode::Off : OcclusionMode(uint8_t(m) + 1);
+    m = m == OcclusionMode::Adaptive ? OcclusionMode::Off : OcclusionMode(uint8_t(m) + 1);
     return occlusionModeName(m);
 }
 

@@ -39,6 +39,6 @@ private:
 // Bounds culled by any test (frustum, the sphere and centre pre-tests, small features, occlusion).
 uint64_t culledCount(const sg::CullStats& s);
 const char* nextName(sg::CullStrategy& s);   // cycles none, sphere, aabb, sphere-sphere, center-box
-const char* nextName(sg::OcclusionMode& m);  // cycles off, tree, auto
+const char* nextName(sg::OcclusionMode& m);  // cycles off, every-frame, adaptive
 
 }  // namespace sgview

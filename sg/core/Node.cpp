@@ -123,7 +123,9 @@ void Node::removeParent(Node* p) {
 
 void Node::markDirty(uint8_t bits) {
     state_ |= bits;
-    const uint8_t up = kDirtyBelow | (bits & kDirtyStructure);
+    const uint8_t up = ((bits & (kDirtyBound | kDirtyBelow | kDirtyStructure)) ? kDirtyBelow : 0) |
+                       (bits & (kDirtyStructure | kDirtyChoice));
+    if (!up) return;
     // Iterative walk to the roots; stop where the marks are already present (their ancestors have them).
     std::vector<Node*> stack;
     for (size_t i = 0, n = numParents(); i < n; ++i) stack.push_back(parent(i));

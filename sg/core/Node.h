@@ -36,13 +36,14 @@ using UpdateCallback = std::function<void(Node&, const FrameInfo&)>;
 
 class Node : public Referenced {
 public:
-    // State bits in one byte: three dirty bits (the update pass follows only marked paths) and two flags.
+    // State bits in one byte: four dirty bits (the update pass follows only marked paths) and two flags.
     enum : uint8_t {
         kDirtyBound = 1,      // this node's own bound-affecting data changed (matrix, mesh, shape)
         kDirtyBelow = 2,      // something below changed
         kDirtyStructure = 4,  // children were added or removed here or below
         kHasMask = 8,         // node mask is not all ones (the cull then reads it)
         kHasExtras = 16,      // name, callback or more parents are kept in the node's Extras block
+        kDirtyChoice = 32,    // a choice the cull reads each frame (Switch bits) changed here or below
     };
 
     NodeKind kind() const noexcept { return kind_; }
@@ -69,9 +70,12 @@ public:
 
     virtual void accept(NodeVisitor& v);
 
+    // The marks that make the flat image stale (kDirtyChoice is not one: the image holds no choice).
     uint8_t dirtyBits() const noexcept { return state_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
+    bool choiceChanged() const noexcept { return state_ & kDirtyChoice; }
     void clearDirty() noexcept { state_ &= kHasMask | kHasExtras; }
-    // Marks this node and propagates "below" marks to every ancestor.
+    // Marks this node and propagates "below" marks to every ancestor (kDirtyChoice alone propagates as
+    // itself: Scene::update() then moves version() without a refit).
     void markDirty(uint8_t bits);
 
     // True when `n` is this node or one of its ancestors (through any parent).

@@ -48,11 +48,11 @@ bool powerOfTwoMapSize(int v) { return v >= 8 && v <= 1024 && (v & (v - 1)) == 0
 
 void OcclusionSettings::validate(const char* caller) const {
     const Check c{caller};
-    c.member("occlusion.mode", mode, OcclusionMode::Auto);
+    c.member("occlusion.mode", mode, OcclusionMode::Adaptive);
     c.member("occlusion.method", method, OcclusionMethod::Auto);
     c.share("occlusion.autoMapShare", autoMapShare);
     c.atLeast("occlusion.minOccluderPixels", minOccluderPixels, 0.0);
-    c.share("occlusion.autoMinGain", autoMinGain);
+    c.share("occlusion.adaptiveMinGain", adaptiveMinGain);
     if (!powerOfTwoMapSize(homWidth))
         c.fail("occlusion.homWidth", str((long long)homWidth), "a power of two in 8..1024");
     if (!powerOfTwoMapSize(homHeight))
@@ -110,16 +110,20 @@ bool isConservative(CullStrategy s) { return s != CullStrategy::CenterBox; }
 const char* occlusionModeName(OcclusionMode m) {
     switch (m) {
         case OcclusionMode::Off: return "off";
-        case OcclusionMode::Tree: return "tree";
-        case OcclusionMode::Auto: return "auto";
+        case OcclusionMode::EveryFrame: return "every-frame";
+        case OcclusionMode::Adaptive: return "adaptive";
     }
     return "?";
 }
 
 OcclusionMode parseOcclusionMode(const std::string& name) {
-    for (auto m : {OcclusionMode::Off, OcclusionMode::Tree, OcclusionMode::Auto})
+    for (auto m : {OcclusionMode::Off, OcclusionMode::EveryFrame, OcclusionMode::Adaptive})
         if (name == occlusionModeName(m)) return m;
-    throw std::invalid_argument("parseOcclusionMode(): unknown occlusion mode '" + name + "' (off, tree, auto)");
+    // The names before OcclusionMethod took "tree" and "auto": scripts written then keep working.
+    if (name == "tree") return OcclusionMode::EveryFrame;
+    if (name == "auto") return OcclusionMode::Adaptive;
+    throw std::invalid_argument("parseOcclusionMode(): unknown occlusion mode '" + name +
+                                "' (off, every-frame, adaptive)");
 }
 
 const char* occlusionMethodName(OcclusionMethod m) {

@@ -28,12 +28,12 @@ const char* strategyName(CullStrategy s);
 CullStrategy parseStrategy(const std::string& name);
 bool isConservative(CullStrategy s);
 
-// The occlusion-tree pass (sg/cull/OcclusionTree.h): major occluders, nearest first, fused into one tree per
-// frame; bounds inside the occluded space are culled.
+// When the occlusion pass runs (what it builds is OcclusionMethod): major occluders fused into one tree or map
+// per frame; bounds inside the occluded space are culled.
 enum class OcclusionMode : uint8_t {
     Off,
-    Tree,  // every frame that has occluders in view
-    Auto,  // Tree, but skipped for a while after frames where it culled too little to pay (aerial views)
+    EveryFrame,  // every frame that has occluders in view
+    Adaptive,    // EveryFrame, but skipped for a while after frames where it culled too little to pay (aerial views)
 };
 enum class OccluderCap : uint8_t {
     FrontFaces,   // a box occludes behind its front faces: conservative (the default)
@@ -55,19 +55,20 @@ const char* occlusionModeName(OcclusionMode m);
 const char* occlusionMethodName(OcclusionMethod m);
 // Throws std::invalid_argument listing the valid names ("tree", "hom", "auto").
 OcclusionMethod parseOcclusionMethod(const std::string& name);
-// Throws std::invalid_argument listing the valid names ("off", "tree", "auto").
+// Throws std::invalid_argument listing the valid names ("off", "every-frame", "adaptive"; the older "tree"
+// and "auto" are still taken).
 OcclusionMode parseOcclusionMode(const std::string& name);
 
 struct OcclusionSettings {
-    OcclusionMode mode = OcclusionMode::Auto;  // when the pass runs
+    OcclusionMode mode = OcclusionMode::Adaptive;  // when the pass runs
     OcclusionMethod method = OcclusionMethod::Auto;
-    // Auto: the share of the next nearest occluders left showing by the tree above which the map is used, in
-    // [0, 1]: the map where scattered occluders stay visible past the tree's (docs/benchmarks.md, "Run time
+    // OcclusionMethod::Auto: the share of the next nearest occluders left showing by the tree above which the map is
+    // used, in [0, 1]: the map where scattered occluders stay visible past the tree's (docs/benchmarks.md, "Run time
     // against error", has the share measured per scene).
     double autoMapShare = 0.15;
     uint32_t maxOccluders = 16;       // occluders added to the tree per frame (hidden ones do not count)
     double minOccluderPixels = 24.0;  // occluders smaller than this across on screen are not used; >= 0
-    double autoMinGain = 0.1;         // Auto: a frame "pays" when occlusion removed this share of the entries
+    double adaptiveMinGain = 0.1;     // Adaptive: a frame "pays" when occlusion removed this share of the entries
     // Hom: the map's size in pixels over the viewport (powers of two, 8 to 1024), and the opacity at which
     // a pyramid pixel counts as covered: 1 is conservative; below 1 a bound seen only through holes that
     // make up less than 1 - homOpacity of some pyramid pixel is culled too (approximate: it has error).
@@ -152,7 +153,8 @@ struct CullSettings {
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
     // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
     // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs
-    // one CullTraversal per view (the last choices are kept there); not applied inside Instance prototypes.
+    // one CullTraversal per view (the last choices are kept there); applied to the scene's own LODs only, not
+    // inside Instance prototypes nor loaded PagedLOD details (they have images of their own).
     // In [0, 1).
     double lodHysteresis = 0.0;
     // LOD distances are multiplied by this (pixel sizes divided): above 1, coarser levels nearer. Performer's

@@ -19,7 +19,7 @@ struct CullStats {
     uint64_t invalidDrawn = 0;  // geometries with a NaN/infinite bound, drawn because never culled
     // Occlusion pass
     bool occlusionRan = false;        // the pass ran: a tree or a map was built (occluders in view, not skipped)
-    bool occlusionSkipped = false;    // Auto mode skipped it this frame
+    bool occlusionSkipped = false;    // Adaptive mode skipped it this frame
     bool occlusionMap = false;        // the pass built the occlusion map, not the tree (OcclusionMethod)
     uint64_t occluderCandidates = 0;  // occluders in view and large enough
     uint64_t occludersUsed = 0;       // added something to the tree

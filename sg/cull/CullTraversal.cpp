@@ -74,7 +74,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
         }
         const uint32_t mask =
             set.strategy == CullStrategy::None ? 0u : cull::kAllPlanes & set.measureOnly.frustumPlanes;
-        if (&scene != occlusionScene_ || scene.version() != occlusionVersion_) {  // Auto's back-off starts over
+        if (&scene != occlusionScene_ || scene.version() != occlusionVersion_) {  // Adaptive's back-off starts over
             occlusion_.wake();
             occlusionScene_ = &scene;
             occlusionVersion_ = scene.version();

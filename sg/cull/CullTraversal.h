@@ -29,7 +29,7 @@ public:
     // Throws std::logic_error when the scene changed since its last update() (the image would be stale).
     void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out, CullStats& stats);
 
-    // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Auto
+    // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Adaptive
     // mode's state from frame to frame: use one traversal per view.
     const OcclusionTree& occlusionTree() const { return occlusion_.tree(); }
 

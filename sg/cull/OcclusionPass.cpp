@@ -18,7 +18,8 @@ bool outsideFrustum(const std::array<Plane, 6>& planes, const dvec3& lo, const d
     }
     return false;
 }
-constexpr double kWakeShare = 0.25;  // Auto: the eye's move, over its distance to the nearest occluder, that wakes it
+constexpr double kWakeShare =
+    0.25;  // Adaptive: the eye's move, over its distance to the nearest occluder, that wakes it
 }  // namespace
 
 int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats) {
@@ -33,14 +34,14 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0 ||
         (os.method == OcclusionMethod::Auto && os.homMaxOccluders == 0))
         return OcclusionTree::kVisible;
-    // Auto's back-off holds while the view is much as it was when the pass last ran: the eye has moved less
+    // Adaptive's back-off holds while the view is much as it was when the pass last ran: the eye has moved less
     // than a quarter of the way to the nearest occluder it had then (an eye inside an occluder's box, at 0,
     // wakes it with any step: leaving a building, the site behind the next one is culled at once).
-    if (os.mode == OcclusionMode::Auto && autoWait_ > 0 && ranNear_ >= 0.0 &&
+    if (os.mode == OcclusionMode::Adaptive && skipLeft_ > 0 && ranNear_ >= 0.0 &&
         glm::length(cam.eye() - ranEye_) > kWakeShare * ranNear_)
         wake();
-    if (os.mode == OcclusionMode::Auto && autoWait_ > 0) {
-        --autoWait_;
+    if (os.mode == OcclusionMode::Adaptive && skipLeft_ > 0) {
+        --skipLeft_;
         stats.occlusionSkipped = true;
         return OcclusionTree::kVisible;
     }
@@ -232,18 +233,18 @@ void OcclusionPass::finish(const OcclusionSettings& s, CullStats& stats) {
     stats.occlusionMs += testMs_;
     stats.occlusionBoxSplits = tree_.boxSplits();
     // Did it pay? The share of the walk it removed.
-    if (stats.occlusionRan && s.mode == OcclusionMode::Auto)
+    if (stats.occlusionRan && s.mode == OcclusionMode::Adaptive)
         recordGain(double(stats.occludedEntries) / double(stats.occludedEntries + stats.nodesVisited + 1),
-                   s.autoMinGain);
+                   s.adaptiveMinGain);
 }
 
 void OcclusionPass::recordGain(double gain, double minGain) {
     if (gain < minGain) {
-        autoBackoff_ = std::min(64, std::max(4, autoBackoff_ * 2));
-        autoWait_ = autoBackoff_;
+        backoff_ = std::min(64, std::max(4, backoff_ * 2));
+        skipLeft_ = backoff_;
     } else {
-        autoBackoff_ = 0;
-        autoWait_ = 0;
+        backoff_ = 0;
+        skipLeft_ = 0;
     }
 }
 

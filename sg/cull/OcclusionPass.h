@@ -1,6 +1,6 @@
 // OcclusionPass: the cull's occlusion culling: each frame's OcclusionTree grown from the image's nearest
 // large occluders (or its OcclusionMap from the largest on screen), the test of an entry's bound against
-// it, and the Auto mode's back-off.
+// it, and the Adaptive mode's back-off.
 #pragma once
 #include "sg/core/Camera.h"
 #include "sg/cull/CullSettings.h"
@@ -18,7 +18,7 @@ class OcclusionPass {
 public:
     // Grows this frame's tree from img's occluders; returns the node where the walk's tests start, or
     // OcclusionTree::kVisible when there is nothing to test against: no occluders, the pass off, the
-    // reference render (CullStrategy::None), an orthographic camera, or Auto mode skipping this frame.
+    // reference render (CullStrategy::None), an orthographic camera, or Adaptive mode skipping this frame.
     int32_t build(const FlatImage& img, const Camera& cam, const CullSettings& set, CullStats& stats);
 
     // False when entry i of `img` is occluded; otherwise `occ` becomes the node where the tests of the
@@ -27,19 +27,19 @@ public:
     bool test(const FlatImage& img, const dvec3& originRel, uint32_t i, int32_t& occ, CullStats& stats,
               const dmat4* toEye = nullptr);
 
-    // After the walk: the tests' time and box splits into `stats`; in Auto mode, whether the frame paid.
+    // After the walk: the tests' time and box splits into `stats`; in Adaptive mode, whether the frame paid.
     void finish(const OcclusionSettings& s, CullStats& stats);
 
-    // Auto mode: a frame where the pass removed `gain` (a share of the walk) below `minGain` did not pay,
+    // Adaptive mode: a frame where the pass removed `gain` (a share of the walk) below `minGain` did not pay,
     // and the pass skips the next 4, 8, ... up to 64 frames (doubling while it keeps not paying); a frame
     // that paid makes it run every frame again.
     void recordGain(double gain, double minGain);
-    int framesToSkip() const { return autoWait_; }
+    int framesToSkip() const { return skipLeft_; }
     // The back-off starts over and the next frame runs the pass: the scene changed (a node moved), or the
     // eye moved more than a quarter of its distance to the nearest occluder when the pass last ran (the
     // eye leaving a building would otherwise see the whole site for up to 64 frames before occlusion
     // comes back).
-    void wake() { autoWait_ = autoBackoff_ = 0; }
+    void wake() { skipLeft_ = backoff_ = 0; }
 
     const OcclusionTree& tree() const { return tree_; }
     const OcclusionMap& map() const { return map_; }
@@ -68,8 +68,8 @@ private:
     std::vector<Candidate> cands_;
     std::vector<dvec3> polyScratch_;
     size_t treeStop_ = 0, treeKept_ = 0;  // addToTree: where it stopped in cands_, how far they are sorted
-    int autoWait_ = 0;                    // frames left to skip the pass
-    int autoBackoff_ = 0;                 // and how many to skip after the next frame where it does not pay
+    int skipLeft_ = 0;                    // frames left to skip the pass
+    int backoff_ = 0;                     // and how many to skip after the next frame where it does not pay
     dvec3 ranEye_{0.0};                   // the eye when the pass last ran
     double ranNear_ = -1.0;               // and its distance to the nearest candidate then (-1: none)
     double testMs_ = 0.0;                 // this frame's tests

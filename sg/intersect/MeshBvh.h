@@ -32,7 +32,7 @@ public:
     template <class F>
     void overlapping(const Box& b, F&& f) const;
 
-    // Watertight ray/triangle test alone (for tests and the naive twin in the benchmark).
+    // Watertight ray/triangle test alone (two-sided; for the light baker, tests and the naive twin in the benchmark).
     static bool rayTriangle(const dvec3& o, const dvec3& d, double tMax, const dvec3& p0, const dvec3& p1,
                             const dvec3& p2, RayHit& out) noexcept;
 

@@ -1,6 +1,7 @@
 #include "sg/intersect/VertexLightBaker.h"
 
 #include "sg/intersect/IntersectTraversal.h"
+#include "sg/intersect/MeshBvh.h"
 
 #include <atomic>
 #include <cmath>
@@ -181,16 +182,38 @@ std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std
                 ++count[v];
             }
         }
+        // Each vertex's triangles (CSR): the inset point is kept on or above them.
+        std::vector<uint32_t> first(m.positions().size() + 1, 0), tris(3 * size_t(m.triangleCount()));
+        for (size_t v = 0; v < count.size(); ++v) first[v + 1] = first[v] + count[v];
+        std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+        for (uint32_t t = 0; t < m.triangleCount(); ++t)
+            for (int k = 0; k < 3; ++k) tris[fill[m.index(3 * t + k)]++] = t;
         inset[i].resize(sum.size());
         for (size_t v = 0; v < sum.size(); ++v) {
             const dvec3 pos = dvec3(m.positions()[v]);
             dvec3 d = count[v] ? (sum[v] / double(count[v]) - pos) * p.insetFraction : dvec3(0.0);
-            const double len = glm::length(d);
+            double len = glm::length(d);
             if (!std::isfinite(len))
-                d = dvec3(0.0);
+                d = dvec3(0.0), len = 0.0;
             else if (len > p.insetMax)
-                d *= p.insetMax / len;
+                d *= p.insetMax / len, len = p.insetMax;
             inset[i][v] = pos + d;
+            // The mean centroid of a convex bend's triangles (the edge of a bank, a ridge) lies under them, by
+            // more than the offset where the bend is sharp: rays from there start under the surface and the
+            // vertex comes out black. Lifted along the normal onto its triangle that covers it.
+            const dvec3 n = v < m.normals().size() ? dvec3(m.normals()[v]) : dvec3(0.0);
+            if (!(len > 0.0) || !(glm::length(n) > 0.0)) continue;
+            const dvec3 up = glm::normalize(n);
+            for (uint32_t k = first[v]; k < first[v + 1]; ++k) {
+                const uint32_t t = tris[k];
+                MeshBvh::RayHit h;
+                const dvec3 a(m.positions()[m.index(3 * t)]), b(m.positions()[m.index(3 * t + 1)]),
+                    c(m.positions()[m.index(3 * t + 2)]);
+                if (MeshBvh::rayTriangle(inset[i][v], up, len, a, b, c, h) && h.t > 0.0) {
+                    inset[i][v] += up * h.t;
+                    break;
+                }
+            }
         }
     }
     const size_t total = start.back();

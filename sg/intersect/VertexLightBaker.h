@@ -34,7 +34,8 @@ struct VertexLightParams {
     double sunDistance = 2000.0;                // sun rays stop here (beyond the scene)
     double offset = 0.05;                       // ray origins lifted along the normal (no self-hits)
     // Each vertex samples the light this share of the way toward the mean centroid of its triangles, at
-    // most insetMax (mesh units) from it: the corner of a large face is not what the whole face sees.
+    // most insetMax (mesh units) from it: the corner of a large face is not what the whole face sees. Where
+    // that point lies under the vertex's own triangles (a convex bend) it is lifted onto them.
     double insetFraction = 0.3;
     double insetMax = 1.5;
     QueryOptions query;  // what the rays see (mask, LOD choice)
@@ -50,7 +51,7 @@ struct VertexLight {
 class VertexLightBaker {
 public:
     // Bumped whenever what a bake produces changes: older cache files are then ignored.
-    static constexpr uint32_t kVersion = 2;
+    static constexpr uint32_t kVersion = 3;
 
     // `scene` must be updated and hold what casts shadows. Deterministic: the jitter depends only on the
     // vertex and sample index. Throws std::invalid_argument naming the function for a null mesh, a zero or

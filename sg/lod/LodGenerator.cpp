@@ -8,6 +8,7 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -102,7 +103,7 @@ ref_ptr<Mesh> compactMesh(const Mesh& src, std::vector<uint32_t> indices) {
 }
 
 std::vector<LodLevel> levelsFor(const char* fn, const ref_ptr<Mesh>& mesh, const std::vector<float>& ratios,
-                                float maxError) {
+                                float maxError, const LevelShading& shading) {
     checkInput(fn, mesh.get(), ratios, maxError);
     const Mesh& m = *mesh;
     std::vector<uint32_t> indices(m.indexCount());
@@ -116,42 +117,54 @@ std::vector<LodLevel> levelsFor(const char* fn, const ref_ptr<Mesh>& mesh, const
 
     std::vector<LodLevel> levels;
     levels.reserve(ratios.size() + 1);
-    levels.push_back(LodLevel{mesh, 0.0f, m.triangleCount()});
+    levels.push_back(LodLevel{mesh, 0.0f, m.triangleCount(), {}});
+    std::unique_ptr<LevelReshader> reshader;
+    if (shading.reshade) {
+        reshader = std::make_unique<LevelReshader>(m, shading.params);
+        levels.back().colors = identityColorShare(m.positions().size());
+    }
+    size_t simplified = m.triangleCount();  // the last level's count as simplified (before reshading)
     for (const float ratio : ratios) {
         // Each level from the full mesh, so that its error is measured against level 0, not the level before.
         const size_t target = std::max<size_t>(3, size_t(double(ratio) * double(indices.size())) / 3 * 3);
         Simplified s = simplify(indices, positions, target, relLimit);
         // A level that ends up no smaller than the one before (the simplifier stalled at both) repeats that
         // one: the same mesh, error and count, so that triangle counts never grow along the levels.
-        if (s.indices.size() / 3 >= levels.back().triangles) {
+        if (s.indices.size() / 3 >= simplified) {
             levels.push_back(levels.back());
             continue;
         }
+        simplified = s.indices.size() / 3;
         // Never below the previous level's error: a coarser level claiming more accuracy than a finer one
         // would put the switch distances out of order. Raising an error only moves its switch farther out.
         const float error = std::max(s.relError * scale, levels.back().error);
         ref_ptr<Mesh> level = compactMesh(m, std::move(s.indices));
+        LevelColorShare colors;
+        if (reshader) colors = reshader->reshade(*level);
         const uint32_t triangles = level->triangleCount();
-        levels.push_back(LodLevel{std::move(level), error, triangles});
+        levels.push_back(LodLevel{std::move(level), error, triangles, std::move(colors)});
     }
     return levels;
 }
 
 }  // namespace
 
-std::vector<LodLevel> generateLevels(const ref_ptr<Mesh>& mesh, const std::vector<float>& ratios, float maxError) {
-    return levelsFor("generateLevels()", mesh, ratios, maxError);
+std::vector<LodLevel> generateLevels(const ref_ptr<Mesh>& mesh, const std::vector<float>& ratios, float maxError,
+                                     const LevelShading& shading) {
+    return levelsFor("generateLevels()", mesh, ratios, maxError, shading);
 }
 
-ref_ptr<LOD> makeLod(ref_ptr<Mesh> mesh, ref_ptr<Material> material, const std::vector<float>& ratios,
-                     double pixelError, double pixelsPerRadian) {
-    const char* fn = "makeLod()";
+namespace {
+
+void checkView(const char* fn, double pixelError, double pixelsPerRadian) {
     if (!(pixelError > 0.0 && std::isfinite(pixelError)))
         fail(fn, "pixelError " + num(pixelError) + " is not positive and finite");
     if (!(pixelsPerRadian > 0.0 && std::isfinite(pixelsPerRadian)))
         fail(fn, "pixelsPerRadian " + num(pixelsPerRadian) + " is not positive and finite");
-    const std::vector<LodLevel> levels = levelsFor(fn, mesh, ratios, std::numeric_limits<float>::infinity());
+}
 
+ref_ptr<LOD> lodOf(const std::vector<LodLevel>& levels, const ref_ptr<Material>& material, double pixelError,
+                   double pixelsPerRadian) {
     // Level i is good enough from the distance where its error subtends pixelError pixels (small angles:
     // pixels = error * pixelsPerRadian / distance). Rounded up to the next float, so that at the switch
     // distance the projected error is at most pixelError, not a rounding above it.
@@ -169,6 +182,29 @@ ref_ptr<LOD> makeLod(ref_ptr<Mesh> mesh, ref_ptr<Material> material, const std::
         lod->setError(i, levels[i].error);
     }
     return lod;
+}
+
+}  // namespace
+
+ref_ptr<LOD> makeLod(ref_ptr<Mesh> mesh, ref_ptr<Material> material, const std::vector<float>& ratios,
+                     double pixelError, double pixelsPerRadian) {
+    const char* fn = "makeLod()";
+    checkView(fn, pixelError, pixelsPerRadian);
+    const std::vector<LodLevel> levels = levelsFor(fn, mesh, ratios, std::numeric_limits<float>::infinity(), {});
+    return lodOf(levels, material, pixelError, pixelsPerRadian);
+}
+
+ref_ptr<LOD> makeLod(const std::vector<LodLevel>& levels, ref_ptr<Material> material, double pixelError,
+                     double pixelsPerRadian) {
+    const char* fn = "makeLod()";
+    checkView(fn, pixelError, pixelsPerRadian);
+    if (levels.empty()) fail(fn, "no levels");
+    for (size_t i = 0; i < levels.size(); ++i) {
+        if (!levels[i].mesh) fail(fn, "levels[" + std::to_string(i) + "].mesh is null");
+        if (i > 0 && !(levels[i].error >= levels[i - 1].error))
+            fail(fn, "levels[" + std::to_string(i) + "].error " + num(levels[i].error) + " is below the level before");
+    }
+    return lodOf(levels, material, pixelError, pixelsPerRadian);
 }
 
 }  // namespace sg

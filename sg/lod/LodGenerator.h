@@ -3,6 +3,7 @@
 #include "nodes/LOD.h"
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"
+#include "sg/lod/LevelReshade.h"
 
 #include <cstdint>
 #include <limits>
@@ -14,6 +15,16 @@ struct LodLevel {
     ref_ptr<Mesh> mesh;      // level 0 is the input mesh itself; the others are new meshes
     float error = 0.0f;      // geometric error against level 0, absolute, in the mesh's units
     uint32_t triangles = 0;  // triangles reached (the simplifier may stop above the target)
+    LevelColorShare colors;  // with LevelShading::reshade, how its colours derive from level 0's
+};
+
+// How generateLevels shades the coarse levels.
+struct LevelShading {
+    // Off: each level keeps its vertices' attributes as the simplifier picked them (smooth models). On: every
+    // coarse level is rebuilt by LevelReshader (faceted models, whose kept vertices carry other faces'
+    // normals, texture coordinates and colours), and `colors` tells how to redo its colours from level 0's.
+    bool reshade = false;
+    ReshadeParams params;
 };
 
 // Level 0 is `mesh` (error 0); then one level per ratio, simplified from `mesh` to about ratio * its
@@ -32,8 +43,13 @@ struct LodLevel {
 // std::invalid_argument, naming the function and the value, for a null mesh, a mesh without triangles or
 // with a non-finite position, a ratio outside (0, 1), NaN or not below the previous one, and a negative
 // or NaN maxError.
+//
+// With shading.reshade, each new coarse level is reshaded from level 0 (LevelReshader::reshade; its collapsed
+// triangles dropped, `triangles` counts what is left) and level 0 and the levels that repeat it get the
+// identity colour share.
 std::vector<LodLevel> generateLevels(const ref_ptr<Mesh>& mesh, const std::vector<float>& ratios,
-                                     float maxError = std::numeric_limits<float>::infinity());
+                                     float maxError = std::numeric_limits<float>::infinity(),
+                                     const LevelShading& shading = {});
 
 // Pixels per radian of a 1080-pixel-tall view with a 60 degree vertical field of view (540 / tan 30°).
 // For another view pass Camera::pixelsPerUnit(), which is the same quantity.
@@ -51,5 +67,9 @@ constexpr double kDefaultPixelsPerRadian = 935.3074;
 // not positive and finite.
 ref_ptr<LOD> makeLod(ref_ptr<Mesh> mesh, ref_ptr<Material> material, const std::vector<float>& ratios,
                      double pixelError = 1.0, double pixelsPerRadian = kDefaultPixelsPerRadian);
+// The same from levels already generated (e.g. reshaded ones, whose colour shares the caller keeps). Throws
+// std::invalid_argument naming the function for no levels, a null mesh or errors that decrease.
+ref_ptr<LOD> makeLod(const std::vector<LodLevel>& levels, ref_ptr<Material> material, double pixelError = 1.0,
+                     double pixelsPerRadian = kDefaultPixelsPerRadian);
 
 }  // namespace sg

@@ -34,8 +34,7 @@ size_t pageBytes(const Node* root) {
         if (!seen.insert(n).second) continue;
         if (n->kind() == NodeKind::Geometry) {
             const auto* g = static_cast<const Geometry*>(n);
-            if (const Mesh* m = g->mesh(); m && seen.insert(m).second)
-                bytes += m->bytes();
+            if (const Mesh* m = g->mesh(); m && seen.insert(m).second) bytes += m->bytes();
             if (const Material* mat = g->material(); mat && mat->texture && seen.insert(mat->texture.get()).second)
                 bytes += mat->texture->rgba().size();
         }

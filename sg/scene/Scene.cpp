@@ -467,7 +467,7 @@ struct Scene::Builder {
     }
 
     static void clear(Node* n) {
-        if (!(n->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))) return;
+        if (!n->dirtyBits() && !n->choiceChanged()) return;
         n->clearDirty();
         for (size_t k = 0, c = n->numChildren(); k < c; ++k) clear(n->child(k));
     }
@@ -521,6 +521,9 @@ void Scene::refresh() {
             b.updateExtent();
         }
         if (b.occludersWritten) b.occluderChunks();
+        Builder::clear(root_.get());
+    } else if (root_->choiceChanged()) {  // a Switch turned: the image holds no choice, what is derived does
+        version_++;
         Builder::clear(root_.get());
     }
 }

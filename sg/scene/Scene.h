@@ -35,8 +35,8 @@ public:
     const UpdateStats& lastUpdate() const { return stats_; }
     // Counts full rebuilds of the image: state kept per image entry (LOD hysteresis) is stale when it moves.
     uint64_t structureVersion() const { return structureVersion_; }
-    // Counts updates that changed the image at all (bounds, frames, meshes, structure): what is derived from
-    // it stays valid while this stays the same.
+    // Counts updates that changed the image at all (bounds, frames, meshes, structure) or turned a Switch:
+    // what is derived from the scene stays valid while this stays the same.
     uint64_t version() const { return version_; }
     size_t bytes() const;
 

@@ -180,34 +180,45 @@ double terrainLevelError(const TerrainTileGrid& level, const std::function<doubl
 
 namespace {
 
+template <class T>
 struct Builder {
-    const std::vector<float>& h;
+    const std::vector<T>& h;
     int n = 0, per = 0;
     double spacing = 1.0, pixelsPerRadian = 1.0, pixelError = 1.0;
     std::vector<TerrainTileGrid> grids;  // one per level, shared by every tile
     ref_ptr<Material> material;
     Terrain& out;
+    const TerrainParams& prm;
+    dvec3 origin{0.0};
 
     double at(int i, int j) const { return double(h[size_t(j) * size_t(n) + size_t(i)]); }
 
-    ref_ptr<Mesh> tileMesh(const TerrainTileGrid& g, int i0, int j0) const {
+    void tileMesh(const TerrainTileGrid& g, int i0, int j0, Mesh& mesh) const {
         std::vector<vec3> pos, nrm;
+        std::vector<vec2> uvs;
+        std::vector<vec4> col;
         pos.reserve(g.points.size());
         nrm.reserve(g.points.size());
         for (const glm::ivec2& q : g.points) {
             const int i = i0 + q.x, j = j0 + q.y;
             // From the global grid index: tiles that share a border compute the same floats there.
-            pos.emplace_back(float(i * spacing), float(j * spacing), float(at(i, j)));
+            const dvec3 p = prm.originInVertices ? origin + dvec3(i * spacing, j * spacing, at(i, j))
+                                                 : dvec3(i * spacing, j * spacing, at(i, j));
+            pos.emplace_back(p);
             const double dzx = at(std::min(i + 1, n - 1), j) - at(std::max(i - 1, 0), j);
             const double dzy = at(i, std::min(j + 1, n - 1)) - at(i, std::max(j - 1, 0));
             nrm.emplace_back(glm::normalize(dvec3(-dzx, -dzy, 2.0 * spacing)));
+            if (prm.uv || prm.color) {
+                const dvec3 world = prm.originInVertices ? p : origin + p;
+                if (prm.uv) uvs.push_back(prm.uv(world));
+                if (prm.color) col.push_back(prm.color(world));
+            }
         }
-        auto mesh = make<Mesh>();
-        mesh->set(std::move(pos), std::move(nrm), g.indices);
-        return mesh;
+        mesh.set(std::move(pos), std::move(nrm), g.indices, std::move(uvs), std::move(col));
     }
 
-    // A tile's levels and their ranges: plain data, built on worker threads (no shared reference counts).
+    // A tile's levels and their ranges: plain data, filled on worker threads (no shared reference counts; the
+    // meshes are made beforehand in tile and level order, so that their ids do not depend on the threads).
     struct TileData {
         std::vector<ref_ptr<Mesh>> levels;
         std::vector<double> errors;
@@ -220,7 +231,7 @@ struct Builder {
         const int i0 = ti * per, j0 = tj * per;
         auto height = [&](int li, int lj) { return at(i0 + li, j0 + lj); };
         for (size_t l = 0; l < grids.size(); ++l) {
-            t.levels.push_back(tileMesh(grids[l], i0, j0));
+            tileMesh(grids[l], i0, j0, *t.levels[l]);
             // Never more accurate than a finer level: distances stay in order.
             t.errors.push_back(l == 0 ? 0.0 : std::max(t.errors.back(), levelError(grids[l], height)));
         }
@@ -240,6 +251,8 @@ struct Builder {
 
     void buildTiles(int perSide) {
         tiles.resize(size_t(perSide) * size_t(perSide));
+        for (TileData& t : tiles)
+            for (size_t l = 0; l < grids.size(); ++l) t.levels.push_back(make<Mesh>());
         std::atomic<size_t> next{0};
         std::exception_ptr error;
         std::mutex errorLock;
@@ -293,15 +306,30 @@ struct Builder {
         out.quad[size_t(self)].node = g;
         return g;
     }
+
+    // One Group of every tile, in row order.
+    ref_ptr<Group> flatNode(int perSide) {
+        auto g = make<Group>();
+        out.quad.push_back({g, -1, 0, false});
+        for (int tj = 0; tj < perSide; ++tj)
+            for (int ti = 0; ti < perSide; ++ti) {
+                out.quad.push_back({nullptr, 0, 1, true});
+                out.quad.back().node = tile(ti, tj);
+                g->addChild(out.quad.back().node);
+            }
+        return g;
+    }
 };
 
-}  // namespace
+bool isMultiple(long a, long b) { return b > 0 && a % b == 0; }
 
-Terrain buildTerrain(const std::vector<float>& heights, int samplesPerSide, double spacing, const dvec3& origin,
-                     const TerrainParams& prm) {
+template <class T>
+Terrain build(const std::vector<T>& heights, int samplesPerSide, double spacing, const dvec3& origin,
+              const TerrainParams& prm) {
     const int n = samplesPerSide;
-    if (!powerOfTwoPlusOne(n) || n > (1 << 16) + 1)
-        fail("samplesPerSide " + std::to_string(n) + " is not 2^k + 1 (3 to 65537)");
+    if (prm.flat ? !(n >= 3 && n <= (1 << 16) + 1) : (!powerOfTwoPlusOne(n) || n > (1 << 16) + 1))
+        fail("samplesPerSide " + std::to_string(n) +
+             (prm.flat ? " is not in 3..65537" : " is not 2^k + 1 (3 to 65537)"));
     if (heights.size() != size_t(n) * size_t(n))
         fail(std::to_string(heights.size()) + " heights for " + std::to_string(n) + " x " + std::to_string(n) +
              " samples");
@@ -311,30 +339,57 @@ Terrain buildTerrain(const std::vector<float>& heights, int samplesPerSide, doub
                  std::to_string(k / size_t(n)) + ") is not finite");
     if (!(spacing > 0.0 && std::isfinite(spacing))) fail("spacing " + std::to_string(spacing) + " is not positive");
     if (!isFinite(origin)) fail("the origin is not finite");
-    if (!powerOfTwoPlusOne(prm.tileSamples) || prm.tileSamples > n)
+    if (prm.flat) {
+        if (!(prm.tileSamples >= 3 && prm.tileSamples <= n && isMultiple(n - 1, prm.tileSamples - 1)))
+            fail("tileSamples " + std::to_string(prm.tileSamples) + " is not in 3.." + std::to_string(n) +
+                 " with samplesPerSide - 1 a multiple of tileSamples - 1");
+    } else if (!powerOfTwoPlusOne(prm.tileSamples) || prm.tileSamples > n) {
         fail("tileSamples " + std::to_string(prm.tileSamples) + " is not 2^m + 1 in 3.." + std::to_string(n));
+    }
     if (prm.levels < 1) fail("levels " + std::to_string(prm.levels) + " is below 1");
     if (!(prm.pixelError > 0.0 && std::isfinite(prm.pixelError)))
         fail("pixelError " + std::to_string(prm.pixelError) + " is not positive and finite");
     if (!(prm.fovyDegrees > 0.0 && prm.fovyDegrees < 180.0))
         fail("fovyDegrees " + std::to_string(prm.fovyDegrees) + " is not in (0, 180)");
     if (prm.viewportHeight < 1) fail("viewportHeight " + std::to_string(prm.viewportHeight) + " is below 1");
+    if (!(prm.pixelsPerRadian >= 0.0 && std::isfinite(prm.pixelsPerRadian)))
+        fail("pixelsPerRadian " + std::to_string(prm.pixelsPerRadian) + " is negative or not finite");
 
     Terrain t;
     const int per = prm.tileSamples - 1;
     t.tilesPerSide = (n - 1) / per;
-    Builder b{heights, n, per, spacing, 0.0, prm.pixelError, {}, prm.material, t, {}};
-    b.pixelsPerRadian = prm.viewportHeight / (2.0 * std::tan(glm::radians(prm.fovyDegrees) / 2.0));
+    Builder<T> b{heights, n, per, spacing, 0.0, prm.pixelError, {}, prm.material, t, prm, origin, {}};
+    b.pixelsPerRadian = prm.pixelsPerRadian > 0.0
+                            ? prm.pixelsPerRadian
+                            : prm.viewportHeight / (2.0 * std::tan(glm::radians(prm.fovyDegrees) / 2.0));
     if (!b.material) b.material = make<Material>(vec4(0.55f, 0.50f, 0.38f, 1.0f));
     for (int cells : terrainLevelCells(per, prm.levels)) b.grids.push_back(terrainTileGrid(per, cells));
+    b.buildTiles(t.tilesPerSide);
+    ref_ptr<Group> top = prm.flat ? b.flatNode(t.tilesPerSide) : b.node(0, 0, t.tilesPerSide, -1, 0);
+    if (prm.originInVertices) {
+        top->setName("terrain");
+        t.root = top;
+        return t;
+    }
     // Vertices relative to the origin, in float; the origin itself in the root's double transform.
     auto root = make<Transform>();
     root->setTranslation(origin);
     root->setName("terrain");
-    b.buildTiles(t.tilesPerSide);
-    root->addChild(b.node(0, 0, t.tilesPerSide, -1, 0));
+    root->addChild(top);
     t.root = root;
     return t;
+}
+
+}  // namespace
+
+Terrain buildTerrain(const std::vector<float>& heights, int samplesPerSide, double spacing, const dvec3& origin,
+                     const TerrainParams& params) {
+    return build(heights, samplesPerSide, spacing, origin, params);
+}
+
+Terrain buildTerrain(const std::vector<double>& heights, int samplesPerSide, double spacing, const dvec3& origin,
+                     const TerrainParams& params) {
+    return build(heights, samplesPerSide, spacing, origin, params);
 }
 
 }  // namespace sg

@@ -42,13 +42,28 @@ struct TerrainParams {
     double fovyDegrees = 60.0;
     int viewportHeight = 768;
     ref_ptr<Material> material;  // shared by every tile; a plain earth colour when null
+    // Pixels per radian of the view the pixel error refers to; when positive it replaces the one derived from
+    // fovyDegrees and viewportHeight (e.g. sg::kDefaultPixelsPerRadian, which makeLod's meshes use).
+    double pixelsPerRadian = 0.0;
+    // The tiles as the root's children in row order (tile (ti, tj) at tj * tilesPerSide + ti), without the
+    // quadtree's Groups. Then n - 1 need only be a multiple of tileSamples - 1 (tileSamples >= 3).
+    bool flat = false;
+    // Vertices at origin + (i, j, 0) * spacing + (0, 0, height), rounded once to float, under a plain Group:
+    // for a terrain near the origin that shares its frame with other geometry. Otherwise vertices are
+    // relative to the origin, which the root Transform holds in double (no float jitter far from the origin).
+    bool originInVertices = false;
+    // Per-vertex texture coordinates and colours, from the vertex's point (origin included, in double); no
+    // such attribute when empty. Called from worker threads, so they must be safe to call concurrently.
+    std::function<vec2(const dvec3&)> uv;
+    std::function<vec4(const dvec3&)> color;
 };
 
 // What buildTerrain made: the graph and its quadtree, for applications that want to find a tile again.
 struct Terrain {
     ref_ptr<Group> root;
     // Quadtree nodes in pre-order (the root first, a parent before its children). A leaf is a tile: an LOD
-    // whose children are its levels (Geometries), finest first. Interior nodes are Groups of four children.
+    // whose children are its levels (Geometries), finest first. Interior nodes are Groups of four children
+    // (with params.flat, one Group of every tile). quad[0] is `root` with originInVertices, else its child.
     struct QuadNode {
         ref_ptr<Group> node;
         int parent = -1;  // index into quad, -1 for the root
@@ -62,13 +77,17 @@ struct Terrain {
 };
 
 // Builds the terrain of a height field: `heights` row-major (heights[j * n + i] at origin + (i, j, 0) *
-// spacing, +Z up), n = samplesPerSide = 2^k + 1. The quadtree's boxes are the tiles' prisms (x, y of the
+// spacing, +Z up), n = samplesPerSide = 2^k + 1 (with params.flat, any n with n - 1 a multiple of
+// tileSamples - 1). The quadtree's boxes are the tiles' prisms (x, y of the
 // tile, z from its lowest to its highest sample) and their unions; spheres are the boxes' half diagonals.
 // Throws std::invalid_argument naming the function and the value: n not 2^k + 1 (k >= 1), a height count
 // other than n * n, a NaN or infinite height, a spacing that is not positive and finite, a non-finite
 // origin, tileSamples not 2^m + 1 in [3, n], levels < 1, a pixel error not positive and finite, a field of
-// view outside (0, 180), a viewport height < 1.
+// view outside (0, 180), a viewport height < 1, a pixelsPerRadian that is negative or not finite.
 Terrain buildTerrain(const std::vector<float>& heights, int samplesPerSide, double spacing, const dvec3& origin,
+                     const TerrainParams& params = {});
+// The same from heights in double: levels, errors and normals computed from them unrounded.
+Terrain buildTerrain(const std::vector<double>& heights, int samplesPerSide, double spacing, const dvec3& origin,
                      const TerrainParams& params = {});
 
 }  // namespace sg

@@ -31,7 +31,7 @@ FramePhase parseFramePhase(const std::string& name);
 
 struct ViewerSettings {
     FramePhase phase = FramePhase::FreeRun;
-    double frameRate = 30.0;  // frames a second: the phase's period, and the LOD policies' time (View::lodBudgetMs)
+    double frameRate = 30.0;     // frames a second: the phase's period, and the LOD policies' time (View::lodBudgetMs)
     size_t historyFrames = 120;  // frames of stage times kept (FrameHistory)
     // Wait for the GPU at the end of the draw (glFinish), so that the draw's time is the drawing's, not the
     // submission's; the LOD policies need it and finish a view's draw whatever this says.

@@ -9,12 +9,12 @@
 #include "sg/cull/FrustumKernel.h"
 #include "sg/cull/OcclusionMap.h"
 #include "sg/cull/OcclusionTree.h"
+#include "testbed/Rng.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
-#include <random>
 #include <vector>
 
 using namespace sg;
@@ -37,27 +37,23 @@ constexpr int kScale = 1;
 
 using LD = long double;
 
-struct Rng {
-    std::mt19937_64 g;
-    explicit Rng(uint64_t seed) : g(seed) {}
-    double uni(double a, double b) { return std::uniform_real_distribution<double>(a, b)(g); }
-    double logUni(double a, double b) { return std::exp(uni(std::log(a), std::log(b))); }
-    int pick(int n) { return int(std::uniform_int_distribution<int>(0, n - 1)(g)); }
-    dvec3 dir() {
-        for (;;) {
-            const dvec3 v(uni(-1, 1), uni(-1, 1), uni(-1, 1));
-            const double l = glm::length(v);
-            if (l > 0.1 && l <= 1.0) return v / l;
-        }
+using Rng = scenes::Rng;
+
+// A random unit vector (rejection sampling in the unit ball).
+dvec3 dir(Rng& r) {
+    for (;;) {
+        const dvec3 v(r.uniform(-1, 1), r.uniform(-1, 1), r.uniform(-1, 1));
+        const double l = glm::length(v);
+        if (l > 0.1 && l <= 1.0) return v / l;
     }
-};
+}
 
 // A random perspective camera at `eye`: any field of view from 0.5 to 179 degrees, aspect, near and far.
 Camera randomCamera(Rng& r, const dvec3& eye) {
     Camera cam;
-    const double nearD = r.logUni(1e-3, 10.0);
-    cam.setPerspective(r.uni(0.5, 179.0), r.logUni(0.2, 5.0), nearD, nearD * r.logUni(10.0, 1e6));
-    dvec3 f = r.dir(), up = r.dir();
+    const double nearD = r.logUniform(1e-3, 10.0);
+    cam.setPerspective(r.uniform(0.5, 179.0), r.logUniform(0.2, 5.0), nearD, nearD * r.logUniform(10.0, 1e6));
+    dvec3 f = dir(r), up = dir(r);
     if (glm::length(glm::cross(f, up)) < 0.1) up = glm::normalize(glm::cross(f, dvec3(0.3, 0.5, 0.8)));
     cam.setLookAt(eye, eye + f, up);
     return cam;
@@ -82,15 +78,15 @@ Batch makeBatch(Rng& r, const Camera& cam, const dvec3& eyeRel, size_t n) {
     }
     const double farD = cam.eyePlanes()[5].d;  // the far plane faces the eye: d is its distance
     for (size_t i = 0; i < n; ++i) {
-        const double dist = r.logUni(cam.nearDistance() * 0.1, farD * 2.0);
-        const double rad = dist * r.logUni(1e-5, 1.0);
-        dvec3 c = eyeRel + r.dir() * dist;
-        dvec3 e = dvec3(r.uni(0, 1), r.uni(0, 1), r.uni(0, 1)) * rad;
-        if (r.pick(3) == 0) {
+        const double dist = r.logUniform(cam.nearDistance() * 0.1, farD * 2.0);
+        const double rad = dist * r.logUniform(1e-5, 1.0);
+        dvec3 c = eyeRel + dir(r) * dist;
+        dvec3 e = dvec3(r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1)) * rad;
+        if (r.below(3) == 0) {
             // On plane k's boundary: the sphere (or box) touches it from outside, give or take 1e-6.
-            const Plane& p = b.planes[size_t(r.pick(6))];
+            const Plane& p = b.planes[size_t(r.below(6))];
             const double reach = std::abs(p.n.x) * e.x + std::abs(p.n.y) * e.y + std::abs(p.n.z) * e.z;
-            const double want = -(r.pick(2) ? rad : reach) * (1.0 + r.uni(-1e-6, 1e-6));
+            const double want = -(r.below(2) ? rad : reach) * (1.0 + r.uniform(-1e-6, 1e-6));
             c += p.n * (want - p.distance(c));
         }
         b.cx.push_back(float(c.x));
@@ -157,12 +153,12 @@ void frustumProperty(bool boxes, bool masked, bool onePlane, uint64_t seed, Tall
     const size_t n = 131;  // not a multiple of the vector width
     for (int cam = 0; cam < cameras; ++cam) {
         // The image origin 0 to 10,000 km away from the world's, the eye up to 1 km from the image origin.
-        const double far = cam % 4 == 0 ? 0.0 : r.logUni(1.0, 1e7);
-        const dvec3 origin = r.dir() * far;
-        const dvec3 eyeRel = r.dir() * r.logUni(1e-3, 1e3);
+        const double far = cam % 4 == 0 ? 0.0 : r.logUniform(1.0, 1e7);
+        const dvec3 origin = dir(r) * far;
+        const dvec3 eyeRel = dir(r) * r.logUniform(1e-3, 1e3);
         const Camera c = randomCamera(r, origin + eyeRel);
         const Batch b = makeBatch(r, c, eyeRel, n);
-        const uint32_t mask = onePlane ? (1u << r.pick(6)) : 0x3fu;
+        const uint32_t mask = onePlane ? (1u << r.below(6)) : 0x3fu;
         const kernel::Planes kp = kernel::Planes::make(b.planes, dvec3(0.0), b.extent, mask);
         std::vector<uint8_t> out(n);
         if (!masked) {
@@ -261,8 +257,8 @@ void samples(const dvec3& lo, const dvec3& hi, std::vector<dvec3>& out) {
 
 // A box somewhere behind the point `at` (eye-relative), of a size up to `size`.
 void boxBehind(Rng& r, const dvec3& at, double size, dvec3& lo, dvec3& hi) {
-    const dvec3 c = at * r.uni(0.9, 3.0) + r.dir() * size * r.uni(0.0, 1.0);
-    const dvec3 e = dvec3(r.uni(0, 1), r.uni(0, 1), r.uni(0, 1)) * size * r.logUni(1e-3, 1.0);
+    const dvec3 c = at * r.uniform(0.9, 3.0) + dir(r) * size * r.uniform(0.0, 1.0);
+    const dvec3 e = dvec3(r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1)) * size * r.logUniform(1e-3, 1.0);
     lo = c - e;
     hi = c + e;
 }
@@ -270,9 +266,9 @@ void boxBehind(Rng& r, const dvec3& at, double size, dvec3& lo, dvec3& hi) {
 // A small box near a point of the occluder (towards one of its `corners`, eye-relative): 1e-6 to 3% of
 // the distance beyond it or in front of it, where a depth test is decided.
 void boxNearOccluder(Rng& r, const dvec3& at, const dvec3* corners, int count, dvec3& lo, dvec3& hi) {
-    const dvec3 p = at + (corners[r.pick(count)] - at) * r.uni(0.5, 1.0);
-    const double len = glm::length(p), eps = r.logUni(1e-6, 0.03) * (r.pick(2) ? 1.0 : -1.0);
-    const dvec3 e = dvec3(r.uni(0.1, 1), r.uni(0.1, 1), r.uni(0.1, 1)) * len * r.logUni(1e-5, 1e-2);
+    const dvec3 p = at + (corners[r.below(count)] - at) * r.uniform(0.5, 1.0);
+    const double len = glm::length(p), eps = r.logUniform(1e-6, 0.03) * (r.below(2) ? 1.0 : -1.0);
+    const dvec3 e = dvec3(r.uniform(0.1, 1), r.uniform(0.1, 1), r.uniform(0.1, 1)) * len * r.logUniform(1e-5, 1e-2);
     const dvec3 c = p * (1.0 + eps) + p / len * glm::length(e) * (eps > 0 ? 1.0 : -1.0);
     lo = c - e;
     hi = c + e;
@@ -323,14 +319,14 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
     const int trees = 2000 / kScale, perTree = 60;
     for (int t = 0; t < trees; ++t) {
         // The eye on a 2^-20 grid near a whole offset: world - eye is exact, the tree sees our geometry.
-        const double off = t % 3 == 0 ? 0.0 : std::round(r.uni(-1, 1) * 1e7);
-        const dvec3 eye(off, -off, std::round(r.uni(-100, 100)));
+        const double off = t % 3 == 0 ? 0.0 : std::round(r.uniform(-1, 1) * 1e7);
+        const dvec3 eye(off, -off, std::round(r.uniform(-100, 100)));
         auto q = [](double v) { return std::ldexp(std::round(std::ldexp(v, 20)), -20); };
         auto qv = [&](const dvec3& v) { return dvec3(q(v.x), q(v.y), q(v.z)); };
         OcclusionTree::Options o;
         tree.reset(eye, o);
-        const double dist = r.logUni(0.01, 1000.0);
-        const dvec3 at = qv(r.dir() * dist);
+        const double dist = r.logUniform(0.01, 1000.0);
+        const dvec3 at = qv(dir(r) * dist);
         const bool poly = t % 2 == 1;
         dvec3 corners[8];  // the occluder's corners, eye-relative
         int nCorners = 0;
@@ -338,9 +334,9 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
         std::vector<dvec3> polygon;
         if (poly) {
             // A quad facing the eye roughly, tilted at random.
-            const dvec3 n = glm::normalize(-at + r.dir() * dist * 0.5);
-            dvec3 u = glm::normalize(glm::cross(n, r.dir())), v = glm::cross(n, u);
-            const double a = dist * r.uni(0.1, 2.0), b = dist * r.uni(0.1, 2.0);
+            const dvec3 n = glm::normalize(-at + dir(r) * dist * 0.5);
+            dvec3 u = glm::normalize(glm::cross(n, dir(r))), v = glm::cross(n, u);
+            const double a = dist * r.uniform(0.1, 2.0), b = dist * r.uniform(0.1, 2.0);
             polygon = std::vector<dvec3>{qv(at - u * a - v * b), qv(at + u * a - v * b), qv(at + u * a + v * b),
                                          qv(at - u * a + v * b)};
             // Quantizing may bend it out of its plane: the fourth vertex completes the parallelogram (exact).
@@ -350,7 +346,7 @@ TEST(PredicateStress, OcclusionTreeOfOneOccluderCullsOnlyHiddenBoxes) {
             for (const dvec3& p : polygon) world.push_back(eye + p);
             if (!tree.insertPolygon(world.data(), world.size())) continue;
         } else {
-            const dvec3 e = dvec3(r.uni(0.05, 1), r.uni(0.05, 1), r.uni(0.05, 1)) * dist;
+            const dvec3 e = dvec3(r.uniform(0.05, 1), r.uniform(0.05, 1), r.uniform(0.05, 1)) * dist;
             olo = qv(at - e);
             ohi = qv(at + e);
             for (int k = 0; k < 8; ++k)
@@ -405,30 +401,30 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
     const int maps = 2000 / kScale, perMap = 60;
     for (int t = 0; t < maps; ++t) {
         Camera cam = randomCamera(r, dvec3(0.0));
-        cam.setPerspective(r.uni(1.0, 170.0), r.logUni(0.3, 3.0), r.logUni(1e-3, 1.0), 1e5);
-        cam.setViewport(16 << r.pick(7), 16 << r.pick(7));
+        cam.setPerspective(r.uniform(1.0, 170.0), r.logUniform(0.3, 3.0), r.logUniform(1e-3, 1.0), 1e5);
+        cam.setViewport(16 << r.below(7), 16 << r.below(7));
         OcclusionSettings s;
         s.method = OcclusionMethod::Hom;
         map.reset(cam, OcclusionMap::optionsFor(cam, s));
         const dvec3 fwd = cam.viewDirection();
         const double nearD = cam.nearDistance();
-        const double dist = nearD * r.logUni(1.5, 1e3);
-        const dvec3 at = fwd * dist + r.dir() * dist * r.uni(0.0, 0.3);
+        const double dist = nearD * r.logUniform(1.5, 1e3);
+        const dvec3 at = fwd * dist + dir(r) * dist * r.uniform(0.0, 0.3);
         const bool poly = t % 2 == 1;
         dvec3 corners[8];  // the occluder's corners, eye-relative
         int nCorners = 0;
         std::vector<dvec3> polygon;
         dvec3 olo, ohi;
         if (poly) {
-            const dvec3 n = glm::normalize(-at + r.dir() * dist * 0.5);
-            const dvec3 u = glm::normalize(glm::cross(n, r.dir())), v = glm::cross(n, u);
-            const double a = dist * r.uni(0.1, 3.0), b = dist * r.uni(0.1, 3.0);
+            const dvec3 n = glm::normalize(-at + dir(r) * dist * 0.5);
+            const dvec3 u = glm::normalize(glm::cross(n, dir(r))), v = glm::cross(n, u);
+            const double a = dist * r.uniform(0.1, 3.0), b = dist * r.uniform(0.1, 3.0);
             polygon =
                 std::vector<dvec3>{at - u * a - v * b, at + u * a - v * b, at + u * a + v * b, at - u * a + v * b};
             map.addPolygon(polygon.data(), polygon.size());
             for (const dvec3& p : polygon) corners[nCorners++] = p;
         } else {
-            const dvec3 e = dvec3(r.uni(0.05, 1), r.uni(0.05, 1), r.uni(0.05, 1)) * dist;
+            const dvec3 e = dvec3(r.uniform(0.05, 1), r.uniform(0.05, 1), r.uniform(0.05, 1)) * dist;
             olo = at - e;
             ohi = at + e;
             dvec3 c[8];
@@ -444,8 +440,8 @@ TEST(PredicateStress, OcclusionMapOfOneOccluderCullsOnlyHiddenBoxes) {
             const bool acrossNear = k % 8 == 0;
             if (acrossNear) {
                 // Straddling the near plane: one corner nearer than it, the rest anywhere up to far behind.
-                const dvec3 p = fwd * nearD * r.uni(0.0, 0.999) + r.dir() * nearD * r.uni(0.0, 0.5);
-                const dvec3 q = at * r.uni(0.5, 3.0) + r.dir() * dist * r.uni(0.0, 0.5);
+                const dvec3 p = fwd * nearD * r.uniform(0.0, 0.999) + dir(r) * nearD * r.uniform(0.0, 0.5);
+                const dvec3 q = at * r.uniform(0.5, 3.0) + dir(r) * dist * r.uniform(0.0, 0.5);
                 lo = glm::min(p, q);
                 hi = glm::max(p, q);
             } else if (k % 2) {

@@ -67,7 +67,7 @@ TEST(CullSettings, EveryBadValueIsRefusedByNameWithItsValueAndRange) {
         {"occlusion.method", [](CullSettings& s) { s.occlusion.method = OcclusionMethod(7); }},
         {"occlusion.autoMapShare", [](CullSettings& s) { s.occlusion.autoMapShare = 1.5; }},
         {"occlusion.minOccluderPixels", [](CullSettings& s) { s.occlusion.minOccluderPixels = -2.0; }},
-        {"occlusion.autoMinGain", [](CullSettings& s) { s.occlusion.autoMinGain = kNaN; }},
+        {"occlusion.adaptiveMinGain", [](CullSettings& s) { s.occlusion.adaptiveMinGain = kNaN; }},
         {"occlusion.homWidth", [](CullSettings& s) { s.occlusion.homWidth = 100; }},
         {"occlusion.homHeight", [](CullSettings& s) { s.occlusion.homHeight = 2048; }},
         {"occlusion.homOpacity", [](CullSettings& s) { s.occlusion.homOpacity = 0.0; }},
@@ -170,3 +170,22 @@ TEST(CullSettings, EveryEntryPointChecksThem) {
 }
 
 }  // namespace
+
+TEST(CullSettings, OcclusionModeAndMethodNamesRoundTripAndNeverMeet) {
+    for (auto m : {OcclusionMode::Off, OcclusionMode::EveryFrame, OcclusionMode::Adaptive}) {
+        EXPECT_EQ(parseOcclusionMode(occlusionModeName(m)), m);
+        for (auto k : {OcclusionMethod::Tree, OcclusionMethod::Hom, OcclusionMethod::Auto})
+            EXPECT_STRNE(occlusionModeName(m), occlusionMethodName(k));
+    }
+    for (auto k : {OcclusionMethod::Tree, OcclusionMethod::Hom, OcclusionMethod::Auto})
+        EXPECT_EQ(parseOcclusionMethod(occlusionMethodName(k)), k);
+    // The modes' older names, which scripts may still pass.
+    EXPECT_EQ(parseOcclusionMode("tree"), OcclusionMode::EveryFrame);
+    EXPECT_EQ(parseOcclusionMode("auto"), OcclusionMode::Adaptive);
+    try {
+        parseOcclusionMode("sometimes");
+        ADD_FAILURE() << "no error";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_STREQ(e.what(), "parseOcclusionMode(): unknown occlusion mode 'sometimes' (off, every-frame, adaptive)");
+    }
+}

@@ -37,7 +37,8 @@ struct Culled {
     }
 };
 
-Culled cull(const Scene& s, const Camera& cam, OcclusionMode mode = OcclusionMode::Tree, CullTraversal* t = nullptr) {
+Culled cull(const Scene& s, const Camera& cam, OcclusionMode mode = OcclusionMode::EveryFrame,
+            CullTraversal* t = nullptr) {
     Culled r;
     CullSettings set;
     set.occlusion.mode = mode;
@@ -209,8 +210,8 @@ TEST(OcclusionCull, HiddenInstancePlacementIsCulled) {
     EXPECT_EQ(n, 1u);
 }
 
-TEST(OcclusionCull, AutoModeBacksOffWhenThePassDoesNotPay) {
-    // A wall with nothing behind it: the pass runs, culls nothing, and Auto skips the next frames.
+TEST(OcclusionCull, AdaptiveModeBacksOffWhenThePassDoesNotPay) {
+    // A wall with nothing behind it: the pass runs, culls nothing, and Adaptive skips the next frames.
     auto root = make<Group>();
     root->addChild(wall());
     for (int k = 0; k < 20; ++k) root->addChild(boxGeom(dvec3(-30 + 3 * k, 5, -1), dvec3(-29 + 3 * k, 6, 1)));
@@ -218,15 +219,15 @@ TEST(OcclusionCull, AutoModeBacksOffWhenThePassDoesNotPay) {
     s.update();
     CullTraversal t;
     const Camera cam = testutil::lookingAlongY(500.0);
-    Culled r = cull(s, cam, OcclusionMode::Auto, &t);
+    Culled r = cull(s, cam, OcclusionMode::Adaptive, &t);
     EXPECT_TRUE(r.stats.occlusionRan);
     int skipped = 0;
-    for (int f = 0; f < 4; ++f) skipped += cull(s, cam, OcclusionMode::Auto, &t).stats.occlusionSkipped;
+    for (int f = 0; f < 4; ++f) skipped += cull(s, cam, OcclusionMode::Adaptive, &t).stats.occlusionSkipped;
     EXPECT_EQ(skipped, 4);
-    EXPECT_TRUE(cull(s, cam, OcclusionMode::Auto, &t).stats.occlusionRan);  // tries again
+    EXPECT_TRUE(cull(s, cam, OcclusionMode::Adaptive, &t).stats.occlusionRan);  // tries again
     // Twice in a row without pay: it waits longer (8 frames).
     skipped = 0;
-    for (int f = 0; f < 8; ++f) skipped += cull(s, cam, OcclusionMode::Auto, &t).stats.occlusionSkipped;
+    for (int f = 0; f < 8; ++f) skipped += cull(s, cam, OcclusionMode::Adaptive, &t).stats.occlusionSkipped;
     EXPECT_EQ(skipped, 8);
 
     // Behind the wall, a crowd: the pass pays and runs every frame.
@@ -236,7 +237,7 @@ TEST(OcclusionCull, AutoModeBacksOffWhenThePassDoesNotPay) {
     s.update();
     CullTraversal t2;
     for (int f = 0; f < 10; ++f) {
-        r = cull(s, cam, OcclusionMode::Auto, &t2);
+        r = cull(s, cam, OcclusionMode::Adaptive, &t2);
         EXPECT_TRUE(r.stats.occlusionRan) << "frame " << f;
         EXPECT_GE(r.stats.culledOcclusion, 1u);
     }

@@ -1,4 +1,4 @@
-// OcclusionPass alone: the tree it builds from a scene's occluders, its test of one entry, the Auto back-off.
+// OcclusionPass alone: the tree it builds from a scene's occluders, its test of one entry, the Adaptive back-off.
 #include "TestUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/Occluder.h"
@@ -51,7 +51,7 @@ TEST(OcclusionPass, CullsTheBoxBehindTheOccluderNotTheOneInFront) {
     const FlatImage& img = s.image();
     OcclusionPass pass;
     CullStats stats;
-    const int32_t root = pass.build(img, cam, mode(OcclusionMode::Tree), stats);
+    const int32_t root = pass.build(img, cam, mode(OcclusionMode::EveryFrame), stats);
     ASSERT_NE(root, OcclusionTree::kVisible);
     EXPECT_TRUE(stats.occlusionRan);
     EXPECT_EQ(stats.occludersUsed, 1u);
@@ -75,7 +75,7 @@ TEST(OcclusionPass, TheOcclusionMapCullsTheBoxBehindTheOccluderNotTheOneInFront)
     const FlatImage& img = s.image();
     OcclusionPass pass;
     CullStats stats;
-    CullSettings set = mode(OcclusionMode::Tree);
+    CullSettings set = mode(OcclusionMode::EveryFrame);
     set.occlusion.method = OcclusionMethod::Hom;
     const int32_t start = pass.build(img, cam, set, stats);
     ASSERT_NE(start, OcclusionTree::kVisible);
@@ -107,7 +107,7 @@ TEST(OcclusionPass, OrientedBoxesHideATurnedBarItsWorldBoxDoesNot) {
     Scene s(turn);
     s.update();
     const Camera cam = testutil::lookingAlongY(500.0);
-    CullSettings set = mode(OcclusionMode::Tree);
+    CullSettings set = mode(OcclusionMode::EveryFrame);
     set.occlusion.method = OcclusionMethod::Hom;
     CullTraversal cull;
     DrawList list;
@@ -131,7 +131,7 @@ TEST(OcclusionPass, DoesNothingWithoutOccludersOrWhenOff) {
         s.update();
         OcclusionPass pass;
         CullStats stats;
-        EXPECT_EQ(pass.build(s.image(), cam, mode(OcclusionMode::Tree), stats), OcclusionTree::kVisible);
+        EXPECT_EQ(pass.build(s.image(), cam, mode(OcclusionMode::EveryFrame), stats), OcclusionTree::kVisible);
         EXPECT_FALSE(stats.occlusionRan);
         EXPECT_TRUE(pass.tree().empty());
     }
@@ -141,16 +141,16 @@ TEST(OcclusionPass, DoesNothingWithoutOccludersOrWhenOff) {
     OcclusionPass pass;
     CullStats stats;
     EXPECT_EQ(pass.build(s.image(), cam, mode(OcclusionMode::Off), stats), OcclusionTree::kVisible);
-    CullSettings none = mode(OcclusionMode::Tree);
+    CullSettings none = mode(OcclusionMode::EveryFrame);
     none.strategy = CullStrategy::None;  // the reference render culls nothing
     EXPECT_EQ(pass.build(s.image(), cam, none, stats), OcclusionTree::kVisible);
     Camera ortho = cam;
     ortho.setProjection(glm::ortho(-10.0, 10.0, -10.0, 10.0, 0.5, 500.0));
-    EXPECT_EQ(pass.build(s.image(), ortho, mode(OcclusionMode::Tree), stats), OcclusionTree::kVisible);
+    EXPECT_EQ(pass.build(s.image(), ortho, mode(OcclusionMode::EveryFrame), stats), OcclusionTree::kVisible);
     EXPECT_FALSE(stats.occlusionRan);
 }
 
-TEST(OcclusionPass, AutoBacksOffDoublingUpTo64FramesAndResetsWhenItPays) {
+TEST(OcclusionPass, AdaptiveBacksOffDoublingUpTo64FramesAndResetsWhenItPays) {
     OcclusionPass pass;
     EXPECT_EQ(pass.framesToSkip(), 0);
     std::vector<int> skips;
@@ -165,14 +165,14 @@ TEST(OcclusionPass, AutoBacksOffDoublingUpTo64FramesAndResetsWhenItPays) {
     EXPECT_EQ(pass.framesToSkip(), 4);
 }
 
-TEST(OcclusionPass, AutoSkipsTheFramesOfItsBackOffThenRunsAgain) {
+TEST(OcclusionPass, AdaptiveSkipsTheFramesOfItsBackOffThenRunsAgain) {
     Walled w;
     Scene s(w.root);
     s.update();
     const Camera cam = testutil::lookingAlongY(500.0);
-    const CullSettings set = mode(OcclusionMode::Auto);
+    const CullSettings set = mode(OcclusionMode::Adaptive);
     OcclusionPass pass;
-    pass.recordGain(0.0, set.occlusion.autoMinGain);
+    pass.recordGain(0.0, set.occlusion.adaptiveMinGain);
     for (int f = 0; f < 4; ++f) {
         CullStats stats;
         EXPECT_EQ(pass.build(s.image(), cam, set, stats), OcclusionTree::kVisible) << "frame " << f;
@@ -191,7 +191,7 @@ TEST(OcclusionPass, AutoSkipsTheFramesOfItsBackOffThenRunsAgain) {
 
 // The back-off learned of one view does not outlive it: once the eye has moved a quarter of its distance to
 // the nearest occluder, or the scene has changed, the next frame runs the pass again.
-TEST(OcclusionPass, AutoRunsAgainWhenTheEyeMovesOrTheSceneChanges) {
+TEST(OcclusionPass, AdaptiveRunsAgainWhenTheEyeMovesOrTheSceneChanges) {
     auto root = make<Group>();
     auto o = make<Occluder>();
     o->setBox(Box{dvec3(-10, 20, -10), dvec3(10, 21, 10)});
@@ -212,7 +212,7 @@ TEST(OcclusionPass, AutoRunsAgainWhenTheEyeMovesOrTheSceneChanges) {
     Scene s(root);
     s.update();
     Camera cam = testutil::lookingAlongY(500.0);  // the eye 20 from the wall
-    CullSettings set = mode(OcclusionMode::Auto);
+    CullSettings set = mode(OcclusionMode::Adaptive);
     CullTraversal cull;
     DrawList list;
     CullStats st;

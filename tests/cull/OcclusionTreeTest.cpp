@@ -5,6 +5,7 @@
 // boxes touching an occluder's back face, in its front face's plane or at its shadow's edge, near planes,
 // the two-level tree, and all of it again 10,000 km from the origin.
 #include "sg/cull/OcclusionTree.h"
+#include "testbed/Rng.h"
 
 #include <gtest/gtest.h>
 
@@ -169,16 +170,7 @@ std::string describe(const View& v, const Box& b, const dvec3& at) {
 }
 
 // ---- Random cases. splitmix64: cheap to seed per case, so any case reruns alone from its seed.
-struct Rng {
-    uint64_t s;
-    uint64_t next() {
-        uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull, z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return z ^ (z >> 31);
-    }
-    double uni(double a, double b) { return a + (b - a) * double(next() >> 11) * 0x1p-53; }
-    int below(int n) { return int(next() % uint64_t(n)); }
-};
+using Rng = scenes::BasicRng<scenes::SplitMix64>;
 // Coordinates on a 2^-28 grid and below 2^24: moved 1e7 away they stay exact, the same geometry.
 double q(double x) { return std::round(x * 0x1p28) * 0x1p-28; }
 dvec3 q(const dvec3& v) { return dvec3(q(v.x), q(v.y), q(v.z)); }
@@ -212,11 +204,11 @@ Box testBox(const dvec3& eye, const Occ& o, int kind, Rng& r) {
         const double plane = (kind == 3) == (dir > 0) ? w.max[e] : w.min[e];
         Box b;
         for (int k = 0; k < 3; ++k) {
-            const double u = r.uni(-0.3, 1.3), v = r.uni(-0.3, 1.3);
+            const double u = r.uniform(-0.3, 1.3), v = r.uniform(-0.3, 1.3);
             b.min[k] = q(w.min[k] + ext[k] * std::min(u, v)), b.max[k] = q(w.min[k] + ext[k] * std::max(u, v));
         }
         // From the back face away from the eye; from the front plane away, toward the eye, or flat in it.
-        const double end = plane + dir * (kind == 3 ? 1 : r.below(3) - 1) * q(ext[e] * r.uni(0.1, 2.0));
+        const double end = plane + dir * (kind == 3 ? 1 : r.below(3) - 1) * q(ext[e] * r.uniform(0.1, 2.0));
         b.min[e] = std::min(plane, end), b.max[e] = std::max(plane, end);
         return b;
     }
@@ -224,18 +216,20 @@ Box testBox(const dvec3& eye, const Occ& o, int kind, Rng& r) {
         dvec3 p;
         if (!o.poly.empty()) {
             const size_t i = size_t(r.below(int(o.poly.size())));
-            p = glm::mix(o.poly[i], o.poly[(i + 1) % o.poly.size()], r.uni(0, 1));
+            p = glm::mix(o.poly[i], o.poly[(i + 1) % o.poly.size()], r.uniform(0, 1));
         } else {
             const int ax = r.below(3);
             for (int k = 0; k < 3; ++k)
-                p[k] = k == ax ? r.uni(o.box.min[k], o.box.max[k]) : r.below(2) ? o.box.max[k] : o.box.min[k];
+                p[k] = k == ax ? r.uniform(o.box.min[k], o.box.max[k]) : r.below(2) ? o.box.max[k] : o.box.min[k];
             if (o.oriented) p = dvec3(o.m * dvec4(p, 1.0));
         }
-        const dvec3 lo = q(eye + (p - eye) * r.uni(1.2, 2.5));
+        const dvec3 lo = q(eye + (p - eye) * r.uniform(1.2, 2.5));
         return Box{lo, lo + dvec3(r.below(3), r.below(3), r.below(3)) * 0x1p-28};
     }
-    const dvec3 centre = eye + (w.min + ext * dvec3(r.uni(0, 1), r.uni(0, 1), r.uni(0, 1)) - eye) * r.uni(1.0, 2.5);
-    const dvec3 half = dvec3(r.uni(0.05, 0.8), r.uni(0.05, 0.8), r.uni(0.05, 0.8)) * ((ext.x + ext.y + ext.z) / 6);
+    const dvec3 centre =
+        eye + (w.min + ext * dvec3(r.uniform(0, 1), r.uniform(0, 1), r.uniform(0, 1)) - eye) * r.uniform(1.0, 2.5);
+    const dvec3 half =
+        dvec3(r.uniform(0.05, 0.8), r.uniform(0.05, 0.8), r.uniform(0.05, 0.8)) * ((ext.x + ext.y + ext.z) / 6);
     return Box{q(centre - half), q(centre + half)};
 }
 
@@ -243,25 +237,25 @@ Case makeCase(int fam, int index, Rng& r) {
     Case c;
     View& v = c.v;
     const double s = fam == Tiny ? 2e-4 : fam == Huge ? 1e3 : 1.0;  // occluders ~1 mm, ~10 km across
-    v.eye = q(dvec3(r.uni(-5, 5), r.uni(-5, 5), r.uni(-5, 5)) * s);
+    v.eye = q(dvec3(r.uniform(-5, 5), r.uniform(-5, 5), r.uniform(-5, 5)) * s);
     const int a = r.below(3), b = (a + 1) % 3, up = (a + 2) % 3;  // a: the main view axis
     const double sign = r.below(2) ? 1 : -1;
     const int n = fam == RowOfBuildings ? 2 + r.below(3) : 1 + r.below(3);
-    double x = q(v.eye[b] + r.uni(-15, -3) * s);
-    const double front = v.eye[a] + sign * r.uni(6, 20) * s, depth = r.uni(2, 8) * s,
-                 ground = q(v.eye[up] - r.uni(0, 5) * s);
+    double x = q(v.eye[b] + r.uniform(-15, -3) * s);
+    const double front = v.eye[a] + sign * r.uniform(6, 20) * s, depth = r.uniform(2, 8) * s,
+                 ground = q(v.eye[up] - r.uniform(0, 5) * s);
     for (int k = 0; k < n && fam == RowOfBuildings; ++k) {  // shared side faces, one front plane, some storeys
-        const double w = q(r.uni(1, 6) * s), top = q(ground + r.uni(3, 12) * s);
-        const double back = front + sign * (r.below(2) ? depth : r.uni(2, 8) * s);
+        const double w = q(r.uniform(1, 6) * s), top = q(ground + r.uniform(3, 12) * s);
+        const double back = front + sign * (r.below(2) ? depth : r.uniform(2, 8) * s);
         Box bb;
         bb.min[a] = q(std::min(front, back)), bb.max[a] = q(std::max(front, back));
         bb.min[b] = x, bb.max[b] = x += w, bb.min[up] = ground, bb.max[up] = top;
         v.occs.push_back(Occ{bb});
-        if (r.below(3) == 0) bb.min[up] = top, bb.max[up] = q(top + r.uni(1, 4) * s), v.occs.push_back(Occ{bb});
+        if (r.below(3) == 0) bb.min[up] = top, bb.max[up] = q(top + r.uniform(1, 4) * s), v.occs.push_back(Occ{bb});
     }
     for (int k = 0; k < n && fam != RowOfBuildings; ++k) {
-        dvec3 ctr = v.eye, h = q(dvec3(r.uni(0.5, 6), r.uni(0.5, 6), r.uni(0.5, 6)) * s);
-        ctr[a] += sign * r.uni(8, 40) * s, ctr[b] += r.uni(-10, 10) * s, ctr[up] += r.uni(-10, 10) * s;
+        dvec3 ctr = v.eye, h = q(dvec3(r.uniform(0.5, 6), r.uniform(0.5, 6), r.uniform(0.5, 6)) * s);
+        ctr[a] += sign * r.uniform(8, 40) * s, ctr[b] += r.uniform(-10, 10) * s, ctr[up] += r.uniform(-10, 10) * s;
         ctr = q(ctr);
         const int kind = fam == EyeOnFacePlane || fam == EdgeThroughEye ? 0 : r.below(20);
         if (kind < 14) {  // 14 in 20 boxes, 3 oriented boxes, 3 convex polygons
@@ -272,11 +266,12 @@ Case makeCase(int fam, int index, Rng& r) {
                     (ctr[e] >= v.eye[e] ? bb.min[e] : bb.max[e]) = v.eye[e];
             v.occs.push_back(Occ{bb});
         } else if (kind < 17) {
-            const dvec3 axis = glm::normalize(dvec3(r.uni(-1, 1), r.uni(-1, 1), r.uni(0.1, 1)));
-            v.occs.push_back(Occ{Box{-h, h}, true, glm::rotate(glm::translate(dmat4(1.0), ctr), r.uni(0, 6.3), axis)});
+            const dvec3 axis = glm::normalize(dvec3(r.uniform(-1, 1), r.uniform(-1, 1), r.uniform(0.1, 1)));
+            v.occs.push_back(
+                Occ{Box{-h, h}, true, glm::rotate(glm::translate(dmat4(1.0), ctr), r.uniform(0, 6.3), axis)});
         } else {  // a 3- to 6-gon in an axis plane (planar whatever the rounding)
             const int m = 3 + r.below(4), pa = r.below(2) ? a : r.below(3);
-            const double rad = r.uni(1, 6) * s, phase = r.uni(0, 6.3), step = 6.283185307179586 / m;
+            const double rad = r.uniform(1, 6) * s, phase = r.uniform(0, 6.3), step = 6.283185307179586 / m;
             std::vector<dvec3> p(m, ctr);
             for (int i = 0; i < m; ++i)
                 p[i][(pa + 1) % 3] += rad * std::cos(phase + step * i),
@@ -298,15 +293,15 @@ Case makeCase(int fam, int index, Rng& r) {
     view[a] = sign, side[b] = 1;
     if (index % 4 == 1) {
         v.opts.screenSplits = 2 + (index / 4) % 2, v.opts.viewToWorld = glm::dmat3(side, glm::cross(side, view), -view);
-        v.opts.tanX = r.uni(0.3, 1.5), v.opts.tanY = v.opts.tanX * 0.75;
+        v.opts.tanX = r.uniform(0.3, 1.5), v.opts.tanY = v.opts.tanX * 0.75;
     }
-    if (index % 8 == 3) v.opts.hasNear = true, v.opts.nearPlane = Plane{view, -r.uni(0.1, 12) * s};
+    if (index % 8 == 3) v.opts.hasNear = true, v.opts.nearPlane = Plane{view, -r.uniform(0.1, 12) * s};
     for (int i = 0; i < 2; ++i) {  // two parents, each with a random sub-box as its child
         const Box p =
             testBox(v.eye, v.occs[r.below(int(v.occs.size()))], fam == Contact ? 3 + r.below(2) : r.below(6), r);
         Box ch;
         for (int j = 0; j < 3; ++j) {
-            const double u = r.uni(0, 1), w = r.uni(0, 1), e = p.max[j] - p.min[j];
+            const double u = r.uniform(0, 1), w = r.uniform(0, 1), e = p.max[j] - p.min[j];
             ch.min[j] = std::clamp(q(p.min[j] + e * std::min(u, w)), p.min[j], p.max[j]);
             ch.max[j] = std::clamp(q(p.min[j] + e * std::max(u, w)), ch.min[j], p.max[j]);
         }
@@ -439,14 +434,14 @@ TEST(OcclusionTree, CenterPlaneCapIsNotConservative) {
     bool found = false;
     for (uint64_t seed = 1; seed <= 20000 && !found; ++seed) {
         Rng r{seed};
-        const double x0 = r.uni(-5, 10), y0 = r.uni(2, 8), len = r.uni(10, 60), z = r.uni(1, 4);
-        View v{dvec3(0.0), {Occ{Box{dvec3(x0, y0, -z), dvec3(x0 + len, y0 + r.uni(0.5, 3), z)}}}, {}};
+        const double x0 = r.uniform(-5, 10), y0 = r.uniform(2, 8), len = r.uniform(10, 60), z = r.uniform(1, 4);
+        View v{dvec3(0.0), {Occ{Box{dvec3(x0, y0, -z), dvec3(x0 + len, y0 + r.uniform(0.5, 3), z)}}}, {}};
         OcclusionTree front, centre;
         front.reset(v.eye, v.opts), insert(front, v.occs[0]);
         v.opts.cap = OccluderCap::CenterPlane, centre.reset(v.eye, v.opts), insert(centre, v.occs[0]);
         for (int i = 0; i < 8 && !found; ++i) {  // small boxes just in front of the long face
-            const dvec3 c(x0 + r.uni(0, len), y0 - r.uni(0.02, 1), r.uni(-z, z));
-            Box t{c - r.uni(0.01, 0.3), c + r.uni(0.01, 0.3)};
+            const dvec3 c(x0 + r.uniform(0, len), y0 - r.uniform(0.02, 1), r.uniform(-z, z));
+            Box t{c - r.uniform(0.01, 0.3), c + r.uniform(0.01, 0.3)};
             t.max.y = std::min(t.max.y, y0 - 0.01);
             dvec3 at;
             if (!centre.isOccluded(t) || !visibleSample(v, t, &at)) continue;
@@ -525,8 +520,8 @@ TEST(OcclusionTree, DegenerateInputNeverCrashesOrOverCulls) {
         Rng r{7};
         long culled = 0, wrong = 0;
         for (int i = 0; i < 3000; ++i) {  // boxes of every size down to points, some around the eye
-            const dvec3 c = at(r.uni(-12, 12), r.uni(-5, 60), r.uni(-12, 12));
-            const dvec3 h(i % 3 ? r.uni(0, 2) : 0.0, i % 5 ? r.uni(0, 2) : 0.0, r.uni(0, 2));
+            const dvec3 c = at(r.uniform(-12, 12), r.uniform(-5, 60), r.uniform(-12, 12));
+            const dvec3 h(i % 3 ? r.uniform(0, 2) : 0.0, i % 5 ? r.uniform(0, 2) : 0.0, r.uniform(0, 2));
             const Box t{c - h, c + h};
             dvec3 sample;
             const bool occluded = tree.isOccluded(t), seen = occluded && ref.visibleSample(t, &sample);

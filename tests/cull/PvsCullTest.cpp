@@ -67,7 +67,7 @@ TEST(PvsCull, HiddenEntriesAreCulledFirst) {
         EXPECT_EQ(st.culledPvs, 1u);
     }
     // With the occlusion tree as well: the PVS has culled it first.
-    set.occlusion.mode = OcclusionMode::Tree;
+    set.occlusion.mode = OcclusionMode::EveryFrame;
     set.occlusion.method = OcclusionMethod::Tree;
     ct.cull(s, camAt(dvec3(0.3, -0.5, 0.9)), set, l, st);
     EXPECT_FALSE(drew(l, w.behind.get()));

@@ -61,7 +61,7 @@ CullSettings occlusion(OcclusionMode mode, OccluderCap cap = OccluderCap::FrontF
 
 // The occlusion map (mode On), conservative (opacity 1) or approximate.
 CullSettings occlusionMap(double opacity = 1.0) {
-    CullSettings c = occlusion(OcclusionMode::Tree);
+    CullSettings c = occlusion(OcclusionMode::EveryFrame);
     c.occlusion.method = OcclusionMethod::Hom;
     c.occlusion.homOpacity = opacity;
     return c;
@@ -107,7 +107,7 @@ std::string describeWorst(accuracy::Harness& h, const Scene& scene, const std::v
 // culling alone. The approximate map's error is reported; it draws at most what the conservative one draws.
 void checkFrontFaces(const Scene& scene, const std::vector<Camera>& views, const char* name) {
     accuracy::Harness h(kW, kH);
-    const std::vector<CullSettings> settings = {occlusion(OcclusionMode::Off), occlusion(OcclusionMode::Tree),
+    const std::vector<CullSettings> settings = {occlusion(OcclusionMode::Off), occlusion(OcclusionMode::EveryFrame),
                                                 occlusionMap(), occlusionMap(0.75)};
     const std::vector<accuracy::Result> res = h.run(scene, views, settings);
     for (const auto& r : res) printOcclusion(r, name);
@@ -208,7 +208,7 @@ TEST(Accuracy, OcclusionCenterPlaneCapShowsError) {
     // and must show on at least one, or the harness could not tell it from the conservative cap. It shows
     // on about 1% of the office views (past a door jamb at furniture just beyond it): 200 views may miss
     // it, so the office gets 5x as many (the first are the ones above); the city keeps the views above.
-    const CullSettings centre = occlusion(OcclusionMode::Tree, OccluderCap::CenterPlane);
+    const CullSettings centre = occlusion(OcclusionMode::EveryFrame, OccluderCap::CenterPlane);
     uint64_t total = 0;
     auto report = [&](const Scene& scene, const std::vector<Camera>& views, const char* name) {
         accuracy::Harness h(kW, kH);

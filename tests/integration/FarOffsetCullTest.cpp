@@ -111,7 +111,7 @@ TEST(FarOffsetCull, Factory) {
 TEST(FarOffsetCull, TerrainAndPcvrCity) {
     // The terrain (257^2 samples, its quadtree of LOD tiles) from the terrain paper's eye at its three fields of
     // view, and the PCVR city along its drive.
-    const scenes::TerrainScene t = scenes::buildTerrain(257, 2002);
+    const scenes::TerrainScene t = scenes::buildTerrainScene(257, 2002);
     std::vector<Camera> views;
     for (double fov : {60.0, 90.0, 120.0}) views.push_back(scenes::terrainCamera(t, fov, kW, kH));
     checkOffsets([&] { return ref_ptr<Node>(t.terrain.root); }, views, "terrain", false);

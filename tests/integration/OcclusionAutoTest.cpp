@@ -25,8 +25,8 @@ Picks picks(const Scene& s, int frames, int step, CameraAt at) {
     DrawList dl;
     for (int f = 0; f < frames; f += step) {
         const Camera cam = at(f);
-        CullSettings set;  // the default: Auto
-        set.occlusion.mode = OcclusionMode::Tree;
+        CullSettings set;  // the default method: Auto
+        set.occlusion.mode = OcclusionMode::EveryFrame;
         CullStats st;
         a.cull(s, cam, set, dl, st);
         p.map += st.occlusionMap;
@@ -70,7 +70,7 @@ TEST(OcclusionAuto, IsExactOnTheCityFromAboveAndInItsStreets) {
     s.update();
     accuracy::Harness h(256, 144);
     CullSettings set;
-    set.occlusion.mode = OcclusionMode::Tree;
+    set.occlusion.mode = OcclusionMode::EveryFrame;
     const accuracy::Result r = h.run(s, accuracy::cityOcclusionViews(n, testutil::scaled(60), 31, 256, 144), {set})[0];
     EXPECT_EQ(r.differingTotal, 0u) << "worst view " << r.worstView;
     EXPECT_GT(r.culledOcclusionTotal, 0u);

@@ -45,7 +45,7 @@ void checkExact(const Scene& s, const PvsTable& t, const std::vector<Camera>& vi
     pvs.pvs = &t;
     pvs.occlusion.mode = OcclusionMode::Off;
     CullSettings both = pvs;
-    both.occlusion.mode = OcclusionMode::Tree;
+    both.occlusion.mode = OcclusionMode::EveryFrame;
     both.occlusion.method = OcclusionMethod::Tree;
     CullSettings frustum = pvs;
     frustum.pvs = nullptr;

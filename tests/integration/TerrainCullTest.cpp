@@ -15,7 +15,7 @@ TEST(TerrainCull, RefinementsAreConservative) {
     scenes::TerrainSceneParams prm;
     prm.spacing = 40.0;  // 257^2 samples over 10 km, as 1025^2 at 10 m: the paper's eye sees part of it
     prm.terrain.tileSamples = 17;
-    const scenes::TerrainScene t = scenes::buildTerrain(257, 2002, prm);
+    const scenes::TerrainScene t = scenes::buildTerrainScene(257, 2002, prm);
     Scene scene(t.terrain.root);
     scene.update();
     std::vector<Camera> views;

@@ -164,3 +164,43 @@ TEST(VertexLightBaker, CacheRoundTripsAndCorruptFilesAreRebaked) {
     }
     std::filesystem::remove_all(dir);
 }
+
+// The edge of a bank: flat ground that bends down at 45 degrees along x = 0, as a grid with smooth normals. The
+// mean centroid of the edge vertices' triangles lies under them, deeper than the offset; sampled from there the
+// edge came out black (a row of dark teeth along the factory's stream). Its light is the open ground's.
+TEST(VertexLightBaker, TheEdgeOfABankIsLitLikeTheGroundBesideIt) {
+    std::vector<vec3> pos, nrm;
+    std::vector<uint32_t> idx;
+    const int n = 8;  // cells a side, 3 m each, from x = -12
+    auto height = [](double x) { return x > 0.0 ? -x : 0.0; };
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const double x = -12.0 + 3.0 * i, y = -12.0 + 3.0 * j;
+            pos.emplace_back(x, y, height(x));
+            const double dz = height(x + 3.0) - height(x - 3.0);  // central differences, as the terrain's
+            nrm.emplace_back(glm::normalize(dvec3(-dz, 0.0, 6.0)));
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = b + uint32_t(n + 1), d = c - 1;
+            idx.insert(idx.end(), {a, b, c, a, c, d});
+        }
+    auto bank = make<Mesh>();
+    bank->set(std::move(pos), std::move(nrm), std::move(idx));
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(bank, make<Material>()));
+    Scene scene(root);
+    scene.update();
+    VertexLightParams p;
+    p.sunDirection = dvec3(-1, 0, 2);  // from the flat side
+    p.sunSamples = 8;
+    p.aoSamples = 32;
+    p.aoDistance = 3.0;
+    p.offset = 0.05;
+    const auto light = VertexLightBaker::compute(scene, {{bank, dmat4(1.0)}}, p);
+    const size_t flat = size_t(4 * (n + 1) + 2), edge = size_t(4 * (n + 1) + 4);  // (-6, 0) and (0, 0)
+    ASSERT_EQ(bank->positions()[edge], vec3(0.0f));
+    EXPECT_EQ(light[0].sun[flat], 1.0f);
+    EXPECT_EQ(light[0].sun[edge], 1.0f);
+    EXPECT_GT(light[0].ao[edge], 0.9f);  // nothing stands over a convex edge
+}

@@ -95,6 +95,41 @@ TEST(Scene, UnchangedSceneCostsNothingAndChangesRefitOnlyTheirPath) {
     expectBoundsEnclose(s);
 }
 
+TEST(Scene, SwitchTurningMovesTheVersionWithoutARefit) {
+    auto sw = make<Switch>();
+    sw->addChild(unitBox());
+    sw->addChild(unitBox(), false);
+    auto inner = make<Switch>();  // one inside an Instance prototype too
+    inner->addChild(unitBox());
+    auto root = make<Group>();
+    root->addChild(sw);
+    root->addChild(make<Instance>(inner, dmat4(1.0)));
+    Scene s(root);
+    s.update();
+    const uint64_t structure = s.structureVersion();
+    uint64_t v = s.version();
+    const auto turnsOnce = [&](const std::function<void()>& turn, const char* what) {
+        turn();
+        s.update();
+        EXPECT_EQ(s.version(), v + 1) << what;
+        EXPECT_EQ(s.lastUpdate().entriesWritten, 0u) << what;
+        v = s.version();
+        s.update();  // the mark is cleared: the next update is free again
+        EXPECT_EQ(s.version(), v) << what;
+    };
+    turnsOnce([&] { sw->setOn(1, true); }, "setOn");
+    turnsOnce([&] { sw->setAll(false); }, "setAll");
+    turnsOnce([&] { sw->setOnly(0); }, "setOnly");
+    turnsOnce([&] { inner->setOn(0, false); }, "setOn in a prototype");
+    EXPECT_EQ(s.structureVersion(), structure);
+    // Setting what is already set is no change.
+    sw->setOnly(0);
+    sw->setOn(1, false);
+    inner->setAll(false);
+    s.update();
+    EXPECT_EQ(s.version(), v);
+}
+
 TEST(Scene, SharedChildIsUpdatedOnEveryPath) {
     auto shared = make<Transform>();
     shared->addChild(unitBox());

@@ -106,7 +106,7 @@ TEST(TerrainBuilder, RejectsBadInputNamingIt) {
 }
 
 TEST(TerrainBuilder, QuadtreeAndLevels) {
-    const scenes::TerrainScene t = scenes::buildTerrain(129, 7, [] {
+    const scenes::TerrainScene t = scenes::buildTerrainScene(129, 7, [] {
         scenes::TerrainSceneParams p;
         p.terrain.tileSamples = 17;
         return p;
@@ -165,7 +165,7 @@ TEST(TerrainBuilder, LevelErrorMatchesBruteForce) {
 TEST(TerrainBuilder, BoundsAreTheTilesPrisms) {
     scenes::TerrainSceneParams prm;
     prm.terrain.tileSamples = 9;
-    const scenes::TerrainScene t = scenes::buildTerrain(65, 11, prm);
+    const scenes::TerrainScene t = scenes::buildTerrainScene(65, 11, prm);
     Scene scene(t.terrain.root);
     scene.update();
     const FlatImage& img = scene.image();
@@ -216,7 +216,7 @@ TEST(TerrainBuilder, NoCracksBetweenLevels) {
     prm.terrain.tileSamples = 17;
     prm.roughness = 0.3;
     prm.reliefMetres = 300.0;
-    const scenes::TerrainScene t = scenes::buildTerrain(65, 5, prm);
+    const scenes::TerrainScene t = scenes::buildTerrainScene(65, 5, prm);
     int k = 0;
     for (const Terrain::QuadNode& q : t.terrain.quad) {
         if (!q.tile) continue;
@@ -243,4 +243,76 @@ TEST(TerrainBuilder, NoCracksBetweenLevels) {
         }
     EXPECT_EQ(misses, 0) << "of " << rays << " rays";
     EXPECT_GT(rays, 20000);
+}
+
+// The options for a terrain that is one part of a larger scene: the tiles flat under one Group (any tile
+// count), vertices in the scene's frame, per-vertex texture coordinates and colours, a given pixels per radian,
+// and heights in double.
+TEST(TerrainBuilder, FlatTilesInTheOriginsFrameWithVertexAttributes) {
+    const int n = 3 * 6 + 1;  // three tiles of 6 cells a side: neither is a power of two
+    std::vector<double> h(size_t(n) * size_t(n));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) h[size_t(j * n + i)] = 0.1 + 3.0 * std::sin(0.7 * i) * std::cos(0.45 * j);
+    const dvec3 origin(-90.25, 40.5, 2.0);
+    const double spacing = 2.5;
+    TerrainParams p;
+    p.tileSamples = 7;
+    p.levels = 3;
+    p.flat = true;
+    p.originInVertices = true;
+    p.pixelsPerRadian = 1000.0;
+    p.uv = [](const dvec3& q) { return vec2(float(q.x), float(q.y)) / 4.0f; };
+    p.color = [](const dvec3& q) { return vec4(float(q.z), 0.5f, float(q.x), 1.0f); };
+    const Terrain t = buildTerrain(h, n, spacing, origin, p);
+    ASSERT_EQ(t.root->kind(), NodeKind::Group);  // no Transform: the origin is in the vertices
+    ASSERT_EQ(t.root->numChildren(), 9u);
+    ASSERT_EQ(t.quad.size(), 10u);
+    EXPECT_EQ(t.quad[0].node.get(), t.root.get());
+    EXPECT_EQ(t.tilesPerSide, 3);
+    for (int tj = 0; tj < 3; ++tj)
+        for (int ti = 0; ti < 3; ++ti) {
+            const size_t k = size_t(tj * 3 + ti);
+            EXPECT_EQ(t.quad[k + 1].node.get(), t.root->child(k));
+            EXPECT_TRUE(t.quad[k + 1].tile);
+            EXPECT_EQ(t.quad[k + 1].parent, 0);
+            ASSERT_EQ(t.root->child(k)->kind(), NodeKind::LOD);
+            const auto& lod = static_cast<const LOD&>(*t.root->child(k));
+            ASSERT_EQ(lod.numChildren(), 3u);  // 6, then 3 and 2 cells a side
+            for (size_t l = 0; l < lod.numChildren(); ++l) {
+                const Mesh& m = *static_cast<const Geometry&>(*lod.child(l)).mesh();
+                ASSERT_EQ(m.uvs().size(), m.positions().size());
+                ASSERT_EQ(m.colors().size(), m.positions().size());
+                for (size_t v = 0; v < m.positions().size(); ++v) {
+                    const vec3 q = m.positions()[v];
+                    const int i = int(std::lround((q.x - origin.x) / spacing)),
+                              j = int(std::lround((q.y - origin.y) / spacing));
+                    ASSERT_GE(i, ti * 6);
+                    ASSERT_LE(i, ti * 6 + 6);
+                    ASSERT_GE(j, tj * 6);
+                    ASSERT_LE(j, tj * 6 + 6);
+                    const dvec3 at = origin + dvec3(i * spacing, j * spacing, h[size_t(j * n + i)]);
+                    EXPECT_EQ(q, vec3(at)) << k << " " << l << " " << v;  // rounded once, from double
+                    EXPECT_EQ(m.uvs()[v], p.uv(at));
+                    EXPECT_EQ(m.colors()[v], p.color(at));
+                }
+            }
+            // Level 1 from where its error projects to a pixel at 1000 pixels per radian, plus the radius.
+            const Box box = static_cast<const Geometry&>(*lod.child(0)).mesh()->box();
+            const double d = lod.error(1) * 1000.0 + 0.5 * glm::length(box.max - box.min);
+            EXPECT_NEAR(lod.range(1).min, d, 1e-5 * d);  // lod.error is the error rounded to float
+        }
+    // The default layout of the same field keeps the quadtree's rule: samples 2^k + 1.
+    TerrainParams q = p;
+    q.flat = false;
+    EXPECT_NE(errorOf([&] { buildTerrain(h, n, spacing, origin, q); }).find("samplesPerSide 19 is not 2^k + 1"),
+              std::string::npos);
+    q = p;
+    q.tileSamples = 8;
+    EXPECT_NE(errorOf([&] {
+                  buildTerrain(h, n, spacing, origin, q);
+              }).find("tileSamples 8 is not in 3..19 with samplesPerSide - 1 a multiple of tileSamples - 1"),
+              std::string::npos);
+    q = p;
+    q.pixelsPerRadian = -1.0;
+    EXPECT_NE(errorOf([&] { buildTerrain(h, n, spacing, origin, q); }).find("pixelsPerRadian -1"), std::string::npos);
 }

@@ -252,7 +252,7 @@ TEST(Factory, CullsFromOutsideAndFromInsideAWorkshop) {
     DrawList list;
     CullStats st;
     CullSettings set;
-    set.occlusion.mode = OcclusionMode::Tree;
+    set.occlusion.mode = OcclusionMode::EveryFrame;
     set.occlusion.method = OcclusionMethod::Tree;
     // Outside: hills in view, the closed workshops hide their machines.
     for (int frame : {0, 30, 60, 90}) {
