@@ -107,24 +107,7 @@ Renderer::Renderer() {
         throw std::runtime_error(std::string("Renderer::Renderer(): OpenGL 3.3 is needed, the context has ") + version);
     drainGl();
 
-    program_ = buildGlProgram(kVertexShader, kFragmentShader, "Renderer::Renderer()");
-    uViewProj_ = glGetUniformLocation(program_, "uViewProj");
-    uLightDir_ = glGetUniformLocation(program_, "uLightDir");
-    uUseTexture_ = glGetUniformLocation(program_, "uUseTexture");
-    uUseColor_ = glGetUniformLocation(program_, "uUseColor");
-    uLit_ = glGetUniformLocation(program_, "uLit");
-    uBakedLight_ = glGetUniformLocation(program_, "uBakedLight");
-    uSpecular_ = glGetUniformLocation(program_, "uSpecular");
-    uShininess_ = glGetUniformLocation(program_, "uShininess");
-    uFade_ = glGetUniformLocation(program_, "uFade");
-    uAlphaCutoff_ = glGetUniformLocation(program_, "uAlphaCutoff");
-    uHeadlight_ = glGetUniformLocation(program_, "uHeadlight");
-    uAmbient_ = glGetUniformLocation(program_, "uAmbient");
-    uLightColor_ = glGetUniformLocation(program_, "uLightColor");
-    uTexture_ = glGetUniformLocation(program_, "uTexture");
-    glUseProgram(program_);
-    glUniform1i(uTexture_, 0);
-    glUseProgram(0);
+    one_ = link(kVertexShader, kFragmentShader, "Renderer::Renderer()");
     glGenBuffers(1, &instanceVbo_);
     // Anisotropic filtering: core in GL 4.6, an extension before it that nearly every driver has. Not on a
     // software rasterizer, where each extra sample is paid in full, unlike on a GPU's texture units (what it
@@ -157,7 +140,7 @@ Renderer::Renderer() {
         checkGl("Renderer::Renderer()", "after compiling the shaders");
     } catch (...) {
         glDeleteBuffers(1, &instanceVbo_);
-        glDeleteProgram(program_);
+        glDeleteProgram(one_.id);
         throw;
     }
     cache_ = std::make_unique<GpuCache>(instanceVbo_, maxAnisotropy);
@@ -168,7 +151,63 @@ Renderer::~Renderer() {
     cache_.reset();
     depthTarget_.reset();
     glDeleteBuffers(1, &instanceVbo_);
-    glDeleteProgram(program_);
+    glDeleteProgram(one_.id);
+    for (auto& [features, p] : variants_) glDeleteProgram(p.id);
+}
+
+Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentSource, const char* who) {
+    Program p;
+    p.id = buildGlProgram(vertexSource, fragmentSource, who);
+    const auto at = [&](const char* name) { return glGetUniformLocation(p.id, name); };
+    p.uViewProj = at("uViewProj");
+    p.uLightDir = at("uLightDir");
+    p.uHeadlight = at("uHeadlight");
+    p.uAmbient = at("uAmbient");
+    p.uLightColor = at("uLightColor");
+    p.uUseTexture = at("uUseTexture");
+    p.uUseColor = at("uUseColor");
+    p.uLit = at("uLit");
+    p.uBakedLight = at("uBakedLight");
+    p.uSpecular = at("uSpecular");
+    p.uShininess = at("uShininess");
+    p.uFade = at("uFade");
+    p.uAlphaCutoff = at("uAlphaCutoff");
+    glUseProgram(p.id);
+    glUniform1i(at("uTexture"), 0);
+    glUseProgram(0);
+    return p;
+}
+
+Renderer::Program& Renderer::programFor(const Shading& s) {
+    if (shaderMode_ == ShaderMode::OneProgram) return one_;
+    uint32_t f = 0;
+    if (s.texture) f |= kShadeTexture;
+    if (s.colors) f |= kShadeColor;
+    if (s.bakedLight) f |= kShadeBaked;
+    if (s.lit) f |= kShadeLit;
+    if (!light_.headlight) f |= kShadeSun;
+    if (s.specular > 0.0f) f |= kShadeSpecular;
+    if (s.alphaCutoff > 0.0f) f |= kShadeAlphaCut;
+    if (s.fade < 1.0f) f |= kShadeFade;
+    f = canonicalFeatures(f);
+    const auto it = variants_.find(f);
+    if (it != variants_.end()) return it->second;
+    const std::string vs = variantSource(true, f), fs = variantSource(false, f);
+    return variants_.emplace(f, link(vs.c_str(), fs.c_str(), "Renderer::draw()")).first->second;
+}
+
+void Renderer::use(Program& p) {
+    if (current_ == &p) return;
+    glUseProgram(p.id);
+    current_ = &p;
+    if (p.frame == draws_) return;
+    p.frame = draws_;
+    p.shadingSet = false;  // set in full by its first run of the frame
+    glUniformMatrix4fv(p.uViewProj, 1, GL_FALSE, &viewProj_[0][0]);
+    glUniform3f(p.uLightDir, lightDir_.x, lightDir_.y, lightDir_.z);
+    glUniform1i(p.uHeadlight, light_.headlight ? 1 : 0);
+    glUniform3f(p.uAmbient, light_.ambient.r, light_.ambient.g, light_.ambient.b);
+    glUniform3f(p.uLightColor, light_.color.r, light_.color.g, light_.color.b);
 }
 
 void Renderer::setDepthMode(DepthMode mode) {
@@ -192,19 +231,21 @@ Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float
     return s;
 }
 
-void Renderer::setShading(const Shading& s) {
-    const bool all = !shadingSet_;
-    const Shading& o = shading_;
-    if (all || s.texture != o.texture) glUniform1i(uUseTexture_, s.texture ? 1 : 0);
-    if (all || s.colors != o.colors) glUniform1i(uUseColor_, s.colors ? 1 : 0);
-    if (all || s.lit != o.lit) glUniform1i(uLit_, s.lit ? 1 : 0);
-    if (all || s.bakedLight != o.bakedLight) glUniform1i(uBakedLight_, s.bakedLight ? 1 : 0);
-    if (all || s.specular != o.specular) glUniform1f(uSpecular_, s.specular);
-    if (all || s.shininess != o.shininess) glUniform1f(uShininess_, s.shininess);
-    if (all || s.fade != o.fade) glUniform1f(uFade_, s.fade);
-    if (all || s.alphaCutoff != o.alphaCutoff) glUniform1f(uAlphaCutoff_, s.alphaCutoff);
-    shading_ = s;
-    shadingSet_ = true;
+// Uniforms missing from a variant have location -1, which GL ignores; the values are kept per program, as GL keeps
+// them.
+void Renderer::setShading(Program& p, const Shading& s) {
+    const bool all = !p.shadingSet;
+    const Shading& o = p.shading;
+    if (all || s.texture != o.texture) glUniform1i(p.uUseTexture, s.texture ? 1 : 0);
+    if (all || s.colors != o.colors) glUniform1i(p.uUseColor, s.colors ? 1 : 0);
+    if (all || s.lit != o.lit) glUniform1i(p.uLit, s.lit ? 1 : 0);
+    if (all || s.bakedLight != o.bakedLight) glUniform1i(p.uBakedLight, s.bakedLight ? 1 : 0);
+    if (all || s.specular != o.specular) glUniform1f(p.uSpecular, s.specular);
+    if (all || s.shininess != o.shininess) glUniform1f(p.uShininess, s.shininess);
+    if (all || s.fade != o.fade) glUniform1f(p.uFade, s.fade);
+    if (all || s.alphaCutoff != o.alphaCutoff) glUniform1f(p.uAlphaCutoff, s.alphaCutoff);
+    p.shading = s;
+    p.shadingSet = true;
 }
 
 void Renderer::draw(const DrawList& list, const Camera& camera, const vec4& clearColor) {
@@ -320,6 +361,7 @@ void Renderer::upload() {
         r.gpu = &cache_->mesh(r.mesh);
         const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
         r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
+        r.program = &programFor(shading(*r.gpu, r.material, r.fade, r.texture));
     }
 }
 
@@ -373,21 +415,17 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     glBufferData(GL_ARRAY_BUFFER, bytes, nullptr, GL_STREAM_DRAW);
     glBufferSubData(GL_ARRAY_BUFFER, 0, bytes, items_.data());
 
-    glUseProgram(program_);
-    shadingSet_ = false;  // set in full by the first run
     // Projection times the view's rotation only, in double: the eye's translation is already in the
     // items' matrices, so no large coordinate ever reaches float.
-    const mat4 viewProj((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
-    glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
-    const vec3 light = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
-    glUniform3f(uLightDir_, light.x, light.y, light.z);
-    glUniform1i(uHeadlight_, light_.headlight ? 1 : 0);
-    glUniform3f(uAmbient_, light_.ambient.r, light_.ambient.g, light_.ambient.b);
-    glUniform3f(uLightColor_, light_.color.r, light_.color.g, light_.color.b);
+    viewProj_ = mat4((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
+    lightDir_ = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
+    ++draws_;
+    current_ = nullptr;
     glActiveTexture(GL_TEXTURE0);
     for (const Run& r : runs_) drawRun(list, r);
     glBindVertexArray(0);
     glUseProgram(0);
+    current_ = nullptr;
 }
 
 void Renderer::drawRun(const DrawList& list, const Run& r) {
@@ -396,7 +434,8 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
     pointItemAttributes(r.first);
     if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
-    setShading(shading(g, r.material, r.fade, r.texture));
+    use(*r.program);
+    setShading(*r.program, shading(g, r.material, r.fade, r.texture));
     if (r.part == kWhole) {
         glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
         stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);

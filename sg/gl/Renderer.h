@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace sg {
@@ -52,6 +53,16 @@ public:
     ~Renderer();
     Renderer(const Renderer&) = delete;
     Renderer& operator=(const Renderer&) = delete;
+
+    // How draws get their shader program. Variants (the default): a program per combination of the features a
+    // draw uses (texture, vertex colours, baked light, lit by the headlight or the sun, highlight, alpha cutoff,
+    // fade), compiled on first use and kept, holding only what those draws read. OneProgram: one program for
+    // every draw, branching on uniforms: the reference the variants are tested against pixel for pixel.
+    enum class ShaderMode : uint8_t { Variants, OneProgram };
+    void setShaderMode(ShaderMode mode) { shaderMode_ = mode; }
+    ShaderMode shaderMode() const { return shaderMode_; }
+    // The variants compiled so far.
+    size_t variantCount() const { return variants_.size(); }
 
     // Whether the context rasterizes in software (llvmpipe, softpipe, swrast): where a frame loop wants
     // keepFreedMemory() (sg/gl/KeepFreedMemory.h), and where the renderer filters textures without anisotropy.
@@ -125,6 +136,15 @@ private:
         bool texture = false, colors = false, lit = false, bakedLight = false;
         float specular = 0.0f, shininess = 1.0f, fade = 1.0f, alphaCutoff = 0.0f;
     };
+    // A linked program, the locations of its uniforms (-1: not in this program) and the values they hold.
+    struct Program {
+        unsigned id = 0;
+        int uViewProj = -1, uLightDir = -1, uHeadlight = -1, uAmbient = -1, uLightColor = -1, uUseTexture = -1,
+            uUseColor = -1, uLit = -1, uBakedLight = -1, uSpecular = -1, uShininess = -1, uFade = -1, uAlphaCutoff = -1;
+        Shading shading;          // what its per-run uniforms hold
+        bool shadingSet = false;  // whether `shading` is known (from its first run in a frame on)
+        uint64_t frame = 0;       // the draw() whose camera and light its uniforms hold
+    };
     struct Run {
         const Mesh* mesh;
         const Material* material;
@@ -133,6 +153,7 @@ private:
         uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
         const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
         unsigned texture = 0;          // GL name, 0 without a texture
+        Program* program = nullptr;    // set with gpu
     };
     static constexpr uint32_t kWhole = ~0u;
     // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
@@ -159,14 +180,21 @@ private:
     void endFrame(const Target& target);
 
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
-    void setShading(const Shading& s);
+    // The run's program: the one program, or the variant of the features it uses (compiled on first use).
+    Program& programFor(const Shading& s);
+    static Program link(const char* vertexSource, const char* fragmentSource, const char* who);
+    // Makes p current; the frame's camera and light go into it on its first use in the frame.
+    void use(Program& p);
+    void setShading(Program& p, const Shading& s);
 
-    unsigned program_ = 0, instanceVbo_ = 0;
-    int uViewProj_ = -1, uLightDir_ = -1, uUseTexture_ = -1, uUseColor_ = -1, uLit_ = -1, uFade_ = -1,
-        uAlphaCutoff_ = -1, uTexture_ = -1, uHeadlight_ = -1, uAmbient_ = -1, uLightColor_ = -1, uBakedLight_ = -1,
-        uSpecular_ = -1, uShininess_ = -1;
-    Shading shading_;          // the values the program's uniforms hold
-    bool shadingSet_ = false;  // whether shading_ is known (from the frame's first run on)
+    unsigned instanceVbo_ = 0;
+    Program one_;                                     // ShaderMode::OneProgram's
+    std::unordered_map<uint32_t, Program> variants_;  // by canonical features (Shaders.h)
+    ShaderMode shaderMode_ = ShaderMode::Variants;
+    Program* current_ = nullptr;  // in use in the draw
+    uint64_t draws_ = 0;          // draw() calls: which frame a program's camera and light are of
+    mat4 viewProj_{1.0f};         // the draw's
+    vec3 lightDir_{0.0f};
     DepthMode depthMode_ = DepthMode::Classic;
     bool reverseZSupported_ = false;
     bool software_ = false;

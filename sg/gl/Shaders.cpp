@@ -3,6 +3,8 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <utility>
+
 namespace sg {
 
 const char* const kVertexShader = R"(#version 330 core
@@ -91,6 +93,137 @@ void main() {
     fragColor = c;
 }
 )";
+
+// The variants: the same arithmetic as the one program above, with each feature a preprocessor constant, so
+// that a variant declares only the attributes, outputs and uniforms its draws use and its fragment stage has no
+// branch on a uniform (llvmpipe runs the fragment shader per pixel in software: every interpolated output and
+// every branch is paid for at each pixel).
+const char* const kVariantVertexShader = R"(
+layout(location = 0) in vec3 aPosition;
+#if LIT
+layout(location = 1) in vec3 aNormal;
+out vec3 vNormal;
+#if SUN
+out vec3 vFromEye;
+#endif
+#endif
+#if TEXTURE
+layout(location = 2) in vec2 aUv;
+out vec2 vUv;
+#endif
+#if COLOR
+layout(location = 3) in vec4 aColor;
+out vec4 vColor;
+#endif
+layout(location = 4) in mat4 aModel;
+layout(location = 8) in vec4 aBaseColor;
+uniform mat4 uViewProj;
+flat out vec4 vBaseColor;
+void main() {
+    vec4 world = aModel * vec4(aPosition, 1.0);
+    gl_Position = uViewProj * world;
+#if LIT
+#if SUN
+    vFromEye = world.xyz;
+#endif
+    mat3 m = mat3(aModel);
+    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
+#endif
+#if TEXTURE
+    vUv = aUv;
+#endif
+#if COLOR
+    vColor = aColor;
+#endif
+    vBaseColor = aBaseColor;
+}
+)";
+
+const char* const kVariantFragmentShader = R"(
+flat in vec4 vBaseColor;
+#if LIT
+in vec3 vNormal;
+uniform vec3 uLightDir;
+#if SUN
+in vec3 vFromEye;
+uniform vec3 uAmbient, uLightColor;
+#if SPECULAR
+uniform float uSpecular, uShininess;
+#endif
+#endif
+#endif
+#if TEXTURE
+in vec2 vUv;
+uniform sampler2D uTexture;
+#endif
+#if COLOR
+in vec4 vColor;
+#endif
+#if ALPHA_CUT
+uniform float uAlphaCutoff;
+#endif
+#if FADE
+uniform float uFade;
+#endif
+out vec4 fragColor;
+void main() {
+#if FADE
+    {
+        float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
+        if (uFade > 0.0 ? n >= uFade : n < 1.0 + uFade) discard;
+    }
+#endif
+    vec4 c = vBaseColor;
+#if TEXTURE
+    c *= texture(uTexture, vUv);
+#endif
+    float sun = 1.0;
+#if COLOR && BAKED
+    c.rgb *= vColor.rgb;
+    sun = vColor.a;
+#elif COLOR
+    c *= vColor;
+#endif
+#if ALPHA_CUT
+    if (c.a < uAlphaCutoff) discard;
+#endif
+#if LIT && !SUN
+    float len = length(vNormal);
+    float d = len > 0.0 ? abs(dot(vNormal / len, uLightDir)) : 1.0;
+    c.rgb *= 0.35 + 0.65 * d * sun;
+#elif LIT
+    float len = length(vNormal);
+    vec3 v = -normalize(vFromEye);
+    vec3 n = len > 0.0 ? vNormal / len : v;
+    if (dot(n, v) < 0.0) n = -n;
+    float nl = max(dot(n, uLightDir), 0.0);
+    vec3 direct = uLightColor * (nl * sun);
+    vec3 rgb = c.rgb * (uAmbient + direct);
+#if SPECULAR
+    if (nl > 0.0) rgb += uLightColor * (sun * uSpecular * pow(max(dot(n, normalize(uLightDir + v)), 0.0), uShininess));
+#endif
+    c.rgb = rgb;
+#endif
+    fragColor = c;
+}
+)";
+
+uint32_t canonicalFeatures(uint32_t f) {
+    if (!(f & kShadeColor)) f &= ~kShadeBaked;                 // baked light is read from the vertex colours
+    if (!(f & kShadeLit)) f &= ~(kShadeSun | kShadeSpecular);  // light, sun and highlight only for lit draws
+    if (!(f & kShadeSun)) f &= ~kShadeSpecular;                // the headlight has no highlight
+    return f;
+}
+
+std::string variantSource(bool vertex, uint32_t features) {
+    const uint32_t f = canonicalFeatures(features);
+    std::string s = "#version 330 core\n";
+    const std::pair<uint32_t, const char*> names[] = {
+        {kShadeTexture, "TEXTURE"}, {kShadeColor, "COLOR"},       {kShadeBaked, "BAKED"},        {kShadeLit, "LIT"},
+        {kShadeSun, "SUN"},         {kShadeSpecular, "SPECULAR"}, {kShadeAlphaCut, "ALPHA_CUT"}, {kShadeFade, "FADE"}};
+    for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
+    return s + (vertex ? kVariantVertexShader : kVariantFragmentShader);
+}
 
 namespace {
 constexpr GLuint kItemLocation = 4;

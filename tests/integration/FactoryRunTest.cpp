@@ -125,6 +125,24 @@ TEST(FactoryRun, FramesEqualTheirNoCullReferences) {
     EXPECT_GT(culledSome[1], 0);
 }
 
+// The factory's path (textures, baked light, the sun's highlight, cut-out trees, fading LODs) drawn by the shader
+// variants and by the one program: the same pixels, at most 1/255 a channel.
+TEST(FactoryRun, TheShaderVariantsDrawThePathAsTheOneProgramDoes) {
+    Site& s = site();
+    sg::OsmesaContext ctx(kW, kH);
+    Walkthrough walk(s.f, s.scene, s.path, kW, kH);
+    for (int i = 0; i < kFrames; i += 2) {
+        sg::CullStats stats;
+        walk.renderer().setShaderMode(sg::Renderer::ShaderMode::OneProgram);
+        const sg::Image one = walk.render(i, sg::CullSettings{}, stats);
+        walk.renderer().setShaderMode(sg::Renderer::ShaderMode::Variants);
+        const sg::Image variants = walk.render(i, sg::CullSettings{}, stats);
+        EXPECT_EQ(sg::countDifferingPixels(one, variants, 1), 0u)
+            << "frame " << i << " (" << s.path.frames[size_t(i)].segment << ")";
+    }
+    EXPECT_GT(walk.renderer().variantCount(), 3u);  // textured, baked, cut-out and plain draws at least
+}
+
 using Result = ProgramRun;
 
 // This test's own directory, emptied: a new bake cache each run.

@@ -197,3 +197,29 @@ TEST(MapSession, RealDataFromTheWorldToATexasCounty) {
     EXPECT_EQ(out[11], "us\t840");
     EXPECT_EQ(out[12], "world");
 }
+
+// The map's levels drawn by the renderer's shader variants and by its one program: the same pixels (at most 1/255
+// a channel), world, United States and a state's counties with a highlighted one.
+TEST(MapSession, TheShaderVariantsDrawTheMapAsTheOneProgramDoes) {
+    Atlas atlas(generatedDir());
+    OsmesaDisplay display(kW, kH);
+    Session s(atlas, display, kW, kH);
+    s.overlay = false;
+    const auto both = [&](const char* where) {
+        display.renderer().setShaderMode(sg::Renderer::ShaderMode::OneProgram);
+        s.frame();
+        const sg::Image one = display.read();
+        display.renderer().setShaderMode(sg::Renderer::ShaderMode::Variants);
+        s.frame();
+        const sg::Image variants = display.read();
+        EXPECT_EQ(sg::countDifferingPixels(one, variants, 1), 0u) << where;
+        EXPECT_GT(differingBytes(one, sg::Image{one.width, one.height, std::vector<uint8_t>(one.rgba.size())}), 0u);
+    };
+    both("world");
+    ASSERT_TRUE(startsWith(s.command("enter 840"), "us\t840"));
+    both("united states");
+    ASSERT_TRUE(startsWith(s.command("enter 01"), "state\t01"));
+    ASSERT_TRUE(startsWith(s.command("pick 160 90"), "county\t01"));
+    both("a state's counties, one picked");
+    EXPECT_GT(display.renderer().variantCount(), 0u);
+}
