@@ -67,6 +67,7 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     const sg::StageTimes& t = viewer_->lastFrame();
     last_.cullMs = t.appMs + t.pagerMs + t.updateMs + t.cullMs;
     last_.drawMs = t.drawMs;
+    last_.gpuMs = v.gpuMs();
     last_.workMs = last_.cullMs + last_.drawMs;
     last_.frameMs = set_.limitRate ? t.frameMs : last_.workMs;
     last_.stats = v.cullStats();

@@ -22,6 +22,7 @@ std::vector<double> timeSameView(sg::Renderer& renderer, sg::Scene& scene, const
 // One frame as the method drew it.
 struct LodFrame {
     double cullMs = 0.0, drawMs = 0.0;  // cull: prepare() included
+    double gpuMs = -1.0;                // the draw as the GL timed it (-1: no timer queries)
     double workMs = 0.0;                // cull + draw until finished
     double frameMs = 0.0;               // workMs, and with Settings::limitRate the wait for the frame time
     sg::CullStats stats;                // lodPredictedMs, lodDropped... for the budget

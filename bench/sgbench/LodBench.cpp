@@ -98,7 +98,7 @@ int runLod(const Args& a) {
     std::vector<double> sameDev;
     for (double t : same) sameDev.push_back(std::abs(t - sameMedian));
 
-    std::vector<double> total, dev, select, predErr;
+    std::vector<double> total, dev, select, predErr, draw, gpu;
     double mae = 0, pct = 0, tris = 0, dropped = 0, levels[4] = {};
     const int count = int(cams.size());
     // Warm-up: one pass over the path, so that stress and the model settle on it.
@@ -115,6 +115,8 @@ int runLod(const Args& a) {
                              (unsigned long long)st.geometries, (unsigned long long)st.lodObjects,
                              (unsigned long long)st.lodDropped);
             total.push_back(t);
+            draw.push_back(f.drawMs);
+            if (f.gpuMs >= 0.0) gpu.push_back(f.gpuMs);
             dev.push_back(std::abs(t - budget));
             select.push_back(st.lodSelectMs);
             if (method == "budget") predErr.push_back(std::abs(f.drawMs - st.lodPredictedMs));  // before drawing
@@ -147,6 +149,8 @@ int runLod(const Args& a) {
     j.add("depth", renderer.depthMode() == sg::Renderer::DepthMode::ReverseZ ? "reverse-z" : "classic");
     j.add("frame_ms_mean", mean).add("frame_ms_median", median(total)).add("frame_ms_p95", percentile(total, 0.95));
     j.add("frame_ms_max", percentile(total, 1.0)).add("budget_abs_dev_p95_ms", percentile(dev, 0.95));
+    j.add("draw_ms_median", median(draw));                  // the CPU's, until finished
+    if (!gpu.empty()) j.add("gpu_ms_median", median(gpu));  // the GL's own (GL_TIME_ELAPSED)
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
     if (load.kind() != scenes::BackgroundLoad::Kind::None)
         j.add("background_load", scenes::BackgroundLoad::name(load.kind()));

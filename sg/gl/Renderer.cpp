@@ -34,6 +34,17 @@ PFNGLCLIPCONTROLPROC clipControl() {
 #endif
 }
 
+// The same for glGetQueryObjectui64v (GL 3.3's timer queries), which OSMesa's library does not export either.
+PFNGLGETQUERYOBJECTUI64VPROC queryObjectUi64() {
+#ifdef SGKIT_GL_OSMESA
+    static const auto fn =
+        reinterpret_cast<PFNGLGETQUERYOBJECTUI64VPROC>(OSMesaGetProcAddress("glGetQueryObjectui64v"));
+    return fn;
+#else
+    return &glGetQueryObjectui64v;
+#endif
+}
+
 #ifndef NDEBUG
 const char* errorName(GLenum e) {
     switch (e) {
@@ -143,6 +154,10 @@ Renderer::Renderer() {
         glDeleteProgram(one_.id);
         throw;
     }
+    // Timer queries are core in GL 3.3 (ARB_timer_query); a driver may still report no counter bits.
+    GLint bits = 0;
+    glGetQueryiv(GL_TIME_ELAPSED, GL_QUERY_COUNTER_BITS, &bits);
+    if (glGetError() == GL_NO_ERROR && bits > 0 && queryObjectUi64()) glGenQueries(1, &timeQuery_);
     cache_ = std::make_unique<GpuCache>(instanceVbo_, maxAnisotropy);
     depthTarget_ = std::make_unique<DepthTarget>();
 }
@@ -151,8 +166,19 @@ Renderer::~Renderer() {
     cache_.reset();
     depthTarget_.reset();
     glDeleteBuffers(1, &instanceVbo_);
+    if (timeQuery_) glDeleteQueries(1, &timeQuery_);
     glDeleteProgram(one_.id);
     for (auto& [features, p] : variants_) glDeleteProgram(p.id);
+}
+
+double Renderer::gpuMs() {
+    if (timePending_) {
+        GLuint64 ns = 0;
+        queryObjectUi64()(timeQuery_, GL_QUERY_RESULT, &ns);
+        gpuMs_ = double(ns) * 1e-6;
+        timePending_ = false;
+    }
+    return timeQuery_ ? gpuMs_ : -1.0;
 }
 
 Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentSource, const char* who) {
@@ -266,9 +292,14 @@ void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewp
     stats_ = RenderStats{};
     buildRuns(list);
     upload();
+    if (timeQuery_) glBeginQuery(GL_TIME_ELAPSED, timeQuery_);
     beginFrame(t, camera, clearColor);
     if (!runs_.empty()) drawRuns(list, camera, t.reverse);
     endFrame(t);
+    if (timeQuery_) {
+        glEndQuery(GL_TIME_ELAPSED);
+        timePending_ = true;
+    }
     checkGl("Renderer::draw()", "after drawing");
     stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }

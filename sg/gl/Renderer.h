@@ -109,6 +109,10 @@ public:
     const DirectionalLight& light() const { return light_; }
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
+    // The last draw()'s time as the GL measured it (a GL_TIME_ELAPSED query around the draw), in ms; waits for the
+    // draw to finish. -1 where the context has no timer queries.
+    double gpuMs();
+    bool timerQueries() const { return timeQuery_ != 0; }
 
     // The current viewport's pixels (after a draw, its viewport's), rows top to bottom: readColor from the bound
     // read framebuffer, readDepth the last draw's depth buffer as stored: Classic 0 at the near plane and 1 at the
@@ -188,6 +192,9 @@ private:
     void setShading(Program& p, const Shading& s);
 
     unsigned instanceVbo_ = 0;
+    unsigned timeQuery_ = 0;                          // GL_TIME_ELAPSED around each draw(); 0 without timer queries
+    bool timePending_ = false;                        // the last draw's query not read yet
+    double gpuMs_ = -1.0;                             // its result once read
     Program one_;                                     // ShaderMode::OneProgram's
     std::unordered_map<uint32_t, Program> variants_;  // by canonical features (Shaders.h)
     ShaderMode shaderMode_ = ShaderMode::Variants;

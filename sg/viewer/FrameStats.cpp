@@ -24,11 +24,12 @@ StageTimes FrameHistory::mean() const {
     if (frames_.empty()) return m;
     for (const StageTimes& t : frames_) {
         m.appMs += t.appMs, m.pagerMs += t.pagerMs, m.updateMs += t.updateMs, m.cullMs += t.cullMs;
-        m.drawMs += t.drawMs, m.waitMs += t.waitMs, m.presentMs += t.presentMs, m.workMs += t.workMs;
+        m.drawMs += t.drawMs, m.gpuMs += t.gpuMs, m.waitMs += t.waitMs, m.presentMs += t.presentMs,
+            m.workMs += t.workMs;
         m.frameMs += t.frameMs, m.intervalMs += t.intervalMs;
     }
     const double n = double(frames_.size());
-    m.appMs /= n, m.pagerMs /= n, m.updateMs /= n, m.cullMs /= n, m.drawMs /= n, m.waitMs /= n;
+    m.appMs /= n, m.pagerMs /= n, m.updateMs /= n, m.cullMs /= n, m.drawMs /= n, m.gpuMs /= n, m.waitMs /= n;
     m.presentMs /= n, m.workMs /= n, m.frameMs /= n, m.intervalMs /= n;
     m.frame = last().frame;
     return m;

@@ -11,12 +11,13 @@ namespace sg {
 // intervalMs the time from the last frame's start to this one's (what the frame rate is made of).
 struct StageTimes {
     uint64_t frame = 0;
-    double appMs = 0.0;      // events and the application's callbacks
-    double pagerMs = 0.0;    // the pager's update: requests queued, details attached and unloaded
-    double updateMs = 0.0;   // update callbacks after the pager, and Scene::update()
-    double cullMs = 0.0;     // every view's cull
-    double drawMs = 0.0;     // every view's draw and the overlay, until finished (ViewerSettings::finish)
-    double waitMs = 0.0;     // the frame-rate phase's wait (FramePhase::Limit, Lock)
+    double appMs = 0.0;     // events and the application's callbacks
+    double pagerMs = 0.0;   // the pager's update: requests queued, details attached and unloaded
+    double updateMs = 0.0;  // update callbacks after the pager, and Scene::update()
+    double cullMs = 0.0;    // every view's cull
+    double drawMs = 0.0;    // every view's draw and the overlay, until finished (ViewerSettings::finish)
+    double gpuMs = 0.0;     // the views' draws as the GL timed them (0 where not known: no timer queries, not finished)
+    double waitMs = 0.0;    // the frame-rate phase's wait (FramePhase::Limit, Lock)
     double presentMs = 0.0;  // present callbacks (a window's buffer swap)
     double workMs = 0.0;
     double frameMs = 0.0;

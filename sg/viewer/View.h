@@ -42,6 +42,8 @@ public:
     const RenderStats& renderStats() const { return render_; }
     double cullMs() const { return cullMs_; }
     double drawMs() const { return drawMs_; }  // submitted and, when timed, finished
+    // The draw as the GL timed it (Renderer::gpuMs()), when the viewer finished it; -1 when not known.
+    double gpuMs() const { return gpuMs_; }
     // What the policies learn from (kept while the view lives).
     const DrawCostModel& costModel() const { return model_; }
     const LodStress& stress() const { return stress_; }
@@ -62,7 +64,7 @@ private:
     DrawList list_;
     CullStats stats_;
     RenderStats render_;
-    double cullMs_ = 0.0, drawMs_ = 0.0;
+    double cullMs_ = 0.0, drawMs_ = 0.0, gpuMs_ = -1.0;
     DrawCostModel model_;
     LodStress stress_;
     double stressBudgetMs_ = 0.0;  // the budget stress_ was made for

@@ -160,8 +160,11 @@ void Viewer::drawViews(StageTimes& t) {
             height = std::max(height, v->camera.height());
         }
         v->render_ = renderer_->lastStats();
-        if (v->lod != LodPolicy::Static || settings_.finish) renderer_->finish();
+        const bool finished = v->lod != LodPolicy::Static || settings_.finish;
+        if (finished) renderer_->finish();
         v->drawMs_ = msSince(at);
+        v->gpuMs_ = finished ? renderer_->gpuMs() : -1.0;
+        if (v->gpuMs_ >= 0.0) t.gpuMs += v->gpuMs_;
     }
     if (overlay && width > 0 && height > 0) {
         if (!text_) text_ = std::make_unique<TextOverlay>();
@@ -196,8 +199,9 @@ std::string Viewer::statsText() const {
     char buf[320];
     std::snprintf(buf, sizeof buf,
                   "fps %.1f   frame %.2f ms   work %.2f ms\n"
-                  "app %.2f  pager %.2f  update %.2f  cull %.2f  draw %.2f  wait %.2f",
-                  history_.rate(), m.frameMs, m.workMs, m.appMs, m.pagerMs, m.updateMs, m.cullMs, m.drawMs, m.waitMs);
+                  "app %.2f  pager %.2f  update %.2f  cull %.2f  draw %.2f (gpu %.2f)  wait %.2f",
+                  history_.rate(), m.frameMs, m.workMs, m.appMs, m.pagerMs, m.updateMs, m.cullMs, m.drawMs, m.gpuMs,
+                  m.waitMs);
     const std::string more = overlayText ? overlayText() : std::string();
     return more.empty() ? std::string(buf) : more + "\n" + buf;
 }

@@ -266,3 +266,24 @@ TEST(Viewer, ImpossibleSettingsAreRefusedByName) {
 }
 
 }  // namespace
+
+namespace {
+
+// The draw as the GL timed it: a GL_TIME_ELAPSED query around each draw, read once the draw is finished.
+TEST(Viewer, TheGlsOwnDrawTimeIsReportedBesideTheCpus) {
+    Fixture f;
+    Viewer viewer(f.scene);
+    View& v = viewer.addView(lookingAt(dvec3(0, -3, 0)));
+    if (!viewer.renderer().timerQueries()) GTEST_SKIP() << "this context has no GL_TIME_ELAPSED counter";
+    viewer.frame();
+    EXPECT_GT(v.gpuMs(), 0.0);  // a box filling much of the view took the GL some time
+    EXPECT_EQ(viewer.lastFrame().gpuMs, v.gpuMs());
+    EXPECT_GT(viewer.renderer().gpuMs(), 0.0);  // read once, kept
+    // Not finished (a static view with ViewerSettings::finish off): not known, and nothing waits for it.
+    viewer.settings().finish = false;
+    viewer.frame();
+    EXPECT_EQ(v.gpuMs(), -1.0);
+    EXPECT_EQ(viewer.lastFrame().gpuMs, 0.0);
+}
+
+}  // namespace
