@@ -392,7 +392,8 @@ void Renderer::upload() {
         r.gpu = &cache_->mesh(r.mesh);
         const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
         r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
-        r.program = &programFor(shading(*r.gpu, r.material, r.fade, r.texture));
+        r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
+        r.program = &programFor(r.shading);
     }
 }
 
@@ -466,7 +467,7 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     pointItemAttributes(r.first);
     if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
     use(*r.program);
-    setShading(*r.program, shading(g, r.material, r.fade, r.texture));
+    setShading(*r.program, r.shading);
     if (r.part == kWhole) {
         glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
         stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);

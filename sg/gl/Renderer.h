@@ -158,6 +158,7 @@ private:
         const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
         unsigned texture = 0;          // GL name, 0 without a texture
         Program* program = nullptr;    // set with gpu
+        Shading shading;               // set with gpu: what picked the program and what its uniforms get
     };
     static constexpr uint32_t kWhole = ~0u;
     // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
