@@ -60,6 +60,11 @@ void GlfwWindow::makeCurrent() { glfwMakeContextCurrent(win_); }
 bool GlfwWindow::shouldClose() const { return glfwWindowShouldClose(win_) == GLFW_TRUE; }
 void GlfwWindow::close() { glfwSetWindowShouldClose(win_, GLFW_TRUE); }
 void GlfwWindow::swapBuffers() { glfwSwapBuffers(win_); }
+
+void GlfwWindow::setSwapInterval(int interval) {
+    glfwMakeContextCurrent(win_);
+    glfwSwapInterval(interval);
+}
 void GlfwWindow::pollEvents() { glfwPollEvents(); }
 double GlfwWindow::time() const { return glfwGetTime(); }
 

@@ -26,6 +26,8 @@ public:
     // Asks the window to close: shouldClose() becomes true (the window stays until destroyed).
     void close();
     void swapBuffers();
+    // Buffer swaps a swap waits for (glfwSwapInterval): 0 presents at once, 1 on the display's refresh.
+    void setSwapInterval(int interval);
     void pollEvents();
     // Framebuffer size in pixels (what glViewport takes; may differ from the window size on HiDPI).
     int width() const;
