@@ -1,5 +1,7 @@
 #include "sg/core/Mesh.h"
 
+#include "sg/core/MeshClosed.h"
+
 #include <atomic>
 #include <stdexcept>
 #include <string>
@@ -48,6 +50,8 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
     } else {
         indices32_ = std::move(indices);
     }
+    closed_ = boundsSolids(positions_, indices16_.empty() ? nullptr : indices16_.data(),
+                           indices32_.empty() ? nullptr : indices32_.data(), indexCount());
     ++version_;
 }
 

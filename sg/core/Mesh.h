@@ -41,6 +41,11 @@ public:
     // Local bound; `validBound()` is false when a position is NaN or infinite.
     const Box& box() const { return box_; }
     bool validBound() const { return valid_; }
+    // Whether its triangles bound solids, wound counter-clockwise seen from outside: with positions welded where
+    // equal, each edge is run along once each way and each connected part encloses a positive volume. From an eye
+    // outside such a mesh's bound only front faces can show, so the renderer skips its back faces when the
+    // material is opaque (Renderer::setBackFaceCulling). Worked out by set().
+    bool closed() const { return closed_; }
     uint32_t id() const { return id_; }
     // Counts calls to set(): caches built from the arrays (MeshBvh) compare it to see that they are stale.
     uint64_t version() const { return version_; }
@@ -53,6 +58,7 @@ private:
     std::vector<uint32_t> indices32_;
     Box box_;
     bool valid_ = true;
+    bool closed_ = false;
     uint32_t id_;
     uint64_t version_ = 0;
 };

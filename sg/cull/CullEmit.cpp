@@ -125,7 +125,7 @@ void CullTraversal::emitTrimmed(Ctx& c, uint32_t i, const dmat4& m) {
     toFloat(m, it.model);
     const uint32_t item = uint32_t(out_->items.size() - 1);
     if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
-    out_->parts.push_back({item, uint32_t(firstRange), uint32_t(ranges.size() - firstRange)});
+    out_->parts.push_back({item, uint32_t(firstRange), uint32_t(ranges.size() - firstRange), true});
     triangles_ += kept;
 }
 

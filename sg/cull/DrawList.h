@@ -41,6 +41,10 @@ public:
     // ranges[first, first + count), ascending and disjoint. Items not listed: their whole mesh.
     struct Part {
         uint32_t item, first, count;
+        // The ranges hold every triangle of the item that reaches the screen (the cull's screen-rect parts): the
+        // front faces in front of its back faces are drawn, so the renderer may skip the back faces of a closed mesh
+        // (Renderer::setBackFaceCulling). Parts of other making draw exactly their triangles, back faces too.
+        bool coversScreen = false;
     };
     std::vector<Part> parts;
     std::vector<IndexRange> ranges;

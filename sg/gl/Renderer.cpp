@@ -1,5 +1,6 @@
 #include "sg/gl/Renderer.h"
 
+#include "sg/gl/BackFaces.h"
 #include "sg/gl/DepthTarget.h"
 #include "sg/gl/GlProgram.h"
 #include "sg/gl/GpuCache.h"
@@ -290,7 +291,7 @@ void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewp
     Target t = target(viewport, inFramebuffer);
     cache_->nextFrame();
     stats_ = RenderStats{};
-    buildRuns(list);
+    buildRuns(list, camera);
     upload();
     if (timeQuery_) glBeginQuery(GL_TIME_ELAPSED, timeQuery_);
     beginFrame(t, camera, clearColor);
@@ -357,8 +358,10 @@ void Renderer::indexParts(const DrawList& list) {
     }
 }
 
-// Runs of equal (mesh, material) pointers in draw order; every matrix of the frame goes in one buffer.
-void Renderer::buildRuns(const DrawList& list) {
+// Runs of equal (mesh, material) pointers in draw order, split where the back faces' culling changes; every matrix of
+// the frame goes in one buffer.
+void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
+    const double reach = backFaceCulling_ ? nearPlaneReach(camera) : -1.0;
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
     items_.clear();
     runs_.clear();
@@ -374,9 +377,13 @@ void Renderer::buildRuns(const DrawList& list) {
         if (!it.mesh || it.mesh->indexCount() == 0) continue;
         const float fade = fades_.empty() ? 1.0f : fades_[i];
         const uint32_t part = parts_.empty() ? kWhole : parts_[i];
+        const bool cullBack = fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
+                              backFacesHidden(it, it.material, reach);
         if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
-            runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole) {
-            runs_.push_back(Run{it.mesh, it.material, uint32_t(items_.size()), 0, fade, part});
+            runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole ||
+            runs_.back().cullBack != cullBack) {
+            runs_.push_back(
+                Run{it.mesh, it.material, uint32_t(items_.size()), 0, fade, part, cullBack, nullptr, 0, nullptr, {}});
             item.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
         }
         runs_.back().count++;
@@ -429,7 +436,9 @@ void Renderer::beginFrame(Target& t, const Camera& camera, const vec4& clearColo
     glViewport(v.x, v.y, v.width, v.height);
     glScissor(v.x, v.y, v.width, v.height);
     glEnable(GL_SCISSOR_TEST);  // the clear too: glClear ignores the viewport
-    glDisable(GL_CULL_FACE);
+    glDisable(GL_CULL_FACE);    // per run (Run::cullBack)
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
     glDisable(GL_BLEND);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(t.reverse ? GL_GREATER : GL_LESS);
@@ -454,7 +463,18 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     ++draws_;
     current_ = nullptr;
     glActiveTexture(GL_TEXTURE0);
-    for (const Run& r : runs_) drawRun(list, r);
+    bool culling = false;
+    for (const Run& r : runs_) {
+        if (r.cullBack != culling) {
+            culling = r.cullBack;
+            if (culling)
+                glEnable(GL_CULL_FACE);
+            else
+                glDisable(GL_CULL_FACE);
+        }
+        drawRun(list, r);
+    }
+    glDisable(GL_CULL_FACE);
     glBindVertexArray(0);
     glUseProgram(0);
     current_ = nullptr;
@@ -487,6 +507,7 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     }
     stats_.drawCalls++;
     stats_.instances += r.count;
+    if (r.cullBack) stats_.backFacesSkipped += r.count;
 }
 
 // Back to GL's defaults for whatever draws next; ReverseZ: the viewport's colour to the framebuffer bound at the

@@ -27,7 +27,8 @@ struct RenderStats {
     uint64_t drawCalls = 0;
     uint64_t instances = 0;  // draw items drawn
     uint64_t triangles = 0;
-    double ms = 0.0;  // CPU time of draw(), without waiting for the GPU to finish
+    uint64_t backFacesSkipped = 0;  // items drawn without their back faces (Renderer::setBackFaceCulling)
+    double ms = 0.0;                // CPU time of draw(), without waiting for the GPU to finish
 };
 
 class Renderer {
@@ -63,6 +64,15 @@ public:
     ShaderMode shaderMode() const { return shaderMode_; }
     // The variants compiled so far.
     size_t variantCount() const { return variants_.size(); }
+
+    // Back faces that cannot show are not drawn (on by default): those of items whose mesh is closed (Mesh::closed()),
+    // drawn opaque, with a matrix that keeps the winding, the eye outside the item's bound and the near
+    // plane clear of it (sg/gl/BackFaces.h). Such an item's back faces all lie behind its front faces, so the
+    // pixels are those drawn with it off (tested), but where a back face meets its front face at a silhouette edge
+    // at one depth, and the rounding of the rasterizer picked the back face: a few pixels a view. A software
+    // rasterizer is spared half the triangles of a solid.
+    void setBackFaceCulling(bool on) { backFaceCulling_ = on; }
+    bool backFaceCulling() const { return backFaceCulling_; }
 
     // Whether the context rasterizes in software (llvmpipe, softpipe, swrast): where a frame loop wants
     // keepFreedMemory() (sg/gl/KeepFreedMemory.h), and where the renderer filters textures without anisotropy.
@@ -123,6 +133,8 @@ public:
     // for a rectangle without area or with a negative corner.
     Image readColor(const Viewport& rect) const;
     std::vector<float> readDepth() const;
+    // Whether the last draw stored reversed depth (ReverseZ, or Auto that chose it): how readDepth() reads.
+    bool lastDepthReversed() const { return lastReverseZ_; }
 
     // Meshes and textures are uploaded once and kept (with a reference, so that their pointers stay
     // valid); a Mesh changed after its first draw keeps its old GPU copy until released.
@@ -155,6 +167,7 @@ private:
         uint32_t first, count;  // range in items_
         float fade;             // DrawList::fades
         uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
+        bool cullBack;          // its items' back faces are skipped (sg/gl/BackFaces.h)
         const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
         unsigned texture = 0;          // GL name, 0 without a texture
         Program* program = nullptr;    // set with gpu
@@ -174,7 +187,7 @@ private:
     void drawFrame(const DrawList& list, const Camera& camera, const Viewport& viewport, const vec4& clearColor,
                    bool inFramebuffer);
     static Target target(const Viewport& viewport, bool inFramebuffer);
-    void buildRuns(const DrawList& list);
+    void buildRuns(const DrawList& list, const Camera& camera);
     void indexFades(const DrawList& list);
     void indexParts(const DrawList& list);
     void upload();
@@ -199,6 +212,7 @@ private:
     Program one_;                                     // ShaderMode::OneProgram's
     std::unordered_map<uint32_t, Program> variants_;  // by canonical features (Shaders.h)
     ShaderMode shaderMode_ = ShaderMode::Variants;
+    bool backFaceCulling_ = true;
     Program* current_ = nullptr;  // in use in the draw
     uint64_t draws_ = 0;          // draw() calls: which frame a program's camera and light are of
     mat4 viewProj_{1.0f};         // the draw's

@@ -2,6 +2,7 @@
 // workshop, no collision penetrations, visible triangles below the site's total, the machine mesh stored
 // once, frames equal to their no-cull references), the summary's split of the budget's frames, and the program
 // itself (JSON, pictures, bad options).
+#include "BackFaceCompare.h"
 #include "factory/Report.h"
 #include "factory/Walkthrough.h"
 #include "integration/ProgramRun.h"
@@ -141,6 +142,29 @@ TEST(FactoryRun, TheShaderVariantsDrawThePathAsTheOneProgramDoes) {
             << "frame " << i << " (" << s.path.frames[size_t(i)].segment << ")";
     }
     EXPECT_GT(walk.renderer().variantCount(), 3u);  // textured, baked, cut-out and plain draws at least
+}
+
+// The walk passes through doors and close by walls and machines: whatever back faces the renderer skips, the
+// pictures are those drawn with all of them, but for ties at silhouette edges (tests/BackFaceCompare.h).
+TEST(FactoryRun, SkippingBackFacesDrawsThePathAsDrawingThemDoes) {
+    Site& s = site();
+    sg::OsmesaContext ctx(kW, kH);
+    Walkthrough walk(s.f, s.scene, s.path, kW, kH);
+    uint64_t skipped = 0;
+    for (int i = 0; i < kFrames; i += 2) {
+        sg::CullStats stats;
+        walk.renderer().setBackFaceCulling(false);
+        const sg::Image all = walk.render(i, sg::CullSettings{}, stats);
+        const std::vector<float> allDepth = walk.renderer().readDepth();
+        walk.renderer().setBackFaceCulling(true);
+        const sg::Image culled = walk.render(i, sg::CullSettings{}, stats);
+        skipped += walk.renderer().lastStats().backFacesSkipped;
+        const testutil::BackFaceDiff d = testutil::compareBackFaces(all, allDepth, culled, walk.renderer().readDepth(),
+                                                                    walk.renderer().lastDepthReversed());
+        EXPECT_EQ(d.wrong, 0u) << "frame " << i << " (" << s.path.frames[size_t(i)].segment << ")";
+        EXPECT_LE(d.ties, size_t(kW * kH) / 200) << "frame " << i;
+    }
+    EXPECT_GT(skipped, 0u);
 }
 
 using Result = ProgramRun;
