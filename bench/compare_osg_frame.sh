@@ -4,7 +4,8 @@
 # (A B C A B C ...) in one X server so that all see the same machine speed. Prints each run, then per size the
 # medians of the runs' median frames and the ratio sgkit / OpenSceneGraph per round and its median.
 #   bench/compare_osg_frame.sh BUILD_DIR [N ...]     (BUILD_DIR configured with -DSGKIT_BENCH_OSG=ON; ROUNDS=5)
-# Without a display it starts Xvfb (xvfb-run).
+# EXTRA=1 adds sgkit drawing every back face (--back-faces all) and OpenSceneGraph with a CullFace on its solids
+# (--cull-face 1): each toolkit with and without skipping back faces. Without a display it starts Xvfb (xvfb-run).
 set -euo pipefail
 build=$(cd "${1:?build directory}" && pwd)
 shift
@@ -20,6 +21,10 @@ run() {
       "$build/bench/sgframe" --n "$n" --passes "$passes"
       "$build/bench/osg_peer/sgframe_osg" --n "$n" --passes "$passes" --threading single
       "$build/bench/osg_peer/sgframe_osg" --n "$n" --passes "$passes" --threading draw
+      if [[ -n ${EXTRA:-} ]]; then
+        "$build/bench/sgframe" --n "$n" --passes "$passes" --back-faces all
+        "$build/bench/osg_peer/sgframe_osg" --n "$n" --passes "$passes" --threading single --cull-face 1
+      fi
     done
   done
 }
@@ -30,7 +35,9 @@ out=$(run)
 python3 -c '
 import json, statistics, sys
 runs = [json.loads(l) for l in sys.stdin if l.startswith("{")]
-def who(r): return r["peer"] + ("" if r["peer"] == "sgkit" else " " + r["threading"])
+def who(r):
+    if r["peer"] == "sgkit": return "sgkit" + ("" if r["back_faces"] == "auto" else " all-back-faces")
+    return r["peer"] + " " + r["threading"]
 for r in runs:
     g = r["geometries_mean"]
     print("%-26s n=%4d frame_ms_median=%7.2f p95=%7.2f geometries=%s" % (
@@ -46,6 +53,10 @@ for n in sorted({r["n"] for r in runs}):
     line = [f"n={n}: sgkit {statistics.median(sg):.1f} ms (p95 {p95(who_sg):.1f})"]
     for k in sorted(per):
         if k == "sgkit": continue
+        if k.startswith("sgkit"):
+            o = [r["frame_ms_median"] for r in per[k]]
+            line.append(f"{k} {statistics.median(o):.1f} ms (p95 {p95(k):.1f})")
+            continue
         o = [r["frame_ms_median"] for r in per[k]]
         ratios = [s / x for s, x in zip(sg, o)]
         line.append(f"{k} {statistics.median(o):.1f} ms (p95 {p95(k):.1f}), "

@@ -2,7 +2,9 @@
 // no display) by sg::Viewer with its default settings: each frame's events, update, cull, draw and buffer swap,
 // timed from one frame's start to the next's. bench/compare_osg_frame.sh runs it alternating with the
 // OpenSceneGraph peer's viewer on the same scene and path.
-//   sgframe [--n N] [--passes K]     one JSON object on stdout: medians and p95 over K passes after a warm-up pass
+//   sgframe [--n N] [--passes K] [--back-faces auto|all]
+// One JSON object on stdout: medians and p95 over K passes after a warm-up pass. --back-faces all draws every back
+// face (Renderer::setBackFaceCulling(false)); auto, the default, skips those of closed meshes that cannot show.
 #include "sg/gl/GlfwWindow.h"
 #include "sg/viewer/Viewer.h"
 #include "testbed/City.h"
@@ -38,6 +40,7 @@ int main(int argc, char** argv) try {
     using namespace sg;
     using Clock = std::chrono::steady_clock;
     int n = 100, passes = 2;
+    std::string backFaces = "auto";
     for (int i = 1; i < argc; i += 2) {
         const std::string k = argv[i];
         if (i + 1 >= argc) throw std::invalid_argument(k + " needs a value");
@@ -45,8 +48,10 @@ int main(int argc, char** argv) try {
             n = int(argNumber(argv[i + 1], "n", 1, 4000));
         else if (k == "--passes")
             passes = int(argNumber(argv[i + 1], "passes", 1, 1000));
+        else if (k == "--back-faces" && (std::string(argv[i + 1]) == "auto" || std::string(argv[i + 1]) == "all"))
+            backFaces = argv[i + 1];
         else
-            throw std::invalid_argument("unknown option '" + k + "' (--n N, --passes K)");
+            throw std::invalid_argument("unknown option '" + k + "' (--n N, --passes K, --back-faces auto|all)");
     }
     const int w = 1280, h = 720;
     GlfwWindow window(w, h, "sgframe");
@@ -56,12 +61,13 @@ int main(int argc, char** argv) try {
     const double buildS = std::chrono::duration<double>(Clock::now() - b0).count();
     Viewer viewer(scene);
     View& view = viewer.addView();
+    viewer.renderer().setBackFaceCulling(backFaces == "auto");
     int f = 0;
     viewer.onApp([&](const FrameInfo&) { view.camera = scenes::cityOrbitCamera(n, f % scenes::kOrbitFrames, w, h); });
     viewer.onPresent([&] { window.swapBuffers(); });
 
     std::vector<double> frameMs, cullMs, drawMs, gpuMs;
-    double geometries = 0, triangles = 0, drawCalls = 0;
+    double geometries = 0, triangles = 0, drawCalls = 0, skipped = 0;
     Clock::time_point last{};
     const int total = (passes + 1) * scenes::kOrbitFrames;
     for (f = 0; f < total; ++f) {
@@ -78,15 +84,19 @@ int main(int argc, char** argv) try {
             geometries += double(view.cullStats().geometries);
             triangles += double(view.cullStats().triangles);
             drawCalls += double(view.renderStats().drawCalls);
+            skipped += double(view.renderStats().backFacesSkipped);
         }
     }
     const double k = double(cullMs.size());
     std::printf(
-        "{\"peer\": \"sgkit\", \"n\": %d, \"width\": %d, \"height\": %d, \"frames\": %zu, \"frame_ms_median\": %.3f, "
+        "{\"peer\": \"sgkit\", \"back_faces\": \"%s\", \"n\": %d, \"width\": %d, \"height\": %d, \"frames\": %zu, "
+        "\"frame_ms_median\": %.3f, "
         "\"frame_ms_p95\": %.3f, \"cull_ms_median\": %.3f, \"draw_ms_median\": %.3f, \"gpu_ms_median\": %.3f, "
-        "\"geometries_mean\": %.1f, \"triangles_mean\": %.1f, \"draw_calls_mean\": %.1f, \"build_s\": %.2f}\n",
-        n, w, h, frameMs.size(), quantile(frameMs, 0.5), quantile(frameMs, 0.95), quantile(cullMs, 0.5),
-        quantile(drawMs, 0.5), quantile(gpuMs, 0.5), geometries / k, triangles / k, drawCalls / k, buildS);
+        "\"geometries_mean\": %.1f, \"triangles_mean\": %.1f, \"draw_calls_mean\": %.1f, \"back_faces_skipped_mean\": "
+        "%.1f, \"build_s\": %.2f}\n",
+        backFaces.c_str(), n, w, h, frameMs.size(), quantile(frameMs, 0.5), quantile(frameMs, 0.95),
+        quantile(cullMs, 0.5), quantile(drawMs, 0.5), quantile(gpuMs, 0.5), geometries / k, triangles / k,
+        drawCalls / k, skipped / k, buildS);
     return 0;
 } catch (const std::exception& e) {
     std::fprintf(stderr, "sgframe: %s\n", e.what());

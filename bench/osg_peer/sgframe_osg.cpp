@@ -9,13 +9,16 @@
 //   * Culling as the cull peer's: the six frustum planes, no small-feature culling, no near/far computation.
 //   * No swap interval (vsync off) in either program, one warm-up pass of the path before the timed passes.
 //
-//   sgframe_osg [--n N] [--passes K] [--threading single|draw|cull-draw]
+//   sgframe_osg [--n N] [--passes K] [--threading single|draw|cull-draw] [--cull-face 0|1]
 //     single     SingleThreaded
 //     draw       DrawThreadPerContext (the cull of frame f+1 overlaps the draw of frame f)
 //     cull-draw  CullDrawThreadPerContext
+//   --cull-face 1: an osg::CullFace (back) on both materials, what an OSG user sets by hand on solids (sgkit skips
+//   back faces it can prove hidden by default; bench/frame/sgframe --back-faces all draws them).
 // Output: one JSON object on stdout.
 #include "OsgCity.h"
 
+#include <osg/CullFace>
 #include <osg/Material>
 #include <osg/Version>
 #include <osgUtil/RenderBin>
@@ -50,12 +53,13 @@ long argNumber(const char* s, const char* what, long lo, long hi) {
     return v;
 }
 
-osg::ref_ptr<osg::StateSet> materialState(const osg::Vec4& colour) {
+osg::ref_ptr<osg::StateSet> materialState(const osg::Vec4& colour, bool cullFace) {
     osg::ref_ptr<osg::Material> m = new osg::Material;
     m->setDiffuse(osg::Material::FRONT_AND_BACK, colour);
     m->setAmbient(osg::Material::FRONT_AND_BACK, colour * 0.25f);
     osg::ref_ptr<osg::StateSet> s = new osg::StateSet;
     s->setAttribute(m.get());
+    if (cullFace) s->setAttributeAndModes(new osg::CullFace(osg::CullFace::BACK), osg::StateAttribute::ON);
     return s;
 }
 
@@ -73,6 +77,7 @@ int main(int argc, char** argv) try {
     using Clock = std::chrono::steady_clock;
     int n = 100, passes = 2;
     std::string threading = "single";
+    bool cullFace = false;
     for (int i = 1; i < argc; i += 2) {
         const std::string k = argv[i];
         if (i + 1 >= argc) throw std::invalid_argument(k + " needs a value");
@@ -82,8 +87,11 @@ int main(int argc, char** argv) try {
             passes = int(argNumber(argv[i + 1], "passes", 1, 1000));
         else if (k == "--threading")
             threading = argv[i + 1];
+        else if (k == "--cull-face")
+            cullFace = argNumber(argv[i + 1], "cull-face", 0, 1) == 1;
         else
-            throw std::invalid_argument("unknown option '" + k + "' (--n N, --passes K, --threading T)");
+            throw std::invalid_argument("unknown option '" + k +
+                                        "' (--n N, --passes K, --threading T, --cull-face 0|1)");
     }
     osgViewer::ViewerBase::ThreadingModel model;
     if (threading == "single")
@@ -97,10 +105,10 @@ int main(int argc, char** argv) try {
 
     const auto b0 = Clock::now();
     Meshes meshes = buildMeshes(OccluderKind::None);
-    const osg::ref_ptr<osg::StateSet> building = materialState({0.72f, 0.70f, 0.66f, 1.0f});
+    const osg::ref_ptr<osg::StateSet> building = materialState({0.72f, 0.70f, 0.66f, 1.0f}, cullFace);
     for (auto& g : meshes.detailed) g->setStateSet(building.get());
     for (auto& g : meshes.coarse) g->setStateSet(building.get());
-    meshes.car->setStateSet(materialState({0.8f, 0.15f, 0.1f, 1.0f}).get());
+    meshes.car->setStateSet(materialState({0.8f, 0.15f, 0.1f, 1.0f}, cullFace).get());
     Scene scene = buildCity(n, meshes, false);
     const double buildS = std::chrono::duration<double>(Clock::now() - b0).count();
 
@@ -150,11 +158,11 @@ int main(int argc, char** argv) try {
     const std::string counted =
         model == osgViewer::ViewerBase::SingleThreaded ? std::to_string(geometries / kFrames) : "null";
     std::printf(
-        "{\"peer\": \"openscenegraph\", \"osg_version\": \"%s\", \"threading\": \"%s\", \"n\": %d, \"width\": %d, "
+        "{\"peer\": \"openscenegraph\", \"osg_version\": \"%s\", \"threading\": \"%s%s\", \"n\": %d, \"width\": %d, "
         "\"height\": %d, \"frames\": %zu, \"frame_ms_median\": %.3f, \"frame_ms_p95\": %.3f, \"geometries_mean\": "
         "%s, \"build_s\": %.2f}\n",
-        osgGetVersion(), threading.c_str(), n, kViewportW, kViewportH, frameMs.size(), quantile(frameMs, 0.5),
-        quantile(frameMs, 0.95), counted.c_str(), buildS);
+        osgGetVersion(), threading.c_str(), cullFace ? "+cullface" : "", n, kViewportW, kViewportH, frameMs.size(),
+        quantile(frameMs, 0.5), quantile(frameMs, 0.95), counted.c_str(), buildS);
     std::fflush(stdout);
     std::_Exit(0);  // the graph's teardown is quadratic in shared Geometry parents (see sgbench_osg); nothing follows
 } catch (const std::exception& e) {
