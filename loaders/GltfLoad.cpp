@@ -1,5 +1,7 @@
 // loadGltf: reads the file (mapped, not copied), checks the bytes, lets tinygltf parse, validates, converts.
 #include "loaders/GltfDetail.h"
+#include "nodes/Geometry.h"
+#include "sg/core/NodeVisitor.h"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -165,7 +167,22 @@ GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options) {
     return gltf::load(path, baseDir, bytes.size() ? bytes.data() : &empty, bytes.size(), true, progress);
 }
 
-ref_ptr<Node> loadGltfPage(const std::string& file) { return loadGltf(file).root; }
+namespace {
+// Works out Mesh::closed() for every mesh of a page on the pager's thread, so that its first draw does not.
+struct WorkOutSolids : NodeVisitor {
+    void apply(Geometry& g) override {
+        if (g.mesh()) g.mesh()->closed();
+        traverse(g);
+    }
+};
+}  // namespace
+
+ref_ptr<Node> loadGltfPage(const std::string& file) {
+    ref_ptr<Node> root = loadGltf(file).root;
+    WorkOutSolids solids;
+    if (root) root->accept(solids);
+    return root;
+}
 
 GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t size, const GltfLoadOptions& options) {
     gltf::Progress progress(options);

@@ -50,9 +50,21 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
     } else {
         indices32_ = std::move(indices);
     }
-    closed_ = boundsSolids(positions_, indices16_.empty() ? nullptr : indices16_.data(),
-                           indices32_.empty() ? nullptr : indices32_.data(), indexCount());
+    closed_.store(-1, std::memory_order_relaxed);
     ++version_;
+}
+
+// Two threads asking at once may both work it out: the same answer, stored twice.
+bool Mesh::closed() const {
+    int8_t c = closed_.load(std::memory_order_acquire);
+    if (c < 0) {
+        c = boundsSolids(positions_, indices16_.empty() ? nullptr : indices16_.data(),
+                         indices32_.empty() ? nullptr : indices32_.data(), indexCount())
+                ? 1
+                : 0;
+        closed_.store(c, std::memory_order_release);
+    }
+    return c == 1;
 }
 
 ref_ptr<Mesh> makeBoxMesh(const dvec3& mn, const dvec3& mx, int div) {

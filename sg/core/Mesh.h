@@ -4,6 +4,7 @@
 #include "sg/core/Math.h"
 #include "sg/core/Ref.h"
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -44,8 +45,11 @@ public:
     // Whether its triangles bound solids, wound counter-clockwise seen from outside: with positions welded where
     // equal, each edge is run along once each way and each connected part encloses a positive volume. From an eye
     // outside such a mesh's bound only front faces can show, so the renderer skips its back faces when the
-    // material is opaque (Renderer::setBackFaceCulling). Worked out by set().
-    bool closed() const { return closed_; }
+    // material is opaque (Renderer::setBackFaceCulling). Worked out on the first call after set() (welding the
+    // positions and sorting the triangles' edges: 12 ms for 120,000 triangles, 0.85 s for 4.8 million), then kept; any
+    // thread may call it, and a program that loads meshes off its frame (a pager's load function) calls it there so
+    // that the first draw does not wait.
+    bool closed() const;
     uint32_t id() const { return id_; }
     // Counts calls to set(): caches built from the arrays (MeshBvh) compare it to see that they are stale.
     uint64_t version() const { return version_; }
@@ -58,7 +62,7 @@ private:
     std::vector<uint32_t> indices32_;
     Box box_;
     bool valid_ = true;
-    bool closed_ = false;
+    mutable std::atomic<int8_t> closed_{-1};  // closed(): -1 until worked out
     uint32_t id_;
     uint64_t version_ = 0;
 };
