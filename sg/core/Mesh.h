@@ -46,9 +46,9 @@ public:
     // equal, each edge is run along once each way and each connected part encloses a positive volume. From an eye
     // outside such a mesh's bound only front faces can show, so the renderer skips its back faces when the
     // material is opaque (Renderer::setBackFaceCulling). Worked out on the first call after set() (welding the
-    // positions and sorting the triangles' edges: 12 ms for 120,000 triangles, 0.85 s for 4.8 million), then kept; any
-    // thread may call it, and a program that loads meshes off its frame (a pager's load function) calls it there so
-    // that the first draw does not wait.
+    // positions and pairing the edges: what it costs is in docs/benchmarks.md), then kept; any thread may call it, and
+    // a program that loads meshes off its frame (a pager's load function) calls it there so that the first draw does
+    // not wait.
     bool closed() const;
     uint32_t id() const { return id_; }
     // Counts calls to set(): caches built from the arrays (MeshBvh) compare it to see that they are stale.
