@@ -27,6 +27,9 @@ constexpr long long kMaxImagePixels = 1ll << 26;
 std::string at(const std::string& array, size_t i);
 [[noreturn]] void fail(const std::string& file, const std::string& path, const std::string& reason);
 
+// Refuses JSON text nested deeper than kMaxJsonDepth (strings skipped), before a parser that recurses sees it.
+void checkJsonDepth(const std::string& file, const unsigned char* data, size_t size);
+
 // Checks on the bytes before tinygltf sees them: a GLB's header and chunk lengths (tinygltf 2.7.0 reads
 // up to 8 bytes past a BIN chunk that claims more than the file holds) and the JSON's nesting depth.
 void prevalidate(const std::string& file, const unsigned char* data, size_t size, bool binary);

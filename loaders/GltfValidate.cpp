@@ -15,14 +15,8 @@ void fail(const std::string& file, const std::string& path, const std::string& r
     throw LoadError(file, path, reason);
 }
 
-namespace {
-
-uint32_t le32(const unsigned char* p) {
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
 // Nesting depth of JSON text, strings skipped; stops counting at the first excess.
-void checkDepth(const std::string& file, const unsigned char* p, size_t n) {
+void checkJsonDepth(const std::string& file, const unsigned char* p, size_t n) {
     int depth = 0;
     bool inString = false;
     for (size_t i = 0; i < n; ++i) {
@@ -43,6 +37,12 @@ void checkDepth(const std::string& file, const unsigned char* p, size_t n) {
             --depth;
         }
     }
+}
+
+namespace {
+
+uint32_t le32(const unsigned char* p) {
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
 const char* typeName(int type) {
@@ -334,7 +334,7 @@ struct Checker {
 void prevalidate(const std::string& file, const unsigned char* p, size_t size, bool binary) {
     if (size > 0xffffffffu) fail(file, "", "file is 4 GB or larger (" + std::to_string(size) + " bytes)");
     if (!binary) {
-        checkDepth(file, p, size);
+        checkJsonDepth(file, p, size);
         return;
     }
     if (size < 20) fail(file, "", "GLB is " + std::to_string(size) + " bytes, shorter than its 20-byte header");
@@ -356,10 +356,14 @@ void prevalidate(const std::string& file, const unsigned char* p, size_t size, b
                  "GLB BIN chunk of " + std::to_string(binLen) + " bytes runs past the file's length " +
                      std::to_string(length));
     }
-    checkDepth(file, p + 20, jsonLen);
+    checkJsonDepth(file, p + 20, jsonLen);
 }
 
 void validate(const std::string& file, const tinygltf::Model& model) {
+    // tinygltf reads any JSON object as an empty model; glTF requires asset.version ("2.0", or a later 2.x).
+    if (model.asset.version.empty()) fail(file, "asset.version", "missing: not a glTF 2.0 file");
+    if (model.asset.version.rfind("2.", 0) != 0)
+        fail(file, "asset.version", "glTF " + model.asset.version + " is not supported (2.0 is)");
     const Checker c{file, model};
     c.extensions();
     c.bufferViews();

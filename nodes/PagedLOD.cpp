@@ -25,6 +25,17 @@ void PagedLOD::setRange(float mn, float mx) {
     markDirty(kDirtyBound);
 }
 
+void PagedLOD::setScreenSpaceError(double geometricError, double maxPixels) {
+    if (!(geometricError >= 0.0) || !std::isfinite(geometricError) || !(maxPixels > 0.0) || !std::isfinite(maxPixels))
+        throw std::invalid_argument("PagedLOD::setScreenSpaceError(): " + describe() + ": geometric error " +
+                                    std::to_string(geometricError) + " and " + std::to_string(maxPixels) +
+                                    " pixels must be finite, the error >= 0 and the pixels > 0");
+    geometricError_ = geometricError;
+    maxPixels_ = maxPixels;
+    screenError_ = true;
+    markDirty(kDirtyBound);
+}
+
 void PagedLOD::setCenter(const dvec3& c) {
     if (!isFinite(c)) throw std::invalid_argument("PagedLOD::setCenter(): " + describe() + ": centre is not finite");
     center_ = c;

@@ -41,9 +41,19 @@ public:
     float rangeMax() const { return max_; }
     void setMode(Mode m) {
         mode_ = m;
+        screenError_ = false;
         markDirty(kDirtyBound);  // the image keeps a copy of the mode and range
     }
     Mode mode() const { return mode_; }
+    // 3D Tiles' refinement instead of a range: the detail is wanted while `geometricError` (world units, at the
+    // node's scale), seen at the eye's distance to the sphere (center(), radius()), projects to more than
+    // `maxPixels` pixels of the view (the screen-space error; 0 inside the sphere, so always wanted there). The
+    // distance to the sphere, not to the tile's box, refines a little earlier than a box would: never later.
+    // Throws std::invalid_argument unless both are finite and geometricError >= 0, maxPixels > 0.
+    void setScreenSpaceError(double geometricError, double maxPixels);
+    bool screenSpaceError() const { return screenError_; }
+    double geometricError() const { return geometricError_; }
+    double maxScreenPixels() const { return maxPixels_; }
     void setTrigger(Trigger t) { trigger_ = t; }
     Trigger trigger() const { return trigger_; }
 
@@ -100,11 +110,13 @@ private:
     Node* detail_ = nullptr;  // one of the children (which hold the reference)
     size_t detailBytes_ = 0;
     std::atomic<uint64_t> lastNeeded_{0};
+    double geometricError_ = 0.0, maxPixels_ = 0.0;
     float min_ = 0.0f, max_ = std::numeric_limits<float>::infinity();
     Mode mode_ = Mode::Distance;
     Trigger trigger_ = Trigger::Range;
     State state_ = State::Unloaded;
     bool userCenter_ = false;
+    bool screenError_ = false;
 };
 
 }  // namespace sg

@@ -19,10 +19,21 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     const Camera camera = startCamera(o, sceneBound(scene), loaded.up);
     const FrameStats fs{"headless"};
     double cullMs = 0.0, drawMs = 0.0;
-    for (int f = 0; f < o.frames; ++f) {
+    if (loaded.pageLoad) view.enablePaging(loaded.pageLoad);
+    int frames = 0;
+    for (int f = 0; f < o.frames; ++f, ++frames) {
         view.frame(camera, o.overlay && f == o.frames - 1, fs);  // updated, drawn and finished
         cullMs += view.cullStats().ms;
         drawMs += view.renderStats().ms;
+    }
+    // A tileset: the picture is of the settled view, every tile it asks for loaded (a tile that failed is not
+    // asked for again until its back-off passes; the frames are bounded all the same).
+    for (sg::Pager* p = view.pager();
+         p && frames < o.frames + 100000 &&
+         (view.cullStats().pagedRequested > 0 || p->stats().queued > 0 || p->stats().loading);
+         ++frames) {
+        p->waitIdle();
+        view.frame(camera, o.overlay, fs);
     }
     savePng(o.out, view.read());
     IntersectTraversal picker;
@@ -31,7 +42,7 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     std::printf(
         "sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
         "eye (%g, %g, %g)\n",
-        o.out.c_str(), o.width, o.height, o.frames, o.frames == 1 ? "" : "s", cullMs / o.frames, drawMs / o.frames,
+        o.out.c_str(), o.width, o.height, frames, frames == 1 ? "" : "s", cullMs / o.frames, drawMs / o.frames,
         (unsigned long long)view.renderStats().instances, (unsigned long long)view.renderStats().triangles, e.x, e.y,
         e.z);
     return 0;

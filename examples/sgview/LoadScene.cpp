@@ -2,11 +2,38 @@
 #include "sgview/LoadScene.h"
 
 #include "loaders/Gltf.h"
+#include "loaders/Tileset.h"
 #include "nodes/Transform.h"
+
+#include <memory>
 
 namespace sgview {
 
-LoadedScene loadSceneFile(const std::string& path) {
+namespace {
+
+LoadedScene loadTilesetFile(const std::string& path, bool refineAll) {
+    auto ts = std::make_shared<sg::Tileset>(sg::loadTileset(path));
+    LoadedScene s;
+    s.root = ts->root();
+    s.pageLoad = ts->loadFunction();
+    if (refineAll) sg::refineAll(*s.root, s.pageLoad);
+    s.warnings = ts->warnings();
+    s.up = sg::dvec3(0.0, 0.0, 1.0);  // 3D Tiles' +Z up
+    s.title = path;
+    s.tilesReport = [ts] {
+        const sg::TilesetCounts c = ts->counts();
+        return "tiles " + std::to_string(c.tiles) + " (" + std::to_string(c.externalTilesets) +
+               " external tilesets), contents loaded " + std::to_string(c.contents) + ", point clouds skipped " +
+               std::to_string(c.skippedPoints);
+    };
+    return s;
+}
+
+}  // namespace
+
+LoadedScene loadSceneFile(const std::string& path, bool refineAll) {
+    if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, refineAll);
+    if (refineAll) throw sg::LoadError(path, "", "--refine-all: not a 3D Tiles tileset");
     sg::GltfScene g = sg::loadGltf(path);
     LoadedScene s;
     s.root = g.root;

@@ -2,8 +2,10 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
+#include "sg/paging/Pager.h"
 #include "sgview/Options.h"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,10 +16,15 @@ struct LoadedScene {
     std::vector<std::string> warnings;  // what the loader skipped or converted
     sg::dvec3 up{0.0, 0.0, 1.0};        // the scene's up axis: +Z for the built-in scenes, +Y for glTF
     std::string title;
+    // A tileset's: the pager's load function for its tiles, and a line on its tiles for --info (tiles read,
+    // contents loaded); empty for glTF files and built-in scenes.
+    sg::PageLoadFunction pageLoad;
+    std::function<std::string()> tilesReport;
 };
 
-// One glTF file (LoadScene.cpp). Throws sg::LoadError naming the file, the JSON path and the reason.
-LoadedScene loadSceneFile(const std::string& path);
+// One glTF file or 3D Tiles tileset (LoadScene.cpp; a path or, for a tileset, a URL), every tile loaded with
+// `refineAll`. Throws sg::LoadError naming the file, the JSON path and the reason.
+LoadedScene loadSceneFile(const std::string& path, bool refineAll = false);
 
 // Writes the scene as glTF (.glb or .gltf), turned to glTF's +Y up when its up axis is +Z.
 void saveSceneFile(const LoadedScene& scene, const std::string& path);

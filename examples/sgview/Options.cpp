@@ -85,6 +85,8 @@ Options parseOptions(int argc, const char* const* argv) {
             o.headless = true;
         else if (a == "--info")
             o.info = true;
+        else if (a == "--refine-all")
+            o.refineAll = true;
         else if (a == "--overlay")
             o.overlay = true;
         else if (a == "--scene") {
@@ -143,6 +145,8 @@ Options parseOptions(int argc, const char* const* argv) {
     for (const auto& [x, y] : o.picks)
         if (x < 0 || y < 0 || x >= o.width || y >= o.height)
             bad("--pick", std::to_string(int(x)) + "," + std::to_string(int(y)), "the pixel is outside the picture");
+    if (o.refineAll && !o.scene.empty())
+        throw UsageError("--refine-all loads every tile of a tileset: give a tileset.json, not --scene");
     if (!n) o.n = o.scene == "office" ? 6 : 32;
     if (!frames && o.headless) o.frames = 1;
     if (!out && o.headless) o.out = "sgview.png";
@@ -152,8 +156,12 @@ Options parseOptions(int argc, const char* const* argv) {
 const char* usageText() {
     return "usage: sgview FILE... | --scene city|office|factory [--n N]\n"
            "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
+           "              [--refine-all]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
-           "  FILE...            glTF 2.0 files (.gltf, .glb), shown together\n"
+           "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
+           "or\n"
+           "                     an http(s) URL): its tiles load as the view needs them\n"
+           "  --refine-all       a tileset: load every tile and show it fully refined (with --info or --headless too)\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6);\n"
            "                     factory: the walkthrough site (--n is not used)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"

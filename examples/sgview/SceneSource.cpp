@@ -12,7 +12,7 @@
 namespace sgview {
 
 #ifdef SGVIEW_NO_GLTF
-LoadedScene loadSceneFile(const std::string& path) {
+LoadedScene loadSceneFile(const std::string& path, bool) {
     throw UsageError("'" + path +
                      "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory works");
 }
@@ -24,6 +24,7 @@ void saveSceneFile(const LoadedScene&, const std::string& path) {
 namespace {
 
 void checkReadable(const std::string& path) {
+    if (path.rfind("http://", 0) == 0 || path.rfind("https://", 0) == 0) return;  // a tileset's URL: read later
     std::error_code ec;
     const auto st = std::filesystem::status(path, ec);
     if (!std::filesystem::exists(st)) throw UsageError("'" + path + "': no such file");
@@ -39,9 +40,9 @@ LoadedScene loadScene(const Options& o) {
     if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
     if (o.scene == "factory") return {scenes::buildFactory().root, {}, {0.0, 0.0, 1.0}, "factory"};
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
-    auto load = [](const std::string& f) {
+    auto load = [&o](const std::string& f) {
         try {
-            return loadSceneFile(f);
+            return loadSceneFile(f, o.refineAll);
         } catch (const UsageError&) {
             throw;
         } catch (const std::exception& e) {  // sg::LoadError names the file, the JSON path and the reason
@@ -53,6 +54,7 @@ LoadedScene loadScene(const Options& o) {
     auto root = sg::make<sg::Group>();
     for (const std::string& f : o.files) {
         LoadedScene one = load(f);
+        if (one.pageLoad) throw UsageError("'" + f + "': a tileset is shown alone, not with other files");
         root->addChild(one.root);
         for (std::string& w : one.warnings) all.warnings.push_back(f + ": " + w);
         all.up = one.up;

@@ -27,6 +27,9 @@ public:
     const sg::CullStats& cullStats() const { return view_.cullStats(); }
     const sg::RenderStats& renderStats() const { return view_.renderStats(); }
     const sg::Viewer& viewer() const { return viewer_; }
+    // A tileset's tiles, loaded as the frames need them (sg::Viewer's pager stage).
+    void enablePaging(sg::PageLoadFunction load) { viewer_.enablePaging(std::move(load)); }
+    sg::Pager* pager() const { return viewer_.pager(); }
     // The overlay's lines for the last frame (the viewer's stage times follow them).
     std::string statsText(const FrameStats& fs) const;
 

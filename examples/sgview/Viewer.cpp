@@ -36,6 +36,7 @@ public:
         nav_.setWalkMover(collidingWalk(scene_, walker_));
         view_.settings.strategy = o.strategy;
         view_.settings.occlusion.mode = o.occlusion;
+        if (loaded.pageLoad) view_.enablePaging(loaded.pageLoad);
         home();
         window_.setKeyCallback([this](int key, int action, int mods) { onKey(key, action, mods); });
         window_.setMouseButtonCallback([this](int button, int action, int) { onButton(button, action); });

@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
         scene.update();
         if (o.info) {
             printInfo(stdout, loaded.title, computeInfo(*loaded.root, scene), loaded.warnings);
+            if (loaded.tilesReport) std::printf("%s\n", loaded.tilesReport().c_str());
             return 0;
         }
         for (const std::string& w : loaded.warnings) std::fprintf(stderr, "sgview: warning: %s\n", w.c_str());

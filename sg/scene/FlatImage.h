@@ -41,10 +41,15 @@ struct FlatImage {
     struct Lod {
         float cx, cy, cz;     // the centre (user's, or the bound's), in image coordinates like the bounds
         uint32_t firstRange;  // into ranges, one per child
-        float fade;           // LOD::transition(): the width of the dissolve band at range ends, 0 for none
-        uint8_t mode;         // LOD::Mode
-        bool hasErrors;       // LOD::hasErrors(): the levels' errors are known (Range::error, 0 included)
+        float fade;      // LOD::transition(): the width of the dissolve band at range ends, 0 for none; kScreenError:
+                         // the node's scale (image units per unit of its geometric error)
+        uint8_t mode;    // LOD::Mode, or kScreenError (a PagedLOD refined by screen-space error)
+        bool hasErrors;  // LOD::hasErrors(): the levels' errors are known (Range::error, 0 included)
+        float reach;     // kScreenError: the radius of the tile's sphere about the centre, in image units
     };
+    // Lod::mode of a PagedLOD refined by screen-space error: its value is the view's pixels per world unit at the
+    // eye's distance to the sphere (centre, reach), its range [maxPixels / geometricError, inf).
+    static constexpr uint8_t kScreenError = 2;
     struct Range {
         float min, max;
         float error;  // the child's geometric error (LOD::error), 0 when not given

@@ -52,6 +52,9 @@ public:
     // i's (an LOD's or a PagedLOD's centre and mode), entry i its bound.
     double value(const ImageFrame& f, const FlatImage::Lod& lod, uint32_t i) const {
         const double dist = f.distance(lod.cx, lod.cy, lod.cz);
+        if (lod.mode == FlatImage::kScreenError)  // pixels per unit at the sphere: 1 pixel inside it
+            return rules_.camera->pixelSize(lod.fade * f.scale, std::max(dist - lod.reach * f.scale, 0.0)) /
+                   rules_.lodScale;
         if (lod.mode != uint8_t(LOD::Mode::PixelSize)) return dist * rules_.lodScale;
         return rules_.camera->pixelSize(2.0 * f.img->r[i] * f.scale, dist) / rules_.lodScale;
     }
@@ -82,7 +85,7 @@ public:
     bool detailWanted(const ImageFrame& f, uint32_t i) const {
         const FlatImage::Paged& p = f.img->paged[f.img->aux[i]];
         if (static_cast<const PagedLOD*>(p.node)->trigger() != PagedLOD::Trigger::Range) return true;
-        if (rules_.finest || (!rules_.camera && p.lod.mode == uint8_t(LOD::Mode::PixelSize))) return true;
+        if (rules_.finest || (!rules_.camera && p.lod.mode != uint8_t(LOD::Mode::Distance))) return true;
         const double v = value(f, p.lod, i);
         return v >= p.min && v < p.max;
     }

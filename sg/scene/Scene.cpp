@@ -207,6 +207,8 @@ struct Scene::Builder {
         pg.lod.cx = float(c.x);
         pg.lod.cy = float(c.y);
         pg.lod.cz = float(c.z);
+        pg.lod.reach = float(p->radius() * maxScale(m));
+        pg.lod.fade = float(maxScale(m));
         Node* d = p->detail();
         if (!d) {
             pg.detail.reset();
@@ -322,9 +324,9 @@ struct Scene::Builder {
                     for (size_t k = 0; k < key.size(); k += 3) img.ranges.push_back({key[k], key[k + 1], key[k + 2]});
                 }
                 // The centre is filled in by write(), once the bound and the frame are known.
-                img.aux[i] = slot(
-                    img.lods, i,
-                    FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()), l->hasErrors()});
+                img.aux[i] = slot(img.lods, i,
+                                  FlatImage::Lod{0.0f, 0.0f, 0.0f, it->second, l->transition(), uint8_t(l->mode()),
+                                                 l->hasErrors(), 0.0f});
                 break;
             }
             case NodeKind::PagedLOD: {
@@ -332,9 +334,17 @@ struct Scene::Builder {
                 // The centre and the detail's image are filled in by write(), once the bound and the frame are
                 // known; a refit keeps the detail's image until then.
                 std::shared_ptr<FlatImage> keep = fresh ? nullptr : img.paged[img.aux[i]].detail;
-                img.aux[i] = slot(img.paged, i,
-                                  FlatImage::Paged{FlatImage::Lod{0.0f, 0.0f, 0.0f, 0, 0.0f, uint8_t(p->mode()), false},
-                                                   p->rangeMin(), p->rangeMax(), n, std::move(keep)});
+                // Refined by screen-space error: the value is pixels per unit, wanted from maxPixels / error up
+                // (an error of 0 never refines).
+                const bool sse = p->screenSpaceError();
+                const float mn = !sse                        ? p->rangeMin()
+                                 : p->geometricError() > 0.0 ? float(p->maxScreenPixels() / p->geometricError())
+                                                             : std::numeric_limits<float>::infinity();
+                const uint8_t mode = sse ? FlatImage::kScreenError : uint8_t(p->mode());
+                img.aux[i] = slot(
+                    img.paged, i,
+                    FlatImage::Paged{FlatImage::Lod{0.0f, 0.0f, 0.0f, 0, 0.0f, mode, false, 0.0f}, mn,
+                                     sse ? std::numeric_limits<float>::infinity() : p->rangeMax(), n, std::move(keep)});
                 break;
             }
             case NodeKind::Group:

@@ -4,6 +4,7 @@
 #include "testbed/City.h"
 #ifdef SGVIEW_TEST_GLTF
 #include "loaders/Gltf.h"
+#include "loaders/Tileset.h"
 #endif
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
@@ -290,5 +291,47 @@ TEST(SgviewRun, HeadlessRendersAGltfFile) {
     const Result bad = runSgview("--scene city --n 8 --save city8.obj");
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--save"), std::string::npos) << bad.err;
+}
+#endif
+
+#ifdef SGVIEW_TEST_GLTF
+// A 3D Tiles tileset: a root tile whose content is the city saved as .glb (glTF's +Y up, turned back to +Z up)
+// refined into a child holding the same file again, moved 200 m east: headless draws it settled (the child
+// loaded by the pager) as the library draws the tileset loaded whole; --info counts its tiles; a JSON file that
+// is neither glTF nor a tileset is refused.
+TEST(SgviewRun, TilesetsAreShownAndCounted) {
+    ASSERT_EQ(runSgview("--scene city --n 8 --save city8.glb").code, 0);
+    std::ofstream(scratch() / "tileset.json") << R"({"asset": {"version": "1.1"}, "geometricError": 1000,
+      "root": {"boundingVolume": {"box": [180,80,30, 180,0,0, 0,80,0, 0,0,30]}, "geometricError": 1000,
+        "refine": "ADD", "content": {"uri": "city8.glb"},
+        "children": [{"transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 200,0,0,1],
+          "boundingVolume": {"box": [80,80,30, 80,0,0, 0,80,0, 0,0,30]}, "geometricError": 0,
+          "content": {"uri": "city8.glb"}}]}})";
+    const Result info = runSgview("--info tileset.json");
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_NE(info.out.find("tiles 2 (0 external tilesets), contents loaded 1"), std::string::npos) << info.out;
+    const Result all = runSgview("--info --refine-all tileset.json");
+    ASSERT_EQ(all.code, 0) << all.err;
+    EXPECT_NE(all.out.find("contents loaded 2"), std::string::npos) << all.out;
+
+    const Result r =
+        runSgview("--headless tileset.json --out t.png --size 400x300 --camera 80,-150,150,200,80,0,0,0,1");
+    ASSERT_EQ(r.code, 0) << r.err;
+    Tileset ts = loadTileset((scratch() / "tileset.json").string());
+    Scene scene(ts.root());
+    scene.update();
+    // sgview frames its camera by the bound before any tile is loaded (the root's volume holds the child's).
+    const Camera cam = sgview::specCamera({dvec3(80, -150, 150), dvec3(200, 80, 0), dvec3(0, 0, 1)},
+                                          sgview::sceneBound(scene), 400, 300);
+    refineAll(*ts.root(), ts.loadFunction());
+    scene.update();
+    const Image want = libraryRender(scene, cam);
+    EXPECT_GT(nonBackground(want), size_t(400 * 300 / 10));
+    EXPECT_EQ(countDifferingPixels(loadPng((scratch() / "t.png").string()), want), 0u);
+
+    std::ofstream(scratch() / "other.json") << R"({"type": "FeatureCollection", "features": []})";
+    const Result bad = runSgview("--info other.json");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("asset"), std::string::npos) << bad.err;
 }
 #endif
