@@ -132,6 +132,8 @@ static void usage() {
         "                [--rounds R] [--methods M1,M2] [--n N] [--r R] [--width W --height H] [--budget-ms B]\n"
         "                [--strict-reference] [--tolerance PERCENT]\n"
         "       sgbench depth [--n N] [--rounds R] [--json]\n"
+        "       sgbench tiles --tileset PATH|URL [--n N] [--path orbit|low] [--frames F] [--width W --height H]\n"
+        "                [--reference] [--csv FILE] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -149,6 +151,7 @@ int main(int argc, char** argv) {
         if (a.command == "terrain") return bench::runTerrain(a);
         if (a.command == "pcvr") return bench::runPcvr(a);
         if (a.command == "pareto") return bench::runPareto(a);
+        if (a.command == "tiles") return bench::runTiles(a);
         if (a.command == "depth") return bench::runDepth(a);
         usage();
         return 2;

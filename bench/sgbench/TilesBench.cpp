@@ -1,0 +1,141 @@
+// sgbench tiles: a 3D Tiles tileset (the city written by sgtile) flown through sg::Viewer with its pager, from
+// disk or HTTP: frame times while loads are in flight, the process's resident memory, the pager's figures, and
+// with --reference the pixels that differ from the in-memory city's render of the same view (0 once settled:
+// nothing queued or loading and nothing asked for). One line per frame to --csv for the plot.
+#include "loaders/Tileset.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/io/ImageIO.h"
+#include "sg/viewer/Viewer.h"
+#include "sgbench/Bench.h"
+#include "testbed/City.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+namespace bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The city's orbit (docs/scenes.md) at angle `a`, or a low flight along the middle street, 30 m up, looking
+// ahead and swaying: `t` in [0, 1] along it.
+sg::Camera flightCamera(const std::string& path, int n, double t, int w, int h) {
+    sg::Camera cam;
+    cam.setViewport(w, h);
+    cam.setPerspective(60.0, double(w) / h, 1.0, 3000.0);
+    const double c = 10.0 * n;
+    if (path == "orbit") {
+        const double a = 2.0 * M_PI * t;
+        const sg::dvec3 eye(c + 5.0 * n * std::cos(a), c + 5.0 * n * std::sin(a), 40.0);
+        cam.setLookAt(eye, eye + glm::normalize(sg::dvec3(-std::sin(a), std::cos(a), -0.15)), sg::dvec3(0, 0, 1));
+    } else {
+        const double yaw = 0.5 * std::sin(2.0 * M_PI * t * 8.0);
+        const sg::dvec3 eye(20.0 * (n / 2), 20.0 * n * t, 30.0);
+        cam.setLookAt(eye, eye + sg::dvec3(std::sin(yaw), std::cos(yaw), -0.1), sg::dvec3(0, 0, 1));
+    }
+    return cam;
+}
+
+}  // namespace
+
+int runTiles(const Args& a) {
+    const std::string file = a.str("tileset", "");
+    if (file.empty()) throw std::invalid_argument("sgbench tiles: --tileset PATH/tileset.json (written by sgtile)");
+    const int n = int(a.num("n", 1000)), frames = int(a.num("frames", 2400));
+    const int w = int(a.num("width", 1280)), h = int(a.num("height", 720));
+    const std::string path = a.str("path", "orbit");
+    if (path != "orbit" && path != "low") throw std::invalid_argument("sgbench tiles: --path orbit|low");
+    if (n < 1 || frames < 1) throw std::invalid_argument("sgbench tiles: --n and --frames must be at least 1");
+    const bool reference = a.flag("reference");
+
+    sg::OsmesaContext context(w, h);
+    const double rss0 = rssMb();
+    auto t0 = Clock::now();
+    sg::Tileset ts = sg::loadTileset(file);
+    const double openMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    sg::Scene scene(ts.root());
+    sg::Viewer viewer(scene);
+    sg::View& view = viewer.addView();
+    sg::PagerSettings ps;
+    sg::Pager& pager = viewer.enablePaging(ts.loadFunction(), ps);
+
+    // The reference: the city held in memory, drawn by a renderer of its own in the same context.
+    std::unique_ptr<sg::Scene> refScene;
+    std::unique_ptr<sg::Renderer> refRenderer;
+    sg::CullTraversal refCull;
+    if (reference) {
+        refScene = std::make_unique<sg::Scene>(scenes::buildCity({n, false}));
+        refRenderer = std::make_unique<sg::Renderer>();
+    }
+
+    std::ofstream csv;
+    if (a.flag("csv")) csv.open(a.str("csv", ""));
+    if (csv) csv << "frame,ms,loading,queued,resident_mb,rss_mb,differing_pixels,settled\n";
+    std::vector<double> all, loading;
+    double maxRss = 0.0;
+    long settled = 0, settledDiffering = 0, loadingFrames = 0, loadingDiffering = 0;
+    double loadingPixels = 0.0;
+    t0 = Clock::now();
+    for (int f = 0; f < frames; ++f) {
+        view.camera = flightCamera(path, n, double(f) / frames, w, h);
+        const auto s = Clock::now();
+        viewer.frame();
+        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - s).count();
+        const sg::PagerStats& st = pager.stats();
+        const bool busy = st.queued > 0 || st.loading;
+        const bool done = !busy && view.cullStats().pagedRequested == 0 && view.cullStats().pagedCoarse == 0;
+        all.push_back(ms);
+        if (busy) loading.push_back(ms);
+        maxRss = std::max(maxRss, rssMb());
+        long differing = -1;
+        if (reference) {
+            const sg::Image got = viewer.renderer().readColor();
+            refScene->update();
+            sg::DrawList list;
+            sg::CullStats cs;
+            refCull.cull(*refScene, view.camera, view.cull, list, cs);
+            refRenderer->draw(list, view.camera);
+            differing = long(sg::countDifferingPixels(got, refRenderer->readColor()));
+            if (done) {
+                ++settled;
+                settledDiffering += differing > 0;
+            } else {
+                ++loadingFrames;
+                loadingDiffering += differing > 0;
+                loadingPixels += double(differing);
+            }
+        }
+        if (csv)
+            csv << f << "," << ms << "," << st.loading << "," << st.queued << ","
+                << double(st.bytesResident) / (1 << 20) << "," << rssMb() << "," << differing << "," << done << "\n";
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+
+    Json j;
+    j.add("command", "tiles").add("tileset", file).add("path", path).addInt("n", n).addInt("frames", frames);
+    j.add("open_ms", openMs).add("seconds", seconds);
+    j.add("frame_ms_median", median(all)).add("frame_ms_p99", percentile(all, 0.99)).add("frame_ms_max",
+                                                                                           percentile(all, 1.0));
+    j.addInt("frames_loading", long(loading.size()));
+    j.add("loading_ms_median", median(loading)).add("loading_ms_p99", percentile(loading, 0.99));
+    j.add("rss_mb_start", rss0).add("rss_mb_max", maxRss);
+    const sg::PagerStats& st = pager.stats();
+    j.addInt("loads", long(st.loads)).addInt("unloads", long(st.unloads)).addInt("failures", long(st.failures));
+    j.addInt("cancelled", long(st.cancelled)).add("loads_per_s", double(st.loads) / seconds);
+    j.addInt("tiles_read", long(ts.counts().tiles)).addInt("contents", long(ts.counts().contents));
+    if (reference) {
+        j.addInt("settled_frames", settled).addInt("settled_frames_differing", settledDiffering);
+        j.addInt("loading_frames", loadingFrames).addInt("loading_frames_differing", loadingDiffering);
+        j.add("loading_differing_pixels_mean", loadingFrames ? loadingPixels / double(loadingFrames) : 0.0);
+    }
+    j.print(a);
+    return reference && settledDiffering > 0 ? 1 : 0;
+}
+
+}  // namespace bench
