@@ -1,6 +1,7 @@
 // Builds a graph with the installed library, culls it and draws it through sg::Viewer (OSMesa): exits 0 when one
-// of two boxes is drawn, in the middle of the picture, and an LOD and a glTF round trip work.
+// of two boxes is drawn, in the middle of the picture, and an LOD, a glTF round trip and a resource read work.
 #include <loaders/Gltf.h>
+#include <loaders/Resource.h>
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
 #include <sg/cull/CullTraversal.h>
@@ -49,5 +50,10 @@ int main() {
     saveGltf(*root, file);
     const GltfScene loaded = loadGltf(file);
     std::printf("consumer: glTF round trip with %zu of 2 nodes\n", loaded.root->numChildren());
-    return list.items.size() == 1 && drawn && lod->numChildren() == 2 && loaded.root->numChildren() == 2 ? 0 : 1;
+    // The same file as a resource, by file:// URL: links libcurl through the package's dependencies.
+    const size_t bytes = readResource("file://" + file).size();
+    std::printf("consumer: read %zu bytes of %zu\n", bytes, size_t(std::filesystem::file_size(file)));
+    const bool ok = list.items.size() == 1 && drawn && lod->numChildren() == 2 && loaded.root->numChildren() == 2 &&
+                    bytes == std::filesystem::file_size(file);
+    return ok ? 0 : 1;
 }
