@@ -120,8 +120,9 @@ int runTiles(const Args& a) {
     Json j;
     j.add("command", "tiles").add("tileset", file).add("path", path).addInt("n", n).addInt("frames", frames);
     j.add("open_ms", openMs).add("seconds", seconds);
-    j.add("frame_ms_median", median(all)).add("frame_ms_p99", percentile(all, 0.99)).add("frame_ms_max",
-                                                                                           percentile(all, 1.0));
+    j.add("frame_ms_median", median(all))
+        .add("frame_ms_p99", percentile(all, 0.99))
+        .add("frame_ms_max", percentile(all, 1.0));
     j.addInt("frames_loading", long(loading.size()));
     j.add("loading_ms_median", median(loading)).add("loading_ms_p99", percentile(loading, 0.99));
     j.add("rss_mb_start", rss0).add("rss_mb_max", maxRss);

@@ -1,6 +1,7 @@
 // sg::loadTileset: tileset.json into paged nodes, the refinement rules (screen-space error, REPLACE and ADD,
 // no holes), transforms and glTF's +Y up, external tilesets, and bad input refused by name.
 #include "TestUtil.h"
+#include "loaders/TileServer.h"
 #include "loaders/Tileset.h"
 #include "nodes/Geometry.h"
 #include "nodes/PagedLOD.h"
@@ -400,5 +401,62 @@ TEST(Tileset, ShortBitstreamsAreRefusedByName) {
         EXPECT_EQ(e.file(), d / "subtrees/0/0/0.subtree");
         EXPECT_EQ(e.jsonPath(), "tileAvailability");
         EXPECT_NE(e.reason().find("fewer than the 5 bits"), std::string::npos) << e.what();
+    }
+}
+
+// Over HTTP from a local server: the same tiles as from the files.
+TEST(Tileset, ReadFromAServerAsFromFiles) {
+    TempDir d;
+    quadTileset(d);
+    testutil::TileServer server(d.path);
+    Tileset ts = loadTileset(server.url("/tileset.json"));
+    EXPECT_EQ(refineAll(*ts.root(), ts.loadFunction()), 1u);
+    EXPECT_EQ(ts.counts().contents, 5u);
+    Scene scene(ts.root());
+    const Drawn dr = cullOnce(scene, lookingDownAt(dvec3(50, 50, 5), 500.0));
+    EXPECT_EQ(dr.boxes, (std::multiset<std::pair<long, long>>{{5, 5}, {55, 5}, {5, 55}, {55, 55}}));
+}
+
+// A server that answers 404, drops the connection mid-file or stalls: the load fails with a reason naming the URL,
+// the parent stays drawn, and frames go on while the stalled read waits.
+TEST(Tileset, ServerFaultsFailTheLoadAndKeepTheParent) {
+    for (const std::string fault : {"status/404", "drop", "stall"}) {
+        TempDir d;
+        const std::string file = quadTileset(d);
+        std::string text;
+        {
+            std::ifstream in(file);
+            text.assign(std::istreambuf_iterator<char>(in), {});
+        }
+        const size_t at = text.find("\"q2.glb\"");
+        ASSERT_NE(at, std::string::npos);
+        text.replace(at, 8, "\"" + fault + "/q2.glb\"");
+        writeText(file, text);
+        testutil::TileServer server(d.path);
+        TilesetOptions options;
+        options.resource.stallSeconds = 1.0;
+        Tileset ts = loadTileset(server.url("/tileset.json"), options);
+        Scene scene(ts.root());
+        Pager pager(scene, ts.loadFunction());
+        const Camera cam = lookingDownAt(dvec3(50, 50, 5), 100.0);
+        pager.update(FrameInfo{1, 1.0});
+        cullOnce(scene, cam, 1);
+        pager.update(FrameInfo{2, 2.0});  // queued: the loader starts
+        if (fault == "stall") {
+            ASSERT_EQ(server.readLine(), "arrived /stall/q2.glb");
+            for (uint64_t f = 3; f < 6; ++f) {  // the read is stalled: frames are not held by it
+                pager.update(FrameInfo{f, double(f)});
+                EXPECT_EQ(cullOnce(scene, cam, f).boxes.count({0, 0}), 1u) << fault;
+            }
+        }
+        pager.waitIdle();
+        pager.update(FrameInfo{9, 9.0});
+        const Drawn dr = cullOnce(scene, cam, 9);
+        EXPECT_EQ(dr.boxes, (std::multiset<std::pair<long, long>>{{0, 0}})) << fault;  // the root's content
+        EXPECT_EQ(pager.stats().failures, 1u) << fault;
+        const std::string& why = pager.stats().lastError;
+        EXPECT_NE(why.find(server.url("/" + fault + "/q2.glb")), std::string::npos) << why;
+        const char* reason = fault == "drop" ? "connection closed after" : fault == "stall" ? "no data" : "404";
+        EXPECT_NE(why.find(reason), std::string::npos) << why;
     }
 }
