@@ -7,7 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -218,6 +220,12 @@ dvec3 octDecode(uint16_t ex, uint16_t ey) {
     return glm::normalize(n);  // |x| + |y| + |z| >= 1: never zero
 }
 
+// A unit vector along v (not zero, finite), scaled first so that squaring its parts cannot overflow or underflow.
+dvec3 direction(dvec3 v) {
+    v /= std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return glm::normalize(v);
+}
+
 // East, north, up of WGS84 at an ECEF position (CesiumJS' eastNorthUpToFixedFrame): up is the ellipsoid
 // normal, east is horizontal. On the polar axis, where east is undefined, its fixed frame for the pole's side.
 dmat3 eastNorthUp(const dvec3& p) {
@@ -225,9 +233,11 @@ dmat3 eastNorthUp(const dvec3& p) {
         const double s = p.z < 0.0 ? -1.0 : 1.0;
         return dmat3(dvec3(0, 1, 0), dvec3(-s, 0, 0), dvec3(0, 0, s));
     }
-    const dvec3 up =
-        glm::normalize(dvec3(p.x / (kWgs84A * kWgs84A), p.y / (kWgs84A * kWgs84A), p.z / (kWgs84B * kWgs84B)));
-    const dvec3 east = glm::normalize(dvec3(-p.y, p.x, 0.0));
+    // The gradient of x²/a² + y²/a² + z²/b² (a² factored out), of p scaled to 1 first: p may be as large as
+    // doubles go.
+    const dvec3 q = p / std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    const dvec3 up = direction(dvec3(q.x, q.y, q.z * (kWgs84A / kWgs84B) * (kWgs84A / kWgs84B)));
+    const dvec3 east = direction(dvec3(-p.y, p.x, 0.0));
     return dmat3(east, glm::cross(up, east), up);
 }
 

@@ -304,6 +304,26 @@ TEST(TileFormats, I3dmEastNorthUpAtAnEcefPosition) {
     EXPECT_GT(north.z, 0.0);
     expectVec(column(m, 3), ecef, 1e-6);
 
+    // On the polar axis (east undefined: a fixed frame) and at the largest coordinates, the frame stays orthonormal.
+    for (const char* rtc : {"[0,0,-6356752.3]", "[0,0,0]", "[1e308,-1.7e308,1.79e308]", "[1e-300,0,1]"}) {
+        SCOPED_TRACE(rtc);
+        const I3dm e = i3dmOf(
+            i3dm(
+                std::string(R"({"INSTANCES_LENGTH":1,"POSITION":{"byteOffset":0},"EAST_NORTH_UP":true,"RTC_CENTER":)") +
+                    rtc + "}",
+                Bin().vec(0, 0, 0).d)
+                .bytes());
+        const glm::dmat3 rot(e.instances[0]);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(glm::length(rot[c]), 1.0, 1e-12) << c;
+        expectVec(glm::cross(rot[0], rot[1]), rot[2], 1e-12);
+        EXPECT_NEAR(glm::dot(rot[0], rot[1]), 0.0, 1e-12);
+    }
+    const I3dm south = i3dmOf(
+        i3dm(R"({"INSTANCES_LENGTH":1,"POSITION":{"byteOffset":0},"EAST_NORTH_UP":true,"RTC_CENTER":[0,0,-6356752.3]})",
+             Bin().vec(0, 0, 0).d)
+            .bytes());
+    expectVec(column(south.instances[0], 2), dvec3(0, 0, -1));  // up at the south pole
+
     // Explicit normals win over EAST_NORTH_UP; without either the rotation is the identity.
     const I3dm normals = i3dmOf(i3dm(R"({"INSTANCES_LENGTH":1,"POSITION":{"byteOffset":0},"EAST_NORTH_UP":true,
         "NORMAL_UP":{"byteOffset":12},"NORMAL_RIGHT":{"byteOffset":24}})",
@@ -596,3 +616,4 @@ TEST(TileFormats, I3dmMalformations) {
     expectI3dmError(t.bytes(), "glbUri", "empty glTF URI");
     expectI3dmError(Data(d.begin(), d.begin() + 30), "header", "shorter than the 32-byte i3dm header");
 }
+
