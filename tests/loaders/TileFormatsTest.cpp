@@ -617,3 +617,76 @@ TEST(TileFormats, I3dmMalformations) {
     expectI3dmError(Data(d.begin(), d.begin() + 30), "header", "shorter than the 32-byte i3dm header");
 }
 
+// Interoperation with CesiumGS' 3d-tiles-tools (npm, fetched by the tiles-tools target): its tiles parse here,
+// and it reads back the glb of tiles written by this test's writer.
+namespace {
+
+#ifdef SGKIT_TILES_TOOLS
+const std::string kTool = SGKIT_TILES_TOOLS;
+#else
+const std::string kTool;
+#endif
+
+bool haveTool() { return !kTool.empty() && std::ifstream(kTool).good(); }
+
+// Runs `3d-tiles-tools <args>`; its output goes to a log that a failure shows.
+void tool(const std::string& args) {
+    const std::string log = tempPath("tool.log");
+    const int rc = std::system(("\"" + kTool + "\" " + args + " -f --logLevel warn >\"" + log + "\" 2>&1").c_str());
+    const Data out = readFile(log);
+    ASSERT_EQ(rc, 0) << "3d-tiles-tools " << args << ":\n" << std::string(out.begin(), out.end());
+}
+
+}  // namespace
+
+#define SKIP_WITHOUT_TOOL()                                   \
+    if (!haveTool())                                          \
+    GTEST_SKIP() << "3d-tiles-tools not installed (" << kTool \
+                 << "): `cmake --build build/release --target tiles-tools` fetches it from the npm registry"
+
+TEST(TileFormatsTools, ParsesTilesTheToolMakesFromASavedGlb) {
+    SKIP_WITHOUT_TOOL();
+    const std::string glb = tempPath("tool_in.glb");
+    writeFile(glb, triangleGlb());
+    ASSERT_NO_FATAL_FAILURE(tool("glbToB3dm -i " + glb + " -o " + tempPath("tool.b3dm")));
+    const Data b3 = readFile(tempPath("tool.b3dm"));
+    ASSERT_EQ(sniffContent(b3.data(), b3.size()), ContentKind::B3dm);
+    const B3dm b = parseB3dm("tool.b3dm", b3.data(), b3.size());
+    EXPECT_EQ(Data(b.glb.data, b.glb.data + b.glb.size), triangleGlb());
+    EXPECT_EQ(b.batchLength, 0u);
+    EXPECT_FALSE(b.hasRtcCenter);
+
+    ASSERT_NO_FATAL_FAILURE(tool("glbToI3dm -i " + glb + " -o " + tempPath("tool.i3dm")));
+    const Data i3 = readFile(tempPath("tool.i3dm"));
+    const I3dm i = parseI3dm("tool.i3dm", i3.data(), i3.size());
+    EXPECT_EQ(Data(i.glb.data, i.glb.data + i.glb.size), triangleGlb());
+    ASSERT_EQ(i.instances.size(), 1u);  // one instance at the origin
+    EXPECT_EQ(i.instances[0], dmat4(1.0));
+}
+
+TEST(TileFormatsTools, ToolExtractsTheGlbOfTilesWrittenHere) {
+    SKIP_WITHOUT_TOOL();
+    Tile t;
+    t.featureJson = R"({"BATCH_LENGTH":1,"RTC_CENTER":[1,2,3]})";
+    t.batchJson = R"({"name":["one"]})";
+    t.body = triangleGlb();
+    const Data b3 = t.bytes();
+    writeFile(tempPath("mine.b3dm"), b3);
+    ASSERT_NO_FATAL_FAILURE(tool("b3dmToGlb -i " + tempPath("mine.b3dm") + " -o " + tempPath("mine_b3dm.glb")));
+    EXPECT_EQ(readFile(tempPath("mine_b3dm.glb")), triangleGlb());
+
+    const Data i3 = i3dm(R"({"INSTANCES_LENGTH":1,"POSITION":{"byteOffset":0}})", Bin().vec(1, 2, 3).d).bytes();
+    writeFile(tempPath("mine.i3dm"), i3);
+    ASSERT_NO_FATAL_FAILURE(tool("i3dmToGlb -i " + tempPath("mine.i3dm") + " -o " + tempPath("mine_i3dm.glb")));
+    EXPECT_EQ(readFile(tempPath("mine_i3dm.glb")), triangleGlb());
+
+    // A composite holding a composite: the tool finds the same three glbs (in order) as parseCmpt's tiles.
+    const Data c = cmpt({b3, cmpt({i3, b3})});
+    ASSERT_EQ(parseCmpt("mine.cmpt", c.data(), c.size()).tiles.size(), 3u);
+    writeFile(tempPath("mine.cmpt"), c);
+    for (int k = 0; k < 4; ++k) std::remove(tempPath("mine_cmpt_" + std::to_string(k) + ".glb").c_str());
+    ASSERT_NO_FATAL_FAILURE(tool("cmptToGlb -i " + tempPath("mine.cmpt") + " -o " + tempPath("mine_cmpt.glb")));
+    for (int k = 0; k < 3; ++k)
+        EXPECT_EQ(readFile(tempPath("mine_cmpt_" + std::to_string(k) + ".glb")), triangleGlb()) << k;
+    EXPECT_FALSE(std::ifstream(tempPath("mine_cmpt_3.glb")).good());
+}
