@@ -1,6 +1,8 @@
 // The 3D Tiles binary formats: tiles written here byte by byte per the spec, each field read back, each
 // malformation refused with its place and reason; and files converted by CesiumGS' 3d-tiles-tools.
 #include "loaders/TileFormats.h"
+#include "loaders/Tileset.h"
+#include "sg/cull/CullTraversal.h"
 
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
@@ -689,4 +691,38 @@ TEST(TileFormatsTools, ToolExtractsTheGlbOfTilesWrittenHere) {
     for (int k = 0; k < 3; ++k)
         EXPECT_EQ(readFile(tempPath("mine_cmpt_" + std::to_string(k) + ".glb")), triangleGlb()) << k;
     EXPECT_FALSE(std::ifstream(tempPath("mine_cmpt_3.glb")).good());
+}
+
+// The formats as a tileset's contents: a cmpt holding a b3dm (RTC_CENTER) and an i3dm (two instances), the
+// triangle's glTF +Y up turned to +Z up under each; every placement drawn where the tile puts it.
+TEST(TileFormatsInTilesets, B3dmI3dmAndCmptContentsArePlaced) {
+    Tile b;
+    b.featureJson = R"({"BATCH_LENGTH":0,"RTC_CENTER":[1000,0,0]})";
+    b.body = triangleGlb();
+    Bin pos;
+    pos.vec(0, 0, 0).vec(0, 50, 0);
+    const Data all = cmpt({b.bytes(), i3dm(R"({"INSTANCES_LENGTH":2,"POSITION":{"byteOffset":0}})", pos.d).bytes()});
+    writeFile(tempPath("all.cmpt"), all);
+    std::ofstream(tempPath("contents.json")) << R"({"asset": {"version": "1.0"}, "geometricError": 1, "root": {
+        "boundingVolume": {"sphere": [500,0,0,1000]}, "geometricError": 0, "refine": "ADD",
+        "content": {"uri": "sgkit_tiles_all.cmpt"}}})";
+    Tileset ts = loadTileset(tempPath("contents.json"));
+    Scene scene(ts.root());
+    scene.update();
+    Camera cam;
+    cam.setViewport(400, 300);
+    cam.setPerspective(60.0, 4.0 / 3.0, 1.0, 1e5);
+    cam.setLookAt(dvec3(500, 0, 3000), dvec3(500, 0, 0), dvec3(0, 1, 0));
+    DrawList list;
+    CullStats stats;
+    CullTraversal().cull(scene, cam, CullSettings{}, list, stats);
+    // The triangle (0,0,0) (1,0,0) (0,1,0) +Y up: its (0,1,0) corner goes to +Z.
+    std::vector<dvec3> corners;
+    for (const DrawItem& it : list.items)
+        corners.push_back(dvec3(dmat4(it.matrix()) * dvec4(0, 1, 0, 1)) + cam.eye());
+    std::sort(corners.begin(), corners.end(), [](const dvec3& a, const dvec3& b) { return a.x + a.y < b.x + b.y; });
+    ASSERT_EQ(corners.size(), 3u);
+    expectVec(corners[0], dvec3(0, 0, 1), 1e-3);
+    expectVec(corners[1], dvec3(0, 50, 1), 1e-3);
+    expectVec(corners[2], dvec3(1000, 0, 1), 1e-3);
 }

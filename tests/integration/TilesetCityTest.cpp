@@ -1,0 +1,87 @@
+// The city written as tiles by writeTileset and read back by loadTileset, paged by the pager: every view, once
+// the pager has nothing left to load for it, equals the render of the city held in memory pixel for pixel (the
+// tiles reproduce the graph's LOD choices), whether the view shows leaves, exact proxies or both.
+#include "loaders/Tileset.h"
+#include "loaders/TilesetWrite.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+#include "sg/io/ImageIO.h"
+#include "testbed/City.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+using namespace sg;
+
+namespace {
+
+constexpr int kW = 320, kH = 180;
+
+Image draw(Renderer& r, Scene& scene, CullTraversal& cull, const Camera& cam, CullStats& stats) {
+    DrawList list;
+    stats = CullStats{};
+    cull.cull(scene, cam, CullSettings{}, list, stats);
+    r.draw(list, cam);
+    return r.readColor();
+}
+
+}  // namespace
+
+TEST(TilesetCity, SettledViewsEqualTheCityInMemory) {
+    const int n = 24;
+    const std::string dir = ::testing::TempDir() + "sgkit_tiles_city";
+    std::filesystem::remove_all(dir);
+    TileWriteOptions wo;
+    wo.maxTrianglesPerTile = 60000;  // a few levels for a small city
+    wo.referenceHeightPixels = kH;   // the geometric errors for this view's pixels
+    const TileWriteReport report = writeTileset(*scenes::buildCity({n, false}), dir, wo);
+    ASSERT_GT(report.tiles, 4u);
+
+    Tileset ts = loadTileset(dir + "/tileset.json");
+    Scene tiles(ts.root());
+    Pager pager(tiles, ts.loadFunction());
+    Scene city(scenes::buildCity({n, false}));
+    city.update();
+    OsmesaContext context(kW, kH);
+    Renderer renderer;
+    CullTraversal tileCull, cityCull;
+
+    // Views from far (proxies) to near (leaves): the orbit at three distances and the street.
+    std::vector<Camera> cams;
+    for (int f = 0; f < scenes::kOrbitFrames; f += 20) cams.push_back(scenes::cityOrbitCamera(n, f, kW, kH));
+    for (int f = 0; f < scenes::kStreetFrames; f += 40) cams.push_back(scenes::cityStreetCamera(n, f, kW, kH));
+    for (double d : {100.0, 600.0, 1500.0}) {
+        Camera c;
+        c.setViewport(kW, kH);
+        c.setPerspective(60.0, double(kW) / kH, 1.0, 3000.0);
+        c.setLookAt(dvec3(10.0 * n - d, 10.0 * n - d, 0.4 * d), dvec3(10.0 * n, 10.0 * n, 0), dvec3(0, 0, 1));
+        cams.push_back(c);
+    }
+    uint64_t frame = 0;
+    uint64_t minWanted = UINT64_MAX, maxWanted = 0;
+    for (size_t k = 0; k < cams.size(); ++k) {
+        CullStats ts1;
+        for (int settle = 0;; ++settle) {  // frames until nothing is asked for, queued or loading
+            ++frame;
+            pager.update(FrameInfo{frame, double(frame)});
+            tiles.update(FrameInfo{frame, double(frame)});
+            draw(renderer, tiles, tileCull, cams[k], ts1);
+            const bool busy = pager.stats().queued > 0 || pager.stats().loading;
+            if (!busy && ts1.pagedRequested == 0 && ts1.pagedCoarse == 0) break;
+            ASSERT_LT(settle, 200) << "view " << k << " never settles";
+            pager.waitIdle();
+        }
+        CullStats cs;
+        const Image got = draw(renderer, tiles, tileCull, cams[k], ts1);
+        const Image want = draw(renderer, city, cityCull, cams[k], cs);
+        EXPECT_EQ(countDifferingPixels(got, want), 0u) << "view " << k;
+        EXPECT_EQ(ts1.triangles, cs.triangles) << "view " << k;
+        EXPECT_GT(cs.triangles, 0u) << "view " << k;
+        minWanted = std::min(minWanted, ts1.pagedWanted);
+        maxWanted = std::max(maxWanted, ts1.pagedWanted);
+    }
+    EXPECT_LT(minWanted, maxWanted);  // far views drew proxies where near ones refined to leaves
+}
