@@ -1,12 +1,27 @@
-// libFuzzer target for the 3D Tiles binary formats (loaders/TileFormats.h): any bytes either parse or throw
-// sg::LoadError. Anything else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a
-// finding. The seed corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles.
+// libFuzzer target for what a 3D Tiles reader parses from outside: the binary formats (loaders/TileFormats.h),
+// tileset.json and subtree files (loaders/TilesetTable.h): any bytes either parse or throw sg::LoadError. Anything
+// else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding. The seed
+// corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and subtrees.
 #include "loaders/TileFormats.h"
+#include "loaders/TilesetTable.h"
 
 #include <cstddef>
 #include <cstdint>
 
 namespace {
+
+void subtree(const std::vector<unsigned char>& bytes) {
+    sg::tiles::ImplicitTiling t;
+    t.subtreeLevels = 3;
+    t.availableLevels = 6;
+    t.contents = {"c"};
+    try {
+        sg::tiles::parseSubtree("fuzz.subtree", bytes, t, [](const std::string&) {
+            return std::vector<unsigned char>(16, 0xff);  // an external buffer: no files read while fuzzing
+        });
+    } catch (const sg::LoadError&) {
+    }
+}
 
 void parse(const unsigned char* data, size_t size) {
     using namespace sg::tiles;
@@ -19,7 +34,16 @@ void parse(const unsigned char* data, size_t size) {
                 // The inner tiles as the tileset reader would take them.
                 for (const Bytes& tile : parseCmpt("fuzz.cmpt", data, size).tiles) parse(tile.data, tile.size);
                 break;
-            default: break;
+            case ContentKind::Json: {  // a tileset, or a JSON subtree of a quadtree of 3 levels
+                TilesetState state(TilesetOptions{});
+                const std::vector<unsigned char> bytes(data, data + size);
+                state.addTileset("fuzz.json", bytes, -1, -1);
+                subtree(bytes);
+                break;
+            }
+            default:
+                if (size >= 4 && data[0] == 's') subtree(std::vector<unsigned char>(data, data + size));
+                break;
         }
     } catch (const sg::LoadError&) {
     }
