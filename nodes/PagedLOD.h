@@ -73,6 +73,10 @@ public:
     bool markNeeded(uint64_t update) noexcept {
         return lastNeeded_.exchange(update, std::memory_order_relaxed) != update;
     }
+    // How much the detail was needed when last marked (CullTraversal::pagedLod(): bigger first), set by the cull
+    // that marked it first in an update; the pager orders its queue by it.
+    float needPriority() const noexcept { return needPriority_.load(std::memory_order_relaxed); }
+    void setNeedPriority(float p) noexcept { needPriority_.store(p, std::memory_order_relaxed); }
 
     // The pager's side (on the application thread, outside update and cull): the state, attaching the
     // loaded detail as the last child (Loaded), detaching it (Unloaded, the detail handed back).
@@ -100,6 +104,7 @@ private:
     Node* detail_ = nullptr;  // one of the children (which hold the reference)
     size_t detailBytes_ = 0;
     std::atomic<uint64_t> lastNeeded_{0};
+    std::atomic<float> needPriority_{0.0f};
     float min_ = 0.0f, max_ = std::numeric_limits<float>::infinity();
     Mode mode_ = Mode::Distance;
     Trigger trigger_ = Trigger::Range;

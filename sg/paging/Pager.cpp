@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -16,6 +17,9 @@
 namespace sg {
 
 namespace {
+
+// Pager::load()'s requests: ahead of every request of the cull.
+constexpr float kCommandPriority = std::numeric_limits<float>::infinity();
 
 // The message as it should reach the node: it names the file.
 std::string withFile(const std::string& file, const std::string& message) {
@@ -47,7 +51,18 @@ size_t pageBytes(const Node* root) {
 Pager::Pager(Scene& scene, PageLoadFunction load, PagerSettings settings)
     : scene_(scene), load_(std::move(load)), settings_(settings) {
     if (!load_) throw std::invalid_argument("Pager::Pager(): no load function (sg::loadGltfPage reads glTF files)");
-    thread_ = std::thread([this] { run(); });
+    settings_.loaderThreads = std::max(1u, settings_.loaderThreads);
+    try {
+        for (unsigned k = 0; k < settings_.loaderThreads; ++k) threads_.emplace_back([this] { run(); });
+    } catch (...) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            stop_ = true;
+        }
+        wake_.notify_all();
+        for (std::thread& t : threads_) t.join();
+        throw;
+    }
 }
 
 Pager::~Pager() {
@@ -57,7 +72,7 @@ Pager::~Pager() {
         jobs_.clear();
     }
     wake_.notify_all();
-    thread_.join();
+    for (std::thread& t : threads_) t.join();
     // Requests that will not be answered: the cull may ask again (another pager).
     for (auto& [node, a] : active_)
         if (a.node->state() == PagedLOD::State::Requested) a.node->setUnloaded();
@@ -78,22 +93,23 @@ void Pager::run() {
             trash.swap(trash_);
             stopping = stop_;
             if (!stopping && !jobs_.empty()) {
-                job = std::move(jobs_.front());
-                jobs_.pop_front();
+                job = std::move(jobs_.back());  // the most needed
+                jobs_.pop_back();
                 have = true;
+                loading_++;
             }
-            busy_ = have || !trash.empty();
+            if (!trash.empty()) freeing_++;
         }
-        trash.clear();  // detached details die here, off the frame thread
-        if (stopping) return;
-        if (!have) {
+        if (!trash.empty()) {
+            trash.clear();  // detached details die here, off the frame thread
             {
                 std::lock_guard<std::mutex> lock(mutex_);
-                busy_ = false;
+                freeing_--;
             }
             idle_.notify_all();
-            continue;
         }
+        if (stopping) return;
+        if (!have) continue;
         Result r{job.id, job.node, {}, 0, {}, 0.0};
         const auto t0 = std::chrono::steady_clock::now();
         try {
@@ -113,7 +129,7 @@ void Pager::run() {
         {
             std::lock_guard<std::mutex> lock(mutex_);
             done_.push_back(std::move(r));
-            busy_ = false;
+            loading_--;
         }
         idle_.notify_all();
     }
@@ -121,10 +137,10 @@ void Pager::run() {
 
 void Pager::waitIdle() {
     std::unique_lock<std::mutex> lock(mutex_);
-    idle_.wait(lock, [&] { return jobs_.empty() && trash_.empty() && !busy_; });
+    idle_.wait(lock, [&] { return jobs_.empty() && trash_.empty() && loading_ == 0 && freeing_ == 0; });
 }
 
-void Pager::queue(PagedLOD& node, const FrameInfo& frame) {
+void Pager::queue(PagedLOD& node, const FrameInfo& frame, float priority) {
     if (node.file().empty()) {
         node.setFailed(node.describe() + ": no file to load the detail from");
         stats_.failures++;
@@ -133,12 +149,13 @@ void Pager::queue(PagedLOD& node, const FrameInfo& frame) {
     }
     const uint64_t id = nextId_++;
     const uint64_t now = scene_.updateCount();
-    active_[&node] = Active{&node, id, std::max(node.lastNeeded(), now), frame.time, 0};
+    active_[&node] = Active{&node, id, std::max(node.lastNeeded(), now), frame.time, 0, priority};
     node.setRequested();
     stats_.requests++;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        jobs_.push_back(Job{id, &node, node.file()});
+        Job job{id, &node, node.file(), priority};
+        jobs_.insert(std::upper_bound(jobs_.begin(), jobs_.end(), job, lessNeeded), std::move(job));
     }
     wake_.notify_one();
 }
@@ -195,11 +212,11 @@ void Pager::update(const FrameInfo& frame) {
     }
     results_.clear();
 
-    // New requests from the cull.
-    scene_.pageRequests().take(posted_);
-    for (const ref_ptr<Node>& n : posted_) {
-        auto* p = static_cast<PagedLOD*>(n.get());
-        if (p->state() == PagedLOD::State::Unloaded && !active_.count(p)) queue(*p, frame);
+    // New requests from the cull, with their priorities.
+    scene_.pageRequests().take(posted_, postedPriorities_);
+    for (size_t k = 0; k < posted_.size(); ++k) {
+        auto* p = static_cast<PagedLOD*>(posted_[k].get());
+        if (p->state() == PagedLOD::State::Unloaded && !active_.count(p)) queue(*p, frame, postedPriorities_[k]);
     }
     posted_.clear();
 
@@ -207,9 +224,10 @@ void Pager::update(const FrameInfo& frame) {
     for (auto it = active_.begin(); it != active_.end();) {
         Active& a = it->second;
         PagedLOD& p = *a.node;
-        if (p.lastNeeded() > a.seenUpdate) {
+        if (p.lastNeeded() > a.seenUpdate) {  // renewed by the cull: its priority too
             a.seenUpdate = p.lastNeeded();
             a.seenTime = frame.time;
+            if (a.priority != kCommandPriority) a.priority = p.needPriority();
         }
         const bool byRange = p.trigger() == PagedLOD::Trigger::Range;
         bool drop = false;
@@ -236,6 +254,14 @@ void Pager::update(const FrameInfo& frame) {
 }
 
 void Pager::handOver() {
+    {
+        // The queue in the order of its requests' priorities, as renewed by this update.
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (Job& j : jobs_)
+            if (auto it = active_.find(j.node); it != active_.end() && it->second.id == j.id)
+                j.priority = it->second.priority;
+        std::sort(jobs_.begin(), jobs_.end(), lessNeeded);
+    }
     // Detached details may share meshes with what the frame thread holds (a renderer's cache): reference counts
     // are not atomic, so they are freed here unless the settings say nothing else holds them.
     if (!settings_.freeOnLoaderThread) dying_.clear();
@@ -245,7 +271,8 @@ void Pager::handOver() {
         for (ref_ptr<Node>& d : dying_) trash_.push_back(std::move(d));
         for (ref_ptr<Node>& d : stale_) trash_.push_back(std::move(d));
         stats_.queued = jobs_.size();
-        stats_.loading = busy_;
+        stats_.loading = loading_;
+        stats_.freeing = freeing_ > 0;
     }
     if (wake) wake_.notify_one();
     dying_.clear();
@@ -255,7 +282,7 @@ void Pager::handOver() {
 void Pager::load(PagedLOD& node) {
     if (active_.count(&node)) return;
     if (node.detail()) return;  // attached by other means
-    queue(node, frame_);
+    queue(node, frame_, kCommandPriority);
     handOver();
 }
 

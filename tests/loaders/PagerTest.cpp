@@ -96,6 +96,49 @@ struct Latch {
     }
 };
 
+// A Range tile at `at` under `parent`: coarse box, detail from `file`, wanted within `range` m.
+ref_ptr<PagedLOD> addTile(Group& parent, const dvec3& at, const std::string& file, float range = 50.0f) {
+    auto p = make<PagedLOD>();
+    p->setFile(file);
+    p->setRange(0.0f, range);
+    p->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+    auto t = make<Transform>(glm::translate(dmat4(1.0), at));
+    t->addChild(p);
+    parent.addChild(t);
+    return p;
+}
+
+// A load function that records the files in the order loaded and holds every load at a gate until it opens;
+// "block.glb" waits at `gate` alone, so that a queue can build up behind it.
+struct Recorder {
+    std::mutex m;
+    std::vector<std::string> order;
+    Latch gate, started;
+    std::function<ref_ptr<Node>(const std::string&)> detail = [](const std::string&) { return makeDetail(); };
+    ref_ptr<Node> operator()(const std::string& file) {
+        if (file == "block.glb") {
+            started.release();
+            gate.wait();
+        }
+        {
+            std::lock_guard<std::mutex> lock(m);
+            order.push_back(file);
+        }
+        return detail(file);
+    }
+    std::vector<std::string> loaded() {
+        std::lock_guard<std::mutex> lock(m);
+        return order;
+    }
+};
+
+// One loader thread, held on a commanded load while the cull asks for `count` frames: the queue builds up.
+PagerSettings oneLoader() {
+    PagerSettings ps;
+    ps.loaderThreads = 1;
+    return ps;
+}
+
 }  // namespace
 
 TEST(Pager, WithoutALoadFunctionItIsRefusedByName) {
@@ -293,13 +336,16 @@ TEST(Pager, ARequestNoLongerNeededIsDroppedBeforeItsLoad) {
     Latch latch, started;
     std::mutex m;
     std::vector<std::string> loaded;
-    Pager pager(scene, [&](const std::string& file) {
-        started.release();
-        latch.wait();
-        std::lock_guard<std::mutex> lock(m);
-        loaded.push_back(file);
-        return makeDetail();
-    });
+    Pager pager(
+        scene,
+        [&](const std::string& file) {
+            started.release();
+            latch.wait();
+            std::lock_guard<std::mutex> lock(m);
+            loaded.push_back(file);
+            return makeDetail();
+        },
+        oneLoader());  // so that the second waits in the queue
     Frames f(scene, pager);
     f.run();
     f.run();  // both queued
@@ -412,6 +458,164 @@ TEST(Pager, AFrameDoesNotStallWhileALargeFileLoads) {
         pct(quiet, 1.0) / pct(quiet, 0.5), attachFrameMs, attachUpdate.ms,
         (unsigned long long)attachUpdate.entriesWritten);
     RecordProperty("max_over_median_during_load", std::to_string(pct(during, 1.0) / pct(during, 0.5)));
+}
+
+TEST(Pager, RequestsAreLoadedMostNeededFirstAndCommandsBeforeThem) {
+    // Three tiles straight ahead at 40, 10 and 25 m (scene order), ranges of 50 m: nearer is more needed. A
+    // commanded load holds the one loader thread while the cull posts them.
+    auto root = make<Group>();
+    auto far = addTile(*root, dvec3(0, 40, 0), "far.glb");
+    auto near = addTile(*root, dvec3(0, 10, 0), "near.glb");
+    auto mid = addTile(*root, dvec3(0, 25, 0), "mid.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    Recorder rec;
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    pager.load(*block);
+    rec.started.wait();
+    f.run();  // posted with their priorities
+    EXPECT_GT(near->needPriority(), mid->needPriority());
+    EXPECT_GT(mid->needPriority(), far->needPriority());
+    f.run();  // queued
+    EXPECT_EQ(pager.stats().queued, 3u);
+    EXPECT_EQ(pager.stats().loading, 1u);
+    // A command given now goes ahead of them all.
+    auto cmd = make<PagedLOD>();
+    cmd->setFile("command.glb");
+    cmd->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(cmd);
+    f.run();
+    pager.load(*cmd);
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "command.glb", "near.glb", "mid.glb", "far.glb"}));
+}
+
+TEST(Pager, ARenewedRequestTakesItsNewPriority) {
+    // Two tiles, one to the left and one to the right at the same distance: the one nearer the view's centre goes
+    // first. The camera turns while both wait: the order follows it.
+    auto root = make<Group>();
+    auto left = addTile(*root, dvec3(-8, 20, 0), "left.glb");
+    auto right = addTile(*root, dvec3(8, 20, 0), "right.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    Recorder rec;
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    pager.load(*block);
+    rec.started.wait();
+    f.cam.setLookAt(dvec3(0), dvec3(-3, 20, 0), dvec3(0, 0, 1));  // toward the left one
+    f.run();
+    f.run();
+    EXPECT_GT(left->needPriority(), right->needPriority());
+    f.cam.setLookAt(dvec3(0), dvec3(3, 20, 0), dvec3(0, 0, 1));  // toward the right one: both still in view
+    f.run();
+    f.run();
+    EXPECT_GT(right->needPriority(), left->needPriority());
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "right.glb", "left.glb"}));
+}
+
+TEST(Pager, ParentsAreLoadedBeforeTheirChildren) {
+    // A parent tile whose detail holds a child tile 5 m from the eye (much needed), and another root tile at the
+    // edge of its range (hardly needed): the root tile goes first, being shallower.
+    auto root = make<Group>();
+    auto parent = addTile(*root, dvec3(0, 5, 0), "parent.glb");
+    auto edge = addTile(*root, dvec3(0, 48, 0), "edge.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    ref_ptr<PagedLOD> child;
+    Recorder rec;
+    rec.detail = [&](const std::string& file) -> ref_ptr<Node> {
+        if (file != "parent.glb") return makeDetail();
+        auto g = make<Group>();  // the parent's detail: a child tile at the parent's place (0, 5, 0)
+        child = addTile(*g, dvec3(0), "child.glb");
+        return g;
+    };
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();  // both loaded
+    f.run();
+    ASSERT_EQ(parent->state(), PagedLOD::State::Loaded);
+    pager.load(*block);
+    rec.started.wait();
+    // The edge tile released: the cull asks for it again, beside the child.
+    pager.release(*edge);
+    f.run();  // the child posted, edge posted
+    f.run();  // both queued behind the block
+    ASSERT_TRUE(child);
+    EXPECT_GT(pager.stats().queued, 1u);
+    EXPECT_LT(edge->needPriority(), 0.99f);
+    EXPECT_LT(child->needPriority(), 0.0f);  // one level down
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    const auto order = rec.loaded();
+    ASSERT_GE(order.size(), 2u);
+    EXPECT_EQ(std::vector<std::string>(order.end() - 2, order.end()),
+              (std::vector<std::string>{"edge.glb", "child.glb"}));
+}
+
+TEST(PagerThreads, SeveralLoaderThreadsLoadAtOnceAndTheFiguresAddUp) {
+    // Four loader threads, each held at a gate: four loads run at once; released, all attach.
+    auto root = make<Group>();
+    std::vector<ref_ptr<PagedLOD>> tiles;
+    for (int k = 0; k < 8; ++k) tiles.push_back(addTile(*root, dvec3(4.0 * k - 14.0, 20, 0), "t" + std::to_string(k)));
+    Scene scene(root);
+    Latch gate;
+    std::mutex m;
+    std::condition_variable cv;
+    int inside = 0;
+    PagerSettings ps;
+    ps.loaderThreads = 4;
+    Pager pager(
+        scene,
+        [&](const std::string&) {
+            {
+                std::lock_guard<std::mutex> lock(m);
+                inside++;
+            }
+            cv.notify_all();
+            gate.wait();
+            return makeDetail();
+        },
+        ps);
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    {
+        std::unique_lock<std::mutex> lock(m);
+        cv.wait(lock, [&] { return inside == 4; });  // four at once: one per thread
+    }
+    f.run();
+    EXPECT_EQ(pager.stats().loading, 4u);
+    EXPECT_EQ(pager.stats().queued, 4u);
+    gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(pager.stats().loads, 8u);
+    EXPECT_EQ(pager.stats().resident, 8u);
+    size_t bytes = 0;
+    for (const auto& t : tiles) bytes += t->detailBytes();
+    EXPECT_EQ(pager.stats().bytesResident, bytes);
 }
 
 // Many enter and leave cycles, in random order (fixed seed), while loads are in flight: two views culled on
