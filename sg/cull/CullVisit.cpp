@@ -168,7 +168,10 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
         if (node->markNeeded(scene_->updateCount())) {
             const float priority = pagedPriority(c, i);
             node->setNeedPriority(priority);  // a request queued already takes it at the pager's update
-            if (node->state() == PagedLOD::State::Unloaded) {
+            const PagedLOD::State st = node->state();
+            // A failed node is asked for again once its back-off has passed (the pager sets retryTime()).
+            if (st == PagedLOD::State::Unloaded ||
+                (st == PagedLOD::State::Failed && scene_->frame().time >= node->retryTime())) {
                 scene_->pageRequests().post(node, priority);
                 stats_->pagedRequested++;
             }
