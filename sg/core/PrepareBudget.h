@@ -15,7 +15,7 @@ struct PrepareBudget {
     PrepareBudget() = default;
     PrepareBudget(double ms, uint32_t objects) : ms(ms), objects(objects) {}
 
-    double ms = 1.0;       // time the frame may spend, from `start`
+    double ms = 1.0;        // time the frame may spend, from `start`
     uint32_t objects = 20;  // objects (meshes, textures) it may upload
     Clock::time_point start = Clock::now();
     // Spent so far (spend() counts them).

@@ -802,6 +802,78 @@ TEST(Pager, AFailedLoadIsAskedForAgainAfterABackOffThatDoublesAndTheErrorStaysMe
     EXPECT_EQ(pager.stats().frame.attached, 1u);
 }
 
+TEST(Pager, WithAPrepareFunctionDetailsAttachWithinTheBudgetOfEachUpdateMostNeededFirst) {
+    // Four tiles loaded at once; a prepare function that counts its calls and spends an object each; a budget of
+    // one object an update: one attaches per update, the nearest first.
+    auto root = make<Group>();
+    std::vector<ref_ptr<PagedLOD>> tiles;
+    for (int k = 0; k < 4; ++k)
+        tiles.push_back(addTile(*root, dvec3(0, 10.0 + 8.0 * (3 - k), 0), "t" + std::to_string(k) + ".glb"));
+    Scene scene(root);
+    PagerSettings ps;
+    ps.prepareObjectsPerFrame = 1;
+    ps.prepareMsPerFrame = 1e9;  // objects alone decide: no test depends on time
+    Pager pager(
+        scene, [](const std::string&) { return makeDetail(); }, ps);
+    int calls = 0;
+    std::vector<const PagedLOD*> attachedOrder;
+    pager.setPrepare([&](Node&, PrepareBudget& budget) {
+        calls++;
+        budget.spend(1, 100);
+        return true;
+    });
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    for (int update = 1; update <= 4; ++update) {
+        f.run();
+        EXPECT_EQ(calls, update);
+        EXPECT_EQ(pager.stats().frame.attached, 1u) << "update " << update;
+        EXPECT_EQ(pager.stats().frame.uploadedObjects, 1u);
+        EXPECT_EQ(pager.stats().frame.uploadedBytes, 100u);
+        EXPECT_EQ(pager.stats().pending, size_t(4 - update));
+        for (const auto& t : tiles)
+            if (t->state() == PagedLOD::State::Loaded &&
+                std::find(attachedOrder.begin(), attachedOrder.end(), t.get()) == attachedOrder.end())
+                attachedOrder.push_back(t.get());
+    }
+    f.run();
+    EXPECT_EQ(calls, 4);
+    EXPECT_EQ(pager.stats().frame.attached, 0u);
+    EXPECT_EQ(pager.stats().resident, 4u);
+    // tiles[3] is the nearest.
+    EXPECT_EQ(attachedOrder,
+              (std::vector<const PagedLOD*>{tiles[3].get(), tiles[2].get(), tiles[1].get(), tiles[0].get()}));
+}
+
+TEST(Pager, APrepareFunctionMayTakeSeveralUpdatesAndItsFailureIsTheLoads) {
+    World w;
+    World other("other.glb");
+    Scene scene(w.root);
+    Pager pager(scene, [](const std::string&) { return makeDetail(); });
+    int calls = 0;
+    pager.setPrepare([&](Node&, PrepareBudget&) { return ++calls == 3; });  // done at the third call
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    f.run();
+    f.run();
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Requested);  // drawn coarse meanwhile
+    f.run();
+    EXPECT_EQ(calls, 3);
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Loaded);
+    pager.release(*w.tile);
+    pager.setPrepare([](Node&, PrepareBudget&) -> bool { throw std::runtime_error("out of video memory"); });
+    pager.load(*w.tile);
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Failed);
+    EXPECT_EQ(w.tile->error(), "tile.glb: out of video memory");
+    EXPECT_EQ(pager.tracked(), 0u);
+}
+
 TEST(PagerThreads, SeveralLoaderThreadsLoadAtOnceAndTheFiguresAddUp) {
     // Four loader threads, each held at a gate: four loads run at once; released, all attach.
     auto root = make<Group>();
