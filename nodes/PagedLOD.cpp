@@ -3,6 +3,7 @@
 #include "sg/core/NodeVisitor.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace sg {
@@ -13,6 +14,7 @@ void PagedLOD::setFile(std::string file) {
         throw std::logic_error("PagedLOD::setFile(): " + describe() + ": the detail of '" + file_ +
                                "' is requested or attached; release it first");
     file_ = std::move(file);
+    failures_ = 0;
     if (state_ == State::Failed) setUnloaded();
 }
 
@@ -56,9 +58,13 @@ void PagedLOD::setRequested() {
     error_.clear();
 }
 
-void PagedLOD::setFailed(std::string error) {
+void PagedLOD::setFailed(std::string error) { setFailed(std::move(error), std::numeric_limits<double>::infinity()); }
+
+void PagedLOD::setFailed(std::string error, double retryTime) {
     state_ = State::Failed;
     error_ = std::move(error);
+    retryTime_ = retryTime;
+    failures_++;
 }
 
 void PagedLOD::setUnloaded() {
@@ -79,6 +85,7 @@ void PagedLOD::attachDetail(ref_ptr<Node> detail, size_t bytes) {
     detailBytes_ = bytes;
     state_ = State::Loaded;
     error_.clear();
+    failures_ = 0;
 }
 
 ref_ptr<Node> PagedLOD::detachDetail() {

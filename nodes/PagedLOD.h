@@ -17,7 +17,8 @@ public:
         Unloaded,   // no detail; the cull asks for it when needed
         Requested,  // queued or being loaded
         Loaded,     // the detail is attached (the last child)
-        Failed,     // the load failed: error() says why; Pager::load() tries again
+        Failed,     // the load failed: error() says why; the cull asks again from retryTime() on (a Range node),
+                    // Pager::load() at once
     };
     // What makes the detail wanted.
     enum class Trigger : uint8_t {
@@ -74,6 +75,10 @@ public:
     State state() const noexcept { return state_; }
     // Why the last load failed (names the file and the reason); empty unless Failed.
     const std::string& error() const { return error_; }
+    // Loads failed in a row (0 once a detail is attached or the file changes), and the FrameInfo::time from which
+    // the cull asks for a failed Range node again (infinity: never; the pager's back-off sets it).
+    uint32_t failures() const noexcept { return failures_; }
+    double retryTime() const noexcept { return retryTime_; }
     // Mesh and texture bytes of the attached detail, as the pager measured them.
     size_t detailBytes() const noexcept { return detailBytes_; }
 
@@ -83,11 +88,17 @@ public:
     bool markNeeded(uint64_t update) noexcept {
         return lastNeeded_.exchange(update, std::memory_order_relaxed) != update;
     }
+    // How much the detail was needed when last marked (CullTraversal::pagedLod(): bigger first), set by the cull
+    // that marked it first in an update; the pager orders its queue by it.
+    float needPriority() const noexcept { return needPriority_.load(std::memory_order_relaxed); }
+    void setNeedPriority(float p) noexcept { needPriority_.store(p, std::memory_order_relaxed); }
 
     // The pager's side (on the application thread, outside update and cull): the state, attaching the
     // loaded detail as the last child (Loaded), detaching it (Unloaded, the detail handed back).
     void setRequested();
+    // setFailed counts a failure; without retryTime the cull does not ask again.
     void setFailed(std::string error);
+    void setFailed(std::string error, double retryTime);
     // Throws std::logic_error when a detail is attached already; std::invalid_argument for a null detail.
     void attachDetail(ref_ptr<Node> detail, size_t bytes);
     ref_ptr<Node> detachDetail();
@@ -109,8 +120,11 @@ private:
     double radius_ = 0.0;
     Node* detail_ = nullptr;  // one of the children (which hold the reference)
     size_t detailBytes_ = 0;
+    double retryTime_ = std::numeric_limits<double>::infinity();
+    uint32_t failures_ = 0;
     std::atomic<uint64_t> lastNeeded_{0};
     double geometricError_ = 0.0, maxPixels_ = 0.0;
+    std::atomic<float> needPriority_{0.0f};
     float min_ = 0.0f, max_ = std::numeric_limits<float>::infinity();
     Mode mode_ = Mode::Distance;
     Trigger trigger_ = Trigger::Range;

@@ -27,6 +27,7 @@ struct CullTraversal::Ctx : ImageFrame {
     // which placement it is (0: the scene's image; an Instance's: its parent's key and its entry, mixed).
     int32_t place = -1;
     uint64_t key = 0;
+    uint32_t pagedDepth = 0;  // the paged nodes whose details hold this image (0: the scene's image)
 };
 
 namespace cull {

@@ -49,6 +49,7 @@ private:
     void instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m);
     void bspGroup(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     void pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    float pagedPriority(const Ctx& c, uint32_t i) const;  // what pagedLod() posts with a request
     void children(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     void wideChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
     // Entries [begin, end) known inside the frustum, no occlusion test left: the fast path.

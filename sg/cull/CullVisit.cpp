@@ -7,6 +7,9 @@
 #include "sg/cull/CullContext.h"
 #include "sg/scene/ImageWalk.h"
 
+#include <algorithm>
+#include <cmath>
+
 namespace sg {
 
 // Entry i's tests in order (the PVS, masks, the planes, small features, occlusion), then its kind's handler.
@@ -98,6 +101,7 @@ void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) 
     Ctx sub;
     setupCtx(sub, *p, glm::translate(pm, p->origin));
     sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;  // this placement, under its parent's
+    sub.pagedDepth = c.pagedDepth;
     // Same six planes, transformed: planes the placement's bound was inside of stay done. The placement's
     // own bound had its occlusion test; its prototype's bounds are not world boxes, so none below.
     visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
@@ -120,8 +124,40 @@ void CullTraversal::bspGroup(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
     scratch_.resize(base);
 }
 
+// How much paged entry i's detail is needed, for the pager's queue (bigger first, as Cesium orders its requests):
+//     priority = -depth + 0.99 * (0.75 * need + 0.25 * centred)
+// - depth: the paged nodes whose details hold this entry. It dominates: a parent's detail is asked for before
+//   its children's, so that no level is skipped on the way down.
+// - need = clamp(log2(excess) / 10, 0, 1), excess how far the LOD value is past the threshold that made the detail
+//   wanted: value / min in pixel-size mode (min 0 counts as 1 pixel), max / value in distance mode (the nearer,
+//   the more; an unbounded range gives 1 + 1 / value). 1 where no value is measured (finest rules, no camera).
+// - centred = (1 + cos a) / 2, a the angle between the view direction and the direction to the node's centre:
+//   what is in the middle of the view first.
+// Within one depth the priority lies in [-depth, -depth + 0.99].
+float CullTraversal::pagedPriority(const Ctx& c, uint32_t i) const {
+    const FlatImage::Paged& p = c.img->paged[c.img->aux[i]];
+    double need = 1.0;
+    const LodChooser::Rules& r = chooser_->rules();
+    if (!r.finest && (r.camera || p.lod.mode != uint8_t(LOD::Mode::PixelSize))) {
+        const double v = chooser_->value(c, p.lod, i);
+        double excess;
+        if (p.lod.mode == uint8_t(LOD::Mode::PixelSize))
+            excess = v / std::max(double(p.min), 1.0);
+        else
+            excess = std::isfinite(p.max) ? double(p.max) / std::max(v, 1e-9) : 1.0 + 1.0 / std::max(v, 1e-9);
+        need = std::clamp(std::log2(std::max(excess, 1e-30)) / 10.0, 0.0, 1.0);
+    }
+    const dvec3 rel(c.imgToEye * dvec4(p.lod.cx, p.lod.cy, p.lod.cz, 1.0));
+    const double len = glm::length(rel);
+    const double cosA = len > 0.0 ? std::clamp(glm::dot(rel / len, c.viewDir), -1.0, 1.0) : 1.0;
+    const double centred = 0.5 * (1.0 + cosA);
+    return float(-double(c.pagedDepth) + 0.99 * (0.75 * need + 0.25 * centred));
+}
+
 // The detail when it is wanted and attached, else the coarse children. A wanted detail that is not loaded is
-// posted for the pager once per update, and the coarse level drawn meanwhile: the frame never waits for it.
+// posted for the pager once per update, with its priority, and the coarse level drawn meanwhile: the frame
+// never waits for it. Every wanted node keeps the priority of its last mark, so that a request queued already
+// follows the view.
 void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
     const FlatImage& img = *c.img;
     const FlatImage::Paged& p = img.paged[img.aux[i]];
@@ -129,9 +165,16 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
     const bool wanted = chooser_->detailWanted(c, i);
     if (wanted && node->trigger() == PagedLOD::Trigger::Range) {
         stats_->pagedWanted++;
-        if (node->markNeeded(scene_->updateCount()) && node->state() == PagedLOD::State::Unloaded) {
-            scene_->pageRequests().post(node);
-            stats_->pagedRequested++;
+        if (node->markNeeded(scene_->updateCount())) {
+            const float priority = pagedPriority(c, i);
+            node->setNeedPriority(priority);  // a request queued already takes it at the pager's update
+            const PagedLOD::State st = node->state();
+            // A failed node is asked for again once its back-off has passed (the pager sets retryTime()).
+            if (st == PagedLOD::State::Unloaded ||
+                (st == PagedLOD::State::Failed && scene_->frame().time >= node->retryTime())) {
+                scene_->pageRequests().post(node, priority);
+                stats_->pagedRequested++;
+            }
         }
     }
     if (wanted && p.detail) {
@@ -142,6 +185,7 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
         Ctx sub;
         setupCtx(sub, d, c.imgToEye * glm::translate(dmat4(1.0), d.origin - img.origin));
         sub.originRel = c.originRel + (d.origin - img.origin);
+        sub.pagedDepth = c.pagedDepth + 1;
         visit(sub, 0, mask, m, occ);
         return;
     }

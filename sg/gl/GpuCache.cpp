@@ -113,9 +113,29 @@ unsigned GpuCache::texture(const Texture* t, bool cut) {
     return cache.emplace(t, std::move(g)).first->second.id;
 }
 
+bool GpuCache::prepareMesh(const Mesh* m) {
+    auto it = meshes_.find(m);
+    const bool upload = it == meshes_.end();
+    GpuMesh& g = upload ? const_cast<GpuMesh&>(mesh(m)) : it->second;
+    g.keepUntil = frame_ + kPrepareGrace;
+    return upload;
+}
+
+bool GpuCache::prepareTexture(const Texture* t, bool cut) {
+    auto& cache = cut ? cutTextures_ : textures_;
+    auto it = cache.find(t);
+    const bool upload = it == cache.end();
+    if (upload) {
+        texture(t, cut);
+        it = cache.find(t);
+    }
+    it->second.keepUntil = frame_ + kPrepareGrace;
+    return upload;
+}
+
 void GpuCache::releaseUnused() {
     for (auto it = meshes_.begin(); it != meshes_.end();) {
-        if (it->second.lastFrame == frame_) {
+        if (it->second.lastFrame == frame_ || it->second.keepUntil > frame_) {
             ++it;
             continue;
         }
@@ -124,7 +144,7 @@ void GpuCache::releaseUnused() {
     }
     for (auto* cache : {&textures_, &cutTextures_})
         for (auto it = cache->begin(); it != cache->end();) {
-            if (it->second.lastFrame == frame_) {
+            if (it->second.lastFrame == frame_ || it->second.keepUntil > frame_) {
                 ++it;
                 continue;
             }

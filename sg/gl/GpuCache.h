@@ -20,6 +20,7 @@ struct GpuMesh {
     int indexCount = 0;
     bool normals = false, uvs = false, colors = false;
     uint64_t lastFrame = 0;
+    uint64_t keepUntil = 0;  // uploaded ahead of its first draw (prepare): kept until this frame, used or not
 };
 
 // Needs the current GL context of its renderer, alive until the cache is destroyed.
@@ -40,6 +41,15 @@ public:
     // its transparent texels (bleedIntoTransparent).
     unsigned texture(const Texture* t, bool cut);
 
+    // Uploads ahead of a draw (Renderer::prepare): as mesh() and texture(), but kept by releaseUnused() for the
+    // next kPrepareGrace frames whether drawn or not, so that what was uploaded for a detail not attached or not
+    // drawn yet is still there when it is; a cached copy gets the grace again. Return whether they uploaded.
+    static constexpr uint64_t kPrepareGrace = 8;
+    bool hasMesh(const Mesh* m) const { return meshes_.count(m) != 0; }
+    bool hasTexture(const Texture* t, bool cut) const { return (cut ? cutTextures_ : textures_).count(t) != 0; }
+    bool prepareMesh(const Mesh* m);
+    bool prepareTexture(const Texture* t, bool cut);
+
     // Frees the copies the frame since the last nextFrame() did not use; clear() frees all of them.
     void releaseUnused();
     void clear();
@@ -51,6 +61,7 @@ private:
         ref_ptr<const Texture> texture;
         unsigned id = 0;
         uint64_t lastFrame = 0;
+        uint64_t keepUntil = 0;
     };
     static void destroy(GpuMesh& g);
 

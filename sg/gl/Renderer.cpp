@@ -1,5 +1,7 @@
 #include "sg/gl/Renderer.h"
 
+#include "nodes/Geometry.h"
+
 #include "sg/gl/BackFaces.h"
 #include "sg/gl/DepthTarget.h"
 #include "sg/gl/GlProgram.h"
@@ -20,6 +22,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 
 namespace sg {
 
@@ -577,6 +580,34 @@ std::vector<float> Renderer::readDepth() const {
     checkGl("Renderer::readDepth()", "from glReadPixels");
     for (size_t y = 0; y < h; ++y) std::memcpy(&out[y * w], &tmp[(h - 1 - y) * w], w * sizeof(float));
     return out;
+}
+
+bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
+    std::vector<const Node*> stack{&root};
+    std::unordered_set<const Node*> seen;
+    while (!stack.empty()) {
+        const Node* n = stack.back();
+        stack.pop_back();
+        if (!seen.insert(n).second) continue;
+        if (n->kind() == NodeKind::Geometry) {
+            const auto* g = static_cast<const Geometry*>(n);
+            if (const Mesh* m = g->mesh()) {
+                // The same copies draw() would take: the mesh, and its material's texture when it has UVs.
+                if (!cache_->hasMesh(m) && budget.exhausted()) return false;
+                if (cache_->prepareMesh(m)) budget.spend(1, m->bytes());
+                const Material* mat = g->material();
+                const Texture* tex = mat && m->uvs().size() == m->positions().size() ? mat->texture.get() : nullptr;
+                if (tex) {
+                    const bool cut = mat->alphaCutoff > 0.0f;
+                    if (!cache_->hasTexture(tex, cut) && budget.exhausted()) return false;
+                    if (cache_->prepareTexture(tex, cut)) budget.spend(1, tex->rgba().size());
+                }
+            }
+        }
+        for (size_t i = 0; i < n->numChildren(); ++i)
+            if (const Node* c = n->child(i)) stack.push_back(c);
+    }
+    return true;
 }
 
 void Renderer::releaseUnused() { cache_->releaseUnused(); }

@@ -4,6 +4,8 @@
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"
+#include "sg/core/Node.h"
+#include "sg/core/PrepareBudget.h"
 #include "sg/core/Ref.h"
 #include "sg/cull/DrawList.h"
 #include "sg/io/ImageIO.h"
@@ -142,6 +144,13 @@ public:
     void releaseUnused();
     void clear();
     size_t cachedMeshes() const;
+    // Uploads the meshes and textures below `root` (a paged detail before it is attached: Pager::setPrepare, which
+    // sg::Viewer wires to this) into the cache while `budget` lasts: each upload counts an object and the bytes
+    // (PrepareBudget::spend), and none starts once the budget is exhausted (its objects spent or its time, measured
+    // with steady_clock, up). Returns true when everything below root is in the cache. What it uploads is kept
+    // by releaseUnused() for a few frames (GpuCache::kPrepareGrace) until first drawn, so that the first draw
+    // uploads nothing more. Needs the renderer's context current.
+    bool prepare(const Node& root, PrepareBudget& budget);
     // A texture drawn with an alpha cutoff has its own copy, with colour bled under its transparent texels.
     size_t cachedTextures() const;
 

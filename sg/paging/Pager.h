@@ -1,13 +1,14 @@
-// Pager: loads the details of a Scene's PagedLOD nodes from files on a loader thread, attaches them at the next
-// update and unloads those not needed for a while (Performer's DBASE process, OpenSceneGraph's DatabasePager).
-// The thread, queue and policy live here, below the viewer; file formats reach it as a load function
-// (sg::loadGltfPage in loaders/Gltf.h reads glTF), so that the kernel does not depend on a parser.
+// Pager: loads the details of a Scene's PagedLOD nodes from files on loader threads, the most needed first,
+// attaches them at the next update and unloads those not needed for a while (Performer's DBASE process,
+// OpenSceneGraph's DatabasePager). The threads, queue and policy live here, below the viewer; file formats reach it as
+// a load function (sg::loadGltfPage in loaders/Gltf.h reads glTF), so that the kernel does not depend on a parser.
 #pragma once
 #include "nodes/PagedLOD.h"
+#include "sg/core/PrepareBudget.h"
 #include "sg/scene/Scene.h"
 
+#include <algorithm>
 #include <condition_variable>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -19,7 +20,8 @@
 namespace sg {
 
 // Reads a detail: returns its root, or throws with the reason (the pager adds the file name when the message
-// lacks it). Runs on the loader thread: it must not touch the scene.
+// lacks it). Runs on a loader thread, on several at once with PagerSettings::loaderThreads above 1: it must not
+// touch the scene, and must be safe to call concurrently.
 using PageLoadFunction = std::function<ref_ptr<Node>(const std::string& file)>;
 
 // Mesh and texture bytes below `root`, each shared mesh or texture counted once: what a detail takes.
@@ -32,14 +34,43 @@ struct PagerSettings {
     double expirySeconds = 1.0;
     // A request the cull did not renew at the last update is dropped if its load has not started.
     bool cancelUnneeded = true;
-    // The loader thread's nice value (Linux; 0 leaves it as the process's): it yields to the frame thread.
+    // The loader threads' nice value (Linux; 0 leaves it as the process's): they yield to the frame thread.
     int loaderNice = 10;
+    // Threads running the load function, each taking the most needed request queued (0 counts as 1).
+    unsigned loaderThreads = std::max(1u, std::thread::hardware_concurrency());
+    // The attached details' mesh and texture bytes the pager keeps to. Above it, the details not needed at the
+    // last update are detached, the least recently needed first (ties: the deepest first); Command-triggered
+    // nodes are not detached for it. While still above it (everything attached is needed), no new load starts
+    // but commanded ones (Pager::load()) and those of nodes without coarse children (nothing of theirs would be
+    // drawn otherwise); PagerStats::overBudget says so.
+    size_t maxResidentBytes = size_t(512) << 20;
+    // A failed Range node is asked for again by the cull after retrySeconds (FrameInfo::time), doubled per
+    // failure in a row up to maxRetrySeconds.
+    double retrySeconds = 2.0;
+    double maxRetrySeconds = 64.0;
+    // With a prepare function (Pager::setPrepare): what each update may spend on it, in ms and objects.
+    double prepareMsPerFrame = 1.0;
+    uint32_t prepareObjectsPerFrame = 20;
     // Free detached details on the loader thread instead of in update()/release(). Only when nothing else holds
     // their meshes, materials or textures (a renderer's cache does): reference counts are not atomic.
     bool freeOnLoaderThread = false;
 };
 
 struct PagerStats {
+    // The figures of the last update (and of the commands given since).
+    struct Frame {
+        uint64_t cancelled = 0;        // requests dropped
+        uint64_t failed = 0;           // loads that failed
+        uint64_t attached = 0;         // details attached
+        uint64_t evicted = 0;          // details detached for the byte budget
+        uint64_t unloaded = 0;         // details detached (expired, evicted, released, or inside one of those)
+        uint64_t prepared = 0;         // details the prepare function finished
+        size_t uploadedBytes = 0;      // by the prepare function (PrepareBudget::bytesUsed)
+        uint32_t uploadedObjects = 0;  // (PrepareBudget::objectsUsed)
+        double prepareMs = 0.0;        // time in the prepare function
+    };
+    Frame frame;
+    uint64_t evicted = 0;      // details detached for the byte budget
     uint64_t requests = 0;     // loads queued
     uint64_t loads = 0;        // details attached
     uint64_t unloads = 0;      // details detached (expired or released)
@@ -48,36 +79,52 @@ struct PagerStats {
     uint64_t discarded = 0;    // loads finished after their request was dropped or released (freed, not attached)
     size_t resident = 0;       // details attached now
     size_t bytesResident = 0;  // their mesh and texture bytes
-    size_t queued = 0;         // requests waiting for the loader thread (at the last update)
-    bool loading = false;      // the loader thread was busy (loading, or freeing details) at the last update
+    size_t queued = 0;         // requests waiting for a loader thread (at the last update)
+    size_t loading = 0;        // requests in the loader threads' hands (at the last update)
+    bool freeing = false;      // a loader thread was freeing details (at the last update)
+    size_t maxQueued = 0;      // the most requests queued at an update
+    size_t pending = 0;        // details loaded and waiting for the prepare function (at the last update)
+    bool overBudget = false;   // bytesResident above maxResidentBytes after the last update's evictions
     double lastLoadMs = 0.0, maxLoadMs = 0.0, totalLoadMs = 0.0;  // time in the load function
     std::string lastError;                                        // the last failure's message
 };
 
 class Pager {
 public:
-    // Starts the loader thread. Throws std::invalid_argument when `load` is empty.
+    // Starts the loader threads. Throws std::invalid_argument when `load` is empty.
     explicit Pager(Scene& scene, PageLoadFunction load = {}, PagerSettings settings = {});
-    // Stops the loader thread: the load running finishes first (a load cannot be interrupted), the queue is
+    // Stops the loader threads: the loads running finish first (a load cannot be interrupted), the queue is
     // dropped and its nodes are Unloaded again. Attached details stay in the graph.
     ~Pager();
     Pager(const Pager&) = delete;
     Pager& operator=(const Pager&) = delete;
 
-    // On the application thread, before Scene::update(frame): takes the cull's requests and queues them, drops
-    // requests no longer needed, attaches the details loaded since (and records failures on their nodes),
-    // unloads the expired ones. Never waits for a load.
+    // On the application thread, before Scene::update(frame): takes the cull's requests and queues them, renews
+    // the priorities of the requests the last cull needed (the queue is kept most needed first: see
+    // PagedLOD::needPriority()), drops requests no longer needed, attaches the details loaded since (and records
+    // failures on their nodes), unloads the expired ones. Never waits for a load.
     void update(const FrameInfo& frame);
 
-    // On command (a map's enter and back), on the application thread. load(): queued now, whatever the range
-    // (a failed node is tried again); nothing when requested or attached already. release(): a queued request
-    // is dropped, an attached detail detached now and its memory freed (PagerSettings::freeOnLoaderThread).
+    // On command (a map's enter and back), on the application thread. load(): queued now, ahead of every request
+    // of the cull, whatever the range (a failed node is tried again); nothing when requested or attached already.
+    // release(): a queued request is dropped, an attached detail detached now and its memory freed
+    // (PagerSettings::freeOnLoaderThread).
     void load(PagedLOD& node);
     void release(PagedLOD& node);
 
-    // Blocks until no request is queued or loading and the details released are freed (tests, scripted demos);
-    // update() then attaches what was loaded.
+    // Blocks until no request is queued (that a loader may start) or loading and the details released are freed
+    // (tests, scripted demos); update() then attaches what was loaded.
     void waitIdle();
+
+    // Prepares a loaded detail for drawing before it is attached (Renderer::prepare() uploads its meshes and
+    // textures; sg::Viewer sets that one when it has a renderer): called in update(), on the application thread,
+    // for the details loaded and not attached yet, the most needed first, while the budget lasts
+    // (PagerSettings::prepareMsPerFrame, prepareObjectsPerFrame); returns true when done (the detail is attached
+    // in that update), false to be called again at the next update. It may throw: the load fails with the
+    // message. Empty (the default): details are attached as soon as loaded.
+    using PrepareFunction = std::function<bool(Node& detail, PrepareBudget& budget)>;
+    void setPrepare(PrepareFunction prepare) { prepare_ = std::move(prepare); }
+    const PrepareFunction& prepare() const { return prepare_; }
 
     const PagerStats& stats() const { return stats_; }
     const PagerSettings& settings() const { return settings_; }
@@ -90,7 +137,13 @@ private:
         uint64_t id;
         const PagedLOD* node;
         std::string file;
+        float priority;  // bigger first; Pager::load()'s: infinity
+        bool essential;  // may start while over the byte budget (commanded, or no coarse children)
     };
+    // The queue's order: the most needed last (taken from the back), ties by age (the oldest last).
+    static bool lessNeeded(const Job& a, const Job& b) {
+        return a.priority < b.priority || (a.priority == b.priority && a.id > b.id);
+    }
     struct Result {
         uint64_t id;
         const PagedLOD* node;
@@ -104,13 +157,30 @@ private:
         uint64_t id;          // its current request (results of older ones are discarded)
         uint64_t seenUpdate;  // the last PagedLOD::lastNeeded() seen, and when it was seen
         double seenTime;
-        size_t bytes;  // of the attached detail
+        size_t bytes;                        // of the attached detail
+        float priority;                      // of its request
+        const PagedLOD* owner;               // the tracked node whose detail holds it, or null
+        std::vector<const PagedLOD*> inner;  // the tracked nodes its detail holds
+        uint32_t depth;                      // tracked owners above it
+        bool attached;                       // its detail is counted in the stats
+        ref_ptr<Node> pending;               // loaded, waiting for the prepare function
+        size_t pendingBytes;
+        bool prepared;  // the prepare function saw `pending`: freed on the application thread
     };
-    void queue(PagedLOD& node, const FrameInfo& frame);
+    void queue(PagedLOD& node, const FrameInfo& frame, float priority);
     void unload(Active& a);
+    // Lets go of a tracked node: the tracked nodes inside its detail first, then its request dropped or its
+    // detail detached; its entry erased.
+    void releaseTree(const PagedLOD* key);
+    void forget(const PagedLOD* key);  // erases the entry (and its place in its owner's list)
+    void attach(Active& a, ref_ptr<Node> detail, size_t bytes, uint64_t now, const FrameInfo& frame);
+    void fail(Active& a, const std::string& error, const FrameInfo& frame);
+    void runPrepare(uint64_t now, const FrameInfo& frame);
+    void evict(uint64_t now);
     bool dropJob(uint64_t id);  // true when the job was still queued
+    bool canStart() const;      // a queued job may start (under mutex_)
     void handOver();            // dying_ to the loader thread; the queue figures into stats_
-    void run();                 // the loader thread
+    void run();                 // a loader thread
 
     Scene& scene_;
     PageLoadFunction load_;
@@ -119,20 +189,26 @@ private:
     FrameInfo frame_;
     std::unordered_map<const PagedLOD*, Active> active_;
     std::vector<ref_ptr<Node>> posted_;  // taken from the scene's PageRequests
-    std::vector<Result> results_;        // taken from done_
-    std::vector<ref_ptr<Node>> dying_;   // detached details to free
-    std::vector<ref_ptr<Node>> stale_;   // loads discarded, freed on the loader thread
+    std::vector<float> postedPriorities_;
+    std::vector<Result> results_;       // taken from done_
+    std::vector<ref_ptr<Node>> dying_;  // detached details to free
+    std::vector<ref_ptr<Node>> stale_;  // loads discarded, freed on the loader thread
+    std::vector<const PagedLOD*> scratch_;
+    std::vector<Active*> order_;
+    PrepareFunction prepare_;
     uint64_t nextId_ = 1;
 
-    // Shared with the loader thread, under mutex_.
+    // Shared with the loader threads, under mutex_.
     std::mutex mutex_;
     std::condition_variable wake_, idle_;
-    std::deque<Job> jobs_;
+    std::vector<Job> jobs_;  // ordered by lessNeeded(): the most needed at the back
     std::vector<Result> done_;
-    std::vector<ref_ptr<Node>> trash_;  // details to free on the loader thread
-    bool busy_ = false;                 // loading, or freeing details
+    std::vector<ref_ptr<Node>> trash_;  // details to free on a loader thread
+    size_t loading_ = 0;                // jobs in the loaders' hands
+    size_t freeing_ = 0;                // loaders freeing details
+    bool overBudget_ = false;           // only essential jobs may start
     bool stop_ = false;
-    std::thread thread_;
+    std::vector<std::thread> threads_;
 };
 
 }  // namespace sg

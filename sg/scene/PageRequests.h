@@ -1,5 +1,5 @@
 // PageRequests: the paged nodes a cull found needed and not loaded, posted from any cull thread and taken by
-// the pager on the application thread before the next update.
+// the pager on the application thread before the next update, each with how much it is needed.
 #pragma once
 #include "sg/core/Node.h"
 
@@ -11,16 +11,28 @@ namespace sg {
 class PageRequests {
 public:
     // A node is posted at most once per update (PagedLOD::markNeeded() decides), so the list stays short.
-    void post(Node* n) {
+    // `priority`: how much the node's detail is needed, bigger first (CullTraversal::pagedLod() works it out);
+    // a node posted again at a later update has its request's priority renewed.
+    void post(Node* n) { post(n, 0.0f); }
+    void post(Node* n, float priority) {
         std::lock_guard<std::mutex> lock(mutex_);
         posted_.emplace_back(n);
+        priorities_.push_back(priority);
     }
-    // Moves the posted nodes into `out` (cleared first). The two vectors trade storage, so that a steady
-    // frame loop allocates nothing.
+    // Moves the posted nodes into `out` (cleared first), and their priorities into `priorities` (in the same
+    // order). The vectors trade storage, so that a steady frame loop allocates nothing.
     void take(std::vector<ref_ptr<Node>>& out) {
         out.clear();
         std::lock_guard<std::mutex> lock(mutex_);
         out.swap(posted_);
+        priorities_.clear();
+    }
+    void take(std::vector<ref_ptr<Node>>& out, std::vector<float>& priorities) {
+        out.clear();
+        priorities.clear();
+        std::lock_guard<std::mutex> lock(mutex_);
+        out.swap(posted_);
+        priorities.swap(priorities_);
     }
     size_t size() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -30,6 +42,7 @@ public:
 private:
     mutable std::mutex mutex_;
     std::vector<ref_ptr<Node>> posted_;
+    std::vector<float> priorities_;  // posted_'s, index for index
 };
 
 }  // namespace sg

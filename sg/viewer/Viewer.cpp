@@ -103,7 +103,20 @@ void Viewer::frame() {
     for (const FrameCallback& f : app_) f(info);
     t.appMs = msSince(start);
     auto at = Clock::now();
-    if (pager_) pager_->update(info);
+    if (pager_) {
+        // A pager without a prepare function of its own has its details uploaded by the renderer within the
+        // pager's budget before they are attached (Renderer::prepare), for this update only: the pager may
+        // outlive the viewer.
+        const bool wire = !pager_->prepare();
+        if (wire) pager_->setPrepare([r = renderer_](Node& d, PrepareBudget& b) { return r->prepare(d, b); });
+        try {
+            pager_->update(info);
+        } catch (...) {
+            if (wire) pager_->setPrepare({});
+            throw;
+        }
+        if (wire) pager_->setPrepare({});
+    }
     t.pagerMs = msSince(at);
     at = Clock::now();
     for (const FrameCallback& f : update_) f(info);

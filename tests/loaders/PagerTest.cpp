@@ -16,6 +16,7 @@
 #include <random>
 #include <set>
 #include <thread>
+#include <unordered_map>
 
 using namespace sg;
 
@@ -95,6 +96,49 @@ struct Latch {
         cv.notify_all();
     }
 };
+
+// A Range tile at `at` under `parent`: coarse box, detail from `file`, wanted within `range` m.
+ref_ptr<PagedLOD> addTile(Group& parent, const dvec3& at, const std::string& file, float range = 50.0f) {
+    auto p = make<PagedLOD>();
+    p->setFile(file);
+    p->setRange(0.0f, range);
+    p->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+    auto t = make<Transform>(glm::translate(dmat4(1.0), at));
+    t->addChild(p);
+    parent.addChild(t);
+    return p;
+}
+
+// A load function that records the files in the order loaded and holds every load at a gate until it opens;
+// "block.glb" waits at `gate` alone, so that a queue can build up behind it.
+struct Recorder {
+    std::mutex m;
+    std::vector<std::string> order;
+    Latch gate, started;
+    std::function<ref_ptr<Node>(const std::string&)> detail = [](const std::string&) { return makeDetail(); };
+    ref_ptr<Node> operator()(const std::string& file) {
+        if (file == "block.glb") {
+            started.release();
+            gate.wait();
+        }
+        {
+            std::lock_guard<std::mutex> lock(m);
+            order.push_back(file);
+        }
+        return detail(file);
+    }
+    std::vector<std::string> loaded() {
+        std::lock_guard<std::mutex> lock(m);
+        return order;
+    }
+};
+
+// One loader thread, held on a commanded load while the cull asks for `count` frames: the queue builds up.
+PagerSettings oneLoader() {
+    PagerSettings ps;
+    ps.loaderThreads = 1;
+    return ps;
+}
 
 }  // namespace
 
@@ -293,13 +337,16 @@ TEST(Pager, ARequestNoLongerNeededIsDroppedBeforeItsLoad) {
     Latch latch, started;
     std::mutex m;
     std::vector<std::string> loaded;
-    Pager pager(scene, [&](const std::string& file) {
-        started.release();
-        latch.wait();
-        std::lock_guard<std::mutex> lock(m);
-        loaded.push_back(file);
-        return makeDetail();
-    });
+    Pager pager(
+        scene,
+        [&](const std::string& file) {
+            started.release();
+            latch.wait();
+            std::lock_guard<std::mutex> lock(m);
+            loaded.push_back(file);
+            return makeDetail();
+        },
+        oneLoader());  // so that the second waits in the queue
     Frames f(scene, pager);
     f.run();
     f.run();  // both queued
@@ -414,6 +461,464 @@ TEST(Pager, AFrameDoesNotStallWhileALargeFileLoads) {
     RecordProperty("max_over_median_during_load", std::to_string(pct(during, 1.0) / pct(during, 0.5)));
 }
 
+TEST(Pager, RequestsAreLoadedMostNeededFirstAndCommandsBeforeThem) {
+    // Three tiles straight ahead at 40, 10 and 25 m (scene order), ranges of 50 m: nearer is more needed. A
+    // commanded load holds the one loader thread while the cull posts them.
+    auto root = make<Group>();
+    auto far = addTile(*root, dvec3(0, 40, 0), "far.glb");
+    auto near = addTile(*root, dvec3(0, 10, 0), "near.glb");
+    auto mid = addTile(*root, dvec3(0, 25, 0), "mid.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    Recorder rec;
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    pager.load(*block);
+    rec.started.wait();
+    f.run();  // posted with their priorities
+    EXPECT_GT(near->needPriority(), mid->needPriority());
+    EXPECT_GT(mid->needPriority(), far->needPriority());
+    f.run();  // queued
+    EXPECT_EQ(pager.stats().queued, 3u);
+    EXPECT_EQ(pager.stats().loading, 1u);
+    // A command given now goes ahead of them all.
+    auto cmd = make<PagedLOD>();
+    cmd->setFile("command.glb");
+    cmd->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(cmd);
+    f.run();
+    pager.load(*cmd);
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "command.glb", "near.glb", "mid.glb", "far.glb"}));
+}
+
+TEST(Pager, ARenewedRequestTakesItsNewPriority) {
+    // Two tiles, one to the left and one to the right at the same distance: the one nearer the view's centre goes
+    // first. The camera turns while both wait: the order follows it.
+    auto root = make<Group>();
+    auto left = addTile(*root, dvec3(-8, 20, 0), "left.glb");
+    auto right = addTile(*root, dvec3(8, 20, 0), "right.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    Recorder rec;
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    pager.load(*block);
+    rec.started.wait();
+    f.cam.setLookAt(dvec3(0), dvec3(-3, 20, 0), dvec3(0, 0, 1));  // toward the left one
+    f.run();
+    f.run();
+    EXPECT_GT(left->needPriority(), right->needPriority());
+    f.cam.setLookAt(dvec3(0), dvec3(3, 20, 0), dvec3(0, 0, 1));  // toward the right one: both still in view
+    f.run();
+    f.run();
+    EXPECT_GT(right->needPriority(), left->needPriority());
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "right.glb", "left.glb"}));
+}
+
+TEST(Pager, ParentsAreLoadedBeforeTheirChildren) {
+    // A parent tile whose detail holds a child tile 5 m from the eye (much needed), and another root tile at the
+    // edge of its range (hardly needed): the root tile goes first, being shallower.
+    auto root = make<Group>();
+    auto parent = addTile(*root, dvec3(0, 5, 0), "parent.glb");
+    auto edge = addTile(*root, dvec3(0, 48, 0), "edge.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    ref_ptr<PagedLOD> child;
+    Recorder rec;
+    rec.detail = [&](const std::string& file) -> ref_ptr<Node> {
+        if (file != "parent.glb") return makeDetail();
+        auto g = make<Group>();  // the parent's detail: a child tile at the parent's place (0, 5, 0)
+        child = addTile(*g, dvec3(0), "child.glb");
+        return g;
+    };
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();  // both loaded
+    f.run();
+    ASSERT_EQ(parent->state(), PagedLOD::State::Loaded);
+    pager.load(*block);
+    rec.started.wait();
+    // The edge tile released: the cull asks for it again, beside the child.
+    pager.release(*edge);
+    f.run();  // the child posted, edge posted
+    f.run();  // both queued behind the block
+    ASSERT_TRUE(child);
+    EXPECT_GT(pager.stats().queued, 1u);
+    EXPECT_LT(edge->needPriority(), 0.99f);
+    EXPECT_LT(child->needPriority(), 0.0f);  // one level down
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    const auto order = rec.loaded();
+    ASSERT_GE(order.size(), 2u);
+    EXPECT_EQ(std::vector<std::string>(order.end() - 2, order.end()),
+              (std::vector<std::string>{"edge.glb", "child.glb"}));
+}
+
+TEST(Pager, OverTheByteBudgetTheLeastRecentlyNeededDetailLeavesAndANeededOneNever) {
+    // Three tiles 50 m apart side by side, each seen alone from in front of it; details of known bytes, a budget
+    // of two of them.
+    auto root = make<Group>();
+    auto a = addTile(*root, dvec3(-25, 20, 0), "a.glb", 100.0f);
+    auto b = addTile(*root, dvec3(0, 20, 0), "b.glb", 100.0f);
+    auto c = addTile(*root, dvec3(25, 20, 0), "c.glb", 100.0f);
+    Scene scene(root);
+    const size_t B = pageBytes(makeDetail().get());
+    PagerSettings ps;
+    ps.maxResidentBytes = 2 * B;
+    Pager pager(
+        scene, [](const std::string&) { return makeDetail(); }, ps);
+    Frames f(scene, pager);
+    auto lookAt = [&](double x) { f.cam.setLookAt(dvec3(x, 0, 0), dvec3(x, 20, 0), dvec3(0, 0, 1)); };
+    auto loadIn = [&] {
+        f.run();
+        f.run();
+        pager.waitIdle();
+        f.run();
+    };
+    lookAt(-25);
+    loadIn();
+    lookAt(0);
+    loadIn();
+    EXPECT_EQ(pager.stats().bytesResident, 2 * B);
+    EXPECT_FALSE(pager.stats().overBudget);
+    lookAt(25);
+    loadIn();  // c attached: three over the budget, a (the least recently needed) leaves in the same update
+    EXPECT_EQ(pager.stats().frame.attached, 1u);
+    EXPECT_EQ(pager.stats().frame.evicted, 1u);
+    EXPECT_EQ(a->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(b->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(c->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(pager.stats().evicted, 1u);
+    EXPECT_EQ(pager.stats().bytesResident, 2 * B);
+    EXPECT_FALSE(pager.stats().overBudget);
+
+    // All three in view: a loads again, nothing can leave (all needed): over the budget, and said so.
+    f.cam.setLookAt(dvec3(0, -30, 0), dvec3(0, 20, 0), dvec3(0, 0, 1));
+    loadIn();
+    for (int k = 0; k < 3; ++k) f.run();
+    EXPECT_EQ(a->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(b->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(c->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(pager.stats().bytesResident, 3 * B);
+    EXPECT_TRUE(pager.stats().overBudget);
+    EXPECT_EQ(pager.stats().evicted, 1u);
+    // A new tile in view is queued and not started while over the budget...
+    auto d = addTile(*root, dvec3(-25, 40, 0), "d.glb", 100.0f);
+    f.run();
+    f.run();
+    pager.waitIdle();  // nothing that may start
+    f.run();
+    EXPECT_EQ(d->state(), PagedLOD::State::Requested);
+    EXPECT_EQ(pager.stats().queued, 1u);
+    EXPECT_EQ(pager.stats().loading, 0u);
+    // ...but a commanded load is.
+    auto e = make<PagedLOD>();
+    e->setFile("e.glb");
+    e->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(e);
+    f.run();
+    pager.load(*e);
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(e->state(), PagedLOD::State::Loaded);
+    // Looking at c alone: a and b (no longer needed) leave; the commanded e stays; d's request is dropped.
+    lookAt(25);
+    f.run();
+    f.run();
+    EXPECT_EQ(a->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(b->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(c->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(e->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(d->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(pager.stats().bytesResident, 2 * B);
+    EXPECT_FALSE(pager.stats().overBudget);
+    EXPECT_EQ(pager.stats().evicted, 3u);
+    EXPECT_GE(pager.stats().maxQueued, 1u);  // d (and others, had the loaders not taken them by the update)
+}
+
+// A parent tile 10 m ahead whose detail holds a child tile at its place (ranges of 100 m).
+struct Nested {
+    ref_ptr<Group> root = make<Group>();
+    ref_ptr<PagedLOD> parent, child;
+    Nested() { parent = addTile(*root, dvec3(0, 10, 0), "parent.glb", 100.0f); }
+    ref_ptr<Node> load(const std::string& file, PagedLOD::Trigger childTrigger) {
+        if (file != "parent.glb") return makeDetail();
+        auto g = make<CountedGroup>();
+        child = addTile(*g, dvec3(0), "child.glb", 100.0f);
+        child->setTrigger(childTrigger);
+        return g;
+    }
+};
+
+TEST(Pager, ATrackedNodeInsideAReleasedDetailIsReleasedFirstAndItsBytesLeaveTheTotal) {
+    Nested w;
+    Scene scene(w.root);
+    const int before = gAlive.load();
+    {
+        Pager pager(scene, [&](const std::string& file) { return w.load(file, PagedLOD::Trigger::Range); });
+        Frames f(scene, pager);
+        for (int level = 0; level < 2; ++level) {
+            f.run();
+            f.run();
+            pager.waitIdle();
+            f.run();
+        }
+        ASSERT_EQ(w.parent->state(), PagedLOD::State::Loaded);
+        ASSERT_EQ(w.child->state(), PagedLOD::State::Loaded);
+        EXPECT_EQ(pager.tracked(), 2u);
+        EXPECT_EQ(pager.stats().resident, 2u);
+        EXPECT_EQ(pager.stats().bytesResident, w.parent->detailBytes() + w.child->detailBytes());
+        const ref_ptr<PagedLOD> child = w.child;
+        pager.release(*w.parent);
+        EXPECT_EQ(child->state(), PagedLOD::State::Unloaded);
+        EXPECT_EQ(child->detail(), nullptr);
+        EXPECT_EQ(w.parent->state(), PagedLOD::State::Unloaded);
+        EXPECT_EQ(pager.tracked(), 0u);
+        EXPECT_EQ(pager.stats().resident, 0u);
+        EXPECT_EQ(pager.stats().bytesResident, 0u);
+        EXPECT_EQ(pager.stats().unloads, 2u);
+        w.child = nullptr;
+    }
+    EXPECT_EQ(gAlive.load(), before);  // both details freed
+}
+
+TEST(Pager, ATrackedNodeInsideAnEvictedDetailIsReleasedAndItsBytesLeaveTheTotal) {
+    // The child is commanded (never evicted itself); the parent, no longer needed, is evicted for a third tile.
+    Nested w;
+    auto other = addTile(*w.root, dvec3(60, 10, 0), "other.glb", 100.0f);
+    Scene scene(w.root);
+    const size_t B = pageBytes(makeDetail().get());
+    PagerSettings ps;
+    ps.maxResidentBytes = 2 * B + 500;  // the parent's detail (a coarse box) and the child's, not the third
+    Pager pager(
+        scene, [&](const std::string& file) { return w.load(file, PagedLOD::Trigger::Command); }, ps);
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    f.run();
+    ASSERT_EQ(w.parent->state(), PagedLOD::State::Loaded);
+    pager.load(*w.child);
+    pager.waitIdle();
+    f.run();
+    ASSERT_EQ(w.child->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(pager.stats().bytesResident, w.parent->detailBytes() + w.child->detailBytes());
+    EXPECT_LE(pager.stats().bytesResident, ps.maxResidentBytes);
+    const ref_ptr<PagedLOD> child = w.child;
+    f.cam.setLookAt(dvec3(60, 0, 0), dvec3(60, 10, 0), dvec3(0, 0, 1));  // the other tile alone
+    f.run();
+    f.run();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(other->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(w.parent->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(child->state(), PagedLOD::State::Unloaded);
+    EXPECT_EQ(pager.stats().evicted, 1u);
+    EXPECT_EQ(pager.tracked(), 1u);
+    EXPECT_EQ(pager.stats().resident, 1u);
+    EXPECT_EQ(pager.stats().bytesResident, other->detailBytes());
+}
+
+TEST(Pager, AFailedLoadIsAskedForAgainAfterABackOffThatDoublesAndTheErrorStaysMeanwhile) {
+    World w;
+    Scene scene(w.root);
+    std::atomic<int> calls{0};
+    PagerSettings ps;
+    ps.retrySeconds = 1.0;
+    ps.maxRetrySeconds = 10.0;
+    Pager pager(
+        scene,
+        [&](const std::string&) -> ref_ptr<Node> {
+            if (++calls <= 2) throw std::runtime_error("server busy");
+            return makeDetail();
+        },
+        ps);
+    CullTraversal cull;
+    const Camera cam = testutil::lookingAlongY();
+    uint64_t n = 0;
+    auto frame = [&](double t) {
+        ++n;
+        pager.update({n, t});
+        scene.update({n, t});
+        DrawList list;
+        CullStats st;
+        cull.cull(scene, cam, CullSettings{}, list, st);
+    };
+    frame(0.00);  // posted
+    frame(0.01);  // queued
+    pager.waitIdle();
+    frame(0.02);  // failed: asked again from 1.02 on
+    EXPECT_EQ(pager.stats().frame.failed, 1u);
+    ASSERT_EQ(w.tile->state(), PagedLOD::State::Failed);
+    EXPECT_EQ(w.tile->failures(), 1u);
+    EXPECT_DOUBLE_EQ(w.tile->retryTime(), 1.02);
+    for (double t : {0.5, 1.0, 1.01}) {
+        frame(t);
+        pager.waitIdle();
+    }
+    EXPECT_EQ(calls.load(), 1);
+    EXPECT_EQ(w.tile->error(), "tile.glb: server busy");  // kept on the node meanwhile
+    frame(1.03);                                          // posted again
+    frame(1.04);                                          // queued
+    pager.waitIdle();
+    EXPECT_EQ(calls.load(), 2);
+    frame(1.05);  // failed again: asked again 2 s later, from 3.05 on
+    ASSERT_EQ(w.tile->state(), PagedLOD::State::Failed);
+    EXPECT_EQ(w.tile->failures(), 2u);
+    EXPECT_DOUBLE_EQ(w.tile->retryTime(), 3.05);
+    for (double t : {2.0, 3.0, 3.04}) {
+        frame(t);
+        pager.waitIdle();
+    }
+    EXPECT_EQ(calls.load(), 2);
+    frame(3.1);
+    frame(3.11);
+    pager.waitIdle();
+    frame(3.12);
+    EXPECT_EQ(calls.load(), 3);
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(w.tile->failures(), 0u);
+    EXPECT_EQ(pager.stats().failures, 2u);
+    EXPECT_EQ(pager.stats().frame.attached, 1u);
+}
+
+TEST(Pager, WithAPrepareFunctionDetailsAttachWithinTheBudgetOfEachUpdateMostNeededFirst) {
+    // Four tiles loaded at once; a prepare function that counts its calls and spends an object each; a budget of
+    // one object an update: one attaches per update, the nearest first.
+    auto root = make<Group>();
+    std::vector<ref_ptr<PagedLOD>> tiles;
+    for (int k = 0; k < 4; ++k)
+        tiles.push_back(addTile(*root, dvec3(0, 10.0 + 8.0 * (3 - k), 0), "t" + std::to_string(k) + ".glb"));
+    Scene scene(root);
+    PagerSettings ps;
+    ps.prepareObjectsPerFrame = 1;
+    ps.prepareMsPerFrame = 1e9;  // objects alone decide: no test depends on time
+    Pager pager(
+        scene, [](const std::string&) { return makeDetail(); }, ps);
+    int calls = 0;
+    std::vector<const PagedLOD*> attachedOrder;
+    pager.setPrepare([&](Node&, PrepareBudget& budget) {
+        calls++;
+        budget.spend(1, 100);
+        return true;
+    });
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    for (int update = 1; update <= 4; ++update) {
+        f.run();
+        EXPECT_EQ(calls, update);
+        EXPECT_EQ(pager.stats().frame.attached, 1u) << "update " << update;
+        EXPECT_EQ(pager.stats().frame.uploadedObjects, 1u);
+        EXPECT_EQ(pager.stats().frame.uploadedBytes, 100u);
+        EXPECT_EQ(pager.stats().pending, size_t(4 - update));
+        for (const auto& t : tiles)
+            if (t->state() == PagedLOD::State::Loaded &&
+                std::find(attachedOrder.begin(), attachedOrder.end(), t.get()) == attachedOrder.end())
+                attachedOrder.push_back(t.get());
+    }
+    f.run();
+    EXPECT_EQ(calls, 4);
+    EXPECT_EQ(pager.stats().frame.attached, 0u);
+    EXPECT_EQ(pager.stats().resident, 4u);
+    // tiles[3] is the nearest.
+    EXPECT_EQ(attachedOrder,
+              (std::vector<const PagedLOD*>{tiles[3].get(), tiles[2].get(), tiles[1].get(), tiles[0].get()}));
+}
+
+TEST(Pager, APrepareFunctionMayTakeSeveralUpdatesAndItsFailureIsTheLoads) {
+    World w;
+    World other("other.glb");
+    Scene scene(w.root);
+    Pager pager(scene, [](const std::string&) { return makeDetail(); });
+    int calls = 0;
+    pager.setPrepare([&](Node&, PrepareBudget&) { return ++calls == 3; });  // done at the third call
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    f.run();
+    f.run();
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Requested);  // drawn coarse meanwhile
+    f.run();
+    EXPECT_EQ(calls, 3);
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Loaded);
+    pager.release(*w.tile);
+    pager.setPrepare([](Node&, PrepareBudget&) -> bool { throw std::runtime_error("out of video memory"); });
+    pager.load(*w.tile);
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Failed);
+    EXPECT_EQ(w.tile->error(), "tile.glb: out of video memory");
+    EXPECT_EQ(pager.tracked(), 0u);
+}
+
+TEST(PagerThreads, SeveralLoaderThreadsLoadAtOnceAndTheFiguresAddUp) {
+    // Four loader threads, each held at a gate: four loads run at once; released, all attach.
+    auto root = make<Group>();
+    std::vector<ref_ptr<PagedLOD>> tiles;
+    for (int k = 0; k < 8; ++k) tiles.push_back(addTile(*root, dvec3(4.0 * k - 14.0, 20, 0), "t" + std::to_string(k)));
+    Scene scene(root);
+    Latch gate;
+    std::mutex m;
+    std::condition_variable cv;
+    int inside = 0;
+    PagerSettings ps;
+    ps.loaderThreads = 4;
+    Pager pager(
+        scene,
+        [&](const std::string&) {
+            {
+                std::lock_guard<std::mutex> lock(m);
+                inside++;
+            }
+            cv.notify_all();
+            gate.wait();
+            return makeDetail();
+        },
+        ps);
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    {
+        std::unique_lock<std::mutex> lock(m);
+        cv.wait(lock, [&] { return inside == 4; });  // four at once: one per thread
+    }
+    f.run();
+    EXPECT_EQ(pager.stats().loading, 4u);
+    EXPECT_EQ(pager.stats().queued, 4u);
+    gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(pager.stats().loads, 8u);
+    EXPECT_EQ(pager.stats().resident, 8u);
+    size_t bytes = 0;
+    for (const auto& t : tiles) bytes += t->detailBytes();
+    EXPECT_EQ(pager.stats().bytesResident, bytes);
+}
+
 // Many enter and leave cycles, in random order (fixed seed), while loads are in flight: two views culled on
 // two threads at once each frame, commands given between frames. Nothing leaks (every detail is freed once
 // the pager and the scene are gone), the pager's figures match the graph every frame. Run under
@@ -499,6 +1004,110 @@ TEST(PagerThreads, EnterAndLeaveCyclesWhileLoadsAreInFlight) {
             (unsigned long long)(n - 1), (unsigned long long)s.requests, (unsigned long long)s.loads,
             (unsigned long long)s.unloads, (unsigned long long)s.failures, (unsigned long long)s.cancelled,
             (unsigned long long)s.discarded);
+    }
+    EXPECT_EQ(gAlive.load(), before);
+}
+
+// A quadtree of tiles three levels deep, each tile's detail the group of its four children (built on the loader
+// threads), leaves a counted detail; a byte budget that holds a fraction of them, failures now and then (retried
+// after a back-off), a prepare function that takes several updates, two views culled on two threads at once,
+// wandering. Every frame the pager's figures match the graph it can reach; nothing leaks. Run under
+// ThreadSanitizer in CI.
+TEST(PagerThreads, NestedTilesUnderAByteBudgetWithFailuresAndPrepare) {
+    const int before = gAlive.load();
+    {
+        constexpr int kLevels = 3;
+        constexpr double kSize = 64.0;
+        auto tileAt = [](int level, int x, int y) {
+            const double size = kSize / double(1 << level);
+            auto p = make<PagedLOD>();
+            p->setFile(std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y));
+            p->setRange(0.0f, float(2.5 * size));
+            p->setCenter(dvec3((x + 0.5) * size, (y + 0.5) * size, 0.0));
+            p->setRadius(0.75 * size);
+            const dvec3 lo((x + 0.1) * size, (y + 0.1) * size, 0.0), hi((x + 0.9) * size, (y + 0.9) * size, 1.0);
+            p->addChild(make<Geometry>(makeBoxMesh(lo, hi), make<Material>()));
+            return p;
+        };
+        auto root = make<Group>();
+        root->addChild(tileAt(0, 0, 0));
+        Scene scene(root);
+        std::atomic<uint64_t> seq{0};
+        PagerSettings ps;
+        ps.loaderThreads = 3;
+        ps.expiryFrames = 20;
+        ps.expirySeconds = 0.0;
+        ps.maxResidentBytes = 12 * pageBytes(makeDetail().get());
+        ps.retrySeconds = 0.05;
+        ps.maxRetrySeconds = 0.2;
+        ps.prepareObjectsPerFrame = 3;
+        ps.prepareMsPerFrame = 1e9;
+        Pager pager(
+            scene,
+            [&](const std::string& file) -> ref_ptr<Node> {
+                const uint64_t s = seq++;
+                if (s % 11 == 7) throw std::runtime_error("bad luck");
+                int level = 0, x = 0, y = 0;
+                std::sscanf(file.c_str(), "%d/%d/%d", &level, &x, &y);
+                if (level + 1 >= kLevels) return makeDetail();
+                auto g = make<CountedGroup>();
+                for (int k = 0; k < 4; ++k) g->addChild(tileAt(level + 1, 2 * x + (k & 1), 2 * y + (k >> 1)));
+                return g;
+            },
+            ps);
+        std::unordered_map<const Node*, int> prepareCalls;
+        pager.setPrepare([&](Node& d, PrepareBudget& b) {
+            b.spend(1, 0);
+            return ++prepareCalls[&d] % 2 == 0;  // a detail's second call finishes it
+        });
+        // What the graph holds: every PagedLOD reachable from the root with a detail attached.
+        auto reachable = [&](size_t& count, size_t& bytes) {
+            count = bytes = 0;
+            std::vector<const Node*> stack{root.get()};
+            while (!stack.empty()) {
+                const Node* n = stack.back();
+                stack.pop_back();
+                if (n->kind() == NodeKind::PagedLOD)
+                    if (const auto* p = static_cast<const PagedLOD*>(n); p->detail())
+                        count++, bytes += p->detailBytes();
+                for (size_t i = 0; i < n->numChildren(); ++i) stack.push_back(n->child(i));
+            }
+        };
+        std::mt19937 rng(777);
+        std::uniform_real_distribution<double> pos(-20.0, 84.0), height(5.0, 80.0);
+        CullTraversal cullA, cullB;
+        Camera a = testutil::lookingAlongY(), b = testutil::lookingAlongY();
+        uint64_t attached = 0;
+        for (uint64_t n = 1; n <= 1200; ++n) {
+            if (n % 5 == 0) pager.waitIdle();
+            const FrameInfo f{n, n / 60.0};
+            pager.update(f);
+            scene.update(f);
+            if (n % 40 == 1) {
+                a.setLookAt(dvec3(pos(rng), pos(rng), height(rng)), dvec3(pos(rng), pos(rng), 0), dvec3(0, 0, 1));
+                b.setLookAt(dvec3(pos(rng), pos(rng), height(rng)), dvec3(pos(rng), pos(rng), 0), dvec3(0, 0, 1));
+            }
+            DrawList la, lb;
+            CullStats sa, sb;
+            std::thread other([&] { cullB.cull(scene, b, CullSettings{}, lb, sb); });
+            cullA.cull(scene, a, CullSettings{}, la, sa);
+            other.join();
+            size_t count = 0, bytes = 0;
+            reachable(count, bytes);
+            ASSERT_EQ(pager.stats().resident, count) << "frame " << n;
+            ASSERT_EQ(pager.stats().bytesResident, bytes) << "frame " << n;
+            ASSERT_LE(pager.stats().frame.attached, 3u) << "frame " << n;  // three objects an update
+            attached += pager.stats().frame.attached;
+        }
+        const PagerStats& s = pager.stats();
+        EXPECT_GT(attached, 20u);
+        EXPECT_GT(s.failures, 0u);
+        std::printf(
+            "nested paging: %llu requests, %llu loads, %llu unloads, %llu evicted, %llu failures, %llu "
+            "cancelled, %llu discarded, most queued %zu\n",
+            (unsigned long long)s.requests, (unsigned long long)s.loads, (unsigned long long)s.unloads,
+            (unsigned long long)s.evicted, (unsigned long long)s.failures, (unsigned long long)s.cancelled,
+            (unsigned long long)s.discarded, s.maxQueued);
     }
     EXPECT_EQ(gAlive.load(), before);
 }

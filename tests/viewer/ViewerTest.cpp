@@ -209,6 +209,30 @@ TEST(Viewer, ThePagerStageAttachesWhatItsThreadLoaded) {
     EXPECT_EQ(v.cullStats().pagedCoarse, 0u);
 }
 
+TEST(Viewer, ThePagerStageUploadsADetailThroughTheRendererBeforeAttachingIt) {
+    Fixture f;
+    auto paged = make<PagedLOD>();
+    paged->addChild(box(vec4(0.1f, 0.1f, 0.9f, 1.0f), 0.2));
+    paged->setFile("detail");
+    paged->setRange(0.0f, 100.0f);
+    f.root->addChild(paged);
+    Viewer viewer(f.scene);
+    viewer.addView(lookingAt(dvec3(0, -6, 0)));
+    Pager& pager =
+        viewer.enablePaging([](const std::string&) -> ref_ptr<Node> { return box(vec4(0.9f, 0.1f, 0.1f, 1.0f), 1.5); });
+    viewer.frame();
+    viewer.frame();
+    pager.waitIdle();
+    const size_t before = viewer.renderer().cachedMeshes();
+    viewer.frame();  // prepared (its mesh uploaded), attached, drawn
+    ASSERT_EQ(paged->state(), PagedLOD::State::Loaded);
+    EXPECT_EQ(pager.stats().frame.prepared, 1u);
+    EXPECT_EQ(pager.stats().frame.uploadedObjects, 1u);
+    EXPECT_GT(pager.stats().frame.uploadedBytes, 0u);
+    EXPECT_EQ(viewer.renderer().cachedMeshes(), before + 1);
+    EXPECT_FALSE(pager.prepare());  // wired for the pager stage only
+}
+
 TEST(Viewer, TheOverlayDrawsTheStageTimesAtTheTopLeft) {
     Fixture f;
     OsmesaContext ctx(400, 300);

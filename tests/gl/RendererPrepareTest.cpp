@@ -1,0 +1,79 @@
+// Renderer::prepare: a paged detail's meshes uploaded ahead of its first draw, within the budget of each call.
+#include "TestUtil.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/gl/OsmesaContext.h"
+#include "sg/gl/Renderer.h"
+
+#include <gtest/gtest.h>
+
+using namespace sg;
+
+TEST(RendererPrepare, UploadsWithinTheObjectBudgetAndTheFirstDrawUploadsNothingMore) {
+    OsmesaContext context(200, 150);
+    Renderer renderer;
+    // A detail of five boxes side by side, each a mesh of its own, and a textured one (a mesh and a texture).
+    auto detail = make<Group>();
+    for (int k = 0; k < 5; ++k) {
+        auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(3.0 * k - 6.0, 0, 0)));
+        t->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+        detail->addChild(t);
+    }
+    auto textured = make<Material>();
+    textured->texture = make<Texture>(2, 2, std::vector<uint8_t>(16, 200));
+    auto tt = make<Transform>(glm::translate(dmat4(1.0), dvec3(0, 0, 3)));
+    tt->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), textured));
+    detail->addChild(tt);
+    // Seven objects, two a call.
+    int calls = 0;
+    size_t bytes = 0;
+    for (bool done = false; !done; ++calls) {
+        ASSERT_LT(calls, 10);
+        PrepareBudget budget(1e9, 2);  // objects alone decide
+        const size_t meshes = renderer.cachedMeshes(), textures = renderer.cachedTextures();
+        done = renderer.prepare(*detail, budget);
+        EXPECT_LE(budget.objectsUsed, 2u);
+        EXPECT_EQ(renderer.cachedMeshes() + renderer.cachedTextures(), meshes + textures + budget.objectsUsed);
+        bytes += budget.bytesUsed;
+    }
+    EXPECT_EQ(calls, 4);
+    EXPECT_EQ(renderer.cachedMeshes(), 6u);
+    EXPECT_EQ(renderer.cachedTextures(), 1u);
+    EXPECT_GT(bytes, 6u * makeBoxMesh(dvec3(-1), dvec3(1))->bytes());
+    // A spent budget uploads nothing, and says whether something is left.
+    PrepareBudget none(1e9, 0);
+    EXPECT_TRUE(renderer.prepare(*detail, none));  // everything is there already
+    // Kept by releaseUnused() before their first draw, for a few frames.
+    renderer.releaseUnused();
+    EXPECT_EQ(renderer.cachedMeshes(), 6u);
+    // The first draw of the detail uploads nothing more.
+    Scene scene(detail);
+    scene.update();
+    Camera cam = testutil::lookingAlongY();
+    cam.setViewport(200, 150);
+    cam.setLookAt(dvec3(0, -20, 2), dvec3(0, 0, 0), dvec3(0, 0, 1));
+    CullTraversal cull;
+    DrawList list;
+    CullStats st;
+    cull.cull(scene, cam, CullSettings{}, list, st);
+    ASSERT_EQ(list.items.size(), 6u);
+    renderer.draw(list, cam);
+    EXPECT_EQ(renderer.cachedMeshes(), 6u);
+    EXPECT_EQ(renderer.cachedTextures(), 1u);
+}
+
+TEST(RendererPrepare, ADetailPreparedButNeverDrawnIsReleasedAfterTheGrace) {
+    OsmesaContext context(64, 64);
+    Renderer renderer;
+    auto detail = make<Group>();
+    detail->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+    PrepareBudget budget;
+    ASSERT_TRUE(renderer.prepare(*detail, budget));
+    EXPECT_EQ(budget.objectsUsed, 1u);
+    Camera cam = testutil::lookingAlongY();
+    cam.setViewport(64, 64);
+    for (int k = 0; k < 20; ++k) {
+        renderer.draw(DrawList{}, cam);
+        renderer.releaseUnused();
+    }
+    EXPECT_EQ(renderer.cachedMeshes(), 0u);
+}
