@@ -88,7 +88,7 @@ int runTiles(const Args& a) {
         viewer.frame();
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - s).count();
         const sg::PagerStats& st = pager.stats();
-        const bool busy = st.queued > 0 || st.loading;
+        const bool busy = st.queued > 0 || st.loading > 0 || st.pending > 0;
         const bool done = !busy && view.cullStats().pagedRequested == 0 && view.cullStats().pagedCoarse == 0;
         all.push_back(ms);
         if (busy) loading.push_back(ms);

@@ -28,9 +28,9 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     }
     // A tileset: the picture is of the settled view, every tile it asks for loaded (a tile that failed is not
     // asked for again until its back-off passes; the frames are bounded all the same).
-    for (sg::Pager* p = view.pager();
-         p && frames < o.frames + 100000 &&
-         (view.cullStats().pagedRequested > 0 || p->stats().queued > 0 || p->stats().loading);
+    for (sg::Pager* p = view.pager(); p && frames < o.frames + 100000 &&
+                                      (view.cullStats().pagedRequested > 0 || p->stats().queued > 0 ||
+                                       p->stats().loading > 0 || p->stats().pending > 0);
          ++frames) {
         p->waitIdle();
         view.frame(camera, o.overlay, fs);

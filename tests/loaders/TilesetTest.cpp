@@ -73,8 +73,8 @@ struct Drawn {
     std::multiset<std::pair<long, long>> boxes;  // each item's world bound's min x, min y (rounded)
     CullStats stats;
 };
-Drawn cullOnce(Scene& scene, const Camera& cam, uint64_t frame = 1) {
-    scene.update(FrameInfo{frame, double(frame)});
+Drawn cullOnce(Scene& scene, const Camera& cam, uint64_t frame = 1, double time = -1.0) {
+    scene.update(FrameInfo{frame, time < 0.0 ? double(frame) : time});
     CullTraversal cull;
     DrawList list;
     Drawn out;
@@ -459,4 +459,36 @@ TEST(Tileset, ServerFaultsFailTheLoadAndKeepTheParent) {
         const char* reason = fault == "drop" ? "connection closed after" : fault == "stall" ? "no data" : "404";
         EXPECT_NE(why.find(reason), std::string::npos) << why;
     }
+}
+
+// A tile whose content the server does not have yet fails, is asked for again only after the pager's back-off,
+// and loads once the server has it; the parent is drawn meanwhile.
+TEST(Tileset, AFailedTileIsRetriedAfterItsBackOff) {
+    TempDir d;
+    quadTileset(d);
+    fs::rename(d / "q2.glb", d / "q2.later");
+    testutil::TileServer server(d.path);
+    Tileset ts = loadTileset(server.url("/tileset.json"));
+    Scene scene(ts.root());
+    PagerSettings ps;
+    ps.retrySeconds = 10.0;
+    Pager pager(scene, ts.loadFunction(), ps);
+    const Camera cam = lookingDownAt(dvec3(50, 50, 5), 100.0);
+    auto frame = [&](uint64_t f, double t) {
+        pager.update(FrameInfo{f, t});
+        Drawn dr = cullOnce(scene, cam, f, t);
+        pager.waitIdle();
+        return dr;
+    };
+    frame(1, 0.0);
+    frame(2, 0.1);
+    frame(3, 0.2);
+    EXPECT_EQ(pager.stats().failures, 1u);
+    EXPECT_NE(pager.stats().lastError.find("404"), std::string::npos) << pager.stats().lastError;
+    fs::rename(d / "q2.later", d / "q2.glb");
+    for (uint64_t f = 4; f < 8; ++f) EXPECT_EQ(frame(f, 0.1 * double(f)).boxes.size(), 1u);  // within the back-off
+    EXPECT_EQ(pager.stats().requests, 1u);
+    for (uint64_t f = 8; f < 12; ++f) frame(f, 20.0 + double(f));  // past it: asked again, loaded, attached
+    EXPECT_EQ(pager.stats().failures, 1u);
+    EXPECT_EQ(cullOnce(scene, cam, 12, 40.0).boxes.size(), 4u);
 }
