@@ -35,7 +35,7 @@ void parse(const unsigned char* data, size_t size) {
                 for (const Bytes& tile : parseCmpt("fuzz.cmpt", data, size).tiles) parse(tile.data, tile.size);
                 break;
             case ContentKind::Json: {  // a tileset, or a JSON subtree of a quadtree of 3 levels
-                TilesetState state(TilesetOptions{});
+                TilesetState state(sg::TilesetOptions{});
                 const std::vector<unsigned char> bytes(data, data + size);
                 state.addTileset("fuzz.json", bytes, -1, -1);
                 subtree(bytes);
