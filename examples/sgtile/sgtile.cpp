@@ -1,0 +1,110 @@
+// sgtile: writes a scene as an OGC 3D Tiles 1.1 tile pyramid (tileset.json and tiles/*.glb).
+//
+//   sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified]
+//   sgtile INPUT.glb|.gltf --out DIR [...]
+//
+// Prints what was written. Exit 2, naming the problem, on bad arguments or an unreadable input.
+#include "loaders/Gltf.h"
+#include "loaders/TilesetWrite.h"
+#include "nodes/Transform.h"
+#include "testbed/City.h"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace {
+
+int usage(const std::string& problem) {
+    std::fprintf(stderr,
+                 "sgtile: %s\n"
+                 "usage: sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified]\n"
+                 "       sgtile INPUT.glb|.gltf --out DIR [--max-triangles T] [--proxies exact|simplified]\n",
+                 problem.c_str());
+    return 2;
+}
+
+// A whole positive number, or -1.
+long long positive(const char* s) {
+    char* end = nullptr;
+    errno = 0;
+    const long long v = std::strtoll(s, &end, 10);
+    return (errno || end == s || *end || v <= 0) ? -1 : v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string input, out;
+    long long city = 0;
+    sg::TileWriteOptions options;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool hasValue = i + 1 < argc;
+        if (a == "--city" || a == "--out" || a == "--max-triangles" || a == "--proxies") {
+            if (!hasValue) return usage(a + " needs a value");
+            const char* v = argv[++i];
+            if (a == "--city") {
+                city = positive(v);
+                if (city < 1 || city > 100000)
+                    return usage("--city wants a number of cells from 1 to 100000, not " + std::string(v));
+            } else if (a == "--out") {
+                out = v;
+            } else if (a == "--max-triangles") {
+                const long long t = positive(v);
+                if (t < 1) return usage("--max-triangles wants a positive number, not " + std::string(v));
+                options.maxTrianglesPerTile = size_t(t);
+            } else if (std::strcmp(v, "exact") == 0) {
+                options.proxies = sg::TileWriteOptions::Proxies::Exact;
+            } else if (std::strcmp(v, "simplified") == 0) {
+                options.proxies = sg::TileWriteOptions::Proxies::Simplified;
+            } else {
+                return usage("--proxies wants exact or simplified, not " + std::string(v));
+            }
+        } else if (!a.empty() && a[0] == '-') {
+            return usage("unknown option " + a);
+        } else if (input.empty()) {
+            input = a;
+        } else {
+            return usage("more than one input: " + input + " and " + a);
+        }
+    }
+    if (out.empty()) return usage("--out DIR is required");
+    if (city > 0 && !input.empty()) return usage("--city and an input file are alternatives");
+    if (city == 0 && input.empty()) return usage("no scene: give --city N or an input file");
+
+    const auto start = std::chrono::steady_clock::now();
+    sg::ref_ptr<sg::Node> scene;
+    if (city > 0) {
+        scene = scenes::buildCity({int(city), false});
+    } else {
+        try {
+            // glTF is +Y up; the tiler wants +Z up (it turns its contents back to +Y).
+            auto zUp = sg::make<sg::Transform>(
+                sg::dmat4(sg::dvec4(1, 0, 0, 0), sg::dvec4(0, 0, 1, 0), sg::dvec4(0, -1, 0, 0), sg::dvec4(0, 0, 0, 1)));
+            zUp->addChild(sg::loadGltf(input).root);
+            scene = zUp;
+        } catch (const std::exception& e) {
+            return usage(std::string("cannot read the input: ") + e.what());
+        }
+    }
+    const double built = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("scene built in %.1f s\n", built);
+    options.progress = [last = -1](double f, const std::string& stage) mutable {
+        const int pct = int(f * 100);
+        if (pct / 10 != last / 10) std::printf("  %3d%% %s\n", pct, stage.c_str()), std::fflush(stdout), last = pct;
+    };
+    try {
+        const sg::TileWriteReport r = sg::writeTileset(*scene, out, options);
+        std::printf("%s/tileset.json: %zu tiles, %zu contents, %.1f MB, written in %.1f s\n", out.c_str(), r.tiles,
+                    r.contents, r.bytes / 1e6, r.seconds);
+        for (const std::string& w : r.warnings) std::printf("warning: %s\n", w.c_str());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sgtile: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
