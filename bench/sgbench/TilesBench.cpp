@@ -1,7 +1,8 @@
 // sgbench tiles: a 3D Tiles tileset (the city written by sgtile) flown through sg::Viewer with its pager, from
-// disk or HTTP: frame times while loads are in flight, the process's resident memory, the pager's figures, and
-// with --reference the pixels that differ from the in-memory city's render of the same view (0 once settled:
-// nothing queued or loading and nothing asked for). One line per frame to --csv for the plot.
+// disk or HTTP: frame times while loads are in flight, the process's resident memory, the pager's figures. With
+// --baseline the same city held in memory is flown by a second viewer in the same process, frame for frame
+// (interleaved): the ratio of their frame times, and the pixels where the tiles' frame differs from it (0 once
+// settled: nothing queued, loading or waiting, and nothing asked for). One line per frame to --csv for the plot.
 #include "loaders/Tileset.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
@@ -52,7 +53,7 @@ int runTiles(const Args& a) {
     const std::string path = a.str("path", "orbit");
     if (path != "orbit" && path != "low") throw std::invalid_argument("sgbench tiles: --path orbit|low");
     if (n < 1 || frames < 1) throw std::invalid_argument("sgbench tiles: --n and --frames must be at least 1");
-    const bool reference = a.flag("reference");
+    const bool reference = a.flag("baseline");
 
     sg::OsmesaContext context(w, h);
     const double rss0 = rssMb();
@@ -63,21 +64,23 @@ int runTiles(const Args& a) {
     sg::Viewer viewer(scene);
     sg::View& view = viewer.addView();
     sg::PagerSettings ps;
+    ps.loaderThreads = size_t(a.num("loaders", long(ps.loaderThreads)));
+    ps.loaderNice = int(a.num("loader-nice", ps.loaderNice));
     sg::Pager& pager = viewer.enablePaging(ts.loadFunction(), ps);
 
-    // The reference: the city held in memory, drawn by a renderer of its own in the same context.
+    // The baseline: the city held in memory, flown by a viewer of its own in the same context.
     std::unique_ptr<sg::Scene> refScene;
-    std::unique_ptr<sg::Renderer> refRenderer;
-    sg::CullTraversal refCull;
+    std::unique_ptr<sg::Viewer> refViewer;
     if (reference) {
         refScene = std::make_unique<sg::Scene>(scenes::buildCity({n, false}));
-        refRenderer = std::make_unique<sg::Renderer>();
+        refViewer = std::make_unique<sg::Viewer>(*refScene);
+        refViewer->addView();
     }
 
     std::ofstream csv;
     if (a.flag("csv")) csv.open(a.str("csv", ""));
-    if (csv) csv << "frame,ms,loading,queued,resident_mb,rss_mb,differing_pixels,settled\n";
-    std::vector<double> all, loading;
+    if (csv) csv << "frame,ms,loading,queued,pending,loads,resident_mb,rss_mb,differing_pixels,settled\n";
+    std::vector<double> all, loading, base;
     double maxRss = 0.0;
     long settled = 0, settledDiffering = 0, loadingFrames = 0, loadingDiffering = 0;
     double loadingPixels = 0.0;
@@ -96,12 +99,11 @@ int runTiles(const Args& a) {
         long differing = -1;
         if (reference) {
             const sg::Image got = viewer.renderer().readColor();
-            refScene->update();
-            sg::DrawList list;
-            sg::CullStats cs;
-            refCull.cull(*refScene, view.camera, view.cull, list, cs);
-            refRenderer->draw(list, view.camera);
-            differing = long(sg::countDifferingPixels(got, refRenderer->readColor()));
+            refViewer->view().camera = view.camera;
+            const auto rs = Clock::now();
+            refViewer->frame();
+            base.push_back(std::chrono::duration<double, std::milli>(Clock::now() - rs).count());
+            differing = long(sg::countDifferingPixels(got, refViewer->renderer().readColor()));
             if (done) {
                 ++settled;
                 settledDiffering += differing > 0;
@@ -112,8 +114,9 @@ int runTiles(const Args& a) {
             }
         }
         if (csv)
-            csv << f << "," << ms << "," << st.loading << "," << st.queued << ","
-                << double(st.bytesResident) / (1 << 20) << "," << rssMb() << "," << differing << "," << done << "\n";
+            csv << f << "," << ms << "," << st.loading << "," << st.queued << "," << st.pending << "," << st.loads
+                << "," << double(st.bytesResident) / (1 << 20) << "," << rssMb() << "," << differing << "," << done
+                << "\n";
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
@@ -131,6 +134,7 @@ int runTiles(const Args& a) {
     j.addInt("cancelled", long(st.cancelled)).add("loads_per_s", double(st.loads) / seconds);
     j.addInt("tiles_read", long(ts.counts().tiles)).addInt("contents", long(ts.counts().contents));
     if (reference) {
+        j.add("baseline_ms_median", median(base)).add("ratio_median", median(all) / median(base));
         j.addInt("settled_frames", settled).addInt("settled_frames_differing", settledDiffering);
         j.addInt("loading_frames", loadingFrames).addInt("loading_frames_differing", loadingDiffering);
         j.add("loading_differing_pixels_mean", loadingFrames ? loadingPixels / double(loadingFrames) : 0.0);

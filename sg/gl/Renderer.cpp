@@ -583,31 +583,46 @@ std::vector<float> Renderer::readDepth() const {
 }
 
 bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
-    std::vector<const Node*> stack{&root};
-    std::unordered_set<const Node*> seen;
-    while (!stack.empty()) {
-        const Node* n = stack.back();
-        stack.pop_back();
-        if (!seen.insert(n).second) continue;
-        if (n->kind() == NodeKind::Geometry) {
-            const auto* g = static_cast<const Geometry*>(n);
-            if (const Mesh* m = g->mesh()) {
-                // The same copies draw() would take: the mesh, and its material's texture when it has UVs.
-                if (!cache_->hasMesh(m) && budget.exhausted()) return false;
-                if (cache_->prepareMesh(m)) budget.spend(1, m->bytes());
-                const Material* mat = g->material();
-                const Texture* tex = mat && m->uvs().size() == m->positions().size() ? mat->texture.get() : nullptr;
-                if (tex) {
-                    const bool cut = mat->alphaCutoff > 0.0f;
-                    if (!cache_->hasTexture(tex, cut) && budget.exhausted()) return false;
-                    if (cache_->prepareTexture(tex, cut)) budget.spend(1, tex->rgba().size());
-                }
+    ++prepareCalls_;
+    auto found = prepareLists_.find(&root);
+    if (found == prepareLists_.end()) {  // the first call for this detail: list what draw() would upload
+        PrepareList list;
+        std::vector<const Node*> stack{&root};
+        std::unordered_set<const Node*> seen;
+        while (!stack.empty()) {
+            const Node* n = stack.back();
+            stack.pop_back();
+            if (!seen.insert(n).second) continue;
+            if (n->kind() == NodeKind::Geometry) {
+                const auto* g = static_cast<const Geometry*>(n);
+                if (g->mesh()) list.items.emplace_back(g->mesh(), g->material());
             }
+            for (size_t i = 0; i < n->numChildren(); ++i)
+                if (const Node* c = n->child(i)) stack.push_back(c);
         }
-        for (size_t i = 0; i < n->numChildren(); ++i)
-            if (const Node* c = n->child(i)) stack.push_back(c);
+        found = prepareLists_.emplace(&root, std::move(list)).first;
     }
-    return true;
+    PrepareList& list = found->second;
+    list.touched = prepareCalls_;
+    // What was uploaded by earlier calls keeps its grace while this detail waits (GpuCache::prepareMesh).
+    for (size_t i = 0; i < list.next; ++i) cache_->prepareMesh(list.items[i].first.get());
+    for (; list.next < list.items.size(); ++list.next) {
+        const Mesh* m = list.items[list.next].first.get();
+        const Material* mat = list.items[list.next].second;
+        // The same copies draw() would take: the mesh, and its material's texture when it has UVs.
+        const Texture* tex = mat && m->uvs().size() == m->positions().size() ? mat->texture.get() : nullptr;
+        const bool cut = mat && mat->alphaCutoff > 0.0f;
+        const bool needs = !cache_->hasMesh(m) || (tex && !cache_->hasTexture(tex, cut));
+        if (needs && budget.exhausted()) break;
+        if (cache_->prepareMesh(m)) budget.spend(1, m->bytes());
+        if (tex && cache_->prepareTexture(tex, cut)) budget.spend(1, tex->rgba().size());
+    }
+    const bool done = list.next == list.items.size();
+    if (done) prepareLists_.erase(found);
+    // Lists of details dropped before they were prepared.
+    for (auto it = prepareLists_.begin(); it != prepareLists_.end();)
+        it = prepareCalls_ - it->second.touched > kPrepareForget ? prepareLists_.erase(it) : std::next(it);
+    return done;
 }
 
 void Renderer::releaseUnused() { cache_->releaseUnused(); }

@@ -232,6 +232,17 @@ private:
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
     DirectionalLight light_;
     std::unique_ptr<GpuCache> cache_;
+    // prepare()'s work per detail: its meshes and textures listed by one walk, and how far the uploads got, so
+    // that a detail of many objects takes a walk once and a step per frame (not a walk per frame). Lists not
+    // touched for kPrepareForget frames (their detail dropped unprepared) are forgotten.
+    struct PrepareList {
+        std::vector<std::pair<ref_ptr<const Mesh>, const Material*>> items;
+        size_t next = 0;
+        uint64_t touched = 0;
+    };
+    static constexpr uint64_t kPrepareForget = 600;
+    std::unordered_map<const Node*, PrepareList> prepareLists_;
+    uint64_t prepareCalls_ = 0;
     std::unique_ptr<DepthTarget> depthTarget_;  // ReverseZ's framebuffer
     std::vector<ItemAttributes> items_;         // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
