@@ -718,8 +718,7 @@ TEST(TileFormatsInTilesets, B3dmI3dmAndCmptContentsArePlaced) {
     CullTraversal().cull(scene, cam, CullSettings{}, list, stats);
     // The triangle (0,0,0) (1,0,0) (0,1,0) +Y up: its (0,1,0) corner goes to +Z.
     std::vector<dvec3> corners;
-    for (const DrawItem& it : list.items)
-        corners.push_back(dvec3(dmat4(it.matrix()) * dvec4(0, 1, 0, 1)) + cam.eye());
+    for (const DrawItem& it : list.items) corners.push_back(dvec3(dmat4(it.matrix()) * dvec4(0, 1, 0, 1)) + cam.eye());
     std::sort(corners.begin(), corners.end(), [](const dvec3& a, const dvec3& b) { return a.x + a.y < b.x + b.y; });
     ASSERT_EQ(corners.size(), 3u);
     expectVec(corners[0], dvec3(0, 0, 1), 1e-3);
