@@ -43,6 +43,50 @@ sg::Camera flightCamera(const std::string& path, int n, double t, int w, int h) 
     return cam;
 }
 
+// Frames at one view until it is settled (nothing queued, loading or waiting for its upload, nothing asked for).
+int settle(sg::Viewer& viewer, sg::View& view, sg::Pager& pager, int most) {
+    for (int f = 1; f <= most; ++f) {
+        viewer.frame();
+        const sg::PagerStats& st = pager.stats();
+        if (st.queued == 0 && st.loading == 0 && st.pending == 0 && view.cullStats().pagedRequested == 0 &&
+            view.cullStats().pagedCoarse == 0)
+            return f;
+    }
+    return most;
+}
+
+// Jumps between views spread over the city, 60 m up, each held until settled: the time from a teleport to a
+// settled frame, and tiles loaded a second over the whole run (the loads' throughput with --loaders K).
+int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Viewer& viewer, sg::View& view,
+             sg::Pager& pager) {
+    const int views = int(a.num("views", 6));
+    std::vector<double> settleMs;
+    long frames = 0;
+    const auto t0 = Clock::now();
+    for (int k = 0; k < views; ++k) {
+        const double fx = 0.15 + 0.7 * std::fmod(0.618034 * (k + 1), 1.0),
+                     fy = 0.15 + 0.7 * std::fmod(0.381966 * (k + 1), 1.0);
+        const sg::dvec3 eye(20.0 * n * fx, 20.0 * n * fy, 60.0);
+        const double yaw = 1.1 * k;
+        view.camera.setViewport(w, h);
+        view.camera.setPerspective(60.0, double(w) / h, 1.0, 3000.0);
+        view.camera.setLookAt(eye, eye + sg::dvec3(std::sin(yaw), std::cos(yaw), -0.3), sg::dvec3(0, 0, 1));
+        const auto s = Clock::now();
+        frames += settle(viewer, view, pager, 20000);
+        settleMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
+    }
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    const sg::PagerStats& st = pager.stats();
+    Json j;
+    j.add("command", "tiles").add("tileset", file).add("path", "teleport").addInt("n", n).addInt("views", views);
+    j.addInt("loaders", long(pager.settings().loaderThreads)).addInt("frames", frames).add("seconds", seconds);
+    j.add("settle_ms_median", median(settleMs)).add("settle_ms_max", percentile(settleMs, 1.0));
+    j.addInt("loads", long(st.loads)).add("loads_per_s", double(st.loads) / seconds);
+    j.add("load_ms_total", st.totalLoadMs).addInt("failures", long(st.failures));
+    j.print(a);
+    return 0;
+}
+
 }  // namespace
 
 int runTiles(const Args& a) {
@@ -51,7 +95,8 @@ int runTiles(const Args& a) {
     const int n = int(a.num("n", 1000)), frames = int(a.num("frames", 2400));
     const int w = int(a.num("width", 1280)), h = int(a.num("height", 720));
     const std::string path = a.str("path", "orbit");
-    if (path != "orbit" && path != "low") throw std::invalid_argument("sgbench tiles: --path orbit|low");
+    if (path != "orbit" && path != "low" && path != "teleport")
+        throw std::invalid_argument("sgbench tiles: --path orbit|low|teleport");
     if (n < 1 || frames < 1) throw std::invalid_argument("sgbench tiles: --n and --frames must be at least 1");
     const bool reference = a.flag("baseline");
 
@@ -76,6 +121,8 @@ int runTiles(const Args& a) {
         refViewer = std::make_unique<sg::Viewer>(*refScene);
         refViewer->addView();
     }
+
+    if (path == "teleport") return teleport(a, file, n, w, h, viewer, view, pager);
 
     std::ofstream csv;
     if (a.flag("csv")) csv.open(a.str("csv", ""));

@@ -132,7 +132,8 @@ static void usage() {
         "                [--rounds R] [--methods M1,M2] [--n N] [--r R] [--width W --height H] [--budget-ms B]\n"
         "                [--strict-reference] [--tolerance PERCENT]\n"
         "       sgbench depth [--n N] [--rounds R] [--json]\n"
-        "       sgbench tiles --tileset PATH|URL [--n N] [--path orbit|low] [--frames F] [--width W --height H]\n"
+        "       sgbench tiles --tileset PATH|URL [--n N] [--path orbit|low|teleport [--views K]] [--frames F]\n"
+        "                [--width W --height H]\n"
         "                [--loaders K] [--loader-nice V] [--baseline] [--csv FILE] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
