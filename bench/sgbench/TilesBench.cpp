@@ -182,6 +182,7 @@ int runTiles(const Args& a) {
     j.addInt("tiles_read", long(ts.counts().tiles)).addInt("contents", long(ts.counts().contents));
     if (reference) {
         j.add("baseline_ms_median", median(base)).add("ratio_median", median(all) / median(base));
+        j.add("baseline_ms_p99", percentile(base, 0.99)).add("baseline_ms_max", percentile(base, 1.0));
         j.addInt("settled_frames", settled).addInt("settled_frames_differing", settledDiffering);
         j.addInt("loading_frames", loadingFrames).addInt("loading_frames_differing", loadingDiffering);
         j.add("loading_differing_pixels_mean", loadingFrames ? loadingPixels / double(loadingFrames) : 0.0);
