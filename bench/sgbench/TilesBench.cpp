@@ -111,6 +111,7 @@ int runTiles(const Args& a) {
     sg::ViewerSettings vs;
     vs.phase = sg::FramePhase::Limit;
     vs.frameRate = double(a.num("fps", 30));
+    vs.keepFreedMemory = a.num("keep-freed-memory", 1) != 0;
     sg::Viewer viewer(scene, vs);
     sg::View& view = viewer.addView();
     sg::PagerSettings ps;
