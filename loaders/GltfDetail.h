@@ -51,6 +51,10 @@ private:
     double last_ = -1.0;
 };
 
+// Works out Mesh::closed() for every mesh below root (each once) on a loader's thread, so that a page's first draw
+// does not (loadGltfPage, the tileset's loads).
+void workOutSolids(const Node& root);
+
 // Builds the graph of the default scene (validated model); per-element problems that do not stop the
 // load (points, lines, undecodable images) become warnings.
 GltfScene convert(const std::string& file, const tinygltf::Model& model, Progress& progress,

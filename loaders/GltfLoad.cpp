@@ -1,7 +1,7 @@
 // loadGltf: reads the file (mapped, not copied), checks the bytes, lets tinygltf parse, validates, converts.
 #include "loaders/GltfDetail.h"
 #include "nodes/Geometry.h"
-#include "sg/core/NodeVisitor.h"
+#include "sg/scene/DistinctGeometries.h"
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -167,20 +167,15 @@ GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options) {
     return gltf::load(path, baseDir, bytes.size() ? bytes.data() : &empty, bytes.size(), true, progress);
 }
 
-namespace {
-// Works out Mesh::closed() for every mesh of a page on the pager's thread, so that its first draw does not.
-struct WorkOutSolids : NodeVisitor {
-    void apply(Geometry& g) override {
+void gltf::workOutSolids(const Node& root) {
+    forEachDistinctGeometry(root, [](const Geometry& g) {
         if (g.mesh()) g.mesh()->closed();
-        traverse(g);
-    }
-};
-}  // namespace
+    });
+}
 
 ref_ptr<Node> loadGltfPage(const std::string& file) {
     ref_ptr<Node> root = loadGltf(file).root;
-    WorkOutSolids solids;
-    if (root) root->accept(solids);
+    if (root) gltf::workOutSolids(*root);
     return root;
 }
 

@@ -23,14 +23,6 @@ namespace sg {
 namespace tiles {
 namespace {
 
-// Works out Mesh::closed() for the meshes of a load on the loader's thread, so that their first draw does not.
-struct WorkOutSolids : NodeVisitor {
-    void apply(Geometry& g) override {
-        if (g.mesh()) g.mesh()->closed();
-        traverse(g);
-    }
-};
-
 // A glTF (binary, or JSON from a file so that its external buffers are found) turned +Z up.
 ref_ptr<Node> gltfContent(const std::shared_ptr<TilesetState>& s, const std::string& uri, const unsigned char* data,
                           size_t size, bool binary, const dmat4& place) {
@@ -184,8 +176,7 @@ PageLoadFunction Tileset::loadFunction() const {
         const bool drawn = !d.add && !d.contents.empty();
         auto g = make<Group>();
         for (uint32_t c : d.children) g->addChild(tiles::buildTile(s, c, *d.world, drawn, budget));
-        tiles::WorkOutSolids solids;
-        g->accept(solids);
+        gltf::workOutSolids(*g);
         return g;
     };
 }
@@ -202,8 +193,7 @@ Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options)
     const uint32_t root = ts.state_->addTileset(pathOrUrl, readResource(pathOrUrl, options.resource), -1, -1);
     size_t budget = options.maxTilesPerLoad;
     ts.root_ = tiles::buildTile(ts.state_, root, dmat4(1.0), false, budget);
-    tiles::WorkOutSolids solids;
-    ts.root_->accept(solids);
+    gltf::workOutSolids(*ts.root_);
     return ts;
 }
 

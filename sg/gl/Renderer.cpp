@@ -7,6 +7,7 @@
 #include "sg/gl/GlProgram.h"
 #include "sg/gl/GpuCache.h"
 #include "sg/gl/Shaders.h"
+#include "sg/scene/DistinctGeometries.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -22,7 +23,6 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <unordered_set>
 
 namespace sg {
 
@@ -587,19 +587,9 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
     auto found = prepareLists_.find(&root);
     if (found == prepareLists_.end()) {  // the first call for this detail: list what draw() would upload
         PrepareList list;
-        std::vector<const Node*> stack{&root};
-        std::unordered_set<const Node*> seen;
-        while (!stack.empty()) {
-            const Node* n = stack.back();
-            stack.pop_back();
-            if (!seen.insert(n).second) continue;
-            if (n->kind() == NodeKind::Geometry) {
-                const auto* g = static_cast<const Geometry*>(n);
-                if (g->mesh()) list.items.emplace_back(g->mesh(), g->material());
-            }
-            for (size_t i = 0; i < n->numChildren(); ++i)
-                if (const Node* c = n->child(i)) stack.push_back(c);
-        }
+        forEachDistinctGeometry(root, [&](const Geometry& g) {
+            if (g.mesh()) list.items.emplace_back(g.mesh(), g.material());
+        });
         found = prepareLists_.emplace(&root, std::move(list)).first;
     }
     PrepareList& list = found->second;

@@ -1,6 +1,7 @@
 #include "sg/paging/Pager.h"
 
 #include "nodes/Geometry.h"
+#include "sg/scene/DistinctGeometries.h"
 
 #include <algorithm>
 #include <chrono>
@@ -30,22 +31,13 @@ std::string withFile(const std::string& file, const std::string& message) {
 }  // namespace
 
 size_t pageBytes(const Node* root) {
-    std::unordered_set<const void*> seen;
-    std::vector<const Node*> stack{root};
+    std::unordered_set<const void*> seen;  // meshes and textures shared by several geometries count once
     size_t bytes = 0;
-    while (!stack.empty()) {
-        const Node* n = stack.back();
-        stack.pop_back();
-        if (!seen.insert(n).second) continue;
-        if (n->kind() == NodeKind::Geometry) {
-            const auto* g = static_cast<const Geometry*>(n);
-            if (const Mesh* m = g->mesh(); m && seen.insert(m).second) bytes += m->bytes();
-            if (const Material* mat = g->material(); mat && mat->texture && seen.insert(mat->texture.get()).second)
-                bytes += mat->texture->rgba().size();
-        }
-        for (size_t i = 0; i < n->numChildren(); ++i)
-            if (const Node* c = n->child(i)) stack.push_back(c);
-    }
+    forEachDistinctGeometry(*root, [&](const Geometry& g) {
+        if (const Mesh* m = g.mesh(); m && seen.insert(m).second) bytes += m->bytes();
+        if (const Material* mat = g.material(); mat && mat->texture && seen.insert(mat->texture.get()).second)
+            bytes += mat->texture->rgba().size();
+    });
     return bytes;
 }
 
