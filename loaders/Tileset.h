@@ -22,6 +22,10 @@ struct TilesetOptions {
     // Content-less tiles below a drawn tile are read with their children in one load (so that the drawn tile
     // stays until everything replacing it is there), up to this many tiles per load; past it they page alone.
     size_t maxTilesPerLoad = 256;
+    // Meshes equal to the bit in different tiles' contents become one mesh (held, welded and uploaded once), as a
+    // city's building kinds repeated in every tile's file. The pager's byte budget still counts a shared mesh in
+    // each detail that holds it.
+    bool shareMeshes = true;
     ResourceOptions resource;
 };
 
@@ -31,6 +35,8 @@ struct TilesetCounts {
     size_t contents = 0;  // contents loaded
     size_t externalTilesets = 0;
     size_t skippedPoints = 0;  // .pnts contents skipped
+    size_t sharedMeshes = 0;   // meshes replaced by an equal one another tile had loaded (shareMeshes)
+    size_t pooledMeshes = 0;   // distinct meshes the tileset's loads hold now
 };
 
 namespace tiles {

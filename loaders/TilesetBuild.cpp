@@ -176,6 +176,7 @@ PageLoadFunction Tileset::loadFunction() const {
         const bool drawn = !d.add && !d.contents.empty();
         auto g = make<Group>();
         for (uint32_t c : d.children) g->addChild(tiles::buildTile(s, c, *d.world, drawn, budget));
+        if (s->options.shareMeshes) s->meshes.share(*g);
         gltf::workOutSolids(*g);
         return g;
     };
@@ -193,6 +194,7 @@ Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options)
     const uint32_t root = ts.state_->addTileset(pathOrUrl, readResource(pathOrUrl, options.resource), -1, -1);
     size_t budget = options.maxTilesPerLoad;
     ts.root_ = tiles::buildTile(ts.state_, root, dmat4(1.0), false, budget);
+    if (options.shareMeshes) ts.state_->meshes.share(*ts.root_);
     gltf::workOutSolids(*ts.root_);
     return ts;
 }

@@ -326,8 +326,14 @@ std::vector<std::string> TilesetState::warnings() const {
 }
 
 TilesetCounts TilesetState::counts() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return counts_;
+    TilesetCounts c;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        c = counts_;
+    }
+    c.sharedMeshes = meshes.replaced();
+    c.pooledMeshes = meshes.size();
+    return c;
 }
 
 void TilesetState::countContent() {

@@ -1,6 +1,7 @@
 // The tileset reader's internal pieces (not installed): the tile table read from tileset.json files, shared
 // by the graph's load function on the pager's threads, and the reading of one tile's contents into nodes.
 #pragma once
+#include "loaders/SharedMeshes.h"
 #include "loaders/Tileset.h"
 
 #include <deque>
@@ -97,6 +98,8 @@ public:
     TilesetCounts counts() const;
     void countContent();
     void countPoints();
+    // Equal meshes of different loads made one (TilesetOptions::shareMeshes).
+    SharedMeshes meshes;
 
 private:
     struct Source {

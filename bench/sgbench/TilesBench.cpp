@@ -58,7 +58,7 @@ int settle(sg::Viewer& viewer, sg::View& view, sg::Pager& pager, int most) {
 // Jumps between views spread over the city, 60 m up, each held until settled: the time from a teleport to a
 // settled frame, and tiles loaded a second over the whole run (the loads' throughput with --loaders K).
 int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Viewer& viewer, sg::View& view,
-             sg::Pager& pager) {
+             sg::Pager& pager, const sg::Tileset& ts) {
     const int views = int(a.num("views", 6));
     std::vector<double> settleMs;
     long frames = 0;
@@ -83,6 +83,7 @@ int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Vi
     j.add("settle_ms_median", median(settleMs)).add("settle_ms_max", percentile(settleMs, 1.0));
     j.addInt("loads", long(st.loads)).add("loads_per_s", double(st.loads) / seconds);
     j.add("load_ms_total", st.totalLoadMs).addInt("failures", long(st.failures));
+    j.addInt("meshes_shared", long(ts.counts().sharedMeshes)).add("rss_mb", rssMb());
     j.print(a);
     return 0;
 }
@@ -103,7 +104,9 @@ int runTiles(const Args& a) {
     sg::OsmesaContext context(w, h);
     const double rss0 = rssMb();
     auto t0 = Clock::now();
-    sg::Tileset ts = sg::loadTileset(file);
+    sg::TilesetOptions to;
+    to.shareMeshes = a.num("share-meshes", 1) != 0;
+    sg::Tileset ts = sg::loadTileset(file, to);
     const double openMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     sg::Scene scene(ts.root());
     // Frames paced as a display would pace them (--fps, FramePhase::Limit): the loads have the time a real flight
@@ -128,12 +131,15 @@ int runTiles(const Args& a) {
         refViewer->addView();
     }
 
-    if (path == "teleport") return teleport(a, file, n, w, h, viewer, view, pager);
+    if (path == "teleport") return teleport(a, file, n, w, h, viewer, view, pager, ts);
 
     std::ofstream csv;
     if (a.flag("csv")) csv.open(a.str("csv", ""));
-    if (csv) csv << "frame,ms,loading,queued,pending,loads,resident_mb,rss_mb,differing_pixels,settled\n";
+    if (csv)
+        csv << "frame,ms,loading,queued,pending,loads,resident_mb,rss_mb,differing_pixels,settled,pager_ms,prepare_ms,"
+               "update_ms,cull_ms,draw_ms,uploaded_objects\n";
     std::vector<double> all, loading, base;
+    std::vector<sg::StageTimes> stages;
     double maxRss = 0.0;
     long settled = 0, settledDiffering = 0, loadingFrames = 0, loadingDiffering = 0;
     double loadingPixels = 0.0;
@@ -142,6 +148,7 @@ int runTiles(const Args& a) {
         view.camera = flightCamera(path, n, double(f) / frames, w, h);
         viewer.frame();
         const double ms = viewer.lastFrame().workMs;
+        stages.push_back(viewer.lastFrame());
         const sg::PagerStats& st = pager.stats();
         const bool busy = st.queued > 0 || st.loading > 0 || st.pending > 0;
         const bool done = !busy && view.cullStats().pagedRequested == 0 && view.cullStats().pagedCoarse == 0;
@@ -167,7 +174,8 @@ int runTiles(const Args& a) {
         if (csv)
             csv << f << "," << ms << "," << st.loading << "," << st.queued << "," << st.pending << "," << st.loads
                 << "," << double(st.bytesResident) / (1 << 20) << "," << rssMb() << "," << differing << "," << done
-                << "\n";
+                << "," << stages.back().pagerMs << "," << st.frame.prepareMs << "," << stages.back().updateMs << ","
+                << stages.back().cullMs << "," << stages.back().drawMs << "," << st.frame.uploadedObjects << "\n";
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
 
@@ -178,12 +186,33 @@ int runTiles(const Args& a) {
         .add("frame_ms_p99", percentile(all, 0.99))
         .add("frame_ms_max", percentile(all, 1.0));
     j.addInt("frames_loading", long(loading.size()));
+    // Where the slow frames' time went: over the frames past 1.5x the median, each stage's mean excess over its
+    // own median (the stage that makes the hitches).
+    const double slow = 1.5 * median(all);
+    auto excess = [&](double sg::StageTimes::*stage) {
+        std::vector<double> v;
+        for (const sg::StageTimes& t : stages) v.push_back(t.*stage);
+        const double m = median(v);
+        double sum = 0.0;
+        long count = 0;
+        for (const sg::StageTimes& t : stages)
+            if (t.workMs > slow) sum += t.*stage - m, ++count;
+        return count ? sum / double(count) : 0.0;
+    };
+    long slowFrames = 0;
+    for (double ms : all) slowFrames += ms > slow;
+    j.addInt("slow_frames", slowFrames);
+    j.add("slow_excess_ms_pager", excess(&sg::StageTimes::pagerMs))
+        .add("slow_excess_ms_update", excess(&sg::StageTimes::updateMs))
+        .add("slow_excess_ms_cull", excess(&sg::StageTimes::cullMs))
+        .add("slow_excess_ms_draw", excess(&sg::StageTimes::drawMs));
     j.add("loading_ms_median", median(loading)).add("loading_ms_p99", percentile(loading, 0.99));
     j.add("rss_mb_start", rss0).add("rss_mb_max", maxRss);
     const sg::PagerStats& st = pager.stats();
     j.addInt("loads", long(st.loads)).addInt("unloads", long(st.unloads)).addInt("failures", long(st.failures));
     j.addInt("cancelled", long(st.cancelled)).add("loads_per_s", double(st.loads) / seconds);
     j.addInt("tiles_read", long(ts.counts().tiles)).addInt("contents", long(ts.counts().contents));
+    j.addInt("meshes_shared", long(ts.counts().sharedMeshes)).addInt("meshes_pooled", long(ts.counts().pooledMeshes));
     if (reference) {
         j.add("baseline_ms_median", median(base)).add("ratio_median", median(all) / median(base));
         j.add("baseline_ms_p99", percentile(base, 0.99)).add("baseline_ms_max", percentile(base, 1.0));

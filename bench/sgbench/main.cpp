@@ -133,7 +133,7 @@ static void usage() {
         "                [--strict-reference] [--tolerance PERCENT]\n"
         "       sgbench depth [--n N] [--rounds R] [--json]\n"
         "       sgbench tiles --tileset PATH|URL [--n N] [--path orbit|low|teleport [--views K]] [--frames F]\n"
-        "                [--width W --height H] [--fps F] [--keep-freed-memory 0|1]\n"
+        "                [--width W --height H] [--fps F] [--keep-freed-memory 0|1] [--share-meshes 0|1]\n"
         "                [--loaders K] [--loader-nice V] [--baseline] [--csv FILE] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");

@@ -1,5 +1,6 @@
 // Intrusive reference counting for nodes and shared resources: a node may have many parents (a DAG).
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <utility>
 
@@ -10,17 +11,19 @@ public:
     Referenced() = default;
     Referenced(const Referenced&) : refs_(0) {}
     Referenced& operator=(const Referenced&) { return *this; }
-    void ref() const noexcept { ++refs_; }
+    void ref() const noexcept { refs_.fetch_add(1, std::memory_order_relaxed); }
     void unref() const noexcept {
-        if (--refs_ == 0) delete this;
+        if (refs_.fetch_sub(1, std::memory_order_acq_rel) == 1) delete this;
     }
-    uint32_t refCount() const noexcept { return refs_; }
+    uint32_t refCount() const noexcept { return refs_.load(std::memory_order_acquire); }
 
 protected:
     virtual ~Referenced() = default;
 
 private:
-    mutable uint32_t refs_ = 0;  // single-threaded scene edits, as in Performer's APP stage
+    // Atomic because a mesh or material may be shared by details that different threads build, attach and free
+    // (a tileset's loads share equal meshes: loaders/SharedMeshes.h); the graph's edits stay single-threaded.
+    mutable std::atomic<uint32_t> refs_{0};
 };
 
 template <class T>

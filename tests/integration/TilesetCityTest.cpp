@@ -1,18 +1,21 @@
 // The city written as tiles by writeTileset and read back by loadTileset, paged by the pager: every view, once
 // the pager has nothing left to load for it, equals the render of the city held in memory pixel for pixel (the
 // tiles reproduce the graph's LOD choices), whether the view shows leaves, exact proxies or both.
+#include "loaders/SharedMeshes.h"
 #include "loaders/Tileset.h"
 #include "loaders/TilesetWrite.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
+#include "sg/scene/DistinctGeometries.h"
 #include "testbed/City.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 using namespace sg;
 
@@ -84,4 +87,19 @@ TEST(TilesetCity, SettledViewsEqualTheCityInMemory) {
         maxWanted = std::max(maxWanted, ts1.pagedWanted);
     }
     EXPECT_LT(minWanted, maxWanted);  // far views drew proxies where near ones refined to leaves
+
+    // Every tile's file carries its own copy of the building meshes; the loads made equal ones one mesh, so
+    // the graph holds no two meshes with the same arrays (and the pictures above were drawn that way).
+    EXPECT_GT(ts.counts().sharedMeshes, 0u);
+    std::map<uint64_t, std::vector<const Mesh*>> byHash;
+    forEachDistinctGeometry(*ts.root(), [&](const Geometry& g) {
+        auto& same = byHash[tiles::meshHash(*g.mesh())];
+        if (std::find(same.begin(), same.end(), g.mesh()) == same.end()) same.push_back(g.mesh());
+    });
+    size_t held = 0;
+    for (auto& [h, meshes] : byHash) {
+        held += meshes.size();
+        for (size_t i = 1; i < meshes.size(); ++i) EXPECT_FALSE(tiles::sameMesh(*meshes[0], *meshes[i]));
+    }
+    EXPECT_GT(held, 0u);
 }

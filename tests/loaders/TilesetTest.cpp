@@ -1,9 +1,11 @@
 // sg::loadTileset: tileset.json into paged nodes, the refinement rules (screen-space error, REPLACE and ADD,
 // no holes), transforms and glTF's +Y up, external tilesets, and bad input refused by name.
 #include "TestUtil.h"
+#include "loaders/SharedMeshes.h"
 #include "loaders/TileServer.h"
 #include "loaders/Tileset.h"
 #include "nodes/Geometry.h"
+#include "nodes/Group.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
@@ -11,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <condition_variable>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -491,4 +494,39 @@ TEST(Tileset, AFailedTileIsRetriedAfterItsBackOff) {
     for (uint64_t f = 8; f < 12; ++f) frame(f, 20.0 + double(f));  // past it: asked again, loaded, attached
     EXPECT_EQ(pager.stats().failures, 1u);
     EXPECT_EQ(cullOnce(scene, cam, 12, 40.0).boxes.size(), 4u);
+}
+
+TEST(SharedMeshes, EqualMeshesOfDifferentLoadsBecomeOneAndOthersStayApart) {
+    tiles::SharedMeshes pool;
+    auto box = [](double x) { return makeBoxMesh(dvec3(0.0), dvec3(x, 1.0, 1.0)); };
+    auto graph = [&](ref_ptr<Mesh> a, ref_ptr<Mesh> b) {
+        auto g = make<Group>();
+        g->addChild(make<Geometry>(a, nullptr));
+        g->addChild(make<Geometry>(b, nullptr));
+        g->addChild(make<Geometry>(a, nullptr));  // shared within the load already
+        return g;
+    };
+    auto first = graph(box(1.0), box(2.0));
+    EXPECT_EQ(pool.share(*first), 0u);
+    EXPECT_EQ(pool.size(), 2u);
+
+    // An equal copy is replaced by the first load's mesh; one differing in a single coordinate is not.
+    auto nearly = box(2.0);
+    std::vector<vec3> p = nearly->positions();
+    p[0].x = std::nextafter(p[0].x, 10.0f);
+    nearly->set(p, nearly->normals(), std::vector<uint32_t>(nearly->indices16().begin(), nearly->indices16().end()));
+    auto second = graph(box(1.0), nearly);
+    EXPECT_EQ(pool.share(*second), 1u);
+    auto mesh = [](const ref_ptr<Group>& g, size_t i) { return static_cast<Geometry*>(g->child(i))->mesh(); };
+    EXPECT_EQ(mesh(second, 0), mesh(first, 0));
+    EXPECT_EQ(mesh(second, 2), mesh(first, 0));
+    EXPECT_NE(mesh(second, 1), mesh(first, 1));
+    EXPECT_EQ(pool.size(), 3u);
+    EXPECT_EQ(pool.replaced(), 1u);
+
+    // Meshes no graph holds any more leave the pool as loads go on.
+    first = nullptr;
+    second = nullptr;
+    for (int i = 0; i < 8; ++i) pool.share(*graph(box(10.0 + i), box(20.0 + i)));
+    EXPECT_LE(pool.size(), 8u);
 }
