@@ -12,8 +12,8 @@
 
 #include <gtest/gtest.h>
 
-#include <condition_variable>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
