@@ -215,11 +215,20 @@ struct Scene::Builder {
             return;
         }
         if (rebuild || !pg.detail || d->dirtyBits()) {
+            // A detail whose own structure is unchanged (a detail attached or detached deeper down, a bound
+            // moved) is refitted in place: rebuilding it would rebuild every detail resident below it, the whole
+            // tileset's resident images for an attach at depth.
+            const bool refitOnly = !rebuild && pg.detail && !(d->dirtyBits() & Node::kDirtyStructure);
             if (!pg.detail) pg.detail = std::make_shared<FlatImage>();
             Builder b{scene, *pg.detail, builtProtos};
             b.prototype = true;  // its occluders are not used, as an Instance prototype's
             b.detail = true;
-            b.full(d, m);
+            if (refitOnly) {
+                b.refit(0, d, m);
+                b.updateExtent();
+            } else {
+                b.full(d, m);
+            }
         }
         const FlatImage& di = *pg.detail;
         if (di.size() == 0 || (di.flags[0] & FlatImage::kEmpty)) return;

@@ -1,4 +1,5 @@
 #include "TestUtil.h"
+#include "nodes/PagedLOD.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/scene/Scene.h"
 #include "testbed/City.h"
@@ -334,4 +335,79 @@ TEST(Scene, RandomEditsKeepTheImageExactAndBadOnesAreRefused) {
         expectBoundsEnclose(s);
     }
     EXPECT_GT(refused, 10);
+}
+
+namespace {
+// Two images equal entry by entry (kinds, subtree ends, bounds up to float rounding), their paged details too.
+void expectSameImages(const FlatImage& a, const FlatImage& b, const std::string& where) {
+    ASSERT_EQ(a.size(), b.size()) << where;
+    for (uint32_t i = 0; i < a.size(); ++i) {
+        ASSERT_EQ(a.kind[i], b.kind[i]) << where << " entry " << i;
+        ASSERT_EQ(a.end[i], b.end[i]) << where << " entry " << i;
+        ASSERT_LE(glm::length(a.center(i) - b.center(i)), 1e-4) << where << " entry " << i;
+        ASSERT_NEAR(a.r[i], b.r[i], 1e-4) << where << " entry " << i;
+        if (a.kind[i] != NodeKind::PagedLOD) continue;
+        const auto &da = a.paged[a.aux[i]].detail, &db = b.paged[b.aux[i]].detail;
+        ASSERT_EQ(bool(da), bool(db)) << where << " entry " << i;
+        if (da) expectSameImages(*da, *db, where + "/" + std::to_string(i));
+    }
+}
+
+ref_ptr<Group> boxes(int count, double x) {
+    auto g = make<Group>();
+    for (int i = 0; i < count; ++i) {
+        auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(x + 3.0 * i, 0, 0)));
+        t->addChild(unitBox());
+        g->addChild(t);
+    }
+    return g;
+}
+
+ref_ptr<PagedLOD> paged(const std::string& file, double x) {
+    auto p = make<PagedLOD>();
+    p->setFile(file);
+    p->setRange(0.0f, 1e9f);
+    p->addChild(boxes(1, x));  // the coarse level
+    return p;
+}
+}  // namespace
+
+TEST(Scene, AttachingADetailDeepDownRefitsTheDetailsAboveItAndRebuildsNoOther) {
+    auto a = paged("a", 0.0);
+    auto root = make<Group>();
+    root->addChild(a);
+    auto da = make<Group>();
+    std::vector<ref_ptr<PagedLOD>> b;
+    for (int i = 0; i < 4; ++i) {
+        b.push_back(paged("b" + std::to_string(i), 400.0 * i));
+        da->addChild(b.back());
+    }
+    a->attachDetail(da, 0);
+    auto c = paged("c", 10.0);
+    for (int i = 0; i < 4; ++i) {
+        auto d = boxes(100, 400.0 * i);
+        if (i == 0) d->addChild(c);
+        b[size_t(i)]->attachDetail(d, 0);
+    }
+    Scene s(root);
+    s.update();
+    const uint64_t rebuilds = s.structureVersion();
+
+    // A detail attached three levels down: its own entries are built, the details above it refitted along the
+    // path; the 100-box details beside it (and below them) are not written again.
+    c->attachDetail(boxes(5, 1000.0), 0);
+    s.update();
+    EXPECT_EQ(s.structureVersion(), rebuilds);
+    EXPECT_LT(s.lastUpdate().entriesWritten, 60u);
+    Scene fresh(root);
+    fresh.update();
+    expectSameImages(s.image(), fresh.image(), "after attach");
+
+    // And detached again.
+    c->detachDetail();
+    s.update();
+    EXPECT_LT(s.lastUpdate().entriesWritten, 60u);
+    Scene fresh2(root);
+    fresh2.update();
+    expectSameImages(s.image(), fresh2.image(), "after detach");
 }
