@@ -53,6 +53,9 @@ struct GltfSaveOptions {
     // Called for each node written: what to put in its extras (nothing when empty).
     std::function<GltfProperties(const Node&)> nodeProperties;
     GltfProperties sceneProperties;  // the scene's extras
+    // Two or more Instances under one Group or Transform, of one Geometry (or a Transform over one), whose
+    // matrices are translation * rotation * scale in float go out as one node with EXT_mesh_gpu_instancing.
+    bool gpuInstancing = true;
 };
 
 struct GltfScene {

@@ -27,55 +27,6 @@ namespace {
 
 using tinygltf::Value;
 
-// Element i of an accessor as `n` floats (normalized integers mapped to [0, 1]).
-struct AccessorReader {
-    const unsigned char* base = nullptr;  // null: an accessor without a buffer view reads as zeros
-    size_t stride = 0;
-    int comp = 0;
-    bool normalized = false;
-
-    AccessorReader(const tinygltf::Model& m, const tinygltf::Accessor& a) {
-        comp = a.componentType;
-        normalized = a.normalized;
-        const size_t elem = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(comp))) *
-                            size_t(tinygltf::GetNumComponentsInType(uint32_t(a.type)));
-        if (a.bufferView == -1) return;
-        const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
-        base = m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
-        stride = v.byteStride ? v.byteStride : elem;
-    }
-    float component(size_t i, int k) const {
-        if (!base) return 0.0f;
-        const unsigned char* p = base + i * stride;
-        switch (comp) {
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[k] / 255.0f : float(p[k]);
-            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-                uint16_t v;
-                std::memcpy(&v, p + 2 * k, 2);
-                return normalized ? v / 65535.0f : float(v);
-            }
-            default: {
-                float v;
-                std::memcpy(&v, p + 4 * k, 4);
-                return v;
-            }
-        }
-    }
-    uint32_t index(size_t i) const {
-        if (!base) return 0;
-        const unsigned char* p = base + i * stride;
-        if (comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return *p;
-        if (comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-            uint16_t v;
-            std::memcpy(&v, p, 2);
-            return v;
-        }
-        uint32_t v;
-        std::memcpy(&v, p, 4);
-        return v;
-    }
-};
-
 // Float vectors of N components; tightly packed float data is copied in one go.
 template <class V, int N>
 std::vector<V> readVectors(const tinygltf::Model& m, int acc) {
@@ -142,6 +93,8 @@ struct Converter {
     std::vector<bool> sharedDone;
     std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
     size_t nodesDone = 0;
+    size_t instancesDone = 0;                                // EXT_mesh_gpu_instancing instances, against kMaxInstances
+    std::map<int, ref_ptr<Group>> prototypes;                // per glTF mesh of several primitives that is instanced
     std::unordered_map<const Node*, uint64_t> expandedSize;  // nodes below a node, counted per path
 
     void warn(const std::string& path, const std::string& what) { out.warnings.push_back(path + ": " + what); }
@@ -513,7 +466,13 @@ struct Converter {
                 bad(xp + ".mask", "must be a 32-bit unsigned integer");
             inner->setNodeMask(uint32_t(mask));
         }
-        if (gn.mesh >= 0 && kind == "Transform") {
+        const bool instanced = instancing(gn) && gn.mesh >= 0 && kind == "Transform";
+        if (instancing(gn) && !instanced)
+            warn(path + ".extensions." + kInstancing,
+                 gn.mesh < 0 ? "needs a mesh to instance, ignored" : "on an sgkit " + kind + " node is ignored");
+        if (instanced) {
+            instances(i, static_cast<Group*>(inner), world, path);
+        } else if (gn.mesh >= 0 && kind == "Transform") {
             for (const auto& g : geometries(gn.mesh))
                 if (g) static_cast<Group*>(inner)->addChild(g);
         } else if (gn.mesh >= 0 && kind != "Geometry") {
@@ -533,6 +492,38 @@ struct Converter {
         if (id >= 0) byId[id] = node;
         return node;
     }
+    // EXT_mesh_gpu_instancing: node i's mesh placed once per instance (the node's own matrix outside them), by
+    // Instances of one prototype, the mesh's Geometry (a Group of them for a mesh of several primitives).
+    void instances(int i, Group* into, const dmat4& world, const std::string& path) {
+        const tinygltf::Node& gn = m.nodes[size_t(i)];
+        const std::string xp = path + ".extensions." + kInstancing + ".attributes";
+        instancesDone += instanceCount(m, gn);
+        if (instancesDone > kMaxInstances)
+            bad(xp, "the file places more than " + std::to_string(kMaxInstances) + " instances");
+        const std::vector<dmat4> placements = instanceMatrices(file, m, i, world);
+        std::vector<ref_ptr<Geometry>> drawn;
+        for (const auto& g : geometries(gn.mesh))
+            if (g) drawn.push_back(g);
+        if (drawn.empty()) return;  // every primitive skipped, with a warning each
+        ref_ptr<Node> proto = drawn[0];
+        if (drawn.size() > 1) {
+            auto& group = prototypes[gn.mesh];
+            if (!group) {
+                group = make<Group>();
+                for (const auto& g : drawn) group->addChild(g);
+            }
+            proto = group;
+        }
+        const std::string scale = instancing(gn)->Get("attributes").Has("SCALE") ? xp + ".SCALE" : xp;
+        for (size_t k = 0; k < placements.size(); ++k) {
+            try {
+                into->addChild(make<Instance>(proto, placements[k]));
+            } catch (const std::invalid_argument& e) {  // a singular matrix: rotations are not, so the scale
+                bad(scale, "instance " + std::to_string(k) + " cannot be placed (" + e.what() + ")");
+            }
+        }
+    }
+
     uint64_t expanded(const Node* n) const {
         auto it = expandedSize.find(n);
         return it == expandedSize.end() ? 1 : it->second;  // a Geometry shared per glTF mesh

@@ -5,8 +5,11 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <string>
+#include <vector>
 
 namespace sg::gltf {
 
@@ -22,6 +25,10 @@ constexpr uint64_t kMaxExpandedNodes = uint64_t(1) << 26;
 constexpr size_t kMaxZeroAccessor = size_t(1) << 24;
 // Images larger than this are not decoded (a small file may claim a huge image).
 constexpr long long kMaxImagePixels = 1ll << 26;
+// EXT_mesh_gpu_instancing instances in one file (each an Instance node of about 170 bytes; a few bytes of
+// accessor, or none for an accessor of zeros, must not stand for gigabytes of nodes).
+constexpr size_t kMaxInstances = size_t(1) << 21;
+constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
 
 // "nodes[3]"
 std::string at(const std::string& array, size_t i);
@@ -38,6 +45,90 @@ void prevalidate(const std::string& file, const unsigned char* data, size_t size
 // buffer views and views inside their buffers, strides, counts and types, finite node matrices, the node
 // hierarchy a forest (no cycle, no node with two parents), required extensions supported.
 void validate(const std::string& file, const tinygltf::Model& model);
+
+// Element i of an accessor, component by component, as float: normalized integers mapped to [0, 1]
+// (unsigned) or [-1, 1] (signed), other integers as their value. Validated accessors only.
+struct AccessorReader {
+    const unsigned char* base = nullptr;  // null: an accessor without a buffer view reads as zeros
+    size_t stride = 0;
+    int comp = 0;
+    bool normalized = false;
+
+    AccessorReader(const tinygltf::Model& m, const tinygltf::Accessor& a) {
+        comp = a.componentType;
+        normalized = a.normalized;
+        const size_t elem = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(comp))) *
+                            size_t(tinygltf::GetNumComponentsInType(uint32_t(a.type)));
+        if (a.bufferView == -1) return;
+        const tinygltf::BufferView& v = m.bufferViews[size_t(a.bufferView)];
+        base = m.buffers[size_t(v.buffer)].data.data() + v.byteOffset + a.byteOffset;
+        stride = v.byteStride ? v.byteStride : elem;
+    }
+    float component(size_t i, int k) const {
+        if (!base) return 0.0f;
+        const unsigned char* p = base + i * stride;
+        switch (comp) {
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[k] / 255.0f : float(p[k]);
+            case TINYGLTF_COMPONENT_TYPE_BYTE: {  // glTF: max(c / 127, -1)
+                const float v = float(int8_t(p[k]));
+                return normalized ? std::max(v / 127.0f, -1.0f) : v;
+            }
+            case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+                uint16_t v;
+                std::memcpy(&v, p + 2 * k, 2);
+                return normalized ? v / 65535.0f : float(v);
+            }
+            case TINYGLTF_COMPONENT_TYPE_SHORT: {
+                int16_t v;
+                std::memcpy(&v, p + 2 * k, 2);
+                return normalized ? std::max(float(v) / 32767.0f, -1.0f) : float(v);
+            }
+            default: {
+                float v;
+                std::memcpy(&v, p + 4 * k, 4);
+                return v;
+            }
+        }
+    }
+    uint32_t index(size_t i) const {
+        if (!base) return 0;
+        const unsigned char* p = base + i * stride;
+        if (comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return *p;
+        if (comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+            uint16_t v;
+            std::memcpy(&v, p, 2);
+            return v;
+        }
+        uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+    }
+};
+
+// --- EXT_mesh_gpu_instancing (GltfInstancing.cpp)
+
+// A node's EXT_mesh_gpu_instancing object, or null when the node has none.
+const tinygltf::Value* instancing(const tinygltf::Node& n);
+// How many instances a node's validated extension places (its accessors' common count).
+size_t instanceCount(const tinygltf::Model& m, const tinygltf::Node& n);
+
+// Per-instance local matrices (translation * rotation * scale) of node `node`, whose extension validate() has
+// checked; throws LoadError naming the attribute and the instance for a value that is not finite, a rotation
+// of zero length, or a matrix that cannot place an Instance, or that `world` (the node's) would make infinite.
+std::vector<dmat4> instanceMatrices(const std::string& file, const tinygltf::Model& m, int node, const dmat4& world);
+
+// translation * rotation (x y z w, normalized here) * scale: the one composition the reader and the writer use.
+dmat4 composeTrs(const dvec3& t, const dvec4& q, const dvec3& s);
+
+// An affine matrix as float translation, rotation quaternion (x y z w) and scale whose composeTrs() gives back
+// its upper 3x3 within 1e-6 of its largest column; false when it has a shear or is not affine. The translation
+// is m's, rounded to float (how far that moves it is the caller's judgement).
+struct FloatTrs {
+    vec3 t{0.0f};
+    vec4 q{0.0f, 0.0f, 0.0f, 1.0f};
+    vec3 s{1.0f};
+};
+bool splitTrs(const dmat4& m, FloatTrs& out);
 
 // Reports progress once a load has run for options.progressAfterSeconds, at most ten times a second.
 class Progress {

@@ -87,7 +87,7 @@ struct Checker {
     }
 
     void extensions() const {
-        static const std::set<std::string> supported{"KHR_materials_unlit"};
+        static const std::set<std::string> supported{"KHR_materials_unlit", kInstancing};
         for (size_t i = 0; i < m.extensionsRequired.size(); ++i)
             if (!supported.count(m.extensionsRequired[i]))
                 fail(file, at("extensionsRequired", i),
@@ -248,6 +248,55 @@ struct Checker {
         }
     }
 
+    // EXT_mesh_gpu_instancing on a node with a mesh (without one it is ignored, with a warning, by the
+    // conversion): accessors of the types the extension allows (custom "_" attributes and others: any), one count.
+    void instancing() const {
+        for (size_t i = 0; i < m.nodes.size(); ++i) {
+            const tinygltf::Value* x = gltf::instancing(m.nodes[i]);
+            if (!x || m.nodes[i].mesh < 0) continue;
+            const std::string path = at("nodes", i) + ".extensions." + kInstancing;
+            if (!x->IsObject()) fail(file, path, "must be an object");
+            const tinygltf::Value* attrs = x->Has("attributes") ? &x->Get("attributes") : nullptr;
+            if (!attrs || !attrs->IsObject() || attrs->Keys().empty())
+                fail(file, path + ".attributes", "must be an object naming at least one accessor");
+            std::string first;
+            size_t count = 0;
+            for (const std::string& name : attrs->Keys()) {
+                const std::string ap = path + ".attributes." + name;
+                const tinygltf::Value& v = attrs->Get(name);
+                if (!v.IsNumber() || v.GetNumberAsDouble() != std::floor(v.GetNumberAsDouble()) ||
+                    std::abs(v.GetNumberAsDouble()) > 2147483647.0)
+                    fail(file, ap, "must be an accessor index");
+                const int acc = v.GetNumberAsInt();
+                if (name == "TRANSLATION" || name == "SCALE") {
+                    attribute(ap, acc, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+                } else if (name == "ROTATION") {
+                    attribute(
+                        ap, acc, TINYGLTF_TYPE_VEC4,
+                        {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT});
+                    const tinygltf::Accessor& a = m.accessors[size_t(acc)];
+                    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !a.normalized)
+                        fail(file, ap,
+                             "accessor " + std::to_string(acc) + " of componentType " +
+                                 std::to_string(a.componentType) + " must be normalized");
+                } else {
+                    index(ap, acc, m.accessors.size(), "accessor");  // not read
+                }
+                const size_t n = m.accessors[size_t(acc)].count;
+                if (first.empty()) {
+                    first = name;
+                    count = n;
+                } else if (n != count) {
+                    fail(file, ap,
+                         "count " + std::to_string(n) + " differs from " + first + "'s count " + std::to_string(count));
+                }
+            }
+            if (count > kMaxInstances)
+                fail(file, path + ".attributes",
+                     std::to_string(count) + " instances are more than " + std::to_string(kMaxInstances));
+        }
+    }
+
     // Every node at most one parent, no cycle, no chain deeper than kMaxNodeDepth; scenes list roots only.
     void nodes() const {
         const size_t n = m.nodes.size();
@@ -372,6 +421,7 @@ void validate(const std::string& file, const tinygltf::Model& model) {
     c.materials();
     c.cameras();
     c.nodes();
+    c.instancing();
 }
 
 }  // namespace sg::gltf

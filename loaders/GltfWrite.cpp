@@ -11,11 +11,13 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 namespace sg {
@@ -43,6 +45,10 @@ struct Writer {
     std::map<const Material*, int> materials;
     std::map<const Texture*, int> textures;
     std::map<const Node*, long long> ids;  // nodes with several parents
+
+    double extent = 0.0;  // the diagonal of the scene's box: float instance translations are held to 1e-6 of it
+    std::map<const Node*, Box> bounds;  // subtree boxes in the parent's frame, by node
+    bool instanced = false;             // a node with EXT_mesh_gpu_instancing was written
 
     std::vector<unsigned char>& bytes() { return m.buffers[0].data; }
 
@@ -168,8 +174,103 @@ struct Writer {
             for (int k = 0; k < 4; ++k) n.matrix[size_t(c * 4 + k)] = mat[c][k];
     }
 
-    // Writes node `n` (and its subtree) as a new glTF node; returns its index.
-    int node(const Node& n) {
+    // --- EXT_mesh_gpu_instancing
+
+    // The box of n's subtree in its parent's frame (each node once however often it is shared).
+    Box bound(const Node& n) {
+        auto it = bounds.find(&n);
+        if (it != bounds.end()) return it->second;
+        Box b;
+        if (n.kind() == NodeKind::Geometry) {
+            const Mesh* mesh = static_cast<const Geometry&>(n).mesh();
+            if (mesh && mesh->indexCount() > 0) b = mesh->box();
+        } else if (n.kind() != NodeKind::Occluder) {  // occluders are not drawn
+            for (size_t i = 0; i < n.numChildren(); ++i)
+                if (const Node* c = n.child(i)) b.expand(bound(*c));
+            const dmat4 mat = n.kind() == NodeKind::Transform  ? static_cast<const Transform&>(n).matrix()
+                              : n.kind() == NodeKind::Instance ? static_cast<const Instance&>(n).matrix()
+                                                               : dmat4(1.0);
+            if (!b.empty() && mat != dmat4(1.0)) b = transformBox(mat, b);
+        }
+        return bounds[&n] = b;
+    }
+
+    // Nothing of the node but its kind and matrix would be lost by not writing it as a node of its own.
+    bool plain(const Node& n) const {
+        return n.name().empty() && n.nodeMask() == 0xffffffffu &&
+               (!options.nodeProperties || options.nodeProperties(n).empty());
+    }
+
+    // Instances of one Geometry under one parent, each placement as float translation, rotation and scale.
+    struct Batch {
+        const Geometry* geometry = nullptr;
+        std::vector<const Node*> members;
+        std::vector<gltf::FloatTrs> placements;
+    };
+
+    // The batches among n's children (world: their parent frame's world matrix), two instances or more each.
+    std::vector<Batch> batches(const Node& n, const dmat4& world) {
+        std::vector<Batch> found;
+        if (!options.gpuInstancing || (n.kind() != NodeKind::Group && n.kind() != NodeKind::Transform)) return found;
+        std::map<const Node*, size_t> byPrototype;
+        for (size_t i = 0; i < n.numChildren(); ++i) {
+            const Node* c = n.child(i);
+            if (!c || c->kind() != NodeKind::Instance || c->numParents() != 1 || !plain(*c)) continue;
+            const auto& in = static_cast<const Instance&>(*c);
+            const Node* proto = in.prototype();
+            dmat4 placement = in.matrix();
+            if (proto && proto->kind() == NodeKind::Transform && proto->numChildren() == 1 && plain(*proto)) {
+                placement = placement * static_cast<const Transform*>(proto)->matrix();  // folded into each
+                proto = proto->child(0);
+            }
+            if (!proto || proto->kind() != NodeKind::Geometry || !plain(*proto)) continue;
+            const auto* g = static_cast<const Geometry*>(proto);
+            if (!g->mesh() || g->mesh()->indexCount() == 0) continue;
+            gltf::FloatTrs trs;
+            if (!gltf::splitTrs(placement, trs)) continue;  // a shear: the Instance is written as it is
+            // The float translation must not move the instance by more than 1e-6 of the scene, as drawn.
+            const double moved = glm::length(dvec3(trs.t) - dvec3(placement[3])) * maxScale(world);
+            if (!(moved <= 1e-6 * extent)) continue;
+            auto [it, fresh] = byPrototype.emplace(in.prototype(), found.size());
+            if (fresh) found.push_back({g, {}, {}});
+            found[it->second].members.push_back(c);
+            found[it->second].placements.push_back(trs);
+        }
+        found.erase(std::remove_if(found.begin(), found.end(), [](const Batch& b) { return b.members.size() < 2; }),
+                    found.end());
+        return found;
+    }
+
+    // Gives gn the batch's mesh and its instances (rotation and scale only where some instance has them).
+    void instancing(tinygltf::Node& gn, const Batch& b) {
+        gn.mesh = mesh(*b.geometry);
+        std::vector<vec3> t, s;
+        std::vector<vec4> q;
+        bool rotated = false, scaled = false;
+        for (const gltf::FloatTrs& p : b.placements) {
+            t.push_back(p.t);
+            q.push_back(p.q);
+            s.push_back(p.s);
+            rotated |= p.q != vec4(0.0f, 0.0f, 0.0f, 1.0f);
+            scaled |= p.s != vec3(1.0f);
+        }
+        Value::Object attributes;
+        attributes["TRANSLATION"] = Value(accessor(t, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 0));
+        if (rotated) attributes["ROTATION"] = Value(accessor(q, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 0));
+        if (scaled) attributes["SCALE"] = Value(accessor(s, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 0));
+        gn.extensions[gltf::kInstancing] = Value(Value::Object{{"attributes", Value(std::move(attributes))}});
+        instanced = true;
+    }
+
+    int batchNode(const Batch& b) {
+        tinygltf::Node gn;
+        instancing(gn, b);
+        m.nodes.push_back(std::move(gn));
+        return int(m.nodes.size() - 1);
+    }
+
+    // Writes node `n` (and its subtree) as a new glTF node; returns its index. world: n's parent's world matrix.
+    int node(const Node& n, const dmat4& world) {
         const int self = int(m.nodes.size());
         m.nodes.emplace_back();
         tinygltf::Node gn;
@@ -257,8 +358,21 @@ struct Writer {
             }
         }
         const Node* detail = n.kind() == NodeKind::PagedLOD ? static_cast<const PagedLOD&>(n).detail() : nullptr;
+        const dmat4 inner = n.kind() == NodeKind::Transform  ? world * static_cast<const Transform&>(n).matrix()
+                            : n.kind() == NodeKind::Instance ? world * static_cast<const Instance&>(n).matrix()
+                                                             : world;
+        const std::vector<Batch> bs = batches(n, inner);
+        std::set<const Node*> batched;
+        for (size_t k = 0; k < bs.size(); ++k) {
+            batched.insert(bs[k].members.begin(), bs[k].members.end());
+            if (k == 0 && n.kind() == NodeKind::Transform)  // a Transform's node has room for one mesh
+                instancing(gn, bs[k]);
+            else
+                gn.children.push_back(batchNode(bs[k]));
+        }
         for (size_t i = 0; i < n.numChildren(); ++i)
-            if (const Node* c = n.child(i); c && c != detail) gn.children.push_back(node(*c));
+            if (const Node* c = n.child(i); c && c != detail && !batched.count(c))
+                gn.children.push_back(node(*c, inner));
         Value::Object extras;
         if (options.nodeProperties) addProperties(extras, options.nodeProperties(n));
         if (!x.empty()) extras[gltf::kExtrasKey] = Value(std::move(x));
@@ -278,13 +392,24 @@ void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& 
     w.m.buffers.emplace_back();
     tinygltf::Scene scene;
     // A plain root Group is the scene itself (loadGltf returns the scene as a Group): its children are the roots.
+    const Box box = w.bound(root);
+    w.extent = box.empty() ? 0.0 : glm::length(box.max - box.min);
     const bool plainRoot = root.kind() == NodeKind::Group && root.nodeMask() == 0xffffffffu;
     if (plainRoot) {
         scene.name = root.name();
+        std::set<const Node*> batched;
+        for (const Writer::Batch& b : w.batches(root, dmat4(1.0))) {
+            batched.insert(b.members.begin(), b.members.end());
+            scene.nodes.push_back(w.batchNode(b));
+        }
         for (size_t i = 0; i < root.numChildren(); ++i)
-            if (const Node* c = root.child(i)) scene.nodes.push_back(w.node(*c));
+            if (const Node* c = root.child(i); c && !batched.count(c)) scene.nodes.push_back(w.node(*c, dmat4(1.0)));
     } else {
-        scene.nodes.push_back(w.node(root));
+        scene.nodes.push_back(w.node(root, dmat4(1.0)));
+    }
+    if (w.instanced) {  // as gltfpack does: without it a reader would draw the mesh once, in the wrong place
+        w.m.extensionsUsed.push_back(gltf::kInstancing);
+        w.m.extensionsRequired.push_back(gltf::kInstancing);
     }
     if (!options.sceneProperties.empty()) {
         Value::Object extras;

@@ -240,10 +240,13 @@ struct Doc {
     size_t viewExtra = 0;        // added to view 0's byteLength
     std::string extraAccessors;  // appended to the accessor list
     std::string externalBin;     // buffer by this URI instead of embedded
+    std::string extraBytes;      // after the indices, as bufferViews[2] (accessors address it by byteOffset)
 
     std::string binary() const {
         std::string b(reinterpret_cast<const char*>(positions.data()), positions.size() * sizeof(vec3));
         b.append(reinterpret_cast<const char*>(indices.data()), indices.size() * 2);
+        b.resize((b.size() + 3) & ~size_t(3), '\0');
+        b += extraBytes;
         b.resize((b.size() + 3) & ~size_t(3), '\0');
         return b;
     }
@@ -257,7 +260,11 @@ struct Doc {
               << (externalBin.empty() ? "data:application/octet-stream;base64," + base64(bin) : externalBin) << '"';
         o << R"(}], "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": )" << pbytes + viewExtra;
         if (positionStride) o << R"(, "byteStride": )" << positionStride;
-        o << R"(}, {"buffer": 0, "byteOffset": )" << pbytes << R"(, "byteLength": )" << indices.size() * 2 << "}]";
+        o << R"(}, {"buffer": 0, "byteOffset": )" << pbytes << R"(, "byteLength": )" << indices.size() * 2 << "}";
+        if (!extraBytes.empty())
+            o << R"(, {"buffer": 0, "byteOffset": )" << ((pbytes + indices.size() * 2 + 3) & ~size_t(3))
+              << R"(, "byteLength": )" << extraBytes.size() << "}";
+        o << "]";
         o << R"(, "accessors": [{"bufferView": 0, "componentType": 5126, "count": )"
           << (positionCount ? positionCount : positions.size()) << R"(, "type": "VEC3"}, )";
         o << R"({"bufferView": 1, "componentType": 5123, "count": )" << indices.size() << R"(, "type": "SCALAR"})"

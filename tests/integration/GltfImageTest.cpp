@@ -9,6 +9,8 @@
 #include "testbed/RandomScene.h"
 
 #include <gtest/gtest.h>
+#include <fstream>
+#include <glm/gtc/quaternion.hpp>
 
 using namespace sg;
 
@@ -28,24 +30,28 @@ Image render(Renderer& r, const ref_ptr<Node>& root, const Camera& cam) {
     return r.readColor();
 }
 
-void expectSamePixels(const ref_ptr<Node>& original, const Box& bounds, uint64_t seed, const std::string& file) {
-    saveGltf(*original, file);
-    const GltfScene loaded = loadGltf(file);
+// a and b draw the same pixels from twelve random views, and the views see much of the scene.
+void expectSamePixels(const ref_ptr<Node>& a, const ref_ptr<Node>& b, const Box& bounds, uint64_t seed) {
     OsmesaContext context(kW, kH);
     Renderer renderer;
     scenes::Rng rng(seed);
     size_t covered = 0;
     for (int k = 0; k < 12; ++k) {
         const Camera cam = scenes::randomCamera(rng, bounds, k, kW, kH);
-        const Image a = render(renderer, original, cam);
-        const Image b = render(renderer, loaded.root, cam);
-        EXPECT_EQ(countDifferingPixels(a, b, 0), 0u) << "view " << k;
-        Image clear = a;  // how much of the view the scene covers: the test must see something
+        const Image ia = render(renderer, a, cam);
+        const Image ib = render(renderer, b, cam);
+        EXPECT_EQ(countDifferingPixels(ia, ib, 0), 0u) << "view " << k;
+        Image clear = ia;  // how much of the view the scene covers: the test must see something
         for (size_t i = 0; i < clear.rgba.size(); i += 4)
-            std::copy(a.rgba.begin(), a.rgba.begin() + 4, clear.rgba.begin() + long(i));
-        covered += countDifferingPixels(a, clear, 0);
+            std::copy(ia.rgba.begin(), ia.rgba.begin() + 4, clear.rgba.begin() + long(i));
+        covered += countDifferingPixels(ia, clear, 0);
     }
     EXPECT_GT(covered, size_t(kW * kH / 2));  // a few views see much of the scene
+}
+
+void expectSamePixels(const ref_ptr<Node>& original, const Box& bounds, uint64_t seed, const std::string& file) {
+    saveGltf(*original, file);
+    expectSamePixels(original, loadGltf(file).root, bounds, seed);
 }
 
 }  // namespace
@@ -58,4 +64,38 @@ TEST(GltfImage, RandomSceneRendersTheSameAfterARoundTrip) {
 TEST(GltfImage, EveryKindSceneRendersTheSameAfterARoundTrip) {
     expectSamePixels(gltftest::allKindsScene(), Box{dvec3(-15), dvec3(15)}, 6,
                      ::testing::TempDir() + "sgkit_img_kinds.glb");
+}
+
+// EXT_mesh_gpu_instancing: a field of Instances whose translation, rotation and scale are floats (so the file holds
+// them exactly) draws the same pixels written as one instanced node as written as Instance nodes.
+TEST(GltfImage, InstancedFileRendersLikeTheSameSceneWrittenWithoutInstancing) {
+    scenes::Rng rng(21);
+    auto box = sg::make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), sg::make<Material>(vec4(0.7f, 0.5f, 0.2f, 1.0f)));
+    auto field = sg::make<Transform>(glm::translate(dmat4(1.0), dvec3(0.5, 0, 0)));
+    for (int i = 0; i < 40; ++i) {
+        const glm::dquat q(float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)),
+                           float(rng.uniform(-1, 1)));
+        const dvec3 t(float(rng.uniform(-12, 12)), float(rng.uniform(-12, 12)), float(rng.uniform(-12, 12)));
+        const dvec3 s(float(rng.uniform(0.5, 2)), float(rng.uniform(0.5, 2)), float(rng.uniform(0.5, 2)));
+        field->addChild(
+            sg::make<Instance>(box, glm::scale(glm::translate(dmat4(1.0), t) * glm::mat4_cast(q / glm::length(q)), s)));
+    }
+    auto root = sg::make<Group>();
+    root->addChild(field);
+    const std::string instanced = ::testing::TempDir() + "sgkit_img_instanced.glb";
+    const std::string plain = ::testing::TempDir() + "sgkit_img_not_instanced.glb";
+    saveGltf(*root, instanced);
+    GltfSaveOptions off;
+    off.gpuInstancing = false;
+    saveGltf(*root, plain, off);
+    auto text = [](const std::string& f) {
+        std::ifstream in(f, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    ASSERT_NE(text(instanced).find("EXT_mesh_gpu_instancing"), std::string::npos);
+    ASSERT_EQ(text(plain).find("EXT_mesh_gpu_instancing"), std::string::npos);
+    const GltfScene a = loadGltf(instanced), b = loadGltf(plain);
+    ASSERT_EQ(a.root->child(0)->numChildren(), 40u);
+    expectSamePixels(a.root, b.root, Box{dvec3(-15), dvec3(15)}, 8);
+    expectSamePixels(root, a.root, Box{dvec3(-15), dvec3(15)}, 8);
 }
