@@ -211,7 +211,8 @@ private:
     }
 
     // Contents are saved in batches, by several threads: building a content only reads the scene and makes new
-    // nodes, but reference counts are not atomic, so the graphs are made and freed here, between batches.
+    // nodes, but they reference scene nodes (whose parent lists change), so the graphs are made and freed here,
+    // between batches.
     void queue(Pending p) {
         batchTriangles_ += p.triangles;
         batch_.push_back(std::move(p));

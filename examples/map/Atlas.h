@@ -129,7 +129,7 @@ public:
 
 private:
     // What the loader thread needs to place a level it reads: copies, so that it shares no node with the
-    // application thread (reference counts are not atomic).
+    // application thread (a node's parent list and dirty marks are the application thread's).
     struct Request {
         std::string parentName, parentProjection;
         sg::Box regionBox;  // the region entered, in its level's plane

@@ -436,8 +436,8 @@ void Pager::handOver() {
         wakeAll = overBudget_ && !stats_.overBudget;
         overBudget_ = stats_.overBudget;
     }
-    // Detached details may share meshes with what the frame thread holds (a renderer's cache): reference counts
-    // are not atomic, so they are freed here unless the settings say nothing else holds them.
+    // Detached details may hold nodes the graph that stays holds too (a load function's cache): a dying parent
+    // changes its children's parent lists, so they are freed here unless the settings say none is shared.
     if (!settings_.freeOnLoaderThread) dying_.clear();
     const bool wake = !dying_.empty() || !stale_.empty();
     {

@@ -51,8 +51,9 @@ struct PagerSettings {
     // With a prepare function (Pager::setPrepare): what each update may spend on it, in ms and objects.
     double prepareMsPerFrame = 1.0;
     uint32_t prepareObjectsPerFrame = 20;
-    // Free detached details on the loader thread instead of in update()/release(). Only when nothing else holds
-    // their meshes, materials or textures (a renderer's cache does): reference counts are not atomic.
+    // Free detached details on the loader thread instead of in update()/release(). Only when none of their nodes
+    // is also in the graph that stays (a node's parent list changes when a parent of it dies); their meshes,
+    // materials and textures may be shared, with a renderer's cache too (reference counts are atomic).
     bool freeOnLoaderThread = false;
 };
 

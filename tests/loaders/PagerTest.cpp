@@ -1,5 +1,6 @@
 #include "TestUtil.h"
 #include "loaders/Gltf.h"
+#include "loaders/SharedMeshes.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/paging/Pager.h"
 #include "testbed/City.h"
@@ -948,15 +949,20 @@ TEST(PagerThreads, EnterAndLeaveCyclesWhileLoadsAreInFlight) {
         PagerSettings ps;
         ps.expiryFrames = 3;
         ps.expirySeconds = 0.0;
-        ps.freeOnLoaderThread = true;  // nothing else holds the details here
+        ps.freeOnLoaderThread = true;  // nothing else holds the details' nodes here
         std::atomic<uint64_t> seq{0};
+        // Every detail's mesh is equal: the loads share one, as a tileset's do, so that one mesh is referenced
+        // and released by several loader threads at once (its count is atomic).
+        tiles::SharedMeshes meshes;
         Pager pager(
             scene,
             [&](const std::string& file) -> ref_ptr<Node> {
                 const uint64_t s = seq++;
                 std::this_thread::sleep_for(std::chrono::microseconds(s * 7919 % 300));
                 if (s % 13 == 5) throw std::runtime_error("bad luck on " + file);
-                return makeDetail();
+                ref_ptr<Node> d = makeDetail();
+                meshes.share(*d);
+                return d;
             },
             ps);
         std::mt19937 rng(12345);
@@ -998,6 +1004,7 @@ TEST(PagerThreads, EnterAndLeaveCyclesWhileLoadsAreInFlight) {
         EXPECT_GT(s.loads, 50u) << n - 1 << " frames";
         EXPECT_GT(s.unloads, 50u) << n - 1 << " frames";
         EXPECT_GT(s.failures, 0u) << n - 1 << " frames";
+        EXPECT_GT(meshes.replaced(), 50u);
         std::printf(
             "paging cycles: %llu frames, %llu requests, %llu loads, %llu unloads, %llu failures, %llu cancelled, "
             "%llu discarded\n",
