@@ -587,13 +587,21 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
     auto found = prepareLists_.find(&root);
     if (found == prepareLists_.end()) {  // the first call for this detail: list what draw() would upload
         PrepareList list;
-        forEachDistinctGeometry(root, [&](const Geometry& g) {
-            if (g.mesh()) list.items.emplace_back(g.mesh(), g.material());
-        });
+        list.walk = std::make_shared<DistinctGeometryWalk>(root);
         found = prepareLists_.emplace(&root, std::move(list)).first;
     }
     PrepareList& list = found->second;
     list.touched = prepareCalls_;
+    // Listing a detail of many thousand nodes takes milliseconds too: it goes on within the time budget, the
+    // items listed so far upload meanwhile.
+    if (list.walk) {
+        const bool listed = list.walk->run(
+            [&](const Geometry& g) {
+                if (g.mesh()) list.items.emplace_back(g.mesh(), g.material());
+            },
+            [&] { return budget.elapsedMs() >= budget.ms; });
+        if (listed) list.walk.reset();
+    }
     // What was uploaded by earlier calls keeps its grace while this detail waits (GpuCache::prepareMesh).
     for (size_t i = 0; i < list.next; ++i) cache_->prepareMesh(list.items[i].first.get());
     for (; list.next < list.items.size(); ++list.next) {
@@ -607,7 +615,7 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
         if (cache_->prepareMesh(m)) budget.spend(1, m->bytes());
         if (tex && cache_->prepareTexture(tex, cut)) budget.spend(1, tex->rgba().size());
     }
-    const bool done = list.next == list.items.size();
+    const bool done = !list.walk && list.next == list.items.size();
     if (done) prepareLists_.erase(found);
     // Lists of details dropped before they were prepared.
     for (auto it = prepareLists_.begin(); it != prepareLists_.end();)

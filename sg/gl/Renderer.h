@@ -18,8 +18,9 @@
 
 namespace sg {
 
-class DepthTarget;  // sg/gl/DepthTarget.h, internal
-class GpuCache;     // sg/gl/GpuCache.h, internal
+class DepthTarget;           // sg/gl/DepthTarget.h, internal
+class DistinctGeometryWalk;  // sg/scene/DistinctGeometries.h, internal
+class GpuCache;              // sg/gl/GpuCache.h, internal
 struct GpuMesh;
 struct ItemAttributes;  // sg/gl/Shaders.h, internal
 
@@ -236,6 +237,7 @@ private:
     // that a detail of many objects takes a walk once and a step per frame (not a walk per frame). Lists not
     // touched for kPrepareForget frames (their detail dropped unprepared) are forgotten.
     struct PrepareList {
+        std::shared_ptr<DistinctGeometryWalk> walk;  // listing items; null once listed (internal type)
         std::vector<std::pair<ref_ptr<const Mesh>, const Material*>> items;
         size_t next = 0;
         uint64_t touched = 0;

@@ -1,11 +1,14 @@
 #include "TestUtil.h"
 #include "nodes/PagedLOD.h"
 #include "sg/cull/CullTraversal.h"
+#include "sg/scene/DistinctGeometries.h"
 #include "sg/scene/Scene.h"
 #include "testbed/City.h"
 #include "testbed/RandomScene.h"
 
 #include <gtest/gtest.h>
+
+#include <set>
 
 using namespace sg;
 
@@ -410,4 +413,34 @@ TEST(Scene, AttachingADetailDeepDownRefitsTheDetailsAboveItAndRebuildsNoOther) {
     Scene fresh2(root);
     fresh2.update();
     expectSameImages(s.image(), fresh2.image(), "after detach");
+}
+
+TEST(DistinctGeometryWalk, StopsWhenAskedAndGoesOnToMeetEachGeometryOnce) {
+    // 1,000 geometries under transforms, a shared subgraph placed twice, one mesh shared by all.
+    auto mesh = makeBoxMesh(dvec3(-1), dvec3(1));
+    auto root = make<Group>();
+    for (int i = 0; i < 1000; ++i) {
+        auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(double(i), 0, 0)));
+        t->addChild(make<Geometry>(mesh, nullptr));
+        root->addChild(t);
+    }
+    auto shared = make<Group>();
+    shared->addChild(make<Geometry>(mesh, nullptr));
+    root->addChild(shared);
+    root->addChild(shared);
+
+    std::set<const Geometry*> met;
+    size_t calls = 0, repeats = 0;
+    DistinctGeometryWalk walk(*root);
+    while (!walk.run([&](const Geometry& g) { repeats += !met.insert(&g).second; }, [] { return true; }, 64)) {
+        ++calls;
+        ASSERT_LT(calls, 1000u);
+    }
+    EXPECT_TRUE(walk.done());
+    EXPECT_EQ(met.size(), 1001u);
+    EXPECT_EQ(repeats, 0u);
+    EXPECT_GE(calls, 2003u / 64);  // stopped every 63 nodes: 2,003 nodes in all
+    size_t once = 0;
+    forEachDistinctGeometry(*root, [&](const Geometry&) { ++once; });
+    EXPECT_EQ(once, 1001u);
 }
