@@ -172,7 +172,7 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
             // A failed node is asked for again once its back-off has passed (the pager sets retryTime()).
             if (st == PagedLOD::State::Unloaded ||
                 (st == PagedLOD::State::Failed && scene_->frame().time >= node->retryTime())) {
-                scene_->pageRequests().post(node, priority);
+                scene_->pageRequests().post(node, priority, p.frame);
                 stats_->pagedRequested++;
             }
         }

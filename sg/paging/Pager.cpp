@@ -107,14 +107,19 @@ void Pager::run() {
         }
         if (stopping) return;
         if (!have) continue;
-        Result r{job.id, job.node, {}, 0, {}, 0.0};
+        Result r{job.id, job.node, {}, 0, {}, 0.0, {}, dmat4(1.0)};
         const auto t0 = std::chrono::steady_clock::now();
         try {
             r.detail = load_(job.file);
-            if (r.detail)
+            if (r.detail) {
                 r.bytes = pageBytes(r.detail.get());
-            else
+                if (job.frame) {  // the image the update would build, built here
+                    r.image = Scene::buildDetailImage(*r.detail, *job.frame);
+                    r.frame = *job.frame;
+                }
+            } else {
                 r.error = job.file + ": the load function returned no node";
+            }
         } catch (const std::exception& e) {
             r.detail = {};
             r.error = withFile(job.file, e.what());
@@ -143,7 +148,7 @@ void Pager::waitIdle() {
     idle_.wait(lock, [&] { return !canStart() && trash_.empty() && loading_ == 0 && freeing_ == 0; });
 }
 
-void Pager::queue(PagedLOD& node, const FrameInfo& frame, float priority) {
+void Pager::queue(PagedLOD& node, const FrameInfo& frame, float priority, std::optional<dmat4> detailFrame) {
     if (node.file().empty()) {
         node.setFailed(node.describe() + ": no file to load the detail from");
         stats_.failures++;
@@ -176,7 +181,7 @@ void Pager::queue(PagedLOD& node, const FrameInfo& frame, float priority) {
     const bool essential = priority == kCommandPriority || node.numChildren() == 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        Job job{id, &node, node.file(), priority, essential};
+        Job job{id, &node, node.file(), priority, essential, settings_.buildImages ? detailFrame : std::nullopt};
         jobs_.insert(std::upper_bound(jobs_.begin(), jobs_.end(), job, lessNeeded), std::move(job));
     }
     wake_.notify_one();
@@ -229,6 +234,7 @@ void Pager::releaseTree(const PagedLOD* key) {
     } else if (a.node->state() == PagedLOD::State::Requested) {
         if (a.pending) {
             (a.prepared ? dying_ : stale_).push_back(std::move(a.pending));
+            a.pendingImage.reset();
             stats_.cancelled++;
             stats_.frame.cancelled++;
         } else if (dropJob(a.id)) {
@@ -240,7 +246,9 @@ void Pager::releaseTree(const PagedLOD* key) {
     forget(key);
 }
 
-void Pager::attach(Active& a, ref_ptr<Node> detail, size_t bytes, uint64_t now, const FrameInfo& frame) {
+void Pager::attach(Active& a, ref_ptr<Node> detail, size_t bytes, uint64_t now, const FrameInfo& frame,
+                   std::shared_ptr<FlatImage> image, const dmat4& imageFrame) {
+    if (image) scene_.offerDetailImage(a.node.get(), detail.get(), imageFrame, std::move(image));
     a.node->attachDetail(std::move(detail), bytes);
     a.bytes = bytes;
     a.attached = true;
@@ -291,19 +299,21 @@ void Pager::update(const FrameInfo& frame) {
         } else if (prepare_) {
             a.pending = std::move(r.detail);
             a.pendingBytes = r.bytes;
+            a.pendingImage = std::move(r.image);
+            a.pendingFrame = r.frame;
         } else {
-            attach(a, std::move(r.detail), r.bytes, now, frame);
+            attach(a, std::move(r.detail), r.bytes, now, frame, std::move(r.image), r.frame);
         }
     }
     results_.clear();
 
     // New requests from the cull, with their priorities (a failed node posted once its back-off has passed).
-    scene_.pageRequests().take(posted_, postedPriorities_);
+    scene_.pageRequests().take(posted_, postedPriorities_, postedFrames_);
     for (size_t k = 0; k < posted_.size(); ++k) {
         auto* p = static_cast<PagedLOD*>(posted_[k].get());
         const bool retry = p->state() == PagedLOD::State::Failed && frame.time >= p->retryTime();
         if ((p->state() == PagedLOD::State::Unloaded || retry) && !active_.count(p))
-            queue(*p, frame, postedPriorities_[k]);
+            queue(*p, frame, postedPriorities_[k], postedFrames_[k]);
     }
     posted_.clear();
 
@@ -382,11 +392,12 @@ void Pager::runPrepare(uint64_t now, const FrameInfo& frame) {
         }
         if (!error.empty()) {
             dying_.push_back(std::move(a->pending));
+            a->pendingImage.reset();
             fail(*a, error, frame);
             scratch_.push_back(a->node.get());
         } else if (done) {
             stats_.frame.prepared++;
-            attach(*a, std::move(a->pending), a->pendingBytes, now, frame);
+            attach(*a, std::move(a->pending), a->pendingBytes, now, frame, std::move(a->pendingImage), a->pendingFrame);
             a->prepared = false;
         }
     }

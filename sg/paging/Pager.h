@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -51,6 +52,10 @@ struct PagerSettings {
     // With a prepare function (Pager::setPrepare): what each update may spend on it, in ms and objects.
     double prepareMsPerFrame = 1.0;
     uint32_t prepareObjectsPerFrame = 20;
+    // Build a loaded detail's flat image on the loader thread, after its load (Scene::buildDetailImage), in the
+    // frame the cull posted with the request; the update then takes it instead of building it on the frame
+    // thread (a large detail's image takes tens of milliseconds and more to build).
+    bool buildImages = true;
     // Free detached details on the loader thread instead of in update()/release(). Only when none of their nodes
     // is also in the graph that stays (a node's parent list changes when a parent of it dies); their meshes,
     // materials and textures may be shared, with a renderer's cache too (reference counts are atomic).
@@ -138,8 +143,9 @@ private:
         uint64_t id;
         const PagedLOD* node;
         std::string file;
-        float priority;  // bigger first; Pager::load()'s: infinity
-        bool essential;  // may start while over the byte budget (commanded, or no coarse children)
+        float priority;              // bigger first; Pager::load()'s: infinity
+        bool essential;              // may start while over the byte budget (commanded, or no coarse children)
+        std::optional<dmat4> frame;  // the detail image's frame, when the cull posted it (buildImages)
     };
     // The queue's order: the most needed last (taken from the back), ties by age (the oldest last).
     static bool lessNeeded(const Job& a, const Job& b) {
@@ -152,6 +158,8 @@ private:
         size_t bytes;
         std::string error;
         double ms;
+        std::shared_ptr<FlatImage> image;  // the detail's image, built ahead in `frame` (buildImages)
+        dmat4 frame;
     };
     struct Active {  // a node the pager has queued or attached (held, so that it outlives its request)
         ref_ptr<PagedLOD> node;
@@ -167,14 +175,17 @@ private:
         ref_ptr<Node> pending;               // loaded, waiting for the prepare function
         size_t pendingBytes;
         bool prepared;  // the prepare function saw `pending`: freed on the application thread
+        std::shared_ptr<FlatImage> pendingImage = {};  // and its image built ahead, in pendingFrame
+        dmat4 pendingFrame = dmat4(1.0);
     };
-    void queue(PagedLOD& node, const FrameInfo& frame, float priority);
+    void queue(PagedLOD& node, const FrameInfo& frame, float priority, std::optional<dmat4> detailFrame = {});
     void unload(Active& a);
     // Lets go of a tracked node: the tracked nodes inside its detail first, then its request dropped or its
     // detail detached; its entry erased.
     void releaseTree(const PagedLOD* key);
     void forget(const PagedLOD* key);  // erases the entry (and its place in its owner's list)
-    void attach(Active& a, ref_ptr<Node> detail, size_t bytes, uint64_t now, const FrameInfo& frame);
+    void attach(Active& a, ref_ptr<Node> detail, size_t bytes, uint64_t now, const FrameInfo& frame,
+                std::shared_ptr<FlatImage> image = {}, const dmat4& imageFrame = dmat4(1.0));
     void fail(Active& a, const std::string& error, const FrameInfo& frame);
     void runPrepare(uint64_t now, const FrameInfo& frame);
     void evict(uint64_t now);
@@ -191,6 +202,7 @@ private:
     std::unordered_map<const PagedLOD*, Active> active_;
     std::vector<ref_ptr<Node>> posted_;  // taken from the scene's PageRequests
     std::vector<float> postedPriorities_;
+    std::vector<std::optional<dmat4>> postedFrames_;
     std::vector<Result> results_;       // taken from done_
     std::vector<ref_ptr<Node>> dying_;  // detached details to free
     std::vector<ref_ptr<Node>> stale_;  // loads discarded, freed on the loader thread

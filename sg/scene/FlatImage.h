@@ -93,6 +93,7 @@ struct FlatImage {
         float min, max;
         Node* node;                         // a PagedLOD
         std::shared_ptr<FlatImage> detail;  // null when no detail is attached
+        dmat4 frame{1.0};                   // the frame its detail's image is built in (posted with requests)
     };
     std::vector<Paged> paged;
     std::vector<Draw> draws;

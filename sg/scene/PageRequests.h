@@ -1,9 +1,11 @@
 // PageRequests: the paged nodes a cull found needed and not loaded, posted from any cull thread and taken by
 // the pager on the application thread before the next update, each with how much it is needed.
 #pragma once
+#include "sg/core/Math.h"
 #include "sg/core/Node.h"
 
 #include <mutex>
+#include <optional>
 #include <vector>
 
 namespace sg {
@@ -14,10 +16,13 @@ public:
     // `priority`: how much the node's detail is needed, bigger first (CullTraversal::pagedLod() works it out);
     // a node posted again at a later update has its request's priority renewed.
     void post(Node* n) { post(n, 0.0f); }
-    void post(Node* n, float priority) {
+    // `frame`: the frame the node's detail image is built in (FlatImage::Paged::frame), so that a pager may
+    // build it ahead on its loader thread (Scene::buildDetailImage).
+    void post(Node* n, float priority, std::optional<dmat4> frame = std::nullopt) {
         std::lock_guard<std::mutex> lock(mutex_);
         posted_.emplace_back(n);
         priorities_.push_back(priority);
+        frames_.push_back(frame);
     }
     // Moves the posted nodes into `out` (cleared first), and their priorities into `priorities` (in the same
     // order). The vectors trade storage, so that a steady frame loop allocates nothing.
@@ -26,13 +31,21 @@ public:
         std::lock_guard<std::mutex> lock(mutex_);
         out.swap(posted_);
         priorities_.clear();
+        frames_.clear();
     }
     void take(std::vector<ref_ptr<Node>>& out, std::vector<float>& priorities) {
+        std::vector<std::optional<dmat4>> frames;
+        take(out, priorities, frames);
+    }
+    void take(std::vector<ref_ptr<Node>>& out, std::vector<float>& priorities,
+              std::vector<std::optional<dmat4>>& frames) {
         out.clear();
         priorities.clear();
+        frames.clear();
         std::lock_guard<std::mutex> lock(mutex_);
         out.swap(posted_);
         priorities.swap(priorities_);
+        frames.swap(frames_);
     }
     size_t size() const {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -43,6 +56,7 @@ private:
     mutable std::mutex mutex_;
     std::vector<ref_ptr<Node>> posted_;
     std::vector<float> priorities_;  // posted_'s, index for index
+    std::vector<std::optional<dmat4>> frames_;
 };
 
 }  // namespace sg

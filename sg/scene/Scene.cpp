@@ -26,6 +26,8 @@ struct Scene::Builder {
     bool fresh = false;      // full build: tables are appended to; refit: rewritten at their index
     bool prototype = false;  // building an Instance prototype's image: its occluders are not used
     bool detail = false;     // building a PagedLOD detail's image (not a rebuild of the scene's structure)
+    bool alone = false;      // building off the frame thread (buildDetailImage): the scene's prototypes are not at hand
+    struct NeedsScene {};    // thrown when building alone meets an Instance
     int conditional = 0;     // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
     bool occludersWritten = false;
 
@@ -107,6 +109,7 @@ struct Scene::Builder {
     }
 
     const FlatImage& proto(Node* p) {
+        if (alone) throw NeedsScene{};
         auto& slot = scene.protos_[p];
         if (!slot || (!builtProtos.count(p) && p->dirtyBits())) {
             if (!slot) slot = std::make_unique<FlatImage>();
@@ -209,12 +212,14 @@ struct Scene::Builder {
         pg.lod.cz = float(c.z);
         pg.lod.reach = float(p->radius() * maxScale(m));
         pg.lod.fade = float(maxScale(m));
+        pg.frame = m;
         Node* d = p->detail();
         if (!d) {
             pg.detail.reset();
             return;
         }
-        if (rebuild || !pg.detail || d->dirtyBits()) {
+        const bool adopted = (rebuild || !pg.detail) && adopt(p, d, m, pg);  // built ahead: nothing to build
+        if (!adopted && (rebuild || !pg.detail || d->dirtyBits())) {
             // A detail whose own structure is unchanged (a detail attached or detached deeper down, a bound
             // moved) is refitted in place: rebuilding it would rebuild every detail resident below it, the whole
             // tileset's resident images for an attach at depth.
@@ -234,6 +239,20 @@ struct Scene::Builder {
         if (di.size() == 0 || (di.flags[0] & FlatImage::kEmpty)) return;
         if (di.flags[0] & FlatImage::kInvalid) return img.setInvalid(i);
         if (!(img.flags[i] & FlatImage::kInvalid)) expandBound(i, di.box(0), di.r[0]);
+    }
+
+    // An image offered for this detail in this frame (offerDetailImage) taken, its draw states made the scene's.
+    bool adopt(const PagedLOD* p, const Node* d, const dmat4& m, FlatImage::Paged& pg) {
+        auto it = scene.offers_.find(p);
+        if (it == scene.offers_.end()) return false;
+        Offer o = std::move(it->second);
+        scene.offers_.erase(it);
+        if (o.detail != d || o.frame != m || !o.image) return false;
+        for (FlatImage::Draw& draw : o.image->draws)
+            draw.state = scene.states_.emplace(std::make_pair(draw.mesh, draw.material), uint32_t(scene.states_.size()))
+                             .first->second;
+        pg.detail = std::move(o.image);
+        return true;
     }
 
     // Entry i's bound grown to hold a world box and the sphere of radius `r` about that box's centre.
@@ -515,7 +534,29 @@ void Scene::update(const FrameInfo& frame) {
         stats_.callbacksRun++;
     }
     refresh();
+    offers_.clear();  // images offered for details this update did not meet
     stats_.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::shared_ptr<FlatImage> Scene::buildDetailImage(Node& detail, const dmat4& frame) {
+    Scene alone{ref_ptr<Node>(&detail)};  // its own draw states and stats: the adopting scene renumbers the states
+    auto img = std::make_shared<FlatImage>();
+    std::unordered_set<const Node*> built;
+    Builder b{alone, *img, built};
+    b.prototype = true;
+    b.detail = true;
+    b.alone = true;
+    try {
+        b.full(&detail, frame);
+    } catch (const Builder::NeedsScene&) {
+        return nullptr;
+    }
+    return img;
+}
+
+void Scene::offerDetailImage(const Node* paged, const Node* detail, const dmat4& frame,
+                             std::shared_ptr<FlatImage> image) {
+    if (paged && detail && image) offers_[paged] = Offer{detail, frame, std::move(image)};
 }
 
 void Scene::refresh() {

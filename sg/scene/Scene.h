@@ -48,6 +48,16 @@ public:
     // from several cull threads at once.
     PageRequests& pageRequests() const { return requests_; }
 
+    // A paged detail's image built ahead, off the frame thread (a pager's loader thread, after the load), in
+    // `frame` (the frame posted with the node's request): what the update would build when the detail is
+    // attached. Touches no scene; any thread may call it on a graph no other thread sees. Null for a detail
+    // it cannot build alone (one holding Instances, whose prototypes' images are the scene's).
+    static std::shared_ptr<FlatImage> buildDetailImage(Node& detail, const dmat4& frame);
+    // Hands such an image over with the detail just attached to `paged` (the application thread, before the
+    // next update): the update takes it instead of building one, if the detail and frame are still those;
+    // else it is dropped at that update.
+    void offerDetailImage(const Node* paged, const Node* detail, const dmat4& frame, std::shared_ptr<FlatImage> image);
+
 private:
     struct Builder;
     void refresh();  // brings the image up to date with the dirty marks
@@ -62,6 +72,12 @@ private:
     uint64_t updates_ = 0;
     FrameInfo frame_;
     mutable PageRequests requests_;
+    struct Offer {
+        const Node* detail;
+        dmat4 frame;
+        std::shared_ptr<FlatImage> image;
+    };
+    std::unordered_map<const Node*, Offer> offers_;  // by PagedLOD (offerDetailImage)
 };
 
 }  // namespace sg

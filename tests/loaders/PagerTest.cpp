@@ -1118,3 +1118,43 @@ TEST(PagerThreads, NestedTilesUnderAByteBudgetWithFailuresAndPrepare) {
     }
     EXPECT_EQ(gAlive.load(), before);
 }
+
+TEST(Pager, BuildsADetailsImageOnTheLoaderThreadAndTheUpdateTakesIt) {
+    // A detail of 400 boxes: the update that attaches it writes its entries itself only without buildImages.
+    auto bigDetail = [](const std::string&) -> ref_ptr<Node> {
+        auto g = make<Group>();
+        for (int k = 0; k < 400; ++k) {
+            auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(0.01 * k, 0, 0)));
+            t->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+            g->addChild(t);
+        }
+        return g;
+    };
+    for (const bool ahead : {true, false}) {
+        World w;
+        Scene scene(w.root);
+        PagerSettings ps;
+        ps.buildImages = ahead;
+        Pager pager(scene, bigDetail, ps);
+        Frames f(scene, pager);
+        f.run();  // the cull posts the request, with its frame
+        f.run();  // the pager queues it
+        pager.waitIdle();
+        const size_t drawn = f.run().size();  // attaches: the update takes the image or builds it
+        ASSERT_NE(w.tile->detail(), nullptr);
+        EXPECT_EQ(drawn, 400u);
+        if (ahead)
+            EXPECT_LT(scene.lastUpdate().entriesWritten, 10u);
+        else
+            EXPECT_GT(scene.lastUpdate().entriesWritten, 800u);
+        // What the cull sees equals a scene built from scratch.
+        Scene fresh(w.root);
+        fresh.update();
+        CullTraversal cull;
+        DrawList list;
+        CullStats stats;
+        cull.cull(fresh, f.cam, CullSettings{}, list, stats);
+        EXPECT_EQ(list.items.size(), 400u);
+        EXPECT_EQ(stats.triangles, f.stats.triangles);
+    }
+}

@@ -444,3 +444,42 @@ TEST(DistinctGeometryWalk, StopsWhenAskedAndGoesOnToMeetEachGeometryOnce) {
     forEachDistinctGeometry(*root, [&](const Geometry&) { ++once; });
     EXPECT_EQ(once, 1001u);
 }
+
+TEST(Scene, ADetailImageBuiltAheadIsTakenWhenItsFrameMatchesAndRebuiltWhenNot) {
+    for (const bool sameFrame : {true, false}) {
+        auto a = paged("a", 0.0);
+        auto placed = make<Transform>(glm::translate(dmat4(1.0), dvec3(5, 7, 0)));
+        placed->addChild(a);
+        auto root = make<Group>();
+        root->addChild(placed);
+        Scene s(root);
+        s.update();
+        // The frame the cull posts with the request is the one the image is built in.
+        const FlatImage::Paged* entry = nullptr;
+        for (const FlatImage::Paged& pg : s.image().paged)
+            if (pg.node == a.get()) entry = &pg;
+        ASSERT_NE(entry, nullptr);
+        const dmat4 frame = entry->frame;
+        EXPECT_EQ(frame, placed->matrix());
+
+        auto detail = boxes(300, 20.0);
+        std::shared_ptr<FlatImage> ahead = Scene::buildDetailImage(*detail, sameFrame ? frame : dmat4(1.0));
+        ASSERT_TRUE(ahead);
+        EXPECT_EQ(ahead->size(), 1u + 2u * 300u);
+        s.offerDetailImage(a.get(), detail.get(), sameFrame ? frame : dmat4(1.0), ahead);
+        a->attachDetail(detail, 0);
+        s.update();
+        // Taken: the update writes the paged node's own entries only; in another frame, it builds the detail.
+        if (sameFrame)
+            EXPECT_LT(s.lastUpdate().entriesWritten, 20u);
+        else
+            EXPECT_GT(s.lastUpdate().entriesWritten, 600u);
+        Scene fresh(root);
+        fresh.update();
+        expectSameImages(s.image(), fresh.image(), sameFrame ? "taken" : "rebuilt");
+    }
+    // A detail holding Instances is left to the update (their prototypes' images are the scene's).
+    auto withInstance = make<Group>();
+    withInstance->addChild(make<Instance>(unitBox(), dmat4(1.0)));
+    EXPECT_FALSE(Scene::buildDetailImage(*withInstance, dmat4(1.0)));
+}
