@@ -120,6 +120,7 @@ int runTiles(const Args& a) {
     sg::PagerSettings ps;
     ps.loaderThreads = size_t(a.num("loaders", long(ps.loaderThreads)));
     ps.loaderNice = int(a.num("loader-nice", ps.loaderNice));
+    ps.freeOnLoaderThread = true;  // a tileset's details share no node with the rest of the graph
     sg::Pager& pager = viewer.enablePaging(ts.loadFunction(), ps);
 
     // The baseline: the city held in memory, flown by a viewer of its own in the same context.

@@ -28,7 +28,13 @@ public:
     const sg::RenderStats& renderStats() const { return view_.renderStats(); }
     const sg::Viewer& viewer() const { return viewer_; }
     // A tileset's tiles, loaded as the frames need them (sg::Viewer's pager stage).
-    void enablePaging(sg::PageLoadFunction load) { viewer_.enablePaging(std::move(load)); }
+    // Pages a tileset: its loads make graphs of their own (no node shared with the rest), so details are freed
+    // on a loader thread too.
+    void enablePaging(sg::PageLoadFunction load) {
+        sg::PagerSettings ps;
+        ps.freeOnLoaderThread = true;
+        viewer_.enablePaging(std::move(load), ps);
+    }
     sg::Pager* pager() const { return viewer_.pager(); }
     // The overlay's lines for the last frame (the viewer's stage times follow them).
     std::string statsText(const FrameStats& fs) const;

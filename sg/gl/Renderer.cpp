@@ -587,6 +587,7 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
     auto found = prepareLists_.find(&root);
     if (found == prepareLists_.end()) {  // the first call for this detail: list what draw() would upload
         PrepareList list;
+        list.root = &root;
         list.walk = std::make_shared<DistinctGeometryWalk>(root);
         found = prepareLists_.emplace(&root, std::move(list)).first;
     }

@@ -235,8 +235,10 @@ private:
     std::unique_ptr<GpuCache> cache_;
     // prepare()'s work per detail: its meshes and textures listed by one walk, and how far the uploads got, so
     // that a detail of many objects takes a walk once and a step per frame (not a walk per frame). Lists not
-    // touched for kPrepareForget frames (their detail dropped unprepared) are forgotten.
+    // touched for kPrepareForget frames (their detail dropped unprepared) are forgotten. A list holds its detail:
+    // its walk and materials point into it, and a detail freed early could leave its address to a new one.
     struct PrepareList {
+        ref_ptr<const Node> root;
         std::shared_ptr<DistinctGeometryWalk> walk;  // listing items; null once listed (internal type)
         std::vector<std::pair<ref_ptr<const Mesh>, const Material*>> items;
         size_t next = 0;
