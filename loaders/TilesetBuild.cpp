@@ -8,6 +8,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/core/NodeVisitor.h"
@@ -92,6 +93,34 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
                     "not a tile content (glb, b3dm, i3dm, cmpt, pnts or JSON): it starts with '" + magic + "'");
 }
 
+// A volume in the tile's frame: an Earth-centred one (a region's) brought into it.
+Sphere inFrame(Sphere sp, bool earthCentred, const dmat4& world) {
+    if (earthCentred) {
+        const dmat4 inv = glm::inverse(world);
+        sp.center = dvec3(inv * dvec4(sp.center, 1.0));
+        sp.radius *= maxScale(inv);
+    }
+    return sp;
+}
+
+// A tile with a viewerRequestVolume: what it holds below a distance LOD centred on the volume's sphere that
+// shows it only with the eye inside, so that it is neither drawn nor refined (nor its children asked for) from
+// outside, as the specification says.
+ref_ptr<Node> gated(const ref_ptr<Group>& tile, const TileDesc& d, const dmat4& world) {
+    if (!d.request) return tile;
+    const Sphere v = inFrame(*d.request, d.requestRegion, world);
+    auto body = make<Group>();
+    while (tile->numChildren() > 0) {
+        body->addChild(tile->child(0));
+        tile->removeChild(size_t(0));
+    }
+    auto gate = make<LOD>();
+    gate->setCenter(v.center);
+    gate->addChild(body, 0.0f, float(v.radius * maxScale(world)));  // an LOD's distances are the graph's
+    tile->addChild(gate);
+    return tile;
+}
+
 }  // namespace
 
 dmat4 yUpToZUp() {
@@ -139,20 +168,15 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
         }
     if (d.children.empty()) {
         if (content) g->addChild(content);
-        return g;
+        return gated(g, d, world);
     }
     // A content-less tile replacing a drawn one is read with its children, within the budget: the drawn tile
     // stays until all of them are there.
     if (!content && drawnAbove && !d.add && budget >= d.children.size()) {
         for (uint32_t c : d.children) g->addChild(buildTile(s, c, world, true, budget));
-        return g;
+        return gated(g, d, world);
     }
-    Sphere sp = d.sphere;
-    if (d.region) {  // an Earth-centred volume into the tile's frame
-        const dmat4 inv = glm::inverse(world);
-        sp.center = dvec3(inv * dvec4(sp.center, 1.0));
-        sp.radius *= maxScale(inv);
-    }
+    const Sphere sp = inFrame(d.sphere, d.region, world);
     auto p = make<PagedLOD>();
     p->setFile(tileKey(d.file, t));
     p->setCenter(sp.center);
@@ -160,7 +184,7 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
     p->setScreenSpaceError(d.geometricError, s->options.maximumScreenSpaceError);
     if (content) (d.add ? static_cast<Group&>(*g) : static_cast<Group&>(*p)).addChild(content);
     g->addChild(p);
-    return g;
+    return gated(g, d, world);
 }
 
 }  // namespace tiles

@@ -71,12 +71,13 @@ Sphere boxSphere(const std::vector<double>& b) {
     return s;
 }
 
-// A tile's bounding volume as a sphere; `raw`: the box's or region's numbers (implicit tiling divides them).
+// A tile's bounding volume (or its viewerRequestVolume: `key`) as a sphere; `raw`: the box's or region's numbers
+// (implicit tiling divides them).
 Sphere volume(const std::string& file, const json& tile, const std::string& tilePath, bool& region,
-              std::vector<double>& raw) {
-    const std::string path = tilePath + ".boundingVolume";
-    if (!tile.contains("boundingVolume")) fail(file, path, "missing");
-    const json& v = tile["boundingVolume"];
+              std::vector<double>& raw, const char* key = "boundingVolume") {
+    const std::string path = tilePath + "." + key;
+    if (!tile.contains(key)) fail(file, path, "missing");
+    const json& v = tile[key];
     if (!v.is_object()) fail(file, path, "must be an object");
     region = false;
     if (v.contains("box")) {
@@ -141,9 +142,10 @@ public:
             d.transform = t;
             d.hasTransform = t != dmat4(1.0);
         }
-        if (j.contains("viewerRequestVolume"))
-            warnings_.push_back(file_ + ": " + path +
-                                ".viewerRequestVolume: not used (the tile refines by screen-space error alone)");
+        if (j.contains("viewerRequestVolume")) {
+            std::vector<double> unused;
+            d.request = volume(file_, j, path, d.requestRegion, unused, "viewerRequestVolume");
+        }
         if (j.contains("content")) content(j["content"], path + ".content", d);
         if (j.contains("contents")) {
             const json& cs = j["contents"];

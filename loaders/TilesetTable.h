@@ -64,7 +64,11 @@ struct TileDesc {
     Sphere sphere;
     bool region = false;  // sphere is Earth-centred
     double geometricError = 0.0;
-    bool add = false;                   // refine ADD (else REPLACE)
+    bool add = false;  // refine ADD (else REPLACE)
+    // viewerRequestVolume: the tile is drawn and refined only with the eye inside this sphere (its box's or
+    // region's bounding sphere), in the tile's frame, or Earth-centred for a region.
+    std::optional<Sphere> request;
+    bool requestRegion = false;
     std::vector<std::string> contents;  // resolved URIs
     std::string file, path;             // the tileset.json holding it and its JSON path, for messages
     uint32_t source = 0;                // the tileset file (TilesetState's sources), for cycles

@@ -530,3 +530,26 @@ TEST(SharedMeshes, EqualMeshesOfDifferentLoadsBecomeOneAndOthersStayApart) {
     for (int i = 0; i < 8; ++i) pool.share(*graph(box(10.0 + i), box(20.0 + i)));
     EXPECT_LE(pool.size(), 8u);
 }
+
+TEST(Tileset, AViewerRequestVolumeShowsAndRefinesTheTileOnlyWithTheEyeInside) {
+    TempDir d;
+    Tileset ts = loadTileset(quadTileset(d, "REPLACE", R"("viewerRequestVolume": {"sphere": [50,50,5, 300]},)"));
+    EXPECT_TRUE(ts.warnings().empty());
+    Scene scene(ts.root());
+    // Inside (95 m from the centre, close enough to refine): drawn, and its children asked for.
+    const Drawn inside = cullOnce(scene, lookingDownAt(dvec3(50, 50, 0), 100.0), 1);
+    EXPECT_FALSE(inside.boxes.empty());
+    EXPECT_GT(inside.stats.pagedRequested, 0u);
+    // Outside (1,000 m up): neither drawn nor asked for, though the tile is in view.
+    const Drawn outside = cullOnce(scene, lookingDownAt(dvec3(50, 50, 0), 1000.0), 2);
+    EXPECT_TRUE(outside.boxes.empty());
+    EXPECT_EQ(outside.stats.pagedRequested + outside.stats.pagedWanted, 0u);
+    // A bad volume is refused by its path.
+    TempDir bad;
+    try {
+        loadTileset(quadTileset(bad, "REPLACE", R"("viewerRequestVolume": {"sphere": [50,50,5, -1]},)"));
+        FAIL() << "a negative radius was accepted";
+    } catch (const LoadError& e) {
+        EXPECT_NE(std::string(e.what()).find("root.viewerRequestVolume.sphere[3]"), std::string::npos) << e.what();
+    }
+}
