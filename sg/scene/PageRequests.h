@@ -33,10 +33,6 @@ public:
         priorities_.clear();
         frames_.clear();
     }
-    void take(std::vector<ref_ptr<Node>>& out, std::vector<float>& priorities) {
-        std::vector<std::optional<dmat4>> frames;
-        take(out, priorities, frames);
-    }
     void take(std::vector<ref_ptr<Node>>& out, std::vector<float>& priorities,
               std::vector<std::optional<dmat4>>& frames) {
         out.clear();

@@ -224,6 +224,15 @@ TEST(TilesetWrite, CityPyramidHoldsTheSceneAndItsProxiesDropOnlyTheDetailedLevel
     EXPECT_EQ(inner, 1u + 4u);
 }
 
+// What a reader of the tiles draws from `eye` is what the graph draws (expected); returns the tiles' draws.
+Drawn expectSameDrawn(const Node& scene, const Tileset& ts, const TileWriteOptions& options, const dvec3& eye) {
+    Drawn expected, got;
+    drawn(scene, dmat4(1.0), eye, expected);
+    drawnTiles(ts, 0, eye, options.maximumScreenSpaceError, got);
+    EXPECT_EQ(got, expected) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+    return got;
+}
+
 TEST(TilesetWrite, AReaderDrawsWhatTheGraphDrawsFromAnyEye) {
     auto city = scenes::buildCity({16, false});
     const std::string dir = tempDir("city16eyes");
@@ -235,11 +244,7 @@ TEST(TilesetWrite, AReaderDrawsWhatTheGraphDrawsFromAnyEye) {
     std::uniform_real_distribution<double> xy(-600.0, 920.0), z(1.0, 300.0);
     int detailed = 0;  // eyes where the leaves' detailed level shows somewhere
     for (int k = 0; k < 200; ++k) {
-        const dvec3 eye(xy(rng), xy(rng), z(rng));
-        Drawn expected, got;
-        drawn(*city, dmat4(1.0), eye, expected);
-        drawnTiles(ts, 0, eye, options.maximumScreenSpaceError, got);
-        EXPECT_EQ(got, expected) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+        const Drawn got = expectSameDrawn(*city, ts, options, dvec3(xy(rng), xy(rng), z(rng)));
         detailed += std::any_of(got.begin(), got.end(), [](const auto& g) { return std::get<0>(g) == 1200; });
     }
     EXPECT_GT(detailed, 20);
@@ -284,11 +289,7 @@ TEST(TilesetWrite, GltfSceneKeepsItsLodCentresInTheProxies) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> x(4700.0, 5500.0), y(-500.0, 300.0), z(0.0, 100.0);
     for (int k = 0; k < 200; ++k) {
-        const dvec3 eye(x(rng), y(rng), z(rng));
-        Drawn expected, got;
-        drawn(*scene, dmat4(1.0), eye, expected);
-        drawnTiles(ts, 0, eye, options.maximumScreenSpaceError, got);
-        EXPECT_EQ(got, expected) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+        expectSameDrawn(*scene, ts, options, dvec3(x(rng), y(rng), z(rng)));
     }
 }
 
