@@ -53,8 +53,9 @@ struct GltfSaveOptions {
     // Called for each node written: what to put in its extras (nothing when empty).
     std::function<GltfProperties(const Node&)> nodeProperties;
     GltfProperties sceneProperties;  // the scene's extras
-    // Two or more Instances under one Group or Transform, of one Geometry (or a Transform over one), whose
-    // matrices are translation * rotation * scale in float go out as one node with EXT_mesh_gpu_instancing.
+    // Two or more Instances under one Group or Transform, of one Geometry (or a Transform over one, or an LOD
+    // of that one level), whose matrices are translation * rotation * scale in float go out as one node with
+    // EXT_mesh_gpu_instancing; an LOD's in the node's sgkit extras (other readers draw the level everywhere).
     bool gpuInstancing = true;
 };
 

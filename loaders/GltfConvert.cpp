@@ -440,9 +440,16 @@ struct Converter {
             if (it != byId.end()) return it->second;
         }
         const std::string kind = sx ? string(*sx, "kind", xp, "Transform") : "Transform";
+        // An instanced sgkit LOD (saveGltf's): a Transform holds the instances, each of the LOD over the mesh.
+        const bool instancedLod = kind == "LOD" && instancing(gn) && gn.mesh >= 0;
         ref_ptr<Node> node;
+        ref_ptr<LOD> lodPrototype;
         try {
             node = makeKind(kind, sx, xp, gn, local, path);
+            if (instancedLod) {
+                lodPrototype = ref_ptr<LOD>(static_cast<LOD*>(node.get()));
+                node = makeKind("Transform", nullptr, xp, gn, local, path);
+            }
         } catch (const std::invalid_argument& e) {
             if (kind == "Transform") {  // e.g. a zero scale (animations use it to hide things)
                 warn(path, std::string("matrix cannot be used (") + e.what() + "), node skipped");
@@ -450,14 +457,15 @@ struct Converter {
             }
             bad(xp, e.what());
         }
-        if (kind != "Transform" && kind != "Instance" && local != dmat4(1.0)) {
+        if (kind != "Transform" && kind != "Instance" && !instancedLod && local != dmat4(1.0)) {
             // sgkit writes its kinds without a matrix; one given by hand places the node in a Transform.
             auto t = make<Transform>();
             t->setMatrix(local);
             t->addChild(node);
             node = t;  // the extras below still apply to the inner node: keep a handle on it
         }
-        Node* inner = node->kind() == NodeKind::Transform && kind != "Transform" ? node->child(0) : node.get();
+        Node* inner =
+            node->kind() == NodeKind::Transform && kind != "Transform" && !instancedLod ? node->child(0) : node.get();
         if (!gn.name.empty()) inner->setName(gn.name);
         if (GltfProperties p = properties(gn.extras); !p.empty()) out.properties[inner] = std::move(p);
         if (sx && sx->Has("mask")) {
@@ -466,19 +474,22 @@ struct Converter {
                 bad(xp + ".mask", "must be a 32-bit unsigned integer");
             inner->setNodeMask(uint32_t(mask));
         }
-        const bool instanced = instancing(gn) && gn.mesh >= 0 && kind == "Transform";
+        const bool instanced = instancing(gn) && gn.mesh >= 0 && (kind == "Transform" || instancedLod);
         if (instancing(gn) && !instanced)
             warn(path + ".extensions." + kInstancing,
                  gn.mesh < 0 ? "needs a mesh to instance, ignored" : "on an sgkit " + kind + " node is ignored");
         if (instanced) {
-            instances(i, static_cast<Group*>(inner), world, path);
+            if (lodPrototype) levelOfInstancedLod(*lodPrototype, gn, *sx, xp, path);
+            instances(i, static_cast<Group*>(inner), world, path, lodPrototype);
         } else if (gn.mesh >= 0 && kind == "Transform") {
             for (const auto& g : geometries(gn.mesh))
                 if (g) static_cast<Group*>(inner)->addChild(g);
         } else if (gn.mesh >= 0 && kind != "Geometry") {
             warn(path + ".mesh", "a " + kind + " node's mesh is ignored");
         }
-        children(gn, kind, sx, xp, inner, world, path);
+        if (instancedLod && !gn.children.empty())
+            bad(path + ".children", "an instanced sgkit LOD has no children: its mesh is its one level");
+        if (!instancedLod) children(gn, kind, sx, xp, inner, world, path);
         // Shared nodes make a DAG whose paths a Scene expands: a small file must not stand for a huge scene.
         // (An Instance's prototype has an image of its own, counted where it was built.)
         uint64_t size = 1;
@@ -494,7 +505,35 @@ struct Converter {
     }
     // EXT_mesh_gpu_instancing: node i's mesh placed once per instance (the node's own matrix outside them), by
     // Instances of one prototype, the mesh's Geometry (a Group of them for a mesh of several primitives).
-    void instances(int i, Group* into, const dmat4& world, const std::string& path) {
+    // An instanced LOD's one level: the node's mesh, with the one range (and error) its extras give.
+    void levelOfInstancedLod(LOD& lod, const tinygltf::Node& gn, const Value& sx, const std::string& xp,
+                             const std::string& path) {
+        const Value* ranges = sx.Has("ranges") ? &sx.Get("ranges") : nullptr;
+        if (!ranges || !ranges->IsArray() || ranges->ArrayLen() != 1)
+            bad(xp + ".ranges", "an instanced LOD needs one [min, max] range, its mesh's");
+        const auto& gs = geometries(gn.mesh);
+        if (gs.size() != 1 || !gs[0])
+            bad(path + ".mesh", "an instanced sgkit LOD needs a mesh of one triangle primitive");
+        try {
+            addLevel(lod, gs[0], sx, xp, 0, 1);
+        } catch (const std::invalid_argument& e) {
+            bad(xp + ".ranges", e.what());
+        }
+    }
+
+    // Child k of nc of an LOD, with its range and error from the LOD's extras (which the caller has checked).
+    void addLevel(LOD& lod, ref_ptr<Node> c, const Value& sx, const std::string& xp, size_t k, size_t nc) {
+        const std::vector<double> r = numbers(sx.Get("ranges").Get(int(k)), at(xp + ".ranges", k), 2);
+        lod.addChild(std::move(c), toFloat(r[0], at(xp + ".ranges", k)), toFloat(r[1], at(xp + ".ranges", k)));
+        if (!sx.Has("errors")) return;
+        const Value& errors = sx.Get("errors");
+        if (!errors.IsArray() || errors.ArrayLen() != nc)
+            bad(xp + ".errors", "needs one error per child (" + std::to_string(nc) + ")");
+        const std::vector<double> e = numbers(errors, xp + ".errors", nc);
+        lod.setError(lod.numChildren() - 1, toFloat(e[k], at(xp + ".errors", k)));  // given, 0 included
+    }
+
+    void instances(int i, Group* into, const dmat4& world, const std::string& path, ref_ptr<LOD> lodPrototype) {
         const tinygltf::Node& gn = m.nodes[size_t(i)];
         const std::string xp = path + ".extensions." + kInstancing + ".attributes";
         instancesDone += instanceCount(m, gn);
@@ -506,7 +545,9 @@ struct Converter {
             if (g) drawn.push_back(g);
         if (drawn.empty()) return;  // every primitive skipped, with a warning each
         ref_ptr<Node> proto = drawn[0];
-        if (drawn.size() > 1) {
+        if (lodPrototype) {
+            proto = lodPrototype;
+        } else if (drawn.size() > 1) {
             auto& group = prototypes[gn.mesh];
             if (!group) {
                 group = make<Group>();
@@ -515,13 +556,17 @@ struct Converter {
             proto = group;
         }
         const std::string scale = instancing(gn)->Get("attributes").Has("SCALE") ? xp + ".SCALE" : xp;
+        std::vector<ref_ptr<Node>> placed;
+        std::vector<dvec3> where;
         for (size_t k = 0; k < placements.size(); ++k) {
             try {
-                into->addChild(make<Instance>(proto, placements[k]));
+                placed.push_back(make<Instance>(proto, placements[k]));
+                where.push_back(dvec3(placements[k][3]));
             } catch (const std::invalid_argument& e) {  // a singular matrix: rotations are not, so the scale
                 bad(scale, "instance " + std::to_string(k) + " cannot be placed (" + e.what() + ")");
             }
         }
+        addNearbyGrouped(*into, placed, where);
     }
 
     uint64_t expanded(const Node* n) const {
@@ -557,18 +602,13 @@ struct Converter {
             bad(xp + ".errors", "needs one error per child (" + std::to_string(nc) + ")");
         if (on && (!on->IsArray() || on->ArrayLen() != nc))
             bad(xp + ".on", "needs one flag per child (" + std::to_string(nc) + ")");
-        const std::vector<double> errorValues = errors ? numbers(*errors, xp + ".errors", nc) : std::vector<double>{};
         auto* group = static_cast<Group*>(inner);
         for (size_t k = 0; k < nc; ++k) {
             ref_ptr<Node> c = build(gn.children[k], world);
             if (!c) continue;
             try {
                 if (kind == "LOD") {
-                    const std::vector<double> r = numbers(ranges->Get(int(k)), at(xp + ".ranges", k), 2);
-                    auto* lod = static_cast<LOD*>(inner);
-                    lod->addChild(c, toFloat(r[0], at(xp + ".ranges", k)), toFloat(r[1], at(xp + ".ranges", k)));
-                    if (!errorValues.empty())  // given, 0 included (LOD::hasErrors)
-                        lod->setError(lod->numChildren() - 1, toFloat(errorValues[k], at(xp + ".errors", k)));
+                    addLevel(*static_cast<LOD*>(inner), c, *sx, xp, k, nc);
                 } else if (kind == "Switch") {
                     const Value& f = on ? on->Get(int(k)) : Value(true);
                     if (!f.IsBool()) bad(at(xp + ".on", k), "must be true or false");

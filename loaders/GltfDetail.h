@@ -2,6 +2,7 @@
 // graph, and the names of sgkit's keys in glTF `extras`, shared by the reader and the writer.
 #pragma once
 #include "loaders/Gltf.h"
+#include "nodes/Group.h"
 
 #include <tiny_gltf.h>
 
@@ -129,6 +130,10 @@ struct FloatTrs {
     vec3 s{1.0f};
 };
 bool splitTrs(const dmat4& m, FloatTrs& out);
+// Adds nodes to `into`, in nested Groups of nearby places (a median split of `at`, one point per node) when there
+// are more than a few: the cull then passes over a group out of view at once instead of every placement of a
+// set that spans a tile.
+void addNearbyGrouped(Group& into, const std::vector<ref_ptr<Node>>& nodes, const std::vector<dvec3>& at);
 
 // Reports progress once a load has run for options.progressAfterSeconds, at most ten times a second.
 class Progress {

@@ -2,6 +2,7 @@
 // instance matrices split back into float translation, rotation and scale for writing.
 #include "loaders/GltfDetail.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 
@@ -85,6 +86,38 @@ bool splitTrs(const dmat4& m, FloatTrs& out) {
         for (int k = 0; k < 3; ++k)
             if (!(std::abs(back[col][k] - m[col][k]) <= 1e-6 * largest)) return false;
     return true;
+}
+
+namespace {
+
+constexpr size_t kGroupSize = 32;  // placements per group at most: a few frustum tests against one saved
+
+void split(Group& into, const std::vector<ref_ptr<Node>>& nodes, const std::vector<dvec3>& at, uint32_t* first,
+           uint32_t* last) {
+    const size_t n = size_t(last - first);
+    if (n <= kGroupSize) {
+        for (uint32_t* k = first; k != last; ++k) into.addChild(nodes[*k]);
+        return;
+    }
+    Box b;
+    for (uint32_t* k = first; k != last; ++k) b.expand(at[*k]);
+    const dvec3 size = b.max - b.min;
+    const int axis = size.x >= size.y && size.x >= size.z ? 0 : size.y >= size.z ? 1 : 2;
+    uint32_t* mid = first + n / 2;
+    std::nth_element(first, mid, last, [&](uint32_t a, uint32_t c) { return at[a][axis] < at[c][axis]; });
+    for (auto [b0, e0] : {std::make_pair(first, mid), std::make_pair(mid, last)}) {
+        auto g = make<Group>();
+        split(*g, nodes, at, b0, e0);
+        into.addChild(g);
+    }
+}
+
+}  // namespace
+
+void addNearbyGrouped(Group& into, const std::vector<ref_ptr<Node>>& nodes, const std::vector<dvec3>& at) {
+    std::vector<uint32_t> order(nodes.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
+    split(into, nodes, at, order.data(), order.data() + order.size());
 }
 
 }  // namespace sg::gltf

@@ -201,9 +201,11 @@ struct Writer {
                (!options.nodeProperties || options.nodeProperties(n).empty());
     }
 
-    // Instances of one Geometry under one parent, each placement as float translation, rotation and scale.
+    // Instances of one Geometry under one parent, each placement as float translation, rotation and scale;
+    // or of one LOD whose one level is that Geometry (an instanced sgkit LOD: each placement switches alone).
     struct Batch {
         const Geometry* geometry = nullptr;
+        const LOD* lod = nullptr;
         std::vector<const Node*> members;
         std::vector<gltf::FloatTrs> placements;
     };
@@ -223,6 +225,11 @@ struct Writer {
                 placement = placement * static_cast<const Transform*>(proto)->matrix();  // folded into each
                 proto = proto->child(0);
             }
+            const LOD* lod = nullptr;
+            if (proto && proto->kind() == NodeKind::LOD && proto->numChildren() == 1 && plain(*proto)) {
+                lod = static_cast<const LOD*>(proto);
+                proto = proto->child(0);
+            }
             if (!proto || proto->kind() != NodeKind::Geometry || !plain(*proto)) continue;
             const auto* g = static_cast<const Geometry*>(proto);
             if (!g->mesh() || g->mesh()->indexCount() == 0) continue;
@@ -232,7 +239,7 @@ struct Writer {
             const double moved = glm::length(dvec3(trs.t) - dvec3(placement[3])) * maxScale(world);
             if (!(moved <= 1e-6 * extent)) continue;
             auto [it, fresh] = byPrototype.emplace(in.prototype(), found.size());
-            if (fresh) found.push_back({g, {}, {}});
+            if (fresh) found.push_back({g, lod, {}, {}});
             found[it->second].members.push_back(c);
             found[it->second].placements.push_back(trs);
         }
@@ -265,8 +272,27 @@ struct Writer {
     int batchNode(const Batch& b) {
         tinygltf::Node gn;
         instancing(gn, b);
+        if (b.lod) {
+            Value::Object x;
+            lodExtras(*b.lod, x);
+            gn.extras = Value(Value::Object{{gltf::kExtrasKey, Value(std::move(x))}});
+        }
         m.nodes.push_back(std::move(gn));
         return int(m.nodes.size() - 1);
+    }
+
+    static void lodExtras(const LOD& lod, Value::Object& x) {
+        x["kind"] = Value(std::string("LOD"));
+        x["mode"] = Value(std::string(lod.mode() == LOD::Mode::Distance ? "distance" : "pixelSize"));
+        if (lod.userCenter()) x["center"] = vec3v(lod.center());
+        if (lod.transition() > 0.0f) x["transition"] = num(lod.transition());
+        Value::Array ranges, errors;
+        for (size_t i = 0; i < lod.numChildren(); ++i) {
+            ranges.push_back(Value(Value::Array{num(lod.range(i).min), num(lod.range(i).max)}));
+            errors.push_back(num(lod.error(i)));
+        }
+        x["ranges"] = Value(std::move(ranges));
+        if (lod.hasErrors()) x["errors"] = Value(std::move(errors));
     }
 
     // Writes node `n` (and its subtree) as a new glTF node; returns its index. world: n's parent's world matrix.
@@ -296,21 +322,7 @@ struct Writer {
                     x["emptyMesh"] = Value(true);
                 break;
             }
-            case NodeKind::LOD: {
-                const auto& lod = static_cast<const LOD&>(n);
-                x["kind"] = Value(std::string("LOD"));
-                x["mode"] = Value(std::string(lod.mode() == LOD::Mode::Distance ? "distance" : "pixelSize"));
-                if (lod.userCenter()) x["center"] = vec3v(lod.center());
-                if (lod.transition() > 0.0f) x["transition"] = num(lod.transition());
-                Value::Array ranges, errors;
-                for (size_t i = 0; i < lod.numChildren(); ++i) {
-                    ranges.push_back(Value(Value::Array{num(lod.range(i).min), num(lod.range(i).max)}));
-                    errors.push_back(num(lod.error(i)));
-                }
-                x["ranges"] = Value(std::move(ranges));
-                if (lod.hasErrors()) x["errors"] = Value(std::move(errors));
-                break;
-            }
+            case NodeKind::LOD: lodExtras(static_cast<const LOD&>(n), x); break;
             case NodeKind::Switch: {
                 const auto& sw = static_cast<const Switch&>(n);
                 x["kind"] = Value(std::string("Switch"));
@@ -365,7 +377,7 @@ struct Writer {
         std::set<const Node*> batched;
         for (size_t k = 0; k < bs.size(); ++k) {
             batched.insert(bs[k].members.begin(), bs[k].members.end());
-            if (k == 0 && n.kind() == NodeKind::Transform)  // a Transform's node has room for one mesh
+            if (k == 0 && n.kind() == NodeKind::Transform && !bs[k].lod)  // room for one mesh, not an LOD
                 instancing(gn, bs[k]);
             else
                 gn.children.push_back(batchNode(bs[k]));

@@ -40,6 +40,11 @@ uint64_t reducedTriangles(const Node& n, double d, uint64_t limit);
 // distance LODs reduced at `d`.
 void addUnit(Group& content, const Node& unit, const dmat4& world, const dmat4& toTile, double d);
 
+// Places the leaves of `content` that repeat (a Geometry, or an LOD of one Geometry level, alone or under a
+// Transform, below Groups and Transforms only) as Instances of one prototype per kind of leaf, children of
+// `content`, and drops the nodes they leave empty; returns how many Instances it made.
+size_t instanceRepeats(Group& content);
+
 // A simplified proxy in a tile's frame: one triangle list per material.
 struct ProxyPart {
     const Material* material = nullptr;

@@ -194,6 +194,7 @@ private:
         t["geometricError"] = out.error;
         t["refine"] = "REPLACE";
         if (hasContent) {
+            if (options_.instancing) tiles::instanceRepeats(*content);
             const std::string uri = "tiles/" + name(level, x, y) + ".glb";
             t["content"]["uri"] = uri;
             queue(Pending{content, dir_ + "/" + uri, contentTriangles});

@@ -2,6 +2,8 @@
 #include "GltfTestUtil.h"
 
 #include "loaders/Gltf.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
@@ -95,7 +97,55 @@ TEST(GltfImage, InstancedFileRendersLikeTheSameSceneWrittenWithoutInstancing) {
     ASSERT_NE(text(instanced).find("EXT_mesh_gpu_instancing"), std::string::npos);
     ASSERT_EQ(text(plain).find("EXT_mesh_gpu_instancing"), std::string::npos);
     const GltfScene a = loadGltf(instanced), b = loadGltf(plain);
-    ASSERT_EQ(a.root->child(0)->numChildren(), 40u);
+    // The 40 placements, in two groups of nearby ones (more than 32 are grouped for the cull).
+    const Node& read = *a.root->child(0);
+    ASSERT_EQ(read.numChildren(), 2u);
+    size_t placed = 0;
+    for (size_t g = 0; g < 2; ++g)
+        for (size_t i = 0; i < read.child(g)->numChildren(); ++i)
+            placed += read.child(g)->child(i)->kind() == NodeKind::Instance;
+    ASSERT_EQ(placed, 40u);
     expectSamePixels(a.root, b.root, Box{dvec3(-15), dvec3(15)}, 8);
     expectSamePixels(root, a.root, Box{dvec3(-15), dvec3(15)}, 8);
+}
+
+// Instanced LODs (an LOD of one level placed again and again, as the tile writer makes them): each placement
+// switches at its own distance, read back as written, and the instances grouped by place draw the same pixels.
+TEST(GltfImage, InstancedLodsSwitchEachAtItsOwnDistanceAfterARoundTrip) {
+    scenes::Rng rng(23);
+    auto field = sg::make<Group>();
+    std::vector<ref_ptr<LOD>> lods;
+    for (int k = 0; k < 3; ++k) {
+        auto box = sg::make<Geometry>(makeBoxMesh(dvec3(-0.4, -0.4, 0), dvec3(0.4, 0.4, 0.5 + k)),
+                                      sg::make<Material>(vec4(0.2f + 0.3f * float(k), 0.6f, 0.3f, 1.0f)));
+        auto lod = sg::make<LOD>();
+        lod->setCenter(dvec3(0, 0, 0.25 + 0.5 * k));
+        lod->addChild(box, 2.0f * float(k), 14.0f + 3.0f * float(k));  // the far ones drop out, near ones too
+        lods.push_back(lod);
+    }
+    for (int x = -12; x <= 12; ++x)
+        for (int y = -12; y <= 12; ++y)
+            field->addChild(
+                sg::make<Instance>(lods[size_t(x + y + 24) % 3], glm::translate(dmat4(1.0), dvec3(x, y, 0.0))));
+    auto root = sg::make<Group>();
+    root->addChild(field);
+    const std::string file = ::testing::TempDir() + "sgkit_img_instanced_lods.glb";
+    saveGltf(*root, file);
+    const GltfScene read = loadGltf(file);
+    expectSamePixels(root, read.root, Box{dvec3(-13, -13, 0), dvec3(13, 13, 3)}, 9);
+    // The ranges matter in these views: without them the field draws differently.
+    auto unswitched = sg::make<Group>();
+    for (size_t i = 0; i < field->numChildren(); ++i) {
+        const auto& in = static_cast<const Instance&>(*field->child(i));
+        unswitched->addChild(sg::make<Instance>(ref_ptr<Node>(in.prototype()->child(0)), in.matrix()));
+    }
+    OsmesaContext context(kW, kH);
+    Renderer renderer;
+    scenes::Rng views(9);
+    size_t differ = 0;
+    for (int k = 0; k < 12; ++k) {
+        const Camera cam = scenes::randomCamera(views, Box{dvec3(-13, -13, 0), dvec3(13, 13, 3)}, k, kW, kH);
+        differ += countDifferingPixels(render(renderer, read.root, cam), render(renderer, unswitched, cam), 0);
+    }
+    EXPECT_GT(differ, 1000u);
 }

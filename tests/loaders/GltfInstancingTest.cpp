@@ -4,6 +4,8 @@
 #include "GltfTestUtil.h"
 
 #include "loaders/Gltf.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "sg/scene/Scene.h"
 
 #include <gtest/gtest.h>
@@ -418,4 +420,105 @@ TEST(GltfInstancing, GltfpackInstancedOutputLoads) {
     EXPECT_LT(glm::length(a.min - b.min), 1e-4);
     EXPECT_LT(glm::length(a.max - b.max), 1e-4);
 #endif
+}
+
+// An sgkit LOD node with the extension (saveGltf writes Instances of an LOD of one level so): each instance is the
+// LOD over the node's mesh, with its range and error; other readers draw the mesh at every instance.
+TEST(GltfInstancing, AnInstancedLodPlacesTheLodOverItsMeshAtEachInstance) {
+    const std::string lodExtras =
+        R"(, "extras": {"sgkit": {"kind": "LOD", "center": [0, 0.5, 0], "ranges": [[2, 40]], "errors": [0.25]}})";
+    const GltfScene s = instancedDoc(Trs{}, lodExtras).load();
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    ASSERT_EQ(s.root->numChildren(), 1u);
+    const Node& holder = *s.root->child(0);
+    ASSERT_EQ(holder.kind(), NodeKind::Transform);
+    ASSERT_EQ(holder.numChildren(), 3u);
+    const Node* proto = nullptr;
+    for (size_t i = 0; i < 3; ++i) {
+        ASSERT_EQ(holder.child(i)->kind(), NodeKind::Instance);
+        const Node* p = static_cast<const Instance&>(*holder.child(i)).prototype();
+        if (i == 0) proto = p;
+        EXPECT_EQ(p, proto) << "one prototype for every instance";
+    }
+    ASSERT_EQ(proto->kind(), NodeKind::LOD);
+    const auto& lod = static_cast<const LOD&>(*proto);
+    ASSERT_EQ(lod.numChildren(), 1u);
+    EXPECT_EQ(lod.child(0)->kind(), NodeKind::Geometry);
+    EXPECT_EQ(lod.range(0).min, 2.0f);
+    EXPECT_EQ(lod.range(0).max, 40.0f);
+    EXPECT_TRUE(lod.hasErrors());
+    EXPECT_EQ(lod.error(0), 0.25f);
+    EXPECT_TRUE(lod.userCenter());
+    EXPECT_EQ(lod.center(), dvec3(0, 0.5, 0));
+    expectNear(static_cast<const Instance&>(*holder.child(0)).matrix(), glm::translate(dmat4(1.0), dvec3(1, 2, 3)),
+               1e-12, "instance 0");
+
+    struct Bad {
+        const char* what;
+        std::string node, path, reason;
+    };
+    const std::vector<Bad> cases = {
+        {"two ranges", R"(, "extras": {"sgkit": {"kind": "LOD", "ranges": [[0, 10], [10, 20]]}})",
+         "nodes[0].extras.sgkit.ranges", "needs one [min, max] range"},
+        {"no ranges", R"(, "extras": {"sgkit": {"kind": "LOD"}})", "nodes[0].extras.sgkit.ranges",
+         "needs one [min, max] range"},
+        {"a range backwards", R"(, "extras": {"sgkit": {"kind": "LOD", "ranges": [[10, 2]]}})",
+         "nodes[0].extras.sgkit.ranges", ""},
+        {"errors of another length", R"(, "extras": {"sgkit": {"kind": "LOD", "ranges": [[0, 10]], "errors": [1, 2]}})",
+         "nodes[0].extras.sgkit.errors", "needs one error per child (1)"},
+        {"children", R"(, "children": [1], "extras": {"sgkit": {"kind": "LOD", "ranges": [[0, 10]]}})",
+         "nodes[0].children", "an instanced sgkit LOD has no children"},
+    };
+    for (const Bad& c : cases) {
+        SCOPED_TRACE(c.what);
+        Doc d = instancedDoc(Trs{}, c.node);
+        d.json.replace(d.json.rfind("]"), 1, R"(, {"mesh": 0}])");
+        try {
+            d.load();
+            ADD_FAILURE() << "loaded";
+        } catch (const LoadError& e) {
+            EXPECT_EQ(e.jsonPath(), c.path) << e.what();
+            EXPECT_NE(e.reason().find(c.reason), std::string::npos) << e.what();
+        }
+    }
+}
+
+// Many instances of one node are read into nested Groups of at most 32 nearby ones, so that the cull passes over
+// a group out of view at once; every placement is kept.
+TEST(GltfInstancing, ManyInstancesAreGroupedByPlace) {
+    auto box = make<Geometry>(makeBoxMesh(dvec3(-0.5), dvec3(0.5)), make<Material>());
+    auto root = make<Group>();
+    auto field = make<Transform>(glm::translate(dmat4(1.0), dvec3(0, 0, 1)));
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-500.0, 500.0);
+    for (int i = 0; i < 1000; ++i)
+        field->addChild(
+            make<Instance>(box, glm::translate(dmat4(1.0), dvec3(std::floor(u(rng)), std::floor(u(rng)), 0))));
+    root->addChild(field);
+    const std::string path = tempPath("many.glb");
+    saveGltf(*root, path);
+    const GltfScene s = loadGltf(path);
+    EXPECT_EQ(countKind(*s.root, NodeKind::Instance), 1000u);
+    const auto da = draws(*root), db = draws(*s.root);
+    ASSERT_EQ(da.size(), db.size());
+    for (size_t i = 0; i < da.size(); ++i) expectNear(da[i].first, db[i].first, 1e-9, "draw " + std::to_string(i));
+    // Leaf groups: at most 32 instances each, and each spread over far less than the field.
+    size_t leaves = 0;
+    std::function<void(const Node&)> walk = [&](const Node& n) {
+        size_t instances = 0;
+        Box at;
+        for (size_t i = 0; i < n.numChildren(); ++i)
+            if (n.child(i)->kind() == NodeKind::Instance) {
+                ++instances;
+                at.expand(dvec3(static_cast<const Instance&>(*n.child(i)).matrix()[3]));
+            } else {
+                walk(*n.child(i));
+            }
+        if (instances == 0) return;
+        ++leaves;
+        EXPECT_LE(instances, 32u);
+        EXPECT_LT(std::max(at.max.x - at.min.x, at.max.y - at.min.y), 400.0);
+    };
+    walk(*s.root);
+    EXPECT_GE(leaves, 1000u / 32u);
 }

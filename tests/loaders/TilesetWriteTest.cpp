@@ -3,6 +3,7 @@
 #include "loaders/Gltf.h"
 #include "loaders/TilesetWrite.h"
 #include "nodes/Geometry.h"
+#include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
 #include "testbed/City.h"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -22,6 +24,13 @@ using namespace sg;
 using nlohmann::json;
 
 namespace {
+
+// The frame a node's children are in: a Transform's or an Instance's matrix applied.
+dmat4 frameBelow(const Node& n, const dmat4& world) {
+    if (n.kind() == NodeKind::Transform) return world * static_cast<const Transform&>(n).matrix();
+    if (n.kind() == NodeKind::Instance) return world * static_cast<const Instance&>(n).matrix();
+    return world;
+}
 
 namespace fs = std::filesystem;
 
@@ -49,7 +58,7 @@ void count(const Node& n, const dmat4& world, Counts& c) {
         c.box.expand(transformBox(world, m->box()));
         return;
     }
-    const dmat4 w = n.kind() == NodeKind::Transform ? world * static_cast<const Transform&>(n).matrix() : world;
+    const dmat4 w = frameBelow(n, world);
     for (size_t i = 0; i < n.numChildren(); ++i) {
         Counts sub;
         count(*n.child(i), w, sub);
@@ -75,7 +84,7 @@ void drawn(const Node& n, const dmat4& world, const dvec3& eye, Drawn& out) {
         out.emplace(m->triangleCount(), std::llround(c.x * 1e3), std::llround(c.y * 1e3), std::llround(c.z * 1e3));
         return;
     }
-    const dmat4 w = n.kind() == NodeKind::Transform ? world * static_cast<const Transform&>(n).matrix() : world;
+    const dmat4 w = frameBelow(n, world);
     if (n.kind() == NodeKind::LOD) {
         const auto& lod = static_cast<const LOD&>(n);
         Counts c;
@@ -249,6 +258,45 @@ TEST(TilesetWrite, AReaderDrawsWhatTheGraphDrawsFromAnyEye) {
     }
     EXPECT_GT(detailed, 20);
     EXPECT_LT(detailed, 180);
+}
+
+// The city's repeated leaves are written as instances: its inner tiles are a few dozen glTF nodes instead of
+// several per cell, its leaves fewer, and every tile draws what it drew written node by node.
+TEST(TilesetWrite, RepeatedLeavesAreWrittenAsInstancesAndDrawTheSame) {
+    auto city = scenes::buildCity({16, false});
+    TileWriteOptions options;
+    options.maxTrianglesPerTile = 20000;
+    const std::string dirOn = tempDir("city16inst"), dirOff = tempDir("city16noinst");
+    writeTileset(*city, dirOn, options);
+    options.instancing = false;
+    writeTileset(*city, dirOff, options);
+    const Tileset on = readTileset(dirOn), off = readTileset(dirOff);
+    ASSERT_EQ(on.tiles.size(), off.tiles.size());
+    auto gltfNodes = [](const std::string& dir, const Tile& t) -> size_t {
+        std::ifstream in(dir + "/" + (*t.j)["content"]["uri"].get<std::string>(), std::ios::binary);
+        const std::string glb((std::istreambuf_iterator<char>(in)), {});
+        uint32_t length = 0;
+        std::memcpy(&length, glb.data() + 12, 4);
+        return json::parse(glb.substr(20, length))["nodes"].size();
+    };
+    for (size_t i = 0; i < on.tiles.size(); ++i) {
+        if (!on.tiles[i].content) continue;
+        const size_t a = gltfNodes(dirOn, on.tiles[i]), b = gltfNodes(dirOff, off.tiles[i]);
+        if (on.tiles[i].children.empty()) {
+            EXPECT_LT(a, b);  // the cars are instanced; the buildings' LODs keep both levels, a node each
+        } else {
+            EXPECT_LT(a * 3, b);  // a node per building height and one for the cars (and the heights met once)
+        }
+    }
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> xy(-600.0, 920.0), z(1.0, 300.0);
+    for (int k = 0; k < 60; ++k) {
+        const dvec3 eye(xy(rng), xy(rng), z(rng));
+        Drawn a, b;
+        drawnTiles(on, 0, eye, options.maximumScreenSpaceError, a);
+        drawnTiles(off, 0, eye, options.maximumScreenSpaceError, b);
+        EXPECT_EQ(a, b) << "eye " << eye.x << " " << eye.y << " " << eye.z;
+    }
 }
 
 // A glTF scene: LODs without a centre of their own, whose coarse level is much lower than the fine one, so that
