@@ -16,6 +16,22 @@
 
 namespace sg {
 
+size_t nodeBytes(NodeKind k) {
+    switch (k) {
+        case NodeKind::Group: return sizeof(Group);
+        case NodeKind::Transform: return sizeof(Transform);
+        case NodeKind::Geometry: return sizeof(Geometry);
+        case NodeKind::LOD: return sizeof(LOD);
+        case NodeKind::Switch: return sizeof(Switch);
+        case NodeKind::Billboard: return sizeof(Billboard);
+        case NodeKind::Instance: return sizeof(Instance);
+        case NodeKind::BspGroup: return sizeof(BspGroup);
+        case NodeKind::Occluder: return sizeof(Occluder);
+        case NodeKind::PagedLOD: return sizeof(PagedLOD);
+    }
+    return sizeof(Node);
+}
+
 // --- NodeVisitor: each kind's default apply() forwards to its base kind's (here, where the kinds are complete).
 void NodeVisitor::apply(Group& n) { apply(static_cast<Node&>(n)); }
 void NodeVisitor::apply(Transform& n) { apply(static_cast<Group&>(n)); }

@@ -35,22 +35,6 @@ size_t finestChild(const LOD& lod) {
     return best;
 }
 
-size_t nodeBytes(NodeKind k) {
-    switch (k) {
-        case NodeKind::Group: return sizeof(Group);
-        case NodeKind::Transform: return sizeof(Transform);
-        case NodeKind::Geometry: return sizeof(Geometry);
-        case NodeKind::LOD: return sizeof(LOD);
-        case NodeKind::Switch: return sizeof(Switch);
-        case NodeKind::Billboard: return sizeof(Billboard);
-        case NodeKind::Instance: return sizeof(Instance);
-        case NodeKind::BspGroup: return sizeof(BspGroup);
-        case NodeKind::Occluder: return sizeof(Occluder);
-        case NodeKind::PagedLOD: return sizeof(PagedLOD);
-    }
-    return sizeof(Node);
-}
-
 }  // namespace
 
 SceneInfo computeInfo(const Node& root, const Scene& scene) {

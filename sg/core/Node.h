@@ -25,6 +25,8 @@ enum class NodeKind : uint8_t {
     PagedLOD
 };
 const char* kindName(NodeKind k);
+// The size of a node object of this kind (its children, parents and name held apart are not counted).
+size_t nodeBytes(NodeKind k);
 
 struct FrameInfo {
     uint64_t frame = 0;

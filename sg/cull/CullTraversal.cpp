@@ -10,20 +10,35 @@
 
 namespace sg {
 
-void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) {
-    static_cast<ImageFrame&>(c) = ImageFrame::make(img, t);
+void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t, bool planes) {
+    // Most frames are translations (the scene's image, paged details, Instances placed without a turn or a
+    // scale): no inverse and no matrix product then, which made an Instance's frame cost more than its cull.
+    const bool translation =
+        glm::dmat3(t) == glm::dmat3(1.0) && t[0][3] == 0.0 && t[1][3] == 0.0 && t[2][3] == 0.0 && t[3][3] == 1.0;
+    const dvec3 shift(t[3]);
+    if (translation) {
+        c.img = &img;
+        c.imgToEye = t;
+        c.eyeImg = -shift;
+        c.scale = 1.0;
+        c.rigid = true;
+    } else {
+        static_cast<ImageFrame&>(c) = ImageFrame::make(img, t);
+    }
     c.viewDir = cam_->viewDirection();
-    // A plane (n, d) in eye space becomes t^T (n, d) in image space (exact for affine t), normalized.
+    if (!planes) return;
+    // A plane (n, d) in eye space becomes t^T (n, d) in image space (exact for affine t), normalized; for a
+    // translation that is (n, d + n.shift).
     const dmat4 tt = glm::transpose(t);
     for (size_t k = 0; k < 6; ++k) {
         const Plane& e = cam_->eyePlanes()[k];
-        const dvec4 p = tt * dvec4(e.n, e.d);
+        const dvec4 p = translation ? dvec4(e.n, e.d + glm::dot(e.n, shift)) : tt * dvec4(e.n, e.d);
         const double len = glm::length(dvec3(p));
         c.planes[k] = Plane{dvec3(p) / len, p.w / len};
     }
     c.kplanes = kernel::Planes::make(c.planes, dvec3(0.0), img.extent, cull::kAllPlanes);
     if (set_->strategy == CullStrategy::CenterBox || set_->strategy == CullStrategy::SphereSphere) {
-        const dmat4 inv = glm::inverse(t);
+        const dmat4 inv = translation ? glm::translate(dmat4(1.0), -shift) : glm::inverse(t);
         Box fb;
         for (const dvec3& p : cam_->eyeCorners()) fb.expand(dvec3(inv * dvec4(p, 1.0)));
         for (int a = 0; a < 3; ++a) {

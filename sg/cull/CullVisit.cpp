@@ -98,13 +98,14 @@ void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) 
     if (!p || p->size() == 0) return;
     stats_->instancesVisited++;
     const dmat4 pm = m * in->matrix();
+    const uint32_t subMask = set_->strategy == CullStrategy::None ? 0u : mask;
     Ctx sub;
-    setupCtx(sub, *p, glm::translate(pm, p->origin));
-    sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;  // this placement, under its parent's
+    setupCtx(sub, *p, glm::translate(pm, p->origin), subMask != 0);  // no planes for a placement inside them
+    sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;               // this placement, under its parent's
     sub.pagedDepth = c.pagedDepth;
     // Same six planes, transformed: planes the placement's bound was inside of stay done. The placement's
     // own bound had its occlusion test; its prototype's bounds are not world boxes, so none below.
-    visit(sub, 0, set_->strategy == CullStrategy::None ? 0u : mask, pm, OcclusionTree::kVisible);
+    visit(sub, 0, subMask, pm, OcclusionTree::kVisible);
 }
 
 void CullTraversal::bspGroup(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {

@@ -33,7 +33,11 @@ std::string withFile(const std::string& file, const std::string& message) {
 size_t pageBytes(const Node* root) {
     std::unordered_set<const void*> seen;  // meshes and textures shared by several geometries count once
     size_t bytes = 0;
-    forEachDistinctGeometry(*root, [&](const Geometry& g) {
+    // The nodes count too: a tile of instanced boxes is a few kilobytes of meshes and megabytes of nodes.
+    forEachDistinctNode(*root, [&](const Node& n) {
+        bytes += nodeBytes(n.kind()) + n.numChildren() * sizeof(void*);
+        if (n.kind() != NodeKind::Geometry) return;
+        const auto& g = static_cast<const Geometry&>(n);
         if (const Mesh* m = g.mesh(); m && seen.insert(m).second) bytes += m->bytes();
         if (const Material* mat = g.material(); mat && mat->texture && seen.insert(mat->texture.get()).second)
             bytes += mat->texture->rgba().size();

@@ -25,7 +25,8 @@ namespace sg {
 // touch the scene, and must be safe to call concurrently.
 using PageLoadFunction = std::function<ref_ptr<Node>(const std::string& file)>;
 
-// Mesh and texture bytes below `root`, each shared mesh or texture counted once: what a detail takes.
+// Mesh, texture and node bytes below `root`, each shared mesh, texture or node counted once: what a detail takes
+// (its flat image, about a third of its nodes' bytes, aside).
 size_t pageBytes(const Node* root);
 
 struct PagerSettings {

@@ -36,6 +36,21 @@ private:
     std::unordered_set<const Node*> seen_;
 };
 
+// Each node below a root once (root included), however many paths lead to it.
+template <class F>
+void forEachDistinctNode(const Node& root, F&& f) {
+    std::vector<const Node*> stack{&root};
+    std::unordered_set<const Node*> seen;
+    while (!stack.empty()) {
+        const Node* n = stack.back();
+        stack.pop_back();
+        if (!seen.insert(n).second) continue;
+        f(*n);
+        for (size_t i = 0; i < n->numChildren(); ++i)
+            if (const Node* c = n->child(i)) stack.push_back(c);
+    }
+}
+
 template <class F>
 void forEachDistinctGeometry(const Node& root, F&& f) {
     DistinctGeometryWalk(root).run(f, [] { return false; });

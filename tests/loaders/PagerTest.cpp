@@ -180,8 +180,10 @@ TEST(Pager, AttachesTheDetailAtTheUpdateAfterItsLoadAndDrawsTheCoarseLevelUntilT
     EXPECT_EQ(drawn, std::set<const Mesh*>{detailMesh(*w.tile)});  // the detail replaces the coarse level
     EXPECT_EQ(pager.stats().loads, 1u);
     EXPECT_EQ(pager.stats().resident, 1u);
-    // The 2-division box: 6 faces x 9 vertices x (position, normal, uv), 6 x 8 triangles x 3 16-bit indices.
-    EXPECT_EQ(pager.stats().bytesResident, size_t(54 * 32 + 144 * 2));
+    // The 2-division box: 6 faces x 9 vertices x (position, normal, uv), 6 x 8 triangles x 3 16-bit indices; and
+    // the two nodes, the Group with its one child pointer.
+    EXPECT_EQ(pager.stats().bytesResident,
+              size_t(54 * 32 + 144 * 2) + nodeBytes(NodeKind::Group) + sizeof(void*) + nodeBytes(NodeKind::Geometry));
     EXPECT_EQ(w.tile->detailBytes(), pager.stats().bytesResident);
     for (int k = 0; k < 5; ++k) f.run();
     EXPECT_EQ(calls.load(), 1);  // loaded once, not asked again
