@@ -94,7 +94,8 @@ void CullTraversal::billboard(Ctx& c, uint32_t i, const dmat4& m) {
 
 void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
     const auto* in = static_cast<Instance*>(c.img->nodes[c.img->aux[i]]);
-    const FlatImage* p = in->prototype() ? scene_->prototypeImage(in->prototype()) : nullptr;
+    // A paged detail's image holds its prototypes' images: looked up from the image that places this one.
+    const FlatImage* p = in->prototype() ? scene_->prototypeImage(*c.img, in->prototype()) : nullptr;
     if (!p || p->size() == 0) return;
     stats_->instancesVisited++;
     const dmat4 pm = m * in->matrix();

@@ -195,7 +195,8 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
         }
         case NodeKind::Instance: {
             auto* in = static_cast<Instance*>(n);
-            const FlatImage* p = in->prototype() ? scene_->prototypeImage(in->prototype()) : nullptr;
+            // A paged detail's image holds its prototypes' images: looked up from the image that places this one.
+            const FlatImage* p = in->prototype() ? scene_->prototypeImage(img, in->prototype()) : nullptr;
             if (!p || p->size() == 0) break;
             const dmat4 pm = m * in->matrix();
             Ctx sub;

@@ -21,10 +21,11 @@ void FlatImage::resize(size_t n) {
 }
 
 size_t FlatImage::bytes() const {
-    size_t details = 0;
+    size_t owned = 0;  // the images this one holds: its details' and its prototypes' (with their map nodes)
     for (const Paged& p : paged)
-        if (p.detail) details += p.detail->bytes();
-    return details + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
+        if (p.detail) owned += p.detail->bytes();
+    for (const auto& p : prototypes) owned += p.second->bytes() + sizeof(p) + 2 * sizeof(void*);
+    return owned + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
            matrices.capacity() * sizeof(void*) + nodes.capacity() * sizeof(void*) + masked.capacity() * 16 +
            lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) + ranges.capacity() * sizeof(Range) +
            draws.capacity() * sizeof(Draw) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace sg {
@@ -97,6 +98,12 @@ struct FlatImage {
     };
     std::vector<Paged> paged;
     std::vector<Draw> draws;
+
+    // The images of the Instance prototypes placed in this image, by prototype, when it owns them: a paged
+    // detail's image (and a prototype's image inside one) is built with them, on a loader thread too, and frees
+    // them with it, so that a detail evicted leaves no image keyed by its freed nodes. Empty in the scene's own
+    // image and its prototypes' images: the Scene keeps those (Scene::prototypeImage()).
+    std::unordered_map<const Node*, std::shared_ptr<FlatImage>> prototypes;
 
     // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Only occluders that are
     // drawn whatever the frame are active: not below a Switch, LOD, Billboard or a masked node, not

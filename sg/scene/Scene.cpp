@@ -20,15 +20,18 @@ namespace sg {
 struct Scene::Builder {
     Scene& scene;
     FlatImage& img;
-    std::unordered_set<const Node*>& builtProtos;  // prototypes (re)built during this update
+    // Prototypes (re)built in this update in the table proto() fills: one set per table, as a prototype rebuilt in
+    // one table (the scene's, a detail's) is still stale in another.
+    std::unordered_set<const Node*>& builtProtos;
     uint32_t cursor = 0;
     bool collect = false;    // full builds list the nodes with update callbacks
     bool fresh = false;      // full build: tables are appended to; refit: rewritten at their index
     bool prototype = false;  // building an Instance prototype's image: its occluders are not used
-    bool detail = false;     // building a PagedLOD detail's image (not a rebuild of the scene's structure)
-    bool alone = false;      // building off the frame thread (buildDetailImage): the scene's prototypes are not at hand
-    struct NeedsScene {};    // thrown when building alone meets an Instance
-    int conditional = 0;     // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
+    // Building a PagedLOD detail's image, or a prototype's inside one: not a rebuild of the scene's structure, and
+    // the prototypes' images it places are the image's own (img.prototypes), not the scene's, so that the detail
+    // can be built alone (buildDetailImage) and its prototypes' images die with it.
+    bool detail = false;
+    int conditional = 0;  // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
     bool occludersWritten = false;
 
     static bool isConditional(const Node* n) {
@@ -89,6 +92,7 @@ struct Scene::Builder {
         img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
+        img.prototypes.clear();  // rebuilt as met: no prototype left out of the structure keeps its image
         fresh = true;
         cursor = 0;
         write(root, frame);
@@ -108,14 +112,18 @@ struct Scene::Builder {
         }
     }
 
+    // Prototype p's image, built when missing, or changed and not yet rebuilt in this update: the scene's, or in a
+    // detail, this image's. A prototype's image in a detail holds the images of the Instances inside it: a table
+    // of its own, rebuilt with it.
     const FlatImage& proto(Node* p) {
-        if (alone) throw NeedsScene{};
-        auto& slot = scene.protos_[p];
+        auto& slot = (detail ? img.prototypes : scene.protos_)[p];
         if (!slot || (!builtProtos.count(p) && p->dirtyBits())) {
-            if (!slot) slot = std::make_unique<FlatImage>();
-            Builder b{scene, *slot, builtProtos};
+            if (!slot) slot = std::make_shared<FlatImage>();
+            std::unordered_set<const Node*> built;
+            Builder b{scene, *slot, detail ? built : builtProtos};
             b.collect = collect;
             b.prototype = true;
+            b.detail = detail;
             b.full(p);
             b.occluderChunks();
             scene.stats_.entriesWritten += slot->size();
@@ -225,7 +233,8 @@ struct Scene::Builder {
             // tileset's resident images for an attach at depth.
             const bool refitOnly = !rebuild && pg.detail && !(d->dirtyBits() & Node::kDirtyStructure);
             if (!pg.detail) pg.detail = std::make_shared<FlatImage>();
-            Builder b{scene, *pg.detail, builtProtos};
+            std::unordered_set<const Node*> built;  // for the detail's own table of prototypes' images
+            Builder b{scene, *pg.detail, built};
             b.prototype = true;  // its occluders are not used, as an Instance prototype's
             b.detail = true;
             if (refitOnly) {
@@ -248,11 +257,20 @@ struct Scene::Builder {
         Offer o = std::move(it->second);
         scene.offers_.erase(it);
         if (o.detail != d || o.frame != m || !o.image) return false;
-        for (FlatImage::Draw& draw : o.image->draws)
-            draw.state = scene.states_.emplace(std::make_pair(draw.mesh, draw.material), uint32_t(scene.states_.size()))
-                             .first->second;
+        renumber(*o.image);
         pg.detail = std::move(o.image);
         return true;
+    }
+
+    // An image built alone made to draw with the scene's states: its draws', its prototypes' images' and its
+    // attached details' images', all the way down.
+    void renumber(FlatImage& image) {
+        for (FlatImage::Draw& draw : image.draws)
+            draw.state = scene.states_.emplace(std::make_pair(draw.mesh, draw.material), uint32_t(scene.states_.size()))
+                             .first->second;
+        for (auto& p : image.prototypes) renumber(*p.second);
+        for (FlatImage::Paged& p : image.paged)
+            if (p.detail) renumber(*p.detail);
     }
 
     // Entry i's bound grown to hold a world box and the sphere of radius `r` about that box's centre.
@@ -522,6 +540,14 @@ const FlatImage* Scene::prototypeImage(const Node* p) const {
     return it == protos_.end() ? nullptr : it->second.get();
 }
 
+const FlatImage* Scene::prototypeImage(const FlatImage& placedIn, const Node* p) const {
+    if (!placedIn.prototypes.empty()) {  // the scene's image and its prototypes' hold none: no hash for them
+        auto it = placedIn.prototypes.find(p);
+        if (it != placedIn.prototypes.end()) return it->second.get();
+    }
+    return prototypeImage(p);
+}
+
 void Scene::update(const FrameInfo& frame) {
     const auto t0 = std::chrono::steady_clock::now();
     stats_ = UpdateStats{};
@@ -544,13 +570,8 @@ std::shared_ptr<FlatImage> Scene::buildDetailImage(Node& detail, const dmat4& fr
     std::unordered_set<const Node*> built;
     Builder b{alone, *img, built};
     b.prototype = true;
-    b.detail = true;
-    b.alone = true;
-    try {
-        b.full(&detail, frame);
-    } catch (const Builder::NeedsScene&) {
-        return nullptr;
-    }
+    b.detail = true;  // its prototypes' images are its own: built here too
+    b.full(&detail, frame);
     return img;
 }
 

@@ -30,8 +30,13 @@ public:
     void update(const FrameInfo& frame = {});
 
     const FlatImage& image() const { return main_; }
-    // The image of an Instance's prototype (built once however often it is placed); null if unknown.
+    // The image of an Instance's prototype placed outside paged details (built once however often it is placed);
+    // null if unknown.
     const FlatImage* prototypeImage(const Node* prototype) const;
+    // The image of the prototype of an Instance entry of `placedIn` (any image a walk meets: the scene's, a paged
+    // detail's, a prototype's): that image's own (a paged detail's image owns its prototypes' images,
+    // FlatImage::prototypes), else the scene's; null if unknown.
+    const FlatImage* prototypeImage(const FlatImage& placedIn, const Node* prototype) const;
     const UpdateStats& lastUpdate() const { return stats_; }
     // Counts full rebuilds of the image: state kept per image entry (LOD hysteresis) is stale when it moves.
     uint64_t structureVersion() const { return structureVersion_; }
@@ -50,8 +55,8 @@ public:
 
     // A paged detail's image built ahead, off the frame thread (a pager's loader thread, after the load), in
     // `frame` (the frame posted with the node's request): what the update would build when the detail is
-    // attached. Touches no scene; any thread may call it on a graph no other thread sees. Null for a detail
-    // it cannot build alone (one holding Instances, whose prototypes' images are the scene's).
+    // attached, with the images of the Instances' prototypes inside it (FlatImage::prototypes). Touches no scene;
+    // any thread may call it on a graph no other thread sees.
     static std::shared_ptr<FlatImage> buildDetailImage(Node& detail, const dmat4& frame);
     // Hands such an image over with the detail just attached to `paged` (the application thread, before the
     // next update): the update takes it instead of building one, if the detail and frame are still those;
@@ -63,7 +68,9 @@ private:
     void refresh();  // brings the image up to date with the dirty marks
     ref_ptr<Node> root_;
     FlatImage main_;
-    std::unordered_map<const Node*, std::unique_ptr<FlatImage>> protos_;
+    // The prototypes' images of the Instances outside paged details (details' images own theirs); emptied by a
+    // full rebuild. Shared pointers as FlatImage::prototypes, so that the update fills either through one path.
+    std::unordered_map<const Node*, std::shared_ptr<FlatImage>> protos_;
     std::vector<Node*> callbacks_;
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;

@@ -4,6 +4,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/intersect/IntersectPrimitives.h"
@@ -211,6 +212,53 @@ TEST(Intersect, EveryInstancePlacement) {
         placements.insert(h.placement);
     }
     EXPECT_EQ(placements.size(), 4u);
+}
+
+// The images of the prototypes placed in a paged detail are the detail image's own (built with it, on a loader
+// thread too): a pick finds them there, for a placement and a nested one.
+TEST(Intersect, InstancesInsideAPagedDetailAreHitWhetherItsImageWasBuiltAheadOrByTheUpdate) {
+    for (const bool ahead : {false, true}) {
+        SCOPED_TRACE(ahead ? "built ahead" : "built by the update");
+        auto g = unitBox();
+        auto lod = make<LOD>();
+        lod->addChild(g, 0.0f, 1e9f);
+        auto outer = make<Group>();  // a prototype placing another
+        auto inner = make<Instance>(lod, glm::translate(dmat4(1.0), dvec3(0, 0, 1)));
+        outer->addChild(inner);
+        auto detail = make<Group>();
+        auto placed = make<Instance>(lod, glm::translate(dmat4(1.0), dvec3(0, 0, -10)));
+        detail->addChild(placed);
+        detail->addChild(make<Instance>(outer, glm::translate(dmat4(1.0), dvec3(5, 0, -10))));
+        auto paged = make<PagedLOD>();
+        paged->setFile("tile");
+        paged->setRange(0.0f, 1e9f);
+        paged->addChild(at(dvec3(0, 50, 0), unitBox()));  // the coarse level, off the rays
+        const dmat4 frame = glm::translate(dmat4(1.0), dvec3(100, 0, 0));
+        auto placedPaged = make<Transform>(frame);
+        placedPaged->addChild(paged);
+        auto root = make<Group>();
+        root->addChild(placedPaged);
+        Scene scene(root);
+        scene.update();
+        if (ahead) {
+            std::shared_ptr<FlatImage> image = Scene::buildDetailImage(*detail, frame);
+            ASSERT_TRUE(image);
+            scene.offerDetailImage(paged.get(), detail.get(), frame, std::move(image));
+        }
+        paged->attachDetail(detail, 0);
+        scene.update();
+
+        IntersectTraversal it;
+        Hit h;
+        ASSERT_TRUE(it.intersect(scene, Ray{dvec3(100.25, 0.5, 0), dvec3(0, 0, -1)}, {}, h));
+        EXPECT_NEAR(h.point.z, -9.0, 1e-12);
+        EXPECT_EQ(h.geometry, g.get());
+        EXPECT_EQ(h.instance, placed.get());
+        ASSERT_TRUE(it.intersect(scene, Ray{dvec3(105.25, 0.5, 0), dvec3(0, 0, -1)}, {}, h));
+        EXPECT_NEAR(h.point.z, -8.0, 1e-12);
+        EXPECT_EQ(h.geometry, g.get());
+        EXPECT_EQ(h.instance, inner.get());
+    }
 }
 
 TEST(Intersect, SpheresAndSweeps) {

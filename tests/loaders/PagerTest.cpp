@@ -1160,3 +1160,47 @@ TEST(Pager, BuildsADetailsImageOnTheLoaderThreadAndTheUpdateTakesIt) {
         EXPECT_EQ(stats.triangles, f.stats.triangles);
     }
 }
+
+// A tile of instanced models (an i3dm's): its image, with its prototypes' images, is built on the loader thread and
+// taken by the update; released, it takes them with it.
+TEST(PagerThreads, ADetailHoldingInstancesIsBuiltOnTheLoaderThreadAndFreedWithItsPrototypesImages) {
+    std::atomic<const Node*> lastPrototype{nullptr};  // an address to look up, never read through
+    auto instanced = [&](const std::string&) -> ref_ptr<Node> {
+        auto lod = make<LOD>();
+        lod->addChild(make<Geometry>(makeBoxMesh(dvec3(-0.5), dvec3(0.5)), make<Material>()), 0.0f, 500.0f);
+        auto outer = make<Group>();  // a prototype placing another
+        outer->addChild(make<Instance>(lod, glm::translate(dmat4(1.0), dvec3(0, 0, 1))));
+        auto g = make<Group>();
+        for (int k = 0; k < 20; ++k)
+            g->addChild(make<Instance>(lod, glm::translate(dmat4(1.0), dvec3(k - 9.5, 10, 0))));
+        g->addChild(make<Instance>(outer, glm::translate(dmat4(1.0), dvec3(0, 12, 0))));
+        lastPrototype = lod.get();
+        return g;
+    };
+    World w;
+    Scene scene(w.root);
+    Pager pager(scene, instanced);
+    Frames f(scene, pager);
+    f.run();  // the cull posts the request, with its frame
+    f.run();  // the pager queues it
+    const size_t bytes = scene.bytes();
+    pager.waitIdle();
+    f.run();  // attaches: the update takes the image
+    ASSERT_NE(w.tile->detail(), nullptr);
+    EXPECT_LT(scene.lastUpdate().entriesWritten, 10u);
+    EXPECT_EQ(f.stats.geometries, 21u);
+    EXPECT_EQ(scene.prototypeImage(lastPrototype.load()), nullptr);  // the detail's image holds it
+    Scene fresh(w.root);
+    fresh.update();
+    CullTraversal cull;
+    DrawList list;
+    CullStats stats;
+    cull.cull(fresh, f.cam, CullSettings{}, list, stats);
+    EXPECT_EQ(stats.geometries, 21u);
+    EXPECT_EQ(stats.triangles, f.stats.triangles);
+
+    pager.release(*w.tile);
+    scene.update(FrameInfo{f.n + 1, double(f.n + 1) / 60.0});
+    EXPECT_EQ(scene.prototypeImage(lastPrototype.load()), nullptr);
+    EXPECT_EQ(scene.bytes(), bytes);
+}

@@ -341,9 +341,16 @@ TEST(Scene, RandomEditsKeepTheImageExactAndBadOnesAreRefused) {
 }
 
 namespace {
-// Two images equal entry by entry (kinds, subtree ends, bounds up to float rounding), their paged details too.
+// Two images equal entry by entry (kinds, subtree ends, bounds up to float rounding), their paged details and the
+// prototypes' images they own too.
 void expectSameImages(const FlatImage& a, const FlatImage& b, const std::string& where) {
     ASSERT_EQ(a.size(), b.size()) << where;
+    ASSERT_EQ(a.prototypes.size(), b.prototypes.size()) << where;
+    for (const auto& [proto, pa] : a.prototypes) {
+        auto pb = b.prototypes.find(proto);
+        ASSERT_NE(pb, b.prototypes.end()) << where << ": no image of prototype " << proto->describe();
+        expectSameImages(*pa, *pb->second, where + "/" + proto->describe());
+    }
     for (uint32_t i = 0; i < a.size(); ++i) {
         ASSERT_EQ(a.kind[i], b.kind[i]) << where << " entry " << i;
         ASSERT_EQ(a.end[i], b.end[i]) << where << " entry " << i;
@@ -372,6 +379,56 @@ ref_ptr<PagedLOD> paged(const std::string& file, double x) {
     p->setRange(0.0f, 1e9f);
     p->addChild(boxes(1, x));  // the coarse level
     return p;
+}
+
+// A detail of Instances, as a tile of instanced models: 50 placements of an LOD over a box in a row along x at
+// y = 100, and one of a group that places the LOD once more inside (a nested Instance), at y = 120.
+struct InstancedDetail {
+    ref_ptr<LOD> lod;
+    ref_ptr<Group> outer;  // the prototype holding an Instance
+    ref_ptr<Group> root;
+};
+InstancedDetail instancedDetail() {
+    InstancedDetail d;
+    d.lod = make<LOD>();
+    d.lod->addChild(unitBox(), 0.0f, 500.0f);
+    d.outer = make<Group>();
+    d.outer->addChild(make<Instance>(d.lod, glm::translate(dmat4(1.0), dvec3(0, 0, 5))));
+    d.root = make<Group>();
+    for (int k = 0; k < 50; ++k)
+        d.root->addChild(make<Instance>(d.lod, glm::translate(dmat4(1.0), dvec3(-49.0 + 2.0 * k, 100, 0))));
+    d.root->addChild(make<Instance>(d.outer, glm::translate(dmat4(1.0), dvec3(0, 120, 0))));
+    return d;
+}
+
+// A PagedLOD below a translation, and the frame its detail's image is built in (what the cull posts).
+struct PlacedPaged {
+    ref_ptr<PagedLOD> node = paged("a", 0.0);
+    ref_ptr<Group> root = make<Group>();
+    dmat4 frame = glm::translate(dmat4(1.0), dvec3(5, 7, 0));
+    PlacedPaged() {
+        auto placed = make<Transform>(frame);
+        placed->addChild(node);
+        root->addChild(placed);
+    }
+    const FlatImage::Paged& entry(const Scene& s) const {
+        for (const FlatImage::Paged& pg : s.image().paged)
+            if (pg.node == node.get()) return pg;
+        throw std::logic_error("no entry for the PagedLOD");
+    }
+};
+
+// What a cull from `cam` gives the renderer: each item's mesh, translation and draw state (its sort key's).
+std::multiset<std::tuple<const Mesh*, float, float, float, uint32_t>> drawnFrom(const Scene& s, const Camera& cam) {
+    DrawList list;
+    CullStats stats;
+    CullTraversal().cull(s, cam, {}, list, stats);
+    std::multiset<std::tuple<const Mesh*, float, float, float, uint32_t>> items;
+    for (size_t i = 0; i < list.items.size(); ++i) {
+        const DrawItem& it = list.items[i];
+        items.insert({it.mesh, it.model[3].x, it.model[3].y, it.model[3].z, list.key(i) >> 12});
+    }
+    return items;
 }
 }  // namespace
 
@@ -478,8 +535,127 @@ TEST(Scene, ADetailImageBuiltAheadIsTakenWhenItsFrameMatchesAndRebuiltWhenNot) {
         fresh.update();
         expectSameImages(s.image(), fresh.image(), sameFrame ? "taken" : "rebuilt");
     }
-    // A detail holding Instances is left to the update (their prototypes' images are the scene's).
-    auto withInstance = make<Group>();
-    withInstance->addChild(make<Instance>(unitBox(), dmat4(1.0)));
-    EXPECT_FALSE(Scene::buildDetailImage(*withInstance, dmat4(1.0)));
+}
+
+TEST(Scene, ADetailHoldingInstancesIsBuiltAheadWithItsPrototypesImagesAndDrawnAsAFreshSceneDrawsIt) {
+    PlacedPaged p;
+    Scene s(p.root);
+    s.update();
+    ASSERT_EQ(p.entry(s).frame, p.frame);
+    const InstancedDetail d = instancedDetail();
+    std::shared_ptr<FlatImage> ahead = Scene::buildDetailImage(*d.root, p.frame);
+    ASSERT_TRUE(ahead);
+    EXPECT_EQ(ahead->size(), 1u + 51u);
+    s.offerDetailImage(p.node.get(), d.root.get(), p.frame, ahead);
+    p.node->attachDetail(d.root, 0);
+    s.update();
+    // Taken, prototypes' images and all: the update writes the paged node's own entries only.
+    EXPECT_EQ(p.entry(s).detail, ahead);
+    EXPECT_LT(s.lastUpdate().entriesWritten, 20u);
+    Scene fresh(p.root);
+    fresh.update();
+    expectSameImages(s.image(), fresh.image(), "taken");
+
+    // Every placement drawn, the nested one too, with the scene's draw states (the image was built with others).
+    const Camera cam = testutil::lookingAlongY();
+    const auto drawn = drawnFrom(s, cam);
+    EXPECT_EQ(drawn.size(), 51u);
+    EXPECT_EQ(drawn, drawnFrom(fresh, cam));
+}
+
+TEST(Scene, ADetailBuiltAheadWithADetailAttachedInsideDrawsWithTheScenesStates) {
+    PlacedPaged p;
+    Scene s(p.root);
+    s.update();
+    auto inner = paged("inner", 0.0);
+    inner->attachDetail(boxes(5, -6.0), 0);  // five materials: five states of the image built alone
+    auto ahead = make<Transform>(glm::translate(dmat4(1.0), dvec3(0, 100, 0)));
+    ahead->addChild(inner);
+    auto detail = make<Group>();
+    detail->addChild(ahead);
+    s.offerDetailImage(p.node.get(), detail.get(), p.frame, Scene::buildDetailImage(*detail, p.frame));
+    p.node->attachDetail(detail, 0);
+    s.update();
+    EXPECT_LT(s.lastUpdate().entriesWritten, 20u);  // taken
+    Scene fresh(p.root);
+    fresh.update();
+    const Camera cam = testutil::lookingAlongY();
+    const auto drawn = drawnFrom(s, cam);
+    EXPECT_EQ(drawn.size(), 5u);
+    EXPECT_EQ(drawn, drawnFrom(fresh, cam));
+}
+
+TEST(Scene, ADetachedDetailTakesItsPrototypesImagesWithIt) {
+    for (const bool ahead : {false, true}) {
+        SCOPED_TRACE(ahead ? "built ahead" : "built by the update");
+        PlacedPaged p;
+        Scene s(p.root);
+        s.update();
+        const size_t bytes = s.bytes();
+        for (int load = 0; load < 3; ++load) {  // tiles loaded and evicted in turn: nothing is left behind
+            const InstancedDetail d = instancedDetail();
+            if (ahead) {
+                std::shared_ptr<FlatImage> image = Scene::buildDetailImage(*d.root, p.frame);
+                ASSERT_TRUE(image);
+                s.offerDetailImage(p.node.get(), d.root.get(), p.frame, std::move(image));
+            }
+            p.node->attachDetail(d.root, 0);
+            s.update();
+            ASSERT_TRUE(p.entry(s).detail);
+            EXPECT_GT(s.bytes(), bytes);
+            p.node->detachDetail();
+            s.update();
+            // No image left keyed by the detail's nodes (freed with it), no bytes left counted.
+            EXPECT_EQ(s.prototypeImage(d.lod.get()), nullptr);
+            EXPECT_EQ(s.prototypeImage(d.outer.get()), nullptr);
+            EXPECT_EQ(s.bytes(), bytes);
+        }
+    }
+}
+
+TEST(Scene, ADetailsPrototypesImagesFollowItsStructureAndTheirPrototypes) {
+    PlacedPaged p;
+    const InstancedDetail d = instancedDetail();
+    p.node->attachDetail(d.root, 0);
+    p.root->addChild(make<Instance>(d.lod, glm::translate(dmat4(1.0), dvec3(0, 0, 50))));  // placed outside too
+    Scene s(p.root);
+    s.update();
+    const FlatImage& detail = *p.entry(s).detail;
+    ASSERT_EQ(detail.prototypes.size(), 2u);
+    const FlatImage* lod = s.prototypeImage(detail, d.lod.get());
+    ASSERT_NE(lod, nullptr);
+    EXPECT_EQ(lod, detail.prototypes.at(d.lod.get()).get());
+    const FlatImage* scenes = s.prototypeImage(d.lod.get());
+    ASSERT_NE(scenes, nullptr);
+    EXPECT_NE(scenes, lod);  // the detail's own
+    EXPECT_EQ(s.prototypeImage(s.image(), d.lod.get()), scenes);
+    // The nested Instance's prototype's image is its placing prototype's.
+    const FlatImage& outer = *detail.prototypes.at(d.outer.get());
+    ASSERT_EQ(outer.prototypes.size(), 1u);
+    EXPECT_EQ(s.prototypeImage(outer, d.lod.get()), outer.prototypes.at(d.lod.get()).get());
+
+    // A prototype changed: the detail refitted, its images of the prototype rebuilt in place, where it is placed
+    // and nested, and the scene's too (each table rebuilds it once in an update).
+    const uint64_t structure = s.structureVersion();
+    static_cast<Geometry*>(d.lod->child(0))->setMesh(makeBoxMesh(dvec3(-2), dvec3(2)));
+    s.update();
+    ASSERT_EQ(s.structureVersion(), structure);
+    EXPECT_EQ(s.prototypeImage(detail, d.lod.get()), lod);
+    EXPECT_NEAR(lod->r[0], std::sqrt(12.0), 1e-4);
+    EXPECT_NEAR(outer.prototypes.at(d.lod.get())->r[0], std::sqrt(12.0), 1e-4);
+    EXPECT_NEAR(s.prototypeImage(d.lod.get())->r[0], std::sqrt(12.0), 1e-4);
+    Scene fresh(p.root);
+    fresh.update();
+    expectSameImages(s.image(), fresh.image(), "prototype changed");
+
+    // The nested placement removed (a change of structure: the scene's image rebuilt): the outer prototype's image
+    // is freed with the detail's.
+    std::weak_ptr<FlatImage> outerImage = detail.prototypes.at(d.outer.get());
+    d.root->removeChild(d.root->numChildren() - 1);
+    s.update();
+    EXPECT_TRUE(outerImage.expired());
+    ASSERT_EQ(p.entry(s).detail->prototypes.size(), 1u);
+    Scene fresh2(p.root);
+    fresh2.update();
+    expectSameImages(s.image(), fresh2.image(), "nested placement removed");
 }
