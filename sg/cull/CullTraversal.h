@@ -12,6 +12,7 @@
 #include "sg/scene/ImageFrame.h"
 #include "sg/scene/Scene.h"
 
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -78,6 +79,10 @@ private:
         dmat4 m;
     };
     std::vector<Frame> frames_;  // transform frames of inside(), a stack up to framesTop_
+    // Contexts of the Instance placements being walked, by depth: made once, not zeroed per placement (a
+    // context is most of a placement's cost in a tile of thousands).
+    std::vector<std::shared_ptr<Ctx>> placementCtx_;
+    size_t placementDepth_ = 0;
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
     float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none

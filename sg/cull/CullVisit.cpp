@@ -93,19 +93,28 @@ void CullTraversal::billboard(Ctx& c, uint32_t i, const dmat4& m) {
 }
 
 void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
-    const auto* in = static_cast<Instance*>(c.img->nodes[c.img->aux[i]]);
-    // A paged detail's image holds its prototypes' images: looked up from the image that places this one.
-    const FlatImage* p = in->prototype() ? scene_->prototypeImage(*c.img, in->prototype()) : nullptr;
+    const FlatImage::Placement& place = c.img->placements[c.img->aux[i]];
+    const FlatImage* p = place.proto;
     if (!p || p->size() == 0) return;
     stats_->instancesVisited++;
-    const dmat4 pm = m * in->matrix();
+    const dmat4 pm = place.matrix ? m * *place.matrix : glm::translate(m, place.translation);
     const uint32_t subMask = set_->strategy == CullStrategy::None ? 0u : mask;
-    Ctx sub;
+    if (placementDepth_ == placementCtx_.size()) placementCtx_.push_back(std::make_shared<Ctx>());
+    Ctx& sub = *placementCtx_[placementDepth_];
     setupCtx(sub, *p, glm::translate(pm, p->origin), subMask != 0);  // no planes for a placement inside them
-    sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;               // this placement, under its parent's
+    sub.originRel = dvec3(0.0);
+    sub.clsOffset = 0;
+    sub.clsBase = ~0u;
+    sub.pvsHidden = nullptr;
+    sub.place = -1;
+    sub.key = (c.key ^ i) * 0x9E3779B97F4A7C15ull + 1;  // this placement, under its parent's
     sub.pagedDepth = c.pagedDepth;
     // Same six planes, transformed: planes the placement's bound was inside of stay done. The placement's
     // own bound had its occlusion test; its prototype's bounds are not world boxes, so none below.
+    struct Depth {
+        size_t& d;
+        ~Depth() { --d; }
+    } depth{++placementDepth_};
     visit(sub, 0, subMask, pm, OcclusionTree::kVisible);
 }
 

@@ -28,9 +28,9 @@ size_t FlatImage::bytes() const {
     return owned + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
            matrices.capacity() * sizeof(void*) + nodes.capacity() * sizeof(void*) + masked.capacity() * 16 +
            lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) + ranges.capacity() * sizeof(Range) +
-           draws.capacity() * sizeof(Draw) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +
-           occluders.capacity() * sizeof(OccluderRef) + occluderMatrices.capacity() * sizeof(dmat4) +
-           occluderChunks.capacity() * sizeof(Box);
+           draws.capacity() * sizeof(Draw) + placements.capacity() * sizeof(Placement) +
+           wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 + occluders.capacity() * sizeof(OccluderRef) +
+           occluderMatrices.capacity() * sizeof(dmat4) + occluderChunks.capacity() * sizeof(Box);
 }
 
 Box FlatImage::box(size_t i) const {

@@ -77,7 +77,7 @@ struct FlatImage {
 
     std::vector<dvec3> translations;
     std::vector<const dmat4*> matrices;
-    // Entries of the kinds the cull meets rarely (Switch, Billboard, Instance, BspGroup, Occluder):
+    // Entries of the kinds the cull meets rarely (Switch, Billboard, BspGroup, Occluder):
     // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`;
     // maskedNode(i) finds entry i's node there (null when it is not listed, never for a kMasked entry).
     std::vector<Node*> nodes;
@@ -98,6 +98,15 @@ struct FlatImage {
     };
     std::vector<Paged> paged;
     std::vector<Draw> draws;
+    // Instance entries (their aux indexes `placements`): what the cull needs of the node, copied so that it
+    // reads neither the node nor a table of images for each of a tile's thousands of placements.
+    struct Placement {
+        const Node* node;        // the Instance
+        const FlatImage* proto;  // its prototype's image (held by this image or the Scene); null: none
+        dvec3 translation;       // the placement, when `matrix` is null
+        const dmat4* matrix;     // the node's matrix when it is not a translation
+    };
+    std::vector<Placement> placements;
 
     // The images of the Instance prototypes placed in this image, by prototype, when it owns them: a paged
     // detail's image (and a prototype's image inside one) is built with them, on a loader thread too, and frees

@@ -86,7 +86,7 @@ struct Scene::Builder {
         // The tables are filled in order and rewritten in place by later refits. Translations and LODs get
         // one allocation of the counted size (for translations an upper bound: general matrices go to
         // `matrices`), replacing any larger one a previous build left; the other tables grow as filled.
-        img.matrices.clear(), img.nodes.clear(), img.masked.clear();
+        img.matrices.clear(), img.nodes.clear(), img.masked.clear(), img.placements.clear();
         img.translations = {}, img.translations.reserve(c.xforms);
         img.lods = {}, img.lods.reserve(c.lods);
         img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
@@ -393,6 +393,13 @@ struct Scene::Builder {
                                      sse ? std::numeric_limits<float>::infinity() : p->rangeMax(), n, std::move(keep)});
                 break;
             }
+            case NodeKind::Instance: {  // the prototype's image is filled in by write(), once built
+                const dmat4& m = static_cast<const Instance*>(n)->matrix();
+                const bool t = isTranslation(m);
+                img.aux[i] = slot(img.placements, i,
+                                  FlatImage::Placement{n, nullptr, t ? dvec3(m[3]) : dvec3(0.0), t ? nullptr : &m});
+                break;
+            }
             case NodeKind::Group:
                 if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
                 break;
@@ -426,6 +433,7 @@ struct Scene::Builder {
                 auto* in = static_cast<Instance*>(n);
                 if (!in->prototype()) return img.setBound(i, Box{}, 0.0);
                 const FlatImage& p = proto(in->prototype());
+                img.placements[img.aux[i]].proto = &p;
                 if (p.size() == 0 || (p.flags[0] & FlatImage::kEmpty)) return img.setBound(i, Box{}, 0.0);
                 const bool valid = !(p.flags[0] & FlatImage::kInvalid);
                 // The prototype's root bound, in the prototype's frame (its image origin added back).
