@@ -117,8 +117,12 @@ void Node::removeParent(Node* p) {
     }
     if (!e) return;
     auto& v = e->moreParents;
+    // Swapped with the last, not erased: a prototype placed by thousands of Instances freed in the order they
+    // were made loses its first parent each time, which erasing would make quadratic.
     auto it = std::find(v.begin(), v.end(), p);
-    if (it != v.end()) v.erase(it);
+    if (it == v.end()) return;
+    *it = v.back();
+    v.pop_back();
 }
 
 void Node::markDirty(uint8_t bits) {

@@ -152,6 +152,9 @@ public:
     // by releaseUnused() for a few frames (GpuCache::kPrepareGrace) until first drawn, so that the first draw
     // uploads nothing more. Needs the renderer's context current.
     bool prepare(const Node& root, PrepareBudget& budget);
+    // Lets go of what prepare() keeps for `root` (its list holds the detail): for a detail dropped unprepared,
+    // so that it is freed by whoever drops it, not by this renderer frames later.
+    void forgetPrepare(const Node& root) { prepareLists_.erase(&root); }
     // A texture drawn with an alpha cutoff has its own copy, with colour bled under its transparent texels.
     size_t cachedTextures() const;
 

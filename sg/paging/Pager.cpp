@@ -237,6 +237,7 @@ void Pager::releaseTree(const PagedLOD* key) {
         unload(a);
     } else if (a.node->state() == PagedLOD::State::Requested) {
         if (a.pending) {
+            if (a.prepared && drop_) drop_(*a.pending);
             (a.prepared ? dying_ : stale_).push_back(std::move(a.pending));
             a.pendingImage.reset();
             stats_.cancelled++;

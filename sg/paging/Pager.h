@@ -129,8 +129,15 @@ public:
     // (PagerSettings::prepareMsPerFrame, prepareObjectsPerFrame); returns true when done (the detail is attached
     // in that update), false to be called again at the next update. It may throw: the load fails with the
     // message. Empty (the default): details are attached as soon as loaded.
+    // `drop`, if given, is called for a detail handed to `prepare` and dropped before it was done (no longer
+    // needed): a prepare function that keeps state for a detail (a renderer's upload list holds it) lets it go
+    // there, so that the detail is freed where the pager frees details, not later on the frame thread.
     using PrepareFunction = std::function<bool(Node& detail, PrepareBudget& budget)>;
-    void setPrepare(PrepareFunction prepare) { prepare_ = std::move(prepare); }
+    using DropFunction = std::function<void(const Node& detail)>;
+    void setPrepare(PrepareFunction prepare, DropFunction drop = {}) {
+        prepare_ = std::move(prepare);
+        drop_ = std::move(drop);
+    }
     const PrepareFunction& prepare() const { return prepare_; }
 
     const PagerStats& stats() const { return stats_; }
@@ -210,6 +217,7 @@ private:
     std::vector<const PagedLOD*> scratch_;
     std::vector<Active*> order_;
     PrepareFunction prepare_;
+    DropFunction drop_;
     uint64_t nextId_ = 1;
 
     // Shared with the loader threads, under mutex_.

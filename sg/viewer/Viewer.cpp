@@ -108,7 +108,9 @@ void Viewer::frame() {
         // pager's budget before they are attached (Renderer::prepare), for this update only: the pager may
         // outlive the viewer.
         const bool wire = !pager_->prepare();
-        if (wire) pager_->setPrepare([r = renderer_](Node& d, PrepareBudget& b) { return r->prepare(d, b); });
+        if (wire)
+            pager_->setPrepare([r = renderer_](Node& d, PrepareBudget& b) { return r->prepare(d, b); },
+                               [r = renderer_](const Node& d) { r->forgetPrepare(d); });
         try {
             pager_->update(info);
         } catch (...) {

@@ -13,6 +13,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <random>
 #include <set>
@@ -876,6 +877,43 @@ TEST(Pager, APrepareFunctionMayTakeSeveralUpdatesAndItsFailureIsTheLoads) {
     EXPECT_EQ(w.tile->state(), PagedLOD::State::Failed);
     EXPECT_EQ(w.tile->error(), "tile.glb: out of video memory");
     EXPECT_EQ(pager.tracked(), 0u);
+}
+
+// A prepare function that keeps what it works on (as a renderer's upload list holds its detail) is told when a
+// detail it has not finished is dropped, and lets go of it: the detail is then freed where the pager frees details.
+TEST(Pager, ADetailDroppedWhilePreparedIsLetGoByThePrepareFunction) {
+    const int alive = gAlive;
+    World w;
+    Scene scene(w.root);
+    PagerSettings ps;
+    ps.freeOnLoaderThread = true;
+    Pager pager(
+        scene, [](const std::string&) { return makeDetail(); }, ps);
+    std::map<const Node*, ref_ptr<Node>> held;  // what the prepare function keeps, by detail
+    std::vector<const Node*> dropped;
+    pager.setPrepare(
+        [&](Node& d, PrepareBudget&) {
+            held[&d] = ref_ptr<Node>(&d);
+            return false;  // never done
+        },
+        [&](const Node& d) {
+            dropped.push_back(&d);
+            held.erase(&d);
+        });
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    f.run();
+    ASSERT_EQ(held.size(), 1u);
+    EXPECT_EQ(gAlive, alive + 1);
+    const Node* detail = held.begin()->first;
+    pager.release(*w.tile);
+    EXPECT_EQ(dropped, std::vector<const Node*>{detail});
+    EXPECT_TRUE(held.empty());
+    f.run();
+    pager.waitIdle();
+    EXPECT_EQ(gAlive, alive);  // freed by the pager's loader thread
 }
 
 TEST(PagerThreads, SeveralLoaderThreadsLoadAtOnceAndTheFiguresAddUp) {
