@@ -4,6 +4,9 @@
 #include "sg/scene/DistinctGeometries.h"
 
 #include <algorithm>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -26,6 +29,12 @@ constexpr float kCommandPriority = std::numeric_limits<float>::infinity();
 // The message as it should reach the node: it names the file.
 std::string withFile(const std::string& file, const std::string& message) {
     return message.find(file) == std::string::npos ? file + ": " + message : message;
+}
+
+void trimFreed() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
 }
 
 }  // namespace
@@ -103,6 +112,7 @@ void Pager::run() {
         }
         if (!trash.empty()) {
             trash.clear();  // detached details die here, off the frame thread
+            if (settings_.trimFreedMemory) trimFreed();
             {
                 std::lock_guard<std::mutex> lock(mutex_);
                 freeing_--;
@@ -131,6 +141,7 @@ void Pager::run() {
             r.detail = {};
             r.error = job.file + ": the load failed with an unknown exception";
         }
+        if (settings_.trimFreedMemory) trimFreed();
         r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         {
             std::lock_guard<std::mutex> lock(mutex_);

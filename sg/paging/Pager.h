@@ -61,6 +61,13 @@ struct PagerSettings {
     // is also in the graph that stays (a node's parent list changes when a parent of it dies); their meshes,
     // materials and textures may be shared, with a renderer's cache too (reference counts are atomic).
     bool freeOnLoaderThread = false;
+    // After each load, and after freeing details, a loader thread hands the memory freed back to the system
+    // (glibc's malloc_trim; nothing elsewhere). Loader threads allocate from malloc arenas of their own, which
+    // otherwise keep what every tile read and freed: the 10-million-cell flight's process grew to 870 MB with
+    // 55-140 MB of tiles resident, and to 599 MB with this (docs/benchmarks.md). It gives back the main arena's
+    // free memory too, which keepFreedMemory() keeps for a software rasterizer: a program that wants both fast
+    // frames on such a rasterizer and little memory chooses.
+    bool trimFreedMemory = true;
 };
 
 struct PagerStats {

@@ -64,7 +64,8 @@ Viewer::~Viewer() = default;
 void Viewer::init() {
     checkRate(settings_.frameRate, "Viewer::Viewer()");
     history_ = FrameHistory(settings_.historyFrames);
-    if (settings_.keepFreedMemory && renderer_->softwareRasterizer()) keepFreedMemory();
+    keepingFreed_ = settings_.keepFreedMemory && renderer_->softwareRasterizer();
+    if (keepingFreed_) keepFreedMemory();
 }
 
 View& Viewer::addView(const Camera& camera) {
@@ -75,7 +76,8 @@ View& Viewer::addView(const Camera& camera) {
 
 Pager& Viewer::enablePaging(PageLoadFunction load, PagerSettings settings) {
     pager_ = nullptr;
-    ownPager_.reset();  // the old one's thread stops first
+    ownPager_.reset();                                    // the old one's thread stops first
+    if (keepingFreed_) settings.trimFreedMemory = false;  // the rasterizer's frames keep the memory they free
     ownPager_ = std::make_unique<Pager>(*scene_, std::move(load), settings);
     pager_ = ownPager_.get();
     return *pager_;

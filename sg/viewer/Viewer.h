@@ -73,7 +73,8 @@ public:
     void onPresent(Callback f) { present_.push_back(std::move(f)); }
 
     // Paging: a pager of the viewer's own, made for its scene (the load function reads a detail: see sg::Pager),
-    // or one owned elsewhere (null: none), updated in the pager stage. Throws as the Pager's constructor.
+    // or one owned elsewhere (null: none), updated in the pager stage. Throws as the Pager's constructor. With
+    // keepFreedMemory engaged, its pager does not trim (PagerSettings::trimFreedMemory), which would undo it.
     Pager& enablePaging(PageLoadFunction load, PagerSettings settings = {});
     void usePager(Pager* pager);
     Pager* pager() { return pager_; }
@@ -118,6 +119,7 @@ private:
     std::vector<Callback> events_, overlayCallbacks_, present_;
     std::vector<FrameCallback> app_, update_;
     std::unique_ptr<Pager> ownPager_;
+    bool keepingFreed_ = false;  // keepFreedMemory() engaged for a software rasterizer
     Pager* pager_ = nullptr;
     std::unique_ptr<TextOverlay> text_;
     FrameHistory history_;

@@ -312,3 +312,17 @@ TEST(Viewer, TheGlsOwnDrawTimeIsReportedBesideTheCpus) {
 }
 
 }  // namespace
+
+// A viewer that keeps freed memory for a software rasterizer makes its pager keep it too (trimming would hand it
+// back after every load); one that does not keep it lets its pager trim.
+TEST(Viewer, ItsPagerTrimsFreedMemoryUnlessTheViewerKeepsItForASoftwareRasterizer) {
+    Fixture f;
+    auto load = [](const std::string&) -> ref_ptr<Node> { return box(vec4(0.1f, 0.1f, 0.9f, 1.0f), 1.5); };
+    Viewer keeping(f.scene);
+    ASSERT_TRUE(keeping.renderer().softwareRasterizer());  // OSMesa's llvmpipe
+    EXPECT_FALSE(keeping.enablePaging(load).settings().trimFreedMemory);
+    ViewerSettings vs;
+    vs.keepFreedMemory = false;
+    Viewer trimming(f.scene, vs);
+    EXPECT_TRUE(trimming.enablePaging(load).settings().trimFreedMemory);
+}
