@@ -55,6 +55,17 @@ struct World {
 };
 
 // A frame as an application runs it: the pager's merge, the update, the cull. Returns what was drawn.
+// What a scene built from scratch over `root` draws from `cam`.
+CullStats culledFromScratch(const ref_ptr<Node>& root, const Camera& cam) {
+    Scene fresh(root);
+    fresh.update();
+    CullTraversal cull;
+    DrawList list;
+    CullStats stats;
+    cull.cull(fresh, cam, CullSettings{}, list, stats);
+    return stats;
+}
+
 struct Frames {
     Frames(Scene& s, Pager& p) : scene(s), pager(p) {}
     Scene& scene;
@@ -1188,13 +1199,8 @@ TEST(Pager, BuildsADetailsImageOnTheLoaderThreadAndTheUpdateTakesIt) {
         else
             EXPECT_GT(scene.lastUpdate().entriesWritten, 800u);
         // What the cull sees equals a scene built from scratch.
-        Scene fresh(w.root);
-        fresh.update();
-        CullTraversal cull;
-        DrawList list;
-        CullStats stats;
-        cull.cull(fresh, f.cam, CullSettings{}, list, stats);
-        EXPECT_EQ(list.items.size(), 400u);
+        const CullStats stats = culledFromScratch(w.root, f.cam);
+        EXPECT_EQ(stats.geometries, 400u);
         EXPECT_EQ(stats.triangles, f.stats.triangles);
     }
 }
@@ -1228,12 +1234,7 @@ TEST(PagerThreads, ADetailHoldingInstancesIsBuiltOnTheLoaderThreadAndFreedWithIt
     EXPECT_LT(scene.lastUpdate().entriesWritten, 10u);
     EXPECT_EQ(f.stats.geometries, 21u);
     EXPECT_EQ(scene.prototypeImage(lastPrototype.load()), nullptr);  // the detail's image holds it
-    Scene fresh(w.root);
-    fresh.update();
-    CullTraversal cull;
-    DrawList list;
-    CullStats stats;
-    cull.cull(fresh, f.cam, CullSettings{}, list, stats);
+    const CullStats stats = culledFromScratch(w.root, f.cam);
     EXPECT_EQ(stats.geometries, 21u);
     EXPECT_EQ(stats.triangles, f.stats.triangles);
 
