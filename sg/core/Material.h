@@ -25,6 +25,27 @@ private:
     std::vector<uint8_t> rgba_;
 };
 
+// A texture as a material uses it: which of the mesh's UV sets it reads (0: Mesh::uvs(), 1: Mesh::uvs1()) and the
+// transform applied to those UVs first (KHR_texture_transform: translation * rotation * scale, as a 3x3 matrix).
+struct TextureSlot {
+    ref_ptr<Texture> texture;
+    int texCoord = 0;
+    mat3 transform{1.0f};
+};
+
+// glTF 2.0's metallic-roughness model (its Appendix B): what Material::physical shades with. Textures multiply
+// their factors; colour textures (base colour, emissive) hold sRGB values, the others linear ones.
+struct PhysicalMaterial {
+    float metallic = 1.0f, roughness = 1.0f;
+    TextureSlot metallicRoughness;  // roughness in G, metallic in B
+    TextureSlot normal;             // tangent space; needs Mesh::tangents()
+    float normalScale = 1.0f;
+    TextureSlot occlusion;  // in R, applied to the environment light only
+    float occlusionStrength = 1.0f;
+    TextureSlot emissive;
+    vec3 emissiveFactor{0.0f};  // linear; KHR_materials_emissive_strength already multiplied in
+};
+
 class Material : public Referenced {
 public:
     explicit Material(const vec4& baseColor = vec4(0.8f, 0.8f, 0.8f, 1.0f), ref_ptr<Texture> tex = {});
@@ -40,6 +61,22 @@ public:
     // The vertex colours carry VertexLightBaker's output rather than plain colour: rgb the albedo times the
     // ambient occlusion, alpha the share of the sun that reaches the vertex (which dims the direct light only).
     bool bakedLight = false;
+
+    // Shaded by the metallic-roughness model (glTF's materials) instead of the classic terms above: base colour
+    // and vertex colours are linear, the texture sRGB, the light the renderer's sun or headlight plus a sky and
+    // ground hemisphere (Renderer::setLight), and the result written as sRGB. `unlit` then writes the base colour
+    // alone (KHR_materials_unlit); specular, shininess and bakedLight are not used.
+    bool physical = false;
+    PhysicalMaterial pbr;
+    int texCoord = 0;             // the UV set `texture` reads (physical materials only)
+    mat3 textureTransform{1.0f};  // applied to those UVs first (physical materials only)
+    // Blended over what is behind it by its alpha (glTF's alphaMode BLEND): drawn after the opaque items, back to
+    // front, with depth writes off. Such geometry never hides anything, so no occlusion test may treat it as
+    // an occluder.
+    bool blend = false;
+    // Both sides drawn (sgkit's materials). false: back faces are not drawn (glTF's default, doubleSided false).
+    bool doubleSided = true;
+
     uint32_t id() const { return id_; }
 
 private:

@@ -14,8 +14,10 @@
 namespace sg {
 
 using glm::dmat4;
+using glm::dvec2;
 using glm::dvec3;
 using glm::dvec4;
+using glm::mat3;
 using glm::mat4;
 using glm::vec2;
 using glm::vec3;

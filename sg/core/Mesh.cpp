@@ -43,6 +43,8 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
     normals_ = std::move(normals);
     uvs_ = std::move(uvs);
     colors_ = std::move(colors);
+    tangents_.clear();
+    uvs1_.clear();
     indices16_.clear();
     indices32_.clear();
     if (maxIndex < 65536) {
@@ -51,6 +53,19 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
         indices32_ = std::move(indices);
     }
     closed_.store(-1, std::memory_order_relaxed);
+    ++version_;
+}
+
+void Mesh::setSurface(std::vector<vec4> tangents, std::vector<vec2> uvs1) {
+    const size_t n = positions_.size();
+    if (!tangents.empty() && tangents.size() != n)
+        throw std::invalid_argument("Mesh::setSurface(): tangents has " + std::to_string(tangents.size()) +
+                                    " elements, positions has " + std::to_string(n));
+    if (!uvs1.empty() && uvs1.size() != n)
+        throw std::invalid_argument("Mesh::setSurface(): uvs1 has " + std::to_string(uvs1.size()) +
+                                    " elements, positions has " + std::to_string(n));
+    tangents_ = std::move(tangents);
+    uvs1_ = std::move(uvs1);
     ++version_;
 }
 

@@ -19,10 +19,17 @@ public:
     void set(std::vector<vec3> positions, std::vector<vec3> normals, std::vector<uint32_t> indices,
              std::vector<vec2> uvs = {}, std::vector<vec4> colors = {});
 
+    // The attributes physical materials may read besides those of set(): tangents (xyz, and w = +-1 the
+    // handedness of the bitangent, glTF's TANGENT) for normal maps and a second UV set. Each is empty or has
+    // an element per position; throws std::invalid_argument otherwise. Call after set() (which clears them).
+    void setSurface(std::vector<vec4> tangents, std::vector<vec2> uvs1);
+
     const std::vector<vec3>& positions() const { return positions_; }
     const std::vector<vec3>& normals() const { return normals_; }
     const std::vector<vec2>& uvs() const { return uvs_; }
     const std::vector<vec4>& colors() const { return colors_; }
+    const std::vector<vec4>& tangents() const { return tangents_; }
+    const std::vector<vec2>& uvs1() const { return uvs1_; }
     // Exactly one of these is filled: 16-bit when every index fits.
     const std::vector<uint16_t>& indices16() const { return indices16_; }
     const std::vector<uint32_t>& indices32() const { return indices32_; }
@@ -35,8 +42,8 @@ public:
     // The bytes of its arrays (what a pager's memory budget and sgview --info count).
     size_t bytes() const {
         return positions_.size() * sizeof(vec3) + normals_.size() * sizeof(vec3) + uvs_.size() * sizeof(vec2) +
-               colors_.size() * sizeof(vec4) + indices16_.size() * sizeof(uint16_t) +
-               indices32_.size() * sizeof(uint32_t);
+               colors_.size() * sizeof(vec4) + tangents_.size() * sizeof(vec4) + uvs1_.size() * sizeof(vec2) +
+               indices16_.size() * sizeof(uint16_t) + indices32_.size() * sizeof(uint32_t);
     }
 
     // Local bound; `validBound()` is false when a position is NaN or infinite.
@@ -57,7 +64,8 @@ public:
 private:
     std::vector<vec3> positions_, normals_;
     std::vector<vec2> uvs_;
-    std::vector<vec4> colors_;
+    std::vector<vec4> colors_, tangents_;
+    std::vector<vec2> uvs1_;
     std::vector<uint16_t> indices16_;
     std::vector<uint32_t> indices32_;
     Box box_;
@@ -66,6 +74,12 @@ private:
     uint32_t id_;
     uint64_t version_ = 0;
 };
+
+// Tangents for a normal map over UV set `texCoord` (0 or 1), following MikkTSpace's rules where a vertex is not
+// split: each triangle's tangent and bitangent from its UV gradients, summed at its corners weighted by the corner
+// angle, then made orthogonal to the vertex normal, w the bitangent's side (+1 or -1). Vertices without a UV
+// gradient (degenerate UVs) get any tangent orthogonal to the normal. Needs normals and that UV set.
+std::vector<vec4> generateTangents(const Mesh& mesh, int texCoord);
 
 // Builders for the shapes the tests, benchmarks and demos use.
 // Box [min,max] with each face split into `div` x `div` quads, outward normals.

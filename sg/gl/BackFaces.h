@@ -5,8 +5,8 @@
 // meets faces the eye; drawn opaque with the depth test, every back face lies behind a front face of the same item,
 // and skipping them changes no pixel. That holds while the eye is outside the item's bound and the near plane does
 // not cut the item (a cut opens the solid and shows its inside), the item is drawn opaque (no alpha cutoff, no
-// dissolve), and its matrix keeps the winding (a mirror turns the front faces back). An item drawn in part qualifies
-// only when the part holds every triangle that reaches the screen (DrawList::Part::coversScreen: the cull's
+// blending, no dissolve), and its matrix keeps the winding (a mirror turns the front faces back). An item drawn in part
+// qualifies only when the part holds every triangle that reaches the screen (DrawList::Part::coversScreen: the cull's
 // screen-rect parts), so that the front face in front of each back face on screen is drawn with it.
 #pragma once
 #include "sg/core/Camera.h"
@@ -33,7 +33,7 @@ inline double nearPlaneReach(const Camera& camera) {
 // Whether the item, drawn with material mat and no dissolve, may skip its back faces (see above). reach:
 // nearPlaneReach() of the frame's camera; the item's matrix is relative to the eye.
 inline bool backFacesHidden(const DrawItem& item, const Material* mat, double reach) {
-    if (reach < 0.0 || !item.mesh->closed() || (mat && mat->alphaCutoff > 0.0f)) return false;
+    if (reach < 0.0 || !item.mesh->closed() || (mat && (mat->alphaCutoff > 0.0f || mat->blend))) return false;
     const glm::mat3 m(item.model);
     if (!(glm::determinant(m) > 0.0f)) return false;
     // The mesh's box about the eye: centre and half extent under the matrix (as GL transforms its corners).

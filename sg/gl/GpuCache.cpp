@@ -35,15 +35,19 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
     g.normals = m->normals().size() == n;
     g.uvs = m->uvs().size() == n;
     g.colors = m->colors().size() == n;
+    g.tangents = m->tangents().size() == n && n > 0;
+    g.uvs1 = m->uvs1().size() == n && n > 0;
     // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
     const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
-                 uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0;
-    const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes;
+                 uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0,
+                 tanBytes = g.tangents ? n * sizeof(vec4) : 0, uv1Bytes = g.uvs1 ? n * sizeof(vec2) : 0;
+    const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes, tanOff = colOff + colBytes,
+                 uv1Off = tanOff + tanBytes;
     glGenVertexArrays(1, &g.vao);
     glBindVertexArray(g.vao);
     glGenBuffers(1, &g.vbo);
     glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(colOff + colBytes), nullptr, GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(uv1Off + uv1Bytes), nullptr, GL_STATIC_DRAW);
     glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
     glEnableVertexAttribArray(kPositionLocation);
     glVertexAttribPointer(kPositionLocation, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
@@ -61,6 +65,16 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
         glBufferSubData(GL_ARRAY_BUFFER, GLintptr(colOff), GLsizeiptr(colBytes), m->colors().data());
         glEnableVertexAttribArray(kColorLocation);
         glVertexAttribPointer(kColorLocation, 4, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(colOff));
+    }
+    if (g.tangents) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(tanOff), GLsizeiptr(tanBytes), m->tangents().data());
+        glEnableVertexAttribArray(kTangentLocation);
+        glVertexAttribPointer(kTangentLocation, 4, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(tanOff));
+    }
+    if (g.uvs1) {
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(uv1Off), GLsizeiptr(uv1Bytes), m->uvs1().data());
+        glEnableVertexAttribArray(kUv1Location);
+        glVertexAttribPointer(kUv1Location, 2, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(uv1Off));
     }
     glGenBuffers(1, &g.ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
@@ -82,8 +96,8 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
     return meshes_.emplace(m, std::move(g)).first->second;
 }
 
-unsigned GpuCache::texture(const Texture* t, bool cut) {
-    auto& cache = cut ? cutTextures_ : textures_;
+unsigned GpuCache::texture(const Texture* t, bool cut, bool srgb) {
+    auto& cache = textures_[kind(cut, srgb)];
     auto it = cache.find(t);
     if (it != cache.end()) {
         it->second.lastFrame = frame_;
@@ -101,8 +115,8 @@ unsigned GpuCache::texture(const Texture* t, bool cut) {
         bled = Image{t->width(), t->height(), t->rgba()};
         bleedIntoTransparent(bled);
     }
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, t->width(), t->height(), 0, GL_RGBA, GL_UNSIGNED_BYTE,
-                 cut ? bled.rgba.data() : t->rgba().data());
+    glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t->width(), t->height(), 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, cut ? bled.rgba.data() : t->rgba().data());
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -121,12 +135,12 @@ bool GpuCache::prepareMesh(const Mesh* m) {
     return upload;
 }
 
-bool GpuCache::prepareTexture(const Texture* t, bool cut) {
-    auto& cache = cut ? cutTextures_ : textures_;
+bool GpuCache::prepareTexture(const Texture* t, bool cut, bool srgb) {
+    auto& cache = textures_[kind(cut, srgb)];
     auto it = cache.find(t);
     const bool upload = it == cache.end();
     if (upload) {
-        texture(t, cut);
+        texture(t, cut, srgb);
         it = cache.find(t);
     }
     it->second.keepUntil = frame_ + kPrepareGrace;
@@ -142,23 +156,23 @@ void GpuCache::releaseUnused() {
         destroy(it->second);
         it = meshes_.erase(it);
     }
-    for (auto* cache : {&textures_, &cutTextures_})
-        for (auto it = cache->begin(); it != cache->end();) {
+    for (auto& cache : textures_)
+        for (auto it = cache.begin(); it != cache.end();) {
             if (it->second.lastFrame == frame_ || it->second.keepUntil > frame_) {
                 ++it;
                 continue;
             }
             glDeleteTextures(1, &it->second.id);
-            it = cache->erase(it);
+            it = cache.erase(it);
         }
 }
 
 void GpuCache::clear() {
     for (auto& [m, g] : meshes_) destroy(g);
     meshes_.clear();
-    for (auto* cache : {&textures_, &cutTextures_}) {
-        for (auto& [t, g] : *cache) glDeleteTextures(1, &g.id);
-        cache->clear();
+    for (auto& cache : textures_) {
+        for (auto& [t, g] : cache) glDeleteTextures(1, &g.id);
+        cache.clear();
     }
 }
 

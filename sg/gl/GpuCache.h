@@ -18,7 +18,7 @@ struct GpuMesh {
     unsigned vao = 0, vbo = 0, ibo = 0;
     unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT
     int indexCount = 0;
-    bool normals = false, uvs = false, colors = false;
+    bool normals = false, uvs = false, colors = false, tangents = false, uvs1 = false;
     uint64_t lastFrame = 0;
     uint64_t keepUntil = 0;  // uploaded ahead of its first draw (prepare): kept until this frame, used or not
 };
@@ -38,23 +38,30 @@ public:
     // Uploads on first use. A Mesh changed after its first upload keeps its old copy until released.
     const GpuMesh& mesh(const Mesh* m);
     // The texture's GL name. A texture drawn with an alpha cutoff (cut) has its own copy, with colour bled under
-    // its transparent texels (bleedIntoTransparent).
-    unsigned texture(const Texture* t, bool cut);
+    // its transparent texels (bleedIntoTransparent); one read as sRGB colour (a physical material's base colour or
+    // emissive texture: linear values when sampled) has its own copy too.
+    unsigned texture(const Texture* t, bool cut, bool srgb = false);
 
     // Uploads ahead of a draw (Renderer::prepare): as mesh() and texture(), but kept by releaseUnused() for the
     // next kPrepareGrace frames whether drawn or not, so that what was uploaded for a detail not attached or not
     // drawn yet is still there when it is; a cached copy gets the grace again. Return whether they uploaded.
     static constexpr uint64_t kPrepareGrace = 8;
     bool hasMesh(const Mesh* m) const { return meshes_.count(m) != 0; }
-    bool hasTexture(const Texture* t, bool cut) const { return (cut ? cutTextures_ : textures_).count(t) != 0; }
+    bool hasTexture(const Texture* t, bool cut, bool srgb = false) const {
+        return textures_[kind(cut, srgb)].count(t) != 0;
+    }
     bool prepareMesh(const Mesh* m);
-    bool prepareTexture(const Texture* t, bool cut);
+    bool prepareTexture(const Texture* t, bool cut, bool srgb = false);
 
     // Frees the copies the frame since the last nextFrame() did not use; clear() frees all of them.
     void releaseUnused();
     void clear();
     size_t meshCount() const { return meshes_.size(); }
-    size_t textureCount() const { return textures_.size() + cutTextures_.size(); }
+    size_t textureCount() const {
+        size_t n = 0;
+        for (const auto& c : textures_) n += c.size();
+        return n;
+    }
 
 private:
     struct GpuTexture {
@@ -64,12 +71,13 @@ private:
         uint64_t keepUntil = 0;
     };
     static void destroy(GpuMesh& g);
+    static int kind(bool cut, bool srgb) { return (cut ? 1 : 0) | (srgb ? 2 : 0); }
 
     unsigned instanceBuffer_;
     float maxAnisotropy_;
     uint64_t frame_ = 0;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;
-    std::unordered_map<const Texture*, GpuTexture> textures_, cutTextures_;
+    std::unordered_map<const Texture*, GpuTexture> textures_[4];  // by kind(cut, srgb)
 };
 
 }  // namespace sg

@@ -202,8 +202,28 @@ Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentS
     p.uShininess = at("uShininess");
     p.uFade = at("uFade");
     p.uAlphaCutoff = at("uAlphaCutoff");
+    p.uLightE = at("uLightE");
+    p.uSky = at("uSky");
+    p.uGround = at("uGround");
+    p.uUp = at("uUp");
+    p.uMetallic = at("uMetallic");
+    p.uRoughness = at("uRoughness");
+    p.uEmissive = at("uEmissive");
+    p.uNormalScale = at("uNormalScale");
+    p.uOcclusionStrength = at("uOcclusionStrength");
+    p.uLightCount = at("uLightCount");
+    p.uPunctualPos = at("uPunctualPos");
+    p.uPunctualDir = at("uPunctualDir");
+    p.uPunctualE = at("uPunctualE");
+    p.uPunctualCone = at("uPunctualCone");
+    const char* names[5] = {"uBase", "uMr", "uNormal", "uOcclusion", "uEmissive"};
+    const char* samplers[5] = {"uTexture", "uMrTex", "uNormalTex", "uOcclusionTex", "uEmissiveTex"};
     glUseProgram(p.id);
-    glUniform1i(at("uTexture"), 0);
+    for (int u = 0; u < 5; ++u) {
+        p.uXf[u] = at((std::string(names[u]) + "Xf").c_str());
+        p.uSet[u] = at((std::string(names[u]) + "Set").c_str());
+        glUniform1i(at(samplers[u]), u);  // units: Shaders.h
+    }
     glUseProgram(0);
     return p;
 }
@@ -219,6 +239,7 @@ Renderer::Program& Renderer::programFor(const Shading& s) {
     if (s.specular > 0.0f) f |= kShadeSpecular;
     if (s.alphaCutoff > 0.0f) f |= kShadeAlphaCut;
     if (s.fade < 1.0f) f |= kShadeFade;
+    if (s.material && s.material->physical) f |= kShadePbr | s.pbr | (punctual_.empty() ? 0u : kShadePunctual);
     f = canonicalFeatures(f);
     const auto it = variants_.find(f);
     if (it != variants_.end()) return it->second;
@@ -238,6 +259,23 @@ void Renderer::use(Program& p) {
     glUniform1i(p.uHeadlight, light_.headlight ? 1 : 0);
     glUniform3f(p.uAmbient, light_.ambient.r, light_.ambient.g, light_.ambient.b);
     glUniform3f(p.uLightColor, light_.color.r, light_.color.g, light_.color.b);
+    if (p.uLightE < 0) return;  // a classic program
+    // Physical: the main light as irradiance (x pi: a white matte surface facing it shows its colour), the
+    // hemisphere, the punctual lights relative to the eye.
+    const vec3 e = light_.color * 3.14159265f, sky = light_.ambient, ground = light_.ambient * light_.groundShare;
+    const float upLen = glm::length(light_.up);
+    const vec3 up = upLen > 0.0f && std::isfinite(upLen) ? light_.up / upLen : vec3(0.0f, 0.0f, 1.0f);
+    glUniform3f(p.uLightE, e.r, e.g, e.b);
+    glUniform3f(p.uSky, sky.r, sky.g, sky.b);
+    glUniform3f(p.uGround, ground.r, ground.g, ground.b);
+    glUniform3f(p.uUp, up.x, up.y, up.z);
+    if (p.uLightCount < 0) return;
+    const auto n = GLsizei(punctual_.size());
+    glUniform1i(p.uLightCount, n);
+    glUniform4fv(p.uPunctualPos, n, &punctualPos_[0][0]);
+    glUniform4fv(p.uPunctualDir, n, &punctualDir_[0][0]);
+    glUniform3fv(p.uPunctualE, n, &punctualE_[0][0]);
+    glUniform2fv(p.uPunctualCone, n, &punctualCone_[0][0]);
 }
 
 void Renderer::setDepthMode(DepthMode mode) {
@@ -258,7 +296,46 @@ Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float
     s.shininess = mat ? mat->shininess : 1.0f;
     s.fade = fade;
     s.alphaCutoff = mat ? mat->alphaCutoff : 0.0f;
+    if (mat && mat->physical) {
+        s.material = mat;
+        s.lit = !mat->unlit;
+        if (s.lit && !g.normals) s.pbr |= kShadeFlat;
+        if (mat->blend) s.pbr |= kShadeBlend;
+    }
     return s;
+}
+
+// Each texture of a physical material that the mesh can read (its UV set present; a normal map also needs normals
+// and tangents): its copy (colour ones as sRGB) and the features and UV sets that it brings.
+void Renderer::physicalTextures(Run& r) {
+    const Material& m = *r.material;
+    const GpuMesh& g = *r.gpu;
+    const bool cut = m.alphaCutoff > 0.0f;
+    auto readable = [&](const TextureSlot& t) {
+        return t.texture && ((t.texCoord == 0 && g.uvs) || (t.texCoord == 1 && g.uvs1));
+    };
+    auto set = [&](const TextureSlot& t) { r.shading.pbr |= t.texCoord == 1 ? kShadeUv1 : kShadeUv0; };
+    r.texture = 0;
+    r.shading.texture = false;
+    const TextureSlot base{m.texture, m.texCoord, m.textureTransform};
+    if (readable(base)) {
+        r.texture = cache_->texture(base.texture.get(), cut, true);
+        r.shading.texture = true;
+        set(base);
+    }
+    if (!r.shading.lit) return;  // unlit: the base colour alone
+    const PhysicalMaterial& p = m.pbr;
+    const std::pair<const TextureSlot*, uint32_t> slots[4] = {{&p.metallicRoughness, kShadePbrMr},
+                                                              {&p.normal, kShadePbrNormal},
+                                                              {&p.occlusion, kShadePbrOcclusion},
+                                                              {&p.emissive, kShadePbrEmissive}};
+    for (int k = 0; k < 4; ++k) {
+        const TextureSlot& t = *slots[k].first;
+        if (!readable(t) || (slots[k].second == kShadePbrNormal && (!g.tangents || !g.normals))) continue;
+        r.pbrTextures[k] = cache_->texture(t.texture.get(), false, slots[k].second == kShadePbrEmissive);
+        r.shading.pbr |= slots[k].second;
+        set(t);
+    }
 }
 
 // Uniforms missing from a variant have location -1, which GL ignores; the values are kept per program, as GL keeps
@@ -274,6 +351,24 @@ void Renderer::setShading(Program& p, const Shading& s) {
     if (all || s.shininess != o.shininess) glUniform1f(p.uShininess, s.shininess);
     if (all || s.fade != o.fade) glUniform1f(p.uFade, s.fade);
     if (all || s.alphaCutoff != o.alphaCutoff) glUniform1f(p.uAlphaCutoff, s.alphaCutoff);
+    if (s.material && (all || s.material != o.material)) {  // a physical material's factors and UV transforms
+        const Material& m = *s.material;
+        const PhysicalMaterial& pm = m.pbr;
+        glUniform1f(p.uMetallic, pm.metallic);
+        glUniform1f(p.uRoughness, pm.roughness);
+        glUniform3f(p.uEmissive, pm.emissiveFactor.r, pm.emissiveFactor.g, pm.emissiveFactor.b);
+        glUniform1f(p.uNormalScale, pm.normalScale);
+        glUniform1f(p.uOcclusionStrength, pm.occlusionStrength);
+        const std::pair<int, const mat3*> slots[5] = {{m.texCoord, &m.textureTransform},
+                                                      {pm.metallicRoughness.texCoord, &pm.metallicRoughness.transform},
+                                                      {pm.normal.texCoord, &pm.normal.transform},
+                                                      {pm.occlusion.texCoord, &pm.occlusion.transform},
+                                                      {pm.emissive.texCoord, &pm.emissive.transform}};
+        for (int u = 0; u < 5; ++u) {
+            glUniform1i(p.uSet[u], slots[u].first);
+            glUniformMatrix3fv(p.uXf[u], 1, GL_FALSE, &(*slots[u].second)[0][0]);
+        }
+    }
     p.shading = s;
     p.shadingSet = true;
 }
@@ -361,16 +456,18 @@ void Renderer::indexParts(const DrawList& list) {
     }
 }
 
-// Runs of equal (mesh, material) pointers in draw order, split where the back faces' culling changes; every matrix of
+// Runs of equal (mesh, material) pointers in draw order, split where the back faces' culling changes; blended items
+// (Material::blend) after all others, farthest first by the centre of their bound along the view. Every matrix of
 // the frame goes in one buffer.
 void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
     const double reach = backFaceCulling_ ? nearPlaneReach(camera) : -1.0;
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
     items_.clear();
     runs_.clear();
-    ItemAttributes item;
+    blended_.clear();
     indexFades(list);
     indexParts(list);
+    const vec3 view(camera.viewDirection());
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
         if (i >= list.items.size())
@@ -378,21 +475,48 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
                                     " is past the " + std::to_string(list.items.size()) + " items");
         const DrawItem& it = list.items[i];
         if (!it.mesh || it.mesh->indexCount() == 0) continue;
-        const float fade = fades_.empty() ? 1.0f : fades_[i];
-        const uint32_t part = parts_.empty() ? kWhole : parts_[i];
-        const bool cullBack = fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
-                              backFacesHidden(it, it.material, reach);
-        if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != it.material ||
-            runs_.back().fade != fade || part != kWhole || runs_.back().part != kWhole ||
-            runs_.back().cullBack != cullBack) {
-            runs_.push_back(
-                Run{it.mesh, it.material, uint32_t(items_.size()), 0, fade, part, cullBack, nullptr, 0, nullptr, {}});
-            item.baseColor = it.material ? it.material->baseColor : vec4(1.0f);
+        if (it.material && it.material->blend) {
+            const float depth = glm::dot(view, it.model * vec4(vec3(it.mesh->box().center()), 1.0f));
+            blended_.push_back({std::isfinite(depth) ? depth : 0.0f, i});
+            continue;
         }
-        runs_.back().count++;
-        item.model = it.matrix();
-        items_.push_back(item);
+        addItem(list, i, reach);
     }
+    std::stable_sort(blended_.begin(), blended_.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& [depth, i] : blended_) addItem(list, i, reach);
+}
+
+void Renderer::addItem(const DrawList& list, uint32_t i, double reach) {
+    const DrawItem& it = list.items[i];
+    const float fade = fades_.empty() ? 1.0f : fades_[i];
+    const uint32_t part = parts_.empty() ? kWhole : parts_[i];
+    const Material* mat = it.material;
+    // A single-sided material's back faces are never drawn (glTF: "back-face culling must be enabled"); a mirroring
+    // matrix turns which winding is in front.
+    const bool single = mat && !mat->doubleSided;
+    const bool mirrored = single && glm::determinant(glm::mat3(it.model)) < 0.0f;
+    const bool cullBack = single || (fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
+                                     backFacesHidden(it, mat, reach));
+    if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != mat || runs_.back().fade != fade ||
+        part != kWhole || runs_.back().part != kWhole || runs_.back().cullBack != cullBack ||
+        runs_.back().mirrored != mirrored) {
+        runs_.push_back(Run{it.mesh,
+                            mat,
+                            uint32_t(items_.size()),
+                            0,
+                            fade,
+                            part,
+                            cullBack,
+                            mirrored,
+                            mat && mat->blend,
+                            nullptr,
+                            0,
+                            {},
+                            nullptr,
+                            {}});
+    }
+    runs_.back().count++;
+    items_.push_back(ItemAttributes{it.matrix(), mat ? mat->baseColor : vec4(1.0f)});
 }
 
 // Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
@@ -400,9 +524,10 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
 void Renderer::upload() {
     for (Run& r : runs_) {
         r.gpu = &cache_->mesh(r.mesh);
-        const Texture* tex = r.material && r.gpu->uvs ? r.material->texture.get() : nullptr;
+        const Texture* tex = r.material && !r.material->physical && r.gpu->uvs ? r.material->texture.get() : nullptr;
         r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
         r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
+        if (r.material && r.material->physical) physicalTextures(r);
         r.program = &programFor(r.shading);
     }
 }
@@ -463,10 +588,25 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     // items' matrices, so no large coordinate ever reaches float.
     viewProj_ = mat4((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
     lightDir_ = light_.headlight ? vec3(camera.viewDirection()) : glm::normalize(light_.direction);
+    // The punctual lights relative to the eye, in float (as the items' matrices).
+    const dvec3 eye = camera.eye();
+    for (size_t k = 0; k < punctual_.size(); ++k) {
+        const PunctualLight& l = punctual_[k];
+        const float type = l.type == PunctualLight::Type::Directional ? 0.0f
+                           : l.type == PunctualLight::Type::Point     ? 1.0f
+                                                                      : 2.0f;
+        punctualPos_[k] = vec4(vec3(l.position - eye), type);
+        punctualDir_[k] = vec4(glm::normalize(l.direction), l.range);
+        punctualE_[k] = l.color * l.intensity;
+        // KHR_lights_punctual's cone: clamp(cos * scale + offset), scale = 1 / max(0.001, cos inner - cos outer).
+        const float cosOuter = std::cos(l.outerConeAngle), cosInner = std::cos(l.innerConeAngle);
+        const float scale = 1.0f / std::max(0.001f, cosInner - cosOuter);
+        punctualCone_[k] = vec2(scale, -cosOuter * scale);
+    }
     ++draws_;
     current_ = nullptr;
     glActiveTexture(GL_TEXTURE0);
-    bool culling = false;
+    bool culling = false, mirrored = false, blending = false;
     for (const Run& r : runs_) {
         if (r.cullBack != culling) {
             culling = r.cullBack;
@@ -475,9 +615,22 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
             else
                 glDisable(GL_CULL_FACE);
         }
+        if (r.mirrored != mirrored) {
+            mirrored = r.mirrored;
+            glFrontFace(mirrored ? GL_CW : GL_CCW);
+        }
+        if (r.blend != blending) {  // the blended runs come last: the depth test stays, the writes stop
+            blending = r.blend;
+            glEnable(GL_BLEND);
+            glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+            glDepthMask(GL_FALSE);
+        }
         drawRun(list, r);
     }
     glDisable(GL_CULL_FACE);
+    glFrontFace(GL_CCW);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_TRUE);
     glBindVertexArray(0);
     glUseProgram(0);
     current_ = nullptr;
@@ -489,6 +642,14 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
     pointItemAttributes(r.first);
     if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
+    if (r.shading.pbr & (kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive)) {
+        for (int k = 0; k < 4; ++k)
+            if (r.pbrTextures[k]) {
+                glActiveTexture(GLenum(GL_TEXTURE0 + kMetallicRoughnessUnit + k));
+                glBindTexture(GL_TEXTURE_2D, r.pbrTextures[k]);
+            }
+        glActiveTexture(GL_TEXTURE0);
+    }
     use(*r.program);
     setShading(*r.program, r.shading);
     if (r.part == kWhole) {
@@ -536,6 +697,32 @@ void Renderer::setLight(const DirectionalLight& light) {
             "Renderer::setLight(): the direction of a light that is not the headlight must be "
             "finite and non-zero");
     light_ = light;
+}
+
+void Renderer::setPunctualLights(std::vector<PunctualLight> lights) {
+    if (lights.size() > kMaxLights)
+        throw std::invalid_argument("Renderer::setPunctualLights(): " + std::to_string(lights.size()) +
+                                    " lights, at most " + std::to_string(kMaxLights));
+    for (size_t k = 0; k < lights.size(); ++k) {
+        const PunctualLight& l = lights[k];
+        const auto bad = [&](const char* field, const char* why) {
+            throw std::invalid_argument("Renderer::setPunctualLights(): lights[" + std::to_string(k) + "]." + field +
+                                        " " + why);
+        };
+        const auto finite3 = [](const auto& v) {
+            return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+        };
+        if (!finite3(l.position)) bad("position", "is not finite");
+        if (!finite3(l.direction) || !(glm::length(l.direction) > 0.0f)) bad("direction", "is zero or not finite");
+        if (!finite3(l.color) || l.color.r < 0.0f || l.color.g < 0.0f || l.color.b < 0.0f)
+            bad("color", "is negative or not finite");
+        if (!(l.intensity >= 0.0f) || !std::isfinite(l.intensity)) bad("intensity", "is negative or not finite");
+        if (!(l.range >= 0.0f) || !std::isfinite(l.range)) bad("range", "is negative or not finite");
+        if (l.type == PunctualLight::Type::Spot &&
+            !(l.innerConeAngle >= 0.0f && l.innerConeAngle < l.outerConeAngle && l.outerConeAngle <= 1.5707964f))
+            bad("outerConeAngle", "must satisfy 0 <= innerConeAngle < outerConeAngle <= pi / 2");
+    }
+    punctual_ = std::move(lights);
 }
 
 void Renderer::finish() const { glFinish(); }
@@ -609,12 +796,15 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
         const Mesh* m = list.items[list.next].first.get();
         const Material* mat = list.items[list.next].second;
         // The same copies draw() would take: the mesh, and its material's texture when it has UVs.
-        const Texture* tex = mat && m->uvs().size() == m->positions().size() ? mat->texture.get() : nullptr;
+        // (A physical material's other textures upload on first draw.)
+        const bool physical = mat && mat->physical;
+        const auto& uvs = physical && mat->texCoord == 1 ? m->uvs1() : m->uvs();
+        const Texture* tex = mat && !uvs.empty() && uvs.size() == m->positions().size() ? mat->texture.get() : nullptr;
         const bool cut = mat && mat->alphaCutoff > 0.0f;
-        const bool needs = !cache_->hasMesh(m) || (tex && !cache_->hasTexture(tex, cut));
+        const bool needs = !cache_->hasMesh(m) || (tex && !cache_->hasTexture(tex, cut, physical));
         if (needs && budget.exhausted()) break;
         if (cache_->prepareMesh(m)) budget.spend(1, m->bytes());
-        if (tex && cache_->prepareTexture(tex, cut)) budget.spend(1, tex->rgba().size());
+        if (tex && cache_->prepareTexture(tex, cut, physical)) budget.spend(1, tex->rgba().size());
     }
     const bool done = !list.walk && list.next == list.items.size();
     if (done) prepareLists_.erase(found);

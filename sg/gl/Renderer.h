@@ -120,6 +120,13 @@ public:
     // std::invalid_argument for a sun whose direction is zero or not finite.
     void setLight(const DirectionalLight& light);
     const DirectionalLight& light() const { return light_; }
+    // The scene's own lights (glTF's KHR_lights_punctual), which physical materials receive besides the light above
+    // (classic materials do not): at most kMaxLights. Throws std::invalid_argument for more, or for a light whose
+    // position, direction, colour, intensity, range or cone is not finite or out of its range (the message names
+    // the light and the field).
+    static constexpr size_t kMaxLights = 8;
+    void setPunctualLights(std::vector<PunctualLight> lights);
+    const std::vector<PunctualLight>& punctualLights() const { return punctual_; }
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
     // The last draw()'s time as the GL measured it (a GL_TIME_ELAPSED query around the draw), in ms; waits for the
@@ -164,13 +171,22 @@ private:
     struct Shading {
         bool texture = false, colors = false, lit = false, bakedLight = false;
         float specular = 0.0f, shininess = 1.0f, fade = 1.0f, alphaCutoff = 0.0f;
+        // A physical material (Material::physical): its program's extra features (Shaders.h) and the material
+        // whose factors and texture transforms its uniforms get.
+        uint32_t pbr = 0;
+        const Material* material = nullptr;
     };
     // A linked program, the locations of its uniforms (-1: not in this program) and the values they hold.
     struct Program {
         unsigned id = 0;
         int uViewProj = -1, uLightDir = -1, uHeadlight = -1, uAmbient = -1, uLightColor = -1, uUseTexture = -1,
             uUseColor = -1, uLit = -1, uBakedLight = -1, uSpecular = -1, uShininess = -1, uFade = -1, uAlphaCutoff = -1;
-        Shading shading;          // what its per-run uniforms hold
+        // A physical variant's (ShadersPbr.cpp).
+        int uLightE = -1, uSky = -1, uGround = -1, uUp = -1, uMetallic = -1, uRoughness = -1, uEmissive = -1,
+            uNormalScale = -1, uOcclusionStrength = -1, uLightCount = -1, uPunctualPos = -1, uPunctualDir = -1,
+            uPunctualE = -1, uPunctualCone = -1;
+        int uXf[5] = {-1, -1, -1, -1, -1}, uSet[5] = {-1, -1, -1, -1, -1};  // by texture unit (Shaders.h)
+        Shading shading;                                                    // what its per-run uniforms hold
         bool shadingSet = false;  // whether `shading` is known (from its first run in a frame on)
         uint64_t frame = 0;       // the draw() whose camera and light its uniforms hold
     };
@@ -180,9 +196,12 @@ private:
         uint32_t first, count;  // range in items_
         float fade;             // DrawList::fades
         uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
-        bool cullBack;          // its items' back faces are skipped (sg/gl/BackFaces.h)
+        bool cullBack;          // its items' back faces are skipped (sg/gl/BackFaces.h, or a single-sided material)
+        bool mirrored;          // a single-sided material's items whose matrix turns the winding: clockwise is front
+        bool blend;             // Material::blend: drawn blended, after the opaque runs
         const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
         unsigned texture = 0;          // GL name, 0 without a texture
+        unsigned pbrTextures[4] = {};  // a physical material's others, by unit from kMetallicRoughnessUnit
         Program* program = nullptr;    // set with gpu
         Shading shading;               // set with gpu: what picked the program and what its uniforms get
     };
@@ -201,6 +220,7 @@ private:
                    bool inFramebuffer);
     static Target target(const Viewport& viewport, bool inFramebuffer);
     void buildRuns(const DrawList& list, const Camera& camera);
+    void addItem(const DrawList& list, uint32_t i, double reach);
     void indexFades(const DrawList& list);
     void indexParts(const DrawList& list);
     void upload();
@@ -211,6 +231,8 @@ private:
     void endFrame(const Target& target);
 
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
+    // A physical material's textures into the run, and its features into the shading.
+    void physicalTextures(Run& r);
     // The run's program: the one program, or the variant of the features it uses (compiled on first use).
     Program& programFor(const Shading& s);
     static Program link(const char* vertexSource, const char* fragmentSource, const char* who);
@@ -235,6 +257,11 @@ private:
     bool software_ = false;
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
     DirectionalLight light_;
+    std::vector<PunctualLight> punctual_;
+    vec4 punctualPos_[kMaxLights], punctualDir_[kMaxLights];  // the frame's uniforms for them (ShadersPbr.cpp)
+    vec3 punctualE_[kMaxLights];
+    vec2 punctualCone_[kMaxLights];
+    std::vector<std::pair<float, uint32_t>> blended_;  // the frame's blended items: depth, item
     std::unique_ptr<GpuCache> cache_;
     // prepare()'s work per detail: its meshes and textures listed by one walk, and how far the uploads got, so
     // that a detail of many objects takes a walk once and a step per frame (not a walk per frame). Lists not

@@ -209,6 +209,18 @@ void main() {
 )";
 
 uint32_t canonicalFeatures(uint32_t f) {
+    constexpr uint32_t pbrOnly = kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive | kShadeUv0 |
+                                 kShadeUv1 | kShadeFlat | kShadeBlend | kShadePunctual;
+    if (f & kShadePbr) {
+        f &= ~(kShadeBaked | kShadeSpecular);  // the classic terms
+        // Unlit: the base colour alone.
+        if (!(f & kShadeLit))
+            f &= ~(kShadeSun | kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive | kShadeFlat |
+                   kShadePunctual);
+        if (f & kShadeFlat) f &= ~kShadePbrNormal;  // a normal map needs the mesh's normals and tangents
+        return f;
+    }
+    f &= ~pbrOnly;
     if (!(f & kShadeColor)) f &= ~kShadeBaked;                 // baked light is read from the vertex colours
     if (!(f & kShadeLit)) f &= ~(kShadeSun | kShadeSpecular);  // light, sun and highlight only for lit draws
     if (!(f & kShadeSun)) f &= ~kShadeSpecular;                // the headlight has no highlight
@@ -218,10 +230,25 @@ uint32_t canonicalFeatures(uint32_t f) {
 std::string variantSource(bool vertex, uint32_t features) {
     const uint32_t f = canonicalFeatures(features);
     std::string s = "#version 330 core\n";
-    const std::pair<uint32_t, const char*> names[] = {
-        {kShadeTexture, "TEXTURE"}, {kShadeColor, "COLOR"},       {kShadeBaked, "BAKED"},        {kShadeLit, "LIT"},
-        {kShadeSun, "SUN"},         {kShadeSpecular, "SPECULAR"}, {kShadeAlphaCut, "ALPHA_CUT"}, {kShadeFade, "FADE"}};
+    const std::pair<uint32_t, const char*> names[] = {{kShadeTexture, "TEXTURE"},
+                                                      {kShadeColor, "COLOR"},
+                                                      {kShadeBaked, "BAKED"},
+                                                      {kShadeLit, "LIT"},
+                                                      {kShadeSun, "SUN"},
+                                                      {kShadeSpecular, "SPECULAR"},
+                                                      {kShadeAlphaCut, "ALPHA_CUT"},
+                                                      {kShadeFade, "FADE"},
+                                                      {kShadePbrMr, "PBR_MR"},
+                                                      {kShadePbrNormal, "PBR_NORMAL"},
+                                                      {kShadePbrOcclusion, "PBR_OCCLUSION"},
+                                                      {kShadePbrEmissive, "PBR_EMISSIVE"},
+                                                      {kShadeUv0, "UV0"},
+                                                      {kShadeUv1, "UV1"},
+                                                      {kShadeFlat, "FLAT"},
+                                                      {kShadeBlend, "BLEND"},
+                                                      {kShadePunctual, "PUNCTUAL"}};
     for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
+    if (f & kShadePbr) return s + (vertex ? kPbrVertexShader : kPbrFragmentShader);
     return s + (vertex ? kVariantVertexShader : kVariantFragmentShader);
 }
 

@@ -24,7 +24,22 @@ enum ShadeFeature : uint32_t {
     kShadeSpecular = 1u << 5,  // a Blinn-Phong highlight (with kShadeSun)
     kShadeAlphaCut = 1u << 6,  // Material::alphaCutoff above 0
     kShadeFade = 1u << 7,      // dissolving (an LOD's fade band)
+    // Material::physical: the metallic-roughness program (ShadersPbr.cpp), with kShadeTexture its base colour
+    // texture, kShadeColor vertex colours, kShadeLit "not unlit", kShadeSun the sun (else the headlight) and
+    // kShadeAlphaCut and kShadeFade as above, plus these:
+    kShadePbr = 1u << 8,
+    kShadePbrMr = 1u << 9,          // a metallic-roughness texture
+    kShadePbrNormal = 1u << 10,     // a normal map (the mesh has tangents)
+    kShadePbrOcclusion = 1u << 11,  // an occlusion texture
+    kShadePbrEmissive = 1u << 12,   // an emissive texture
+    kShadeUv0 = 1u << 13,           // a texture reads UV set 0
+    kShadeUv1 = 1u << 14,           // a texture reads UV set 1
+    kShadeFlat = 1u << 15,          // lit without vertex normals: the triangle's own normal
+    kShadeBlend = 1u << 16,         // Material::blend: the alpha is written for blending (opaque: 1)
+    kShadePunctual = 1u << 17,      // the renderer has punctual lights (Renderer::setPunctualLights)
 };
+// Punctual lights a physical draw receives at most.
+constexpr int kMaxPunctualLights = 8;
 // The features that change a variant's code: those that have no effect alone are dropped (baked light without
 // vertex colours, light terms of an unlit draw, a highlight under the headlight).
 uint32_t canonicalFeatures(uint32_t features);
@@ -33,6 +48,13 @@ std::string variantSource(bool vertex, uint32_t features);
 
 // Per vertex, from a mesh's buffer (what the Mesh holds).
 constexpr unsigned kPositionLocation = 0, kNormalLocation = 1, kUvLocation = 2, kColorLocation = 3;
+// Read by physical materials' programs only, after the item attributes (locations 4 to 8).
+constexpr unsigned kTangentLocation = 9, kUv1Location = 10;
+// The texture units of a physical material's textures (the classic programs read unit 0 only).
+constexpr int kBaseColorUnit = 0, kMetallicRoughnessUnit = 1, kNormalUnit = 2, kOcclusionUnit = 3, kEmissiveUnit = 4;
+// A physical variant's sources (ShadersPbr.cpp), after the #defines variantSource() writes.
+extern const char* const kPbrVertexShader;
+extern const char* const kPbrFragmentShader;
 
 // Per instance, from the frame's instance buffer: an item's matrix and base colour, at locations 4 to 8.
 struct ItemAttributes {
