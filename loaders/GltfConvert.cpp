@@ -88,7 +88,7 @@ struct Converter {
     std::vector<bool> materialDone;
     std::vector<ref_ptr<Texture>> textures;  // per image
     std::vector<bool> textureDone;
-    std::map<std::tuple<int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
+    std::map<std::tuple<int, int, int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
     std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
     std::vector<bool> sharedDone;
     std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
@@ -170,26 +170,118 @@ struct Converter {
         return textures[size_t(img)];
     }
 
+    // KHR_texture_transform of a texture reference: translation * rotation * scale (the extension's matrices),
+    // and its texCoord, which overrides the reference's. A value that is not a finite number: a warning, no
+    // transform.
+    void textureTransform(const tinygltf::ExtensionMap& ext, const std::string& path, TextureSlot& slot) {
+        const auto it = ext.find("KHR_texture_transform");
+        if (it == ext.end() || !it->second.IsObject()) return;
+        const Value& t = it->second;
+        bool ok = true;
+        auto number = [&](const Value& v, double def) {
+            const double x = v.IsNumber() ? v.GetNumberAsDouble() : std::nan("");
+            ok = ok && std::isfinite(x) && std::abs(x) < 1e30;
+            return ok ? x : def;
+        };
+        auto pair = [&](const char* key, double def) {
+            if (!t.Has(key)) return dvec2(def);
+            const Value& v = t.Get(key);
+            if (!v.IsArray() || v.ArrayLen() != 2) ok = false;
+            return ok ? dvec2(number(v.Get(0), def), number(v.Get(1), def)) : dvec2(def);
+        };
+        const dvec2 o = pair("offset", 0.0), sc = pair("scale", 1.0);
+        const double r = t.Has("rotation") ? number(t.Get("rotation"), 0.0) : 0.0;
+        if (!ok) {
+            warn(path + ".extensions.KHR_texture_transform",
+                 "offset, rotation or scale is not a finite number (or an array of the wrong length), ignored");
+            return;
+        }
+        const float c = float(std::cos(r)), s = float(std::sin(r));
+        // The extension's rows are [sx c, sy s, ox] and [-sx s, sy c, oy]; glm's constructor takes columns.
+        slot.transform = mat3(vec3(float(sc.x) * c, -float(sc.x) * s, 0.0f),
+                              vec3(float(sc.y) * s, float(sc.y) * c, 0.0f), vec3(float(o.x), float(o.y), 1.0f));
+        if (t.Has("texCoord") && t.Get("texCoord").IsInt()) slot.texCoord = t.Get("texCoord").Get<int>();
+    }
+
+    // A texture reference of a material: its texture (sRGB or not is the renderer's choice by the use), UV set and
+    // transform. A UV set other than 0 and 1 is a warning, and the texture is not used.
+    TextureSlot slot(int index, int texCoord, const tinygltf::ExtensionMap& ext, const std::string& path) {
+        TextureSlot t;
+        if (index < 0) return t;
+        t.texCoord = texCoord;
+        textureTransform(ext, path, t);
+        if (t.texCoord != 0 && t.texCoord != 1) {
+            warn(path, "texCoord " + std::to_string(t.texCoord) + " is not supported (0 and 1 are), texture skipped");
+            return TextureSlot{};
+        }
+        t.texture = texture(index, path);
+        return t;
+    }
+
+    // A material sgkit wrote from a classic one (GltfWrite.cpp) is read back as that: the same look as before it
+    // was saved.
+    void classic(const Value& x, const std::string& path, Material& mat) {
+        if (string(x, "shading", path, "") != "classic") return;
+        mat.physical = false;
+        mat.specular = toFloat(number(x, "specular", path, 0.0), path + ".specular");
+        mat.shininess = toFloat(number(x, "shininess", path, 32.0), path + ".shininess");
+        if (x.Has("bakedLight")) {
+            if (!x.Get("bakedLight").IsBool()) bad(path + ".bakedLight", "must be true or false");
+            mat.bakedLight = x.Get("bakedLight").Get<bool>();
+        }
+        mat.doubleSided = true;
+    }
+
+    // A glTF material as a physical one (Material::physical): the metallic-roughness model with its textures,
+    // KHR_materials_unlit, KHR_materials_emissive_strength, KHR_texture_transform, alpha modes, double-sidedness.
     ref_ptr<Material> material(int i) {
         if (i < 0) return {};
         if (materialDone[size_t(i)]) return materials[size_t(i)];
         materialDone[size_t(i)] = true;
         const tinygltf::Material& gm = m.materials[size_t(i)];
         const auto& pbr = gm.pbrMetallicRoughness;
+        const std::string mp = at("materials", size_t(i));
         vec4 c(1.0f);
         for (size_t k = 0; k < 4 && k < pbr.baseColorFactor.size(); ++k) c[int(k)] = float(pbr.baseColorFactor[k]);
-        const std::string path = at("materials", size_t(i)) + ".pbrMetallicRoughness.baseColorTexture";
-        ref_ptr<Texture> tex;
-        if (pbr.baseColorTexture.index >= 0) {
-            if (pbr.baseColorTexture.texCoord != 0)
-                warn(path, "texCoord other than 0 is not supported, texture skipped");
+        auto mat = make<Material>(c);
+        mat->physical = true;
+        const TextureSlot base = slot(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                      pbr.baseColorTexture.extensions, mp + ".pbrMetallicRoughness.baseColorTexture");
+        mat->texture = base.texture;
+        mat->texCoord = base.texCoord;
+        mat->textureTransform = base.transform;
+        PhysicalMaterial& p = mat->pbr;
+        p.metallic = float(pbr.metallicFactor);
+        p.roughness = float(pbr.roughnessFactor);
+        p.metallicRoughness =
+            slot(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                 pbr.metallicRoughnessTexture.extensions, mp + ".pbrMetallicRoughness.metallicRoughnessTexture");
+        p.normal =
+            slot(gm.normalTexture.index, gm.normalTexture.texCoord, gm.normalTexture.extensions, mp + ".normalTexture");
+        p.normalScale = float(gm.normalTexture.scale);
+        p.occlusion = slot(gm.occlusionTexture.index, gm.occlusionTexture.texCoord, gm.occlusionTexture.extensions,
+                           mp + ".occlusionTexture");
+        p.occlusionStrength = float(gm.occlusionTexture.strength);
+        p.emissive = slot(gm.emissiveTexture.index, gm.emissiveTexture.texCoord, gm.emissiveTexture.extensions,
+                          mp + ".emissiveTexture");
+        for (size_t k = 0; k < 3 && k < gm.emissiveFactor.size(); ++k)
+            p.emissiveFactor[int(k)] = float(gm.emissiveFactor[k]);
+        const auto strength = gm.extensions.find("KHR_materials_emissive_strength");
+        if (strength != gm.extensions.end() && strength->second.Has("emissiveStrength")) {
+            const Value& v = strength->second.Get("emissiveStrength");
+            const double e = v.IsNumber() ? v.GetNumberAsDouble() : -1.0;
+            if (std::isfinite(e) && e >= 0.0 && e < 1e30)
+                p.emissiveFactor *= float(e);
             else
-                tex = texture(pbr.baseColorTexture.index, path);
+                warn(mp + ".extensions.KHR_materials_emissive_strength.emissiveStrength",
+                     "is not a finite number >= 0, ignored");
         }
-        auto mat = make<Material>(c, tex);
         mat->unlit = gm.extensions.count("KHR_materials_unlit") != 0;
-        // MASK: alpha below the cutoff is cut away, the rest is opaque; BLEND is drawn opaque as before.
+        mat->doubleSided = gm.doubleSided;
+        if (const Value* x = sgkitExtras(gm.extras)) classic(*x, mp + ".extras." + kExtrasKey, *mat);
+        // MASK: alpha below the cutoff is cut away, the rest opaque; BLEND: blended, after the opaque items.
         if (gm.alphaMode == "MASK") mat->alphaCutoff = float(gm.alphaCutoff);
+        mat->blend = gm.alphaMode == "BLEND";
         materials[size_t(i)] = mat;
         return mat;
     }
@@ -213,8 +305,9 @@ struct Converter {
             auto it = p.attributes.find(name);
             return it == p.attributes.end() ? -1 : it->second;
         };
-        const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0");
-        const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col);
+        const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0"),
+                  tan = attr("TANGENT"), uv1 = attr("TEXCOORD_1");
+        const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1);
         auto found = meshes.find(key);
         if (found != meshes.end()) return found->second;
 
@@ -253,6 +346,8 @@ struct Converter {
             mesh->set(std::move(positions), nrm >= 0 ? readVectors<vec3, 3>(m, nrm) : std::vector<vec3>{},
                       std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
                       col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
+            mesh->setSurface(tan >= 0 ? readVectors<vec4, 4>(m, tan) : std::vector<vec4>{},
+                             uv1 >= 0 ? readVectors<vec2, 2>(m, uv1) : std::vector<vec2>{});
         } catch (const std::exception& e) {
             bad(path, e.what());
         }
@@ -266,6 +361,15 @@ struct Converter {
         }
         meshes[key] = mesh;
         return mesh;
+    }
+
+    // A normal map over a mesh without TANGENT: tangents made by MikkTSpace's rules, as glTF asks (once per mesh).
+    static void withTangents(Mesh& mesh, const Material* mat) {
+        if (!mat || !mat->physical || !mat->pbr.normal.texture || !mesh.tangents().empty()) return;
+        const int set = mat->pbr.normal.texCoord;
+        const size_t n = mesh.positions().size();
+        if (mesh.normals().size() != n || (set == 0 ? mesh.uvs() : mesh.uvs1()).size() != n) return;
+        mesh.setSurface(generateTangents(mesh, set), mesh.uvs1());
     }
 
     // One Geometry per drawable primitive of glTF mesh `i`, made once (null for skipped primitives).
@@ -284,7 +388,10 @@ struct Converter {
                 warn(path, "no POSITION attribute, primitive skipped");
                 gs.push_back({});
             } else {
-                gs.push_back(make<Geometry>(mesh(p, path), material(p.material)));
+                ref_ptr<Mesh> mh = mesh(p, path);
+                ref_ptr<Material> mat = material(p.material);
+                withTangents(*mh, mat.get());
+                gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
             }
         }
         progress.report(0.6 + 0.4 * double(nodesDone) / double(std::max<size_t>(1, m.nodes.size())), "converting");

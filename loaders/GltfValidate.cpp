@@ -87,7 +87,8 @@ struct Checker {
     }
 
     void extensions() const {
-        static const std::set<std::string> supported{"KHR_materials_unlit", kInstancing};
+        static const std::set<std::string> supported{"KHR_materials_unlit", kInstancing, "KHR_texture_transform",
+                                                     "KHR_materials_emissive_strength", "KHR_lights_punctual"};
         for (size_t i = 0; i < m.extensionsRequired.size(); ++i)
             if (!supported.count(m.extensionsRequired[i]))
                 fail(file, at("extensionsRequired", i),
@@ -212,8 +213,24 @@ struct Checker {
         for (size_t i = 0; i < m.materials.size(); ++i) {
             const auto& pbr = m.materials[i].pbrMetallicRoughness;
             const std::string path = at("materials", i) + ".pbrMetallicRoughness";
-            finite(path + ".baseColorFactor", pbr.baseColorFactor, 4, double(std::numeric_limits<float>::max()));
+            const tinygltf::Material& mat = m.materials[i];
+            const std::string mp = at("materials", i);
+            const double fmax = double(std::numeric_limits<float>::max());
+            finite(path + ".baseColorFactor", pbr.baseColorFactor, 4, fmax);
+            finite(mp + ".emissiveFactor", mat.emissiveFactor, 3, fmax);
+            const std::pair<const char*, double> factors[] = {
+                {".pbrMetallicRoughness.metallicFactor", pbr.metallicFactor},
+                {".pbrMetallicRoughness.roughnessFactor", pbr.roughnessFactor},
+                {".normalTexture.scale", mat.normalTexture.scale},
+                {".occlusionTexture.strength", mat.occlusionTexture.strength},
+                {".alphaCutoff", mat.alphaCutoff}};
+            for (const auto& [name, v] : factors) finite(mp + name, {v}, 1, fmax);
             index(path + ".baseColorTexture.index", pbr.baseColorTexture.index, m.textures.size(), "texture", true);
+            index(path + ".metallicRoughnessTexture.index", pbr.metallicRoughnessTexture.index, m.textures.size(),
+                  "texture", true);
+            index(mp + ".normalTexture.index", mat.normalTexture.index, m.textures.size(), "texture", true);
+            index(mp + ".occlusionTexture.index", mat.occlusionTexture.index, m.textures.size(), "texture", true);
+            index(mp + ".emissiveTexture.index", mat.emissiveTexture.index, m.textures.size(), "texture", true);
         }
         for (size_t i = 0; i < m.textures.size(); ++i) {
             index(at("textures", i) + ".source", m.textures[i].source, m.images.size(), "image", true);

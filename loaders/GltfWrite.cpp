@@ -90,6 +90,12 @@ struct Writer {
         if (!mesh.uvs().empty())
             a["TEXCOORD_0"] =
                 accessor(mesh.uvs(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+        if (!mesh.tangents().empty())
+            a["TANGENT"] = accessor(mesh.tangents(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4,
+                                    TINYGLTF_TARGET_ARRAY_BUFFER);
+        if (!mesh.uvs1().empty())
+            a["TEXCOORD_1"] =
+                accessor(mesh.uvs1(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
         if (!mesh.colors().empty())
             a["COLOR_0"] = accessor(mesh.colors(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4,
                                     TINYGLTF_TARGET_ARRAY_BUFFER);
@@ -120,6 +126,31 @@ struct Writer {
         return textures[&t] = int(m.textures.size() - 1);
     }
 
+    void use(const char* extension) {
+        if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), extension) == m.extensionsUsed.end())
+            m.extensionsUsed.push_back(extension);
+    }
+
+    // A texture reference: index, UV set, and the transform as KHR_texture_transform's offset, rotation and scale
+    // (a transform the extension made has no shear; one with shear is written without the shear).
+    template <class Info>
+    void textureInfo(Info& info, const TextureSlot& t) {
+        info.index = texture(*t.texture);
+        info.texCoord = t.texCoord;
+        if (t.transform == mat3(1.0f)) return;
+        const mat3& x = t.transform;
+        const double sx = glm::length(vec2(x[0])), sy = glm::length(vec2(x[1]));
+        const double rotation = std::atan2(-double(x[0].y), double(x[0].x));
+        Value::Object tt;
+        tt["offset"] = Value(Value::Array{num(x[2].x), num(x[2].y)});
+        tt["rotation"] = num(rotation);
+        tt["scale"] = Value(Value::Array{num(sx), num(sy)});
+        info.extensions["KHR_texture_transform"] = Value(std::move(tt));
+        use("KHR_texture_transform");
+    }
+
+    // A physical material as glTF's; a classic one as a plain diffuse colour (metallic 0, roughness 1) whose
+    // sgkit extras say "classic", so that sgkit reads it back as it was.
     int material(const Material* mat) {
         if (!mat) return -1;
         auto it = materials.find(mat);
@@ -127,21 +158,68 @@ struct Writer {
         tinygltf::Material gm;
         auto& pbr = gm.pbrMetallicRoughness;
         pbr.baseColorFactor = {mat->baseColor.r, mat->baseColor.g, mat->baseColor.b, mat->baseColor.a};
-        pbr.metallicFactor = 0.0;  // sgkit's materials are plain diffuse colours
-        pbr.roughnessFactor = 1.0;
-        if (mat->texture) pbr.baseColorTexture.index = texture(*mat->texture);
         if (mat->alphaCutoff > 0.0f) {
             gm.alphaMode = "MASK";
             gm.alphaCutoff = double(mat->alphaCutoff);
+        } else if (mat->blend) {
+            gm.alphaMode = "BLEND";
         }
+        gm.doubleSided = mat->doubleSided;
         if (mat->unlit) {
             gm.extensions["KHR_materials_unlit"] = Value(Value::Object{});
-            if (std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), "KHR_materials_unlit") ==
-                m.extensionsUsed.end())
-                m.extensionsUsed.push_back("KHR_materials_unlit");
+            use("KHR_materials_unlit");
         }
+        if (mat->physical)
+            physical(*mat, gm);
+        else
+            classic(*mat, gm);
         m.materials.push_back(std::move(gm));
         return materials[mat] = int(m.materials.size() - 1);
+    }
+
+    void classic(const Material& mat, tinygltf::Material& gm) {
+        gm.pbrMetallicRoughness.metallicFactor = 0.0;
+        gm.pbrMetallicRoughness.roughnessFactor = 1.0;
+        if (mat.texture) gm.pbrMetallicRoughness.baseColorTexture.index = texture(*mat.texture);
+        Value::Object x;
+        x["shading"] = Value(std::string("classic"));
+        if (mat.specular != 0.0f) {
+            x["specular"] = num(mat.specular);
+            x["shininess"] = num(mat.shininess);
+        }
+        if (mat.bakedLight) x["bakedLight"] = Value(true);
+        Value::Object extras;
+        extras[gltf::kExtrasKey] = Value(std::move(x));
+        gm.extras = Value(std::move(extras));
+    }
+
+    void physical(const Material& mat, tinygltf::Material& gm) {
+        auto& pbr = gm.pbrMetallicRoughness;
+        const PhysicalMaterial& p = mat.pbr;
+        pbr.metallicFactor = p.metallic;
+        pbr.roughnessFactor = p.roughness;
+        if (mat.texture)
+            textureInfo(pbr.baseColorTexture, TextureSlot{mat.texture, mat.texCoord, mat.textureTransform});
+        if (p.metallicRoughness.texture) textureInfo(pbr.metallicRoughnessTexture, p.metallicRoughness);
+        if (p.normal.texture) {
+            textureInfo(gm.normalTexture, p.normal);
+            gm.normalTexture.scale = p.normalScale;
+        }
+        if (p.occlusion.texture) {
+            textureInfo(gm.occlusionTexture, p.occlusion);
+            gm.occlusionTexture.strength = p.occlusionStrength;
+        }
+        if (p.emissive.texture) textureInfo(gm.emissiveTexture, p.emissive);
+        // Factors above 1 go out as KHR_materials_emissive_strength (the core factor is limited to [0, 1]).
+        const float strength = std::max({p.emissiveFactor.r, p.emissiveFactor.g, p.emissiveFactor.b});
+        const vec3 e = strength > 1.0f ? p.emissiveFactor / strength : p.emissiveFactor;
+        if (e != vec3(0.0f)) gm.emissiveFactor = {e.r, e.g, e.b};
+        if (strength > 1.0f) {
+            Value::Object x;
+            x["emissiveStrength"] = num(strength);
+            gm.extensions["KHR_materials_emissive_strength"] = Value(std::move(x));
+            use("KHR_materials_emissive_strength");
+        }
     }
 
     int mesh(const Geometry& g) {
