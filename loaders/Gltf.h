@@ -1,6 +1,7 @@
 // glTF 2.0 in and out (.gltf with external or embedded buffers, .glb), through tinygltf, with the
 // validation tinygltf does not do. sgkit's own node kinds travel in glTF `extras`.
 #pragma once
+#include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 
@@ -62,6 +63,9 @@ struct GltfSaveOptions {
 struct GltfScene {
     ref_ptr<Node> root;  // a Group holding the default scene's root nodes
     std::vector<GltfCamera> cameras;
+    // KHR_lights_punctual lights of the default scene's nodes, in world axes (glTF's +Y up: a renderer showing
+    // them as they are meant sets DirectionalLight::up to +Y).
+    std::vector<PunctualLight> lights;
     // Properties found in node extras, by the node built from that glTF node; the scene's in sceneProperties.
     std::unordered_map<const Node*, GltfProperties> properties;
     GltfProperties sceneProperties;

@@ -537,6 +537,7 @@ struct Converter {
             bad(path + field, "world matrix is not finite (" + overflow + ")");
         }
         if (gn.camera >= 0) camera(gn.camera, world, gn.name);
+        nodeLight(m, gn, path, world, out.lights, out.warnings);
         long long id = -1;
         if (sx && sx->Has("id")) {
             const double v = number(*sx, "id", xp, -1);

@@ -151,6 +151,12 @@ private:
 // does not (loadGltfPage, the tileset's loads).
 void workOutSolids(const Node& root);
 
+// The KHR_lights_punctual light a node carries, if any, placed by the node's world matrix (the light shines down
+// its -Z) into `lights`. A light the renderer cannot use (an unknown type, a colour, intensity, range or cone out of
+// the extension's ranges) is a warning naming it, and skipped.
+void nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const std::string& nodePath,
+               const dmat4& world, std::vector<PunctualLight>& lights, std::vector<std::string>& warnings);
+
 // Builds the graph of the default scene (validated model); per-element problems that do not stop the
 // load (points, lines, undecodable images) become warnings.
 GltfScene convert(const std::string& file, const tinygltf::Model& model, Progress& progress,

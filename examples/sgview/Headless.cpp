@@ -14,6 +14,7 @@ using namespace sg;
 int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     EglContext context(o.width, o.height);
     View view(scene, loaded.title);
+    view.setSceneLights(loaded.up, loaded.lights);
     view.settings.strategy = o.strategy;
     view.settings.occlusion.mode = o.occlusion;
     const Camera camera = startCamera(o, sceneBound(scene), loaded.up);

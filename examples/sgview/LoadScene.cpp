@@ -4,6 +4,7 @@
 #include "loaders/Gltf.h"
 #include "loaders/Tileset.h"
 #include "nodes/Transform.h"
+#include "sg/gl/Renderer.h"
 
 #include <memory>
 
@@ -39,6 +40,12 @@ LoadedScene loadSceneFile(const std::string& path, bool refineAll) {
     s.root = g.root;
     s.warnings = std::move(g.warnings);
     s.up = sg::dvec3(0.0, 1.0, 0.0);  // glTF's +Y up
+    s.lights = std::move(g.lights);
+    if (s.lights.size() > sg::Renderer::kMaxLights) {
+        s.warnings.push_back("KHR_lights_punctual: " + std::to_string(s.lights.size()) + " lights, the first " +
+                             std::to_string(sg::Renderer::kMaxLights) + " are shown");
+        s.lights.resize(sg::Renderer::kMaxLights);
+    }
     s.title = path;
     return s;
 }

@@ -1,5 +1,6 @@
 // Loading what sgview shows: glTF files (LoadScene.cpp, through loaders/Gltf.h) or a built-in scene.
 #pragma once
+#include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 #include "sg/paging/Pager.h"
@@ -16,6 +17,7 @@ struct LoadedScene {
     std::vector<std::string> warnings;  // what the loader skipped or converted
     sg::dvec3 up{0.0, 0.0, 1.0};        // the scene's up axis: +Z for the built-in scenes, +Y for glTF
     std::string title;
+    std::vector<sg::PunctualLight> lights;  // a glTF file's KHR_lights_punctual lights (the renderer's first ones)
     // A tileset's: the pager's load function for its tiles, and a line on its tiles for --info (tiles read,
     // contents loaded); empty for glTF files and built-in scenes.
     sg::PageLoadFunction pageLoad;

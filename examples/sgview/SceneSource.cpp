@@ -1,5 +1,6 @@
 // Built-in scenes, and the checks every file passes before the loader sees it.
 #include "nodes/Group.h"
+#include "sg/gl/Renderer.h"
 #include "sgview/LoadScene.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
@@ -58,6 +59,8 @@ LoadedScene loadScene(const Options& o) {
         root->addChild(one.root);
         for (std::string& w : one.warnings) all.warnings.push_back(f + ": " + w);
         all.up = one.up;
+        for (const sg::PunctualLight& l : one.lights)
+            if (all.lights.size() < sg::Renderer::kMaxLights) all.lights.push_back(l);
     }
     all.root = root;
     all.title = std::to_string(o.files.size()) + " files";

@@ -11,6 +11,13 @@ View::View(Scene& scene, std::string title)
     viewer_.overlayText = [this] { return statsText(fs_); };
 }
 
+void View::setSceneLights(const dvec3& up, std::vector<PunctualLight> lights) {
+    DirectionalLight l = viewer_.renderer().light();
+    l.up = vec3(up);
+    viewer_.renderer().setLight(l);
+    viewer_.renderer().setPunctualLights(std::move(lights));
+}
+
 void View::frame(const Camera& camera, bool overlay, const FrameStats& fs) {
     view_.camera = camera;
     viewer_.overlay = overlay;

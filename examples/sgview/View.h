@@ -21,6 +21,9 @@ public:
     // One frame of the scene seen by `camera` (updated, culled with `settings`, drawn and finished); then the
     // stats overlay when `overlay` is set.
     void frame(const sg::Camera& camera, bool overlay, const FrameStats& fs);
+    // The scene's up axis (the sky of physical materials' ambient light) and its punctual lights (at most
+    // sg::Renderer::kMaxLights).
+    void setSceneLights(const sg::dvec3& up, std::vector<sg::PunctualLight> lights);
     sg::Image read() const { return viewer_.renderer().readColor(); }
 
     sg::CullSettings& settings;  // the view's

@@ -34,6 +34,7 @@ public:
           start_(startCamera(o, sceneBound(scene), loaded.up)),
           walker_(walkSettings(sceneBound(scene), nav_.up())) {
         nav_.setWalkMover(collidingWalk(scene_, walker_));
+        view_.setSceneLights(loaded.up, loaded.lights);
         view_.settings.strategy = o.strategy;
         view_.settings.occlusion.mode = o.occlusion;
         if (loaded.pageLoad) view_.enablePaging(loaded.pageLoad);
