@@ -91,8 +91,8 @@ Options parseOptions(int argc, const char* const* argv) {
             o.overlay = true;
         else if (a == "--scene") {
             o.scene = value();
-            if (o.scene != "city" && o.scene != "office" && o.scene != "factory")
-                bad(a, o.scene, "the built-in scenes are city, office and factory");
+            if (o.scene != "city" && o.scene != "office" && o.scene != "factory" && o.scene != "materials")
+                bad(a, o.scene, "the built-in scenes are city, office, factory and materials");
         } else if (a == "--n") {
             o.n = parseInt(a, value(), 1, 1000);
             n = true;
@@ -133,7 +133,7 @@ Options parseOptions(int argc, const char* const* argv) {
     }
     if (o.help) return o;
     if (o.files.empty() && o.scene.empty())
-        throw UsageError("nothing to show: give FILE... or --scene city|office|factory");
+        throw UsageError("nothing to show: give FILE... or --scene city|office|factory|materials");
     if (!o.files.empty() && !o.scene.empty()) throw UsageError("give either FILE... or --scene, not both");
     if (n && o.scene.empty()) throw UsageError("--n sizes a built-in scene: it needs --scene");
     if (out && !o.headless && !frames)
@@ -154,7 +154,7 @@ Options parseOptions(int argc, const char* const* argv) {
 }
 
 const char* usageText() {
-    return "usage: sgview FILE... | --scene city|office|factory [--n N]\n"
+    return "usage: sgview FILE... | --scene city|office|factory|materials [--n N]\n"
            "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
            "              [--refine-all]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
@@ -163,7 +163,7 @@ const char* usageText() {
            "                     an http(s) URL): its tiles load as the view needs them\n"
            "  --refine-all       a tileset: load every tile and show it fully refined (with --info or --headless too)\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6);\n"
-           "                     factory: the walkthrough site (--n is not used)\n"
+           "                     factory: the walkthrough site; materials: physical materials (--n not used)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"
            "  --overlay          headless: draw the stats overlay into the picture\n"
            "  --frames K         headless: frames rendered (default 1); window: quit after K frames\n"

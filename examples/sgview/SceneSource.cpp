@@ -4,6 +4,7 @@
 #include "sgview/LoadScene.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
+#include "testbed/Materials.h"
 #include "testbed/Office.h"
 
 #include <filesystem>
@@ -14,8 +15,9 @@ namespace sgview {
 
 #ifdef SGVIEW_NO_GLTF
 LoadedScene loadSceneFile(const std::string& path, bool) {
-    throw UsageError("'" + path +
-                     "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory works");
+    throw UsageError(
+        "'" + path +
+        "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory|materials works");
 }
 void saveSceneFile(const LoadedScene&, const std::string& path) {
     throw UsageError("--save '" + path + "': sgview was built without the glTF loader (sgkit::loaders)");
@@ -39,6 +41,7 @@ LoadedScene loadScene(const Options& o) {
     const std::string size = std::to_string(o.n) + "x" + std::to_string(o.n);
     if (o.scene == "city") return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + size};
     if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
+    if (o.scene == "materials") return {scenes::buildMaterials(), {}, {0.0, 1.0, 0.0}, "materials"};
     if (o.scene == "factory") return {scenes::buildFactory().root, {}, {0.0, 0.0, 1.0}, "factory"};
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
     auto load = [&o](const std::string& f) {

@@ -88,7 +88,7 @@ uniform mat3 uBaseXf;
 uniform int uBaseSet;
 #endif
 #if LIT
-uniform vec3 uLightDir;    // unit, toward the light (the headlight: the view direction)
+uniform vec3 uLightDir;    // unit, toward the sun (SUN; the headlight shines from the eye)
 uniform vec3 uLightE;      // its irradiance at normal incidence
 uniform vec3 uSky, uGround, uUp;
 uniform float uMetallic, uRoughness;
@@ -150,7 +150,7 @@ vec3 shade(vec3 n, vec3 v, vec3 l, vec3 e, vec3 cDiff, vec3 f0, float a2) {
     if (nl <= 0.0) return vec3(0.0);
     vec3 h = normalize(l + v);
     float nv = abs(dot(n, v)), nh = max(dot(n, h), 0.0), vh = abs(dot(v, h));
-    vec3 f = f0 + (1.0 - f0) * pow(1.0 - vh, 5.0);
+    vec3 f = f0 + (1.0 - f0) * pow(max(1.0 - vh, 0.0), 5.0);  // pow of a negative is undefined
     float dd = nh * nh * (a2 - 1.0) + 1.0;
     float d = a2 / (PI * dd * dd);
     float vis = 1.0 / ((nl + sqrt(a2 + (1.0 - a2) * nl * nl)) * (nv + sqrt(a2 + (1.0 - a2) * nv * nv)));
@@ -220,7 +220,11 @@ void main() {
     vec3 f0 = mix(vec3(0.04), c.rgb, metallic);
     float a = roughness * roughness;
     float a2 = max(a * a, 1e-7);  // a mirror-smooth surface: a highlight of one pixel, not a division by 0
+#if SUN
     vec3 rgb = shade(n, v, uLightDir, uLightE, cDiff, f0, a2);
+#else
+    vec3 rgb = shade(n, v, v, uLightE, cDiff, f0, a2);  // the headlight: a light at the eye
+#endif
 #if PUNCTUAL
     for (int i = 0; i < uLightCount; ++i) {
         vec3 l = -uPunctualDir[i].xyz;

@@ -115,7 +115,7 @@ TEST_F(BackFaces, ANearPlaneCuttingASolidShowsItsInside) {
     EXPECT_EQ(skipped, 1u);
 }
 
-TEST_F(BackFaces, MirrorsCutOutsOpenMeshesAndOrthographicViewsKeepThem) {
+TEST_F(BackFaces, MirrorsCutOutsBlendedOpenMeshesAndOrthographicViewsKeepThem) {
     auto root = make<Group>();
     const ref_ptr<Mesh> box = makeBoxMesh(dvec3(-0.5), dvec3(0.5), 2);
     root->addChild(placed(glm::scale(glm::translate(dmat4(1.0), dvec3(-1.5, 0, 0)), dvec3(-1, 1, 1)), box,
@@ -123,6 +123,10 @@ TEST_F(BackFaces, MirrorsCutOutsOpenMeshesAndOrthographicViewsKeepThem) {
     auto cut = make<Material>(vec4(0.3f, 0.9f, 0.3f, 0.4f));
     cut->alphaCutoff = 0.5f;  // every fragment cut: a solid that is not opaque
     root->addChild(placed(dmat4(1.0), box, cut));
+    auto glass = make<Material>(vec4(0.3f, 0.5f, 0.9f, 0.5f));
+    glass->physical = true;
+    glass->blend = true;  // blended: its back faces show through its front ones
+    root->addChild(placed(glm::translate(dmat4(1.0), dvec3(0.0, 1.2, 0.0)), box, glass));
     auto quad = make<Mesh>();
     quad->set({{-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}, {-0.5f, 0.5f, 0}}, {}, {0, 1, 2, 0, 2, 3});
     root->addChild(placed(glm::rotate(glm::translate(dmat4(1.0), dvec3(1.5, 0, 0)), 3.0, dvec3(0, 1, 0)), quad,

@@ -193,6 +193,22 @@ TEST_F(PbrShadingTest, DirectionalLightMatchesAppendixB) {
     std::printf("%zu pixels covered, %zu off by more than 2/255, worst %d/255\n", c.covered, c.mismatched, c.worst);
 }
 
+TEST_F(PbrShadingTest, HeadlightShinesFromTheEye) {
+    // No sun set: the default light is at the eye, for every fragment along its view ray.
+    DirectionalLight head;
+    head.ambient = vec3(0.0f);
+    head.color = vec3(0.8f, 0.8f, 0.75f);
+    renderer.setLight(head);
+    const dvec3 eye = cam.eye();
+    const Compared c = renderAndCompare(
+        [&](const dvec3& p, auto& out) {
+            out.push_back({glm::normalize(eye - p), kPi * dvec3(head.color)});
+        },
+        "pbr_headlight");
+    EXPECT_GT(c.covered, size_t(kW * kH / 3));
+    EXPECT_LE(c.mismatched, c.covered / 1000) << c.mismatched << " of " << c.covered << ", worst " << c.worst;
+}
+
 TEST_F(PbrShadingTest, PointAndSpotLightsMatchKhrLightsPunctual) {
     // The sun dark: a point light with a range and a spot whose cone edge crosses the floor.
     renderer.setLight(DirectionalLight::sun(vec3(0.0f, 1.0f, 0.0f), vec3(0.0f), vec3(0.0f)));

@@ -295,6 +295,53 @@ TEST(SgviewRun, HeadlessRendersAGltfFile) {
 #endif
 
 #ifdef SGVIEW_TEST_GLTF
+// Physical materials and KHR_lights_punctual: a grey quad lit by a point light and a red spot from the file, drawn
+// by sgview as the library draws it with those lights and glTF's +Y up for the sky; not as it draws it unlit by them.
+TEST(SgviewRun, HeadlessLightsPhysicalMaterialsWithTheFilesLights) {
+    const char* json = R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1, 2]}],
+      "buffers": [{"byteLength": 108, "uri": "data:application/octet-stream;base64,AACAvwAAgL8AAAAAAACAPwAAgL8AAAAAAACAPwAAgD8AAAAAAACAvwAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAABAAIAAAACAAMA"}],
+      "bufferViews": [{"buffer": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+                      {"buffer": 0, "byteOffset": 96, "byteLength": 12}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1, -1, 0], "max": [1, 1, 0]},
+                    {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                    {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+      "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.6, 0.6, 1], "metallicFactor": 0, "roughnessFactor": 0.5}}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2, "material": 0}]}],
+      "extensionsUsed": ["KHR_lights_punctual"],
+      "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 0.8},
+        {"type": "spot", "color": [1, 0.2, 0.1], "intensity": 3, "spot": {"outerConeAngle": 0.4}}]}},
+      "nodes": [{"mesh": 0}, {"translation": [-0.5, 0.3, 0.6], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+                {"translation": [0.4, -0.3, 1.5], "extensions": {"KHR_lights_punctual": {"light": 1}}}]})";
+    std::ofstream(scratch() / "lit.gltf") << json;
+    const Result r = runSgview("--headless lit.gltf --out lit.png --size 200x150 --camera 0,0,3,0,0,0,0,1,0");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const GltfScene g = loadGltf((scratch() / "lit.gltf").string());
+    ASSERT_EQ(g.lights.size(), 2u);
+    Scene scene(g.root);
+    scene.update();
+    const Camera cam =
+        sgview::specCamera({dvec3(0, 0, 3), dvec3(0.0), dvec3(0, 1, 0)}, sgview::sceneBound(scene), 200, 150);
+    const auto render = [&](bool withLights) {
+        OsmesaContext context(200, 150);
+        Renderer renderer;
+        DirectionalLight light;
+        light.up = vec3(0, 1, 0);
+        renderer.setLight(light);
+        if (withLights) renderer.setPunctualLights(g.lights);
+        CullTraversal cull;
+        DrawList list;
+        CullStats stats;
+        cull.cull(scene, cam, CullSettings{}, list, stats);
+        renderer.draw(list, cam);
+        return renderer.readColor();
+    };
+    const Image shown = loadPng((scratch() / "lit.png").string());
+    EXPECT_EQ(countDifferingPixels(shown, render(true)), 0u);
+    EXPECT_GT(countDifferingPixels(shown, render(false), 4), size_t(200 * 150 / 10));
+}
+#endif
+
+#ifdef SGVIEW_TEST_GLTF
 // A 3D Tiles tileset: a root tile whose content is the city saved as .glb (glTF's +Y up, turned back to +Z up)
 // refined into a child holding the same file again, moved 200 m east: headless draws it settled (the child
 // loaded by the pager) as the library draws the tileset loaded whole; --info counts its tiles; a JSON file that
