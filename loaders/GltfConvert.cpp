@@ -46,6 +46,22 @@ std::vector<V> readVectors(const tinygltf::Model& m, int acc) {
     return out;
 }
 
+// Unit vectors (xyz; a tangent's w, its handedness, kept): quantized ones come back a little off unit length.
+template <class V>
+std::vector<V> readUnitVectors(const tinygltf::Model& m, int acc) {
+    std::vector<V> out = readVectors<V, V::length()>(m, acc);
+    if (m.accessors[size_t(acc)].componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) return out;
+    for (V& v : out) {
+        const vec3 d(v);
+        const float len = glm::length(d);
+        if (len > 0.0f) {
+            const vec3 u = d / len;
+            for (int k = 0; k < 3; ++k) v[k] = u[k];
+        }
+    }
+    return out;
+}
+
 // String and finite number members of extras other than sgkit's key.
 GltfProperties properties(const Value& extras) {
     GltfProperties p;
@@ -343,10 +359,10 @@ struct Converter {
         if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) toTriangles(p.mode, idx);
         auto mesh = make<Mesh>();
         try {
-            mesh->set(std::move(positions), nrm >= 0 ? readVectors<vec3, 3>(m, nrm) : std::vector<vec3>{},
+            mesh->set(std::move(positions), nrm >= 0 ? readUnitVectors<vec3>(m, nrm) : std::vector<vec3>{},
                       std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
                       col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
-            mesh->setSurface(tan >= 0 ? readVectors<vec4, 4>(m, tan) : std::vector<vec4>{},
+            mesh->setSurface(tan >= 0 ? readUnitVectors<vec4>(m, tan) : std::vector<vec4>{},
                              uv1 >= 0 ? readVectors<vec2, 2>(m, uv1) : std::vector<vec2>{});
         } catch (const std::exception& e) {
             bad(path, e.what());
@@ -736,7 +752,15 @@ struct Converter {
         cam.world = world;
         cam.perspective = gc.type == "perspective";
         if (cam.perspective) {
-            cam.yfovDegrees = glm::degrees(gc.perspective.yfov);
+            // Exporters write 0 or degrees now and then: a usable camera, said so, rather than a refused file.
+            const double y = gc.perspective.yfov;
+            cam.yfovDegrees = glm::degrees(y);
+            if (!(std::isfinite(y) && y > 0.0 && y < glm::pi<double>())) {
+                cam.yfovDegrees = !std::isfinite(y) ? 60.0 : y <= 0.0 ? 1.0 : 179.0;
+                warn(at("cameras", size_t(c)) + ".perspective.yfov",
+                     "yfov " + std::to_string(y) + " is not in (0, pi), " + std::to_string(cam.yfovDegrees) +
+                         " degrees used");
+            }
             cam.aspect = gc.perspective.aspectRatio;
             cam.znear = gc.perspective.znear;
             cam.zfar = gc.perspective.zfar;
@@ -770,6 +794,9 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
         for (size_t i = 0; i < model.nodes.size(); ++i)
             if (!child[i]) roots.push_back(int(i));
     }
+    for (size_t i = 0; i < model.extensionsUsed.size(); ++i)  // required ones validate() has refused
+        if (!supportedExtension(model.extensionsUsed[i]))
+            c.warn(at("extensionsUsed", i), "extension '" + model.extensionsUsed[i] + "' is not supported, ignored");
     if (!model.animations.empty()) c.warn("animations", "animations are not loaded");
     if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
     progress.report(0.6, "converting");

@@ -129,6 +129,12 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
     FsContext ctx{allowFiles};
     parser.SetFsCallbacks({&fileExists, &expandPath, &readWholeFile, &writeWholeFile, &ctx});
     parser.SetImageLoader(&keepEncoded, nullptr);
+    std::string fixed;
+    std::vector<size_t> absent;
+    if (withoutAbsentBuffers(data, size, binary, fixed, absent)) {
+        data = reinterpret_cast<const unsigned char*>(fixed.data());
+        size = fixed.size();
+    }
     tinygltf::Model model;
     std::string err, warn;
     bool ok = false;
@@ -145,9 +151,12 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         fail(file, "", err.empty() ? "tinygltf could not parse it" : err);
     }
+    for (size_t i : absent) model.buffers[i].data.clear();
     progress.report(0.5, "validating");
+    decodeMeshopt(file, model);
     validate(file, model);
     try {
+        applySparse(model);
         return convert(file, model, progress, lines(warn));
     } catch (const std::bad_alloc&) {
         fail(file, "", "out of memory");
