@@ -104,6 +104,10 @@ struct Converter {
     std::vector<bool> materialDone;
     std::vector<ref_ptr<Texture>> textures;  // per image
     std::vector<bool> textureDone;
+    // KHR_texture_transform of classic materials (packers add it to dequantize UVs), by material, and the meshes
+    // with it applied to their UVs, by mesh and material.
+    std::map<int, mat3> classicUv;
+    std::map<std::pair<const Mesh*, int>, ref_ptr<Mesh>> classicUvMeshes;
     std::map<std::tuple<int, int, int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
     std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
     std::vector<bool> sharedDone;
@@ -298,6 +302,10 @@ struct Converter {
         // MASK: alpha below the cutoff is cut away, the rest opaque; BLEND: blended, after the opaque items.
         if (gm.alphaMode == "MASK") mat->alphaCutoff = float(gm.alphaCutoff);
         mat->blend = gm.alphaMode == "BLEND";
+        if (!mat->physical && mat->textureTransform != mat3(1.0f)) {  // the classic shading has no UV transform
+            classicUv[i] = mat->textureTransform;
+            mat->textureTransform = mat3(1.0f);
+        }
         materials[size_t(i)] = mat;
         return mat;
     }
@@ -388,6 +396,21 @@ struct Converter {
         mesh.setSurface(generateTangents(mesh, set), mesh.uvs1());
     }
 
+    // A copy of `mesh` whose UV set `set` has material `mat`'s classicUv applied (once per mesh and material).
+    ref_ptr<Mesh> withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int set) {
+        ref_ptr<Mesh>& out = classicUvMeshes[{mesh.get(), mat}];
+        if (out) return out;
+        const mat3& t = classicUv[mat];
+        std::vector<vec2> uvs = mesh->uvs(), uvs1 = mesh->uvs1();
+        for (vec2& uv : set == 0 ? uvs : uvs1) uv = vec2(t * vec3(uv, 1.0f));
+        std::vector<uint32_t> idx(mesh->indexCount());
+        for (size_t i = 0; i < idx.size(); ++i) idx[i] = mesh->index(i);
+        out = make<Mesh>();
+        out->set(mesh->positions(), mesh->normals(), std::move(idx), std::move(uvs), mesh->colors());
+        out->setSurface(mesh->tangents(), std::move(uvs1));
+        return out;
+    }
+
     // One Geometry per drawable primitive of glTF mesh `i`, made once (null for skipped primitives).
     const std::vector<ref_ptr<Geometry>>& geometries(int i) {
         if (sharedDone[size_t(i)]) return shared[size_t(i)];
@@ -406,6 +429,7 @@ struct Converter {
             } else {
                 ref_ptr<Mesh> mh = mesh(p, path);
                 ref_ptr<Material> mat = material(p.material);
+                if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
                 withTangents(*mh, mat.get());
                 gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
             }
@@ -562,7 +586,10 @@ struct Converter {
             auto it = byId.find(id);
             if (it != byId.end()) return it->second;
         }
-        const std::string kind = sx ? string(*sx, "kind", xp, "Transform") : "Transform";
+        std::string kind = sx ? string(*sx, "kind", xp, "Transform") : "Transform";
+        // Packers move a mesh to a node of its own (gltfpack: a child with KHR_mesh_quantization's dequantizing
+        // transform), leaving an sgkit Geometry without it: read as a Transform over what it became.
+        if (kind == "Geometry" && gn.mesh < 0 && !gn.children.empty()) kind = "Transform";
         // An instanced sgkit LOD (saveGltf's): a Transform holds the instances, each of the LOD over the mesh.
         const bool instancedLod = kind == "LOD" && instancing(gn) && gn.mesh >= 0;
         ref_ptr<Node> node;

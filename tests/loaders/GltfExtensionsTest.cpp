@@ -3,6 +3,7 @@
 // read to the expected meshes, bad ones refused with their JSON path and reason.
 #include "loaders/Gltf.h"
 #include "nodes/Geometry.h"
+#include "nodes/Transform.h"
 
 #include <gtest/gtest.h>
 
@@ -114,11 +115,15 @@ struct Doc {
 
 constexpr int kFloat = 5126, kByte = 5120, kUByte = 5121, kShort = 5122, kUShort = 5123, kUInt = 5125;
 
-const Mesh* firstMesh(const Node& n) {
-    if (n.kind() == NodeKind::Geometry) return static_cast<const Geometry&>(n).mesh();
+const Geometry* firstGeometry(const Node& n) {
+    if (n.kind() == NodeKind::Geometry) return static_cast<const Geometry*>(&n);
     for (size_t i = 0; i < n.numChildren(); ++i)
-        if (const Mesh* m = firstMesh(*n.child(i))) return m;
+        if (const Geometry* g = firstGeometry(*n.child(i))) return g;
     return nullptr;
+}
+const Mesh* firstMesh(const Node& n) {
+    const Geometry* g = firstGeometry(n);
+    return g ? g->mesh() : nullptr;
 }
 
 const std::vector<vec3> kTriangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -455,6 +460,52 @@ TEST(GltfSparse, AHugeAccessorOfZerosIsRefusedBeforeItsCopy) {
     }
     const auto [path, why] = d.refusal();
     EXPECT_EQ(path, "accessors[3].count");
+}
+
+// --- What gltfpack makes of sgkit's own files
+
+// A Geometry node of sgkit's whose mesh a packer moved to a child node (with the dequantizing transform).
+TEST(GltfQuantization, AnSgkitGeometryWhoseMeshMovedToAChildIsReadWithIt) {
+    Doc d;
+    triangle(d);
+    d.j["nodes"] = json::parse(R"([{"extras": {"sgkit": {"kind": "Geometry"}}, "children": [1]},
+                                   {"mesh": 0, "scale": [2, 2, 2], "translation": [0, 0, 5]}])");
+    const GltfScene s = d.load();
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    const Mesh* m = firstMesh(*s.root);
+    ASSERT_NE(m, nullptr);
+    const Node* t = s.root->child(0)->child(0);
+    ASSERT_EQ(t->kind(), NodeKind::Transform);
+    EXPECT_EQ(static_cast<const Transform*>(t)->matrix()[3], dvec4(0, 0, 5, 1));
+}
+
+// gltfpack dequantizes texture coordinates with KHR_texture_transform; sgkit's classic materials, which the
+// renderer draws without a UV transform, have it applied to their meshes' UVs instead.
+TEST(GltfQuantization, AClassicMaterialsTextureTransformIsAppliedToTheUvs) {
+    Doc d;
+    triangle(d);
+    const std::vector<vec2> uv{{0, 0}, {1, 0}, {0, 1}};
+    d.primitive()["attributes"]["TEXCOORD_0"] = d.accessor(d.view(bytesOf(uv)), kFloat, 3, "VEC2");
+    d.primitive()["material"] = 0;
+    d.j["images"] = {{{"uri",
+                       "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR4nGP4z8DwHwAFAA"
+                       "H/iZk9HQAAAABJRU5ErkJggg=="}}};
+    d.j["textures"] = {{{"source", 0}}};
+    d.j["materials"] = json::parse(R"([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions":
+        {"KHR_texture_transform": {"offset": [0.5, 0.25], "scale": [2, 4]}}}},
+        "extras": {"sgkit": {"shading": "classic"}}}])");
+    d.uses("KHR_texture_transform", false);
+    GltfScene s = d.load();
+    ASSERT_NE(firstGeometry(*s.root), nullptr);
+    const Geometry& geo = *firstGeometry(*s.root);
+    EXPECT_EQ(geo.mesh()->uvs(), (std::vector<vec2>{{0.5f, 0.25f}, {2.5f, 0.25f}, {0.5f, 4.25f}}));
+    EXPECT_EQ(geo.material()->textureTransform, mat3(1.0f));
+    EXPECT_FALSE(geo.material()->physical);
+    d.j["materials"][0].erase("extras");  // a physical material keeps the transform
+    s = d.load();
+    const Geometry& phys = *firstGeometry(*s.root);
+    EXPECT_EQ(phys.mesh()->uvs(), uv);
+    EXPECT_NE(phys.material()->textureTransform, mat3(1.0f));
 }
 
 // --- Buffers, cameras, extensions
