@@ -39,10 +39,12 @@ Image render(Renderer& r, const ref_ptr<Node>& root, const Camera& cam) {
     return r.readColor();
 }
 
+// Each mesh once, however many Geometries draw it.
 size_t meshBytes(const Node& root) {
+    std::unordered_set<const Mesh*> seen;
     size_t bytes = 0;
     forEachDistinctGeometry(root, [&](const Geometry& g) {
-        if (g.mesh()) bytes += g.mesh()->bytes();
+        if (g.mesh() && seen.insert(g.mesh()).second) bytes += g.mesh()->bytes();
     });
     return bytes;
 }
@@ -63,7 +65,7 @@ void nameEveryNode(Node& root) {
 }
 
 std::string readText(const std::string& path) {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
@@ -102,6 +104,9 @@ TEST(GltfPackImage, TheFactoryPackedByGltfpackDrawsAsTheOriginal) {
         const std::string cmd = std::string("'") + SGKIT_GLTFPACK + "' -i '" + in + "' -o '" + out + "' " + p.options +
                                 " -ke -kn > '" + log + "' 2>&1";
         ASSERT_EQ(std::system(cmd.c_str()), 0) << readText(log);
+        const std::string bytes = readText(out);  // the extensions under test are in use
+        EXPECT_NE(bytes.find("\"EXT_meshopt_compression\""), std::string::npos) << p.options;
+        EXPECT_EQ(bytes.find("\"KHR_mesh_quantization\"") != std::string::npos, p.options == "-cc") << p.options;
         const GltfScene packed = loadGltf(out);
         double worst = 0.0;
         for (size_t k = 0; k < views.size(); ++k) {
