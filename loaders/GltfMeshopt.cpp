@@ -143,7 +143,7 @@ void decodeMeshopt(const std::string& file, tinygltf::Model& m) {
         const int r = attributes  ? meshopt_decodeVertexBuffer(out.data.data(), count, stride, in, length)
                       : triangles ? meshopt_decodeIndexBuffer(out.data.data(), count, stride, in, length)
                                   : meshopt_decodeIndexSequence(out.data.data(), count, stride, in, length);
-        if (r == -1)  // the first byte is 0xa0 (vertex) or 0xe0 (index) plus the codec version
+        if (r == -1 && length > 0)  // the first byte is 0xa0 (vertex) or 0xe0 (index) plus the codec version
             mv.bad("", "compressed data does not decode (codec version " + std::to_string(in[0] & 0x0f) +
                            " is not one meshoptimizer " + std::to_string(MESHOPTIMIZER_VERSION / 1000) + "." +
                            std::to_string(MESHOPTIMIZER_VERSION % 1000 / 10) + " reads)");
