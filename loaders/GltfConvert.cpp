@@ -46,6 +46,22 @@ std::vector<V> readVectors(const tinygltf::Model& m, int acc) {
     return out;
 }
 
+// Unit vectors (xyz; a tangent's w, its handedness, kept): quantized ones come back a little off unit length.
+template <class V>
+std::vector<V> readUnitVectors(const tinygltf::Model& m, int acc) {
+    std::vector<V> out = readVectors<V, V::length()>(m, acc);
+    if (m.accessors[size_t(acc)].componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) return out;
+    for (V& v : out) {
+        const vec3 d(v);
+        const float len = glm::length(d);
+        if (len > 0.0f) {
+            const vec3 u = d / len;
+            for (int k = 0; k < 3; ++k) v[k] = u[k];
+        }
+    }
+    return out;
+}
+
 // String and finite number members of extras other than sgkit's key.
 GltfProperties properties(const Value& extras) {
     GltfProperties p;
@@ -88,6 +104,10 @@ struct Converter {
     std::vector<bool> materialDone;
     std::vector<ref_ptr<Texture>> textures;  // per image
     std::vector<bool> textureDone;
+    // KHR_texture_transform of classic materials (packers add it to dequantize UVs), by material, and the meshes
+    // with it applied to their UVs, by mesh and material.
+    std::map<int, mat3> classicUv;
+    std::map<std::pair<const Mesh*, int>, ref_ptr<Mesh>> classicUvMeshes;
     std::map<std::tuple<int, int, int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
     std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
     std::vector<bool> sharedDone;
@@ -282,6 +302,10 @@ struct Converter {
         // MASK: alpha below the cutoff is cut away, the rest opaque; BLEND: blended, after the opaque items.
         if (gm.alphaMode == "MASK") mat->alphaCutoff = float(gm.alphaCutoff);
         mat->blend = gm.alphaMode == "BLEND";
+        if (!mat->physical && mat->textureTransform != mat3(1.0f)) {  // the classic shading has no UV transform
+            classicUv[i] = mat->textureTransform;
+            mat->textureTransform = mat3(1.0f);
+        }
         materials[size_t(i)] = mat;
         return mat;
     }
@@ -343,10 +367,10 @@ struct Converter {
         if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) toTriangles(p.mode, idx);
         auto mesh = make<Mesh>();
         try {
-            mesh->set(std::move(positions), nrm >= 0 ? readVectors<vec3, 3>(m, nrm) : std::vector<vec3>{},
+            mesh->set(std::move(positions), nrm >= 0 ? readUnitVectors<vec3>(m, nrm) : std::vector<vec3>{},
                       std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
                       col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
-            mesh->setSurface(tan >= 0 ? readVectors<vec4, 4>(m, tan) : std::vector<vec4>{},
+            mesh->setSurface(tan >= 0 ? readUnitVectors<vec4>(m, tan) : std::vector<vec4>{},
                              uv1 >= 0 ? readVectors<vec2, 2>(m, uv1) : std::vector<vec2>{});
         } catch (const std::exception& e) {
             bad(path, e.what());
@@ -372,6 +396,21 @@ struct Converter {
         mesh.setSurface(generateTangents(mesh, set), mesh.uvs1());
     }
 
+    // A copy of `mesh` whose UV set `set` has material `mat`'s classicUv applied (once per mesh and material).
+    ref_ptr<Mesh> withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int set) {
+        ref_ptr<Mesh>& out = classicUvMeshes[{mesh.get(), mat}];
+        if (out) return out;
+        const mat3& t = classicUv[mat];
+        std::vector<vec2> uvs = mesh->uvs(), uvs1 = mesh->uvs1();
+        for (vec2& uv : set == 0 ? uvs : uvs1) uv = vec2(t * vec3(uv, 1.0f));
+        std::vector<uint32_t> idx(mesh->indexCount());
+        for (size_t i = 0; i < idx.size(); ++i) idx[i] = mesh->index(i);
+        out = make<Mesh>();
+        out->set(mesh->positions(), mesh->normals(), std::move(idx), std::move(uvs), mesh->colors());
+        out->setSurface(mesh->tangents(), std::move(uvs1));
+        return out;
+    }
+
     // One Geometry per drawable primitive of glTF mesh `i`, made once (null for skipped primitives).
     const std::vector<ref_ptr<Geometry>>& geometries(int i) {
         if (sharedDone[size_t(i)]) return shared[size_t(i)];
@@ -390,6 +429,7 @@ struct Converter {
             } else {
                 ref_ptr<Mesh> mh = mesh(p, path);
                 ref_ptr<Material> mat = material(p.material);
+                if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
                 withTangents(*mh, mat.get());
                 gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
             }
@@ -547,7 +587,10 @@ struct Converter {
             auto it = byId.find(id);
             if (it != byId.end()) return it->second;
         }
-        const std::string kind = sx ? string(*sx, "kind", xp, "Transform") : "Transform";
+        std::string kind = sx ? string(*sx, "kind", xp, "Transform") : "Transform";
+        // Packers move a mesh to a node of its own (gltfpack: a child with KHR_mesh_quantization's dequantizing
+        // transform), leaving an sgkit Geometry without it: read as a Transform over what it became.
+        if (kind == "Geometry" && gn.mesh < 0 && !gn.children.empty()) kind = "Transform";
         // An instanced sgkit LOD (saveGltf's): a Transform holds the instances, each of the LOD over the mesh.
         const bool instancedLod = kind == "LOD" && instancing(gn) && gn.mesh >= 0;
         ref_ptr<Node> node;
@@ -737,7 +780,15 @@ struct Converter {
         cam.world = world;
         cam.perspective = gc.type == "perspective";
         if (cam.perspective) {
-            cam.yfovDegrees = glm::degrees(gc.perspective.yfov);
+            // Exporters write 0 or degrees now and then: a usable camera, said so, rather than a refused file.
+            const double y = gc.perspective.yfov;
+            cam.yfovDegrees = glm::degrees(y);
+            if (!(std::isfinite(y) && y > 0.0 && y < glm::pi<double>())) {
+                cam.yfovDegrees = !std::isfinite(y) ? 60.0 : y <= 0.0 ? 1.0 : 179.0;
+                warn(at("cameras", size_t(c)) + ".perspective.yfov",
+                     "yfov " + std::to_string(y) + " is not in (0, pi), " + std::to_string(cam.yfovDegrees) +
+                         " degrees used");
+            }
             cam.aspect = gc.perspective.aspectRatio;
             cam.znear = gc.perspective.znear;
             cam.zfar = gc.perspective.zfar;
@@ -771,6 +822,9 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
         for (size_t i = 0; i < model.nodes.size(); ++i)
             if (!child[i]) roots.push_back(int(i));
     }
+    for (size_t i = 0; i < model.extensionsUsed.size(); ++i)  // required ones validate() has refused
+        if (!supportedExtension(model.extensionsUsed[i]))
+            c.warn(at("extensionsUsed", i), "extension '" + model.extensionsUsed[i] + "' is not supported, ignored");
     if (!model.animations.empty()) c.warn("animations", "animations are not loaded");
     if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
     progress.report(0.6, "converting");

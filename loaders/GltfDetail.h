@@ -30,6 +30,14 @@ constexpr long long kMaxImagePixels = 1ll << 26;
 // accessor, or none for an accessor of zeros, must not stand for gigabytes of nodes).
 constexpr size_t kMaxInstances = size_t(1) << 21;
 constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
+constexpr const char* kQuantization = "KHR_mesh_quantization";
+// Bytes that EXT_meshopt_compression and sparse accessors may expand to in one file: a few bytes of compressed
+// data or of sparse values can claim gigabytes.
+constexpr size_t kMaxExpandedBytes = size_t(1) << 29;
+
+// Extensions the loader reads: a file that requires another is refused, one that only uses another loads with a
+// warning naming it.
+bool supportedExtension(const std::string& name);
 
 // "nodes[3]"
 std::string at(const std::string& array, size_t i);
@@ -46,6 +54,28 @@ void prevalidate(const std::string& file, const unsigned char* data, size_t size
 // buffer views and views inside their buffers, strides, counts and types, finite node matrices, the node
 // hierarchy a forest (no cycle, no node with two parents), required extensions supported.
 void validate(const std::string& file, const tinygltf::Model& model);
+
+// --- Buffers without data in the file (GltfMeshopt.cpp)
+
+// JSON text (or a GLB) whose buffers without data in the file (no uri, other than a GLB's buffer 0 over its BIN
+// chunk: EXT_meshopt_compression's fallback, buffers nothing uses) have a one-byte data URI instead, which
+// tinygltf accepts (it refuses them, or hands over a GLB's BIN chunk); false, `out` untouched, when there are none.
+// `absent` lists them: emptied after parsing, so that a view into one is refused by validate().
+bool withoutAbsentBuffers(const unsigned char* data, size_t size, bool binary, std::string& out,
+                          std::vector<size_t>& absent);
+
+// Buffer views compressed with EXT_meshopt_compression (or KHR_meshopt_compression) decoded into buffers of their
+// own, before validation; throws LoadError naming bufferViews[i] for data that does not decode.
+void decodeMeshopt(const std::string& file, tinygltf::Model& model);
+
+// --- Sparse accessors (GltfSparse.cpp)
+
+// Checks accessor i's sparse substitution (called by validate() once the buffer views are checked); `denseBytes`
+// sums the dense copies so far, held to kMaxExpandedBytes.
+void checkSparse(const std::string& file, const tinygltf::Model& model, size_t i, size_t& denseBytes);
+// Every sparse accessor of a validated model made dense: a copy of its base (or zeros) with the values
+// substituted, in a buffer of its own.
+void applySparse(tinygltf::Model& model);
 
 // Element i of an accessor, component by component, as float: normalized integers mapped to [0, 1]
 // (unsigned) or [-1, 1] (signed), other integers as their value. Validated accessors only.

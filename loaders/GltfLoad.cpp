@@ -131,23 +131,39 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
     parser.SetImageLoader(&keepEncoded, nullptr);
     tinygltf::Model model;
     std::string err, warn;
-    bool ok = false;
-    try {
-        if (binary)
-            ok = parser.LoadBinaryFromMemory(&model, &err, &warn, data, unsigned(size), baseDir);
-        else
-            ok = parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(data), unsigned(size),
-                                            baseDir);
-    } catch (const std::exception& e) {  // tinygltf lets some std exceptions through (e.g. vector::at)
-        fail(file, "", std::string("tinygltf: ") + e.what());
+    auto parse = [&](const unsigned char* bytes, size_t n) {
+        try {
+            if (binary) return parser.LoadBinaryFromMemory(&model, &err, &warn, bytes, unsigned(n), baseDir);
+            return parser.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes), unsigned(n),
+                                              baseDir);
+        } catch (const std::exception& e) {  // tinygltf lets some std exceptions through (e.g. vector::at)
+            fail(file, "", std::string("tinygltf: ") + e.what());
+        }
+    };
+    // Buffers without data (withoutAbsentBuffers): a GLB's JSON, small, is looked at first; a .gltf's, which may
+    // hold megabytes of data URIs, only once tinygltf has refused such a buffer.
+    std::string fixed;
+    std::vector<size_t> absent;
+    bool ok = binary && withoutAbsentBuffers(data, size, binary, fixed, absent)
+                  ? parse(reinterpret_cast<const unsigned char*>(fixed.data()), fixed.size())
+                  : parse(data, size);
+    if (!ok && !binary && err.find("'uri' is missing") != std::string::npos &&
+        withoutAbsentBuffers(data, size, binary, fixed, absent)) {
+        model = tinygltf::Model();
+        err.clear();
+        warn.clear();
+        ok = parse(reinterpret_cast<const unsigned char*>(fixed.data()), fixed.size());
     }
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         fail(file, "", err.empty() ? "tinygltf could not parse it" : err);
     }
+    for (size_t i : absent) model.buffers[i].data.clear();
     progress.report(0.5, "validating");
-    validate(file, model);
     try {
+        decodeMeshopt(file, model);
+        validate(file, model);
+        applySparse(model);
         return convert(file, model, progress, lines(warn));
     } catch (const std::bad_alloc&) {
         fail(file, "", "out of memory");

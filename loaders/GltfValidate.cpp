@@ -9,6 +9,13 @@
 
 namespace sg::gltf {
 
+bool supportedExtension(const std::string& name) {
+    static const std::set<std::string> supported{
+        "KHR_materials_unlit", kInstancing,   "KHR_texture_transform",   "KHR_materials_emissive_strength",
+        "KHR_lights_punctual", kQuantization, "EXT_meshopt_compression", "KHR_meshopt_compression"};
+    return supported.count(name) != 0;
+}
+
 std::string at(const std::string& array, size_t i) { return array + "[" + std::to_string(i) + "]"; }
 
 void fail(const std::string& file, const std::string& path, const std::string& reason) {
@@ -87,10 +94,8 @@ struct Checker {
     }
 
     void extensions() const {
-        static const std::set<std::string> supported{"KHR_materials_unlit", kInstancing, "KHR_texture_transform",
-                                                     "KHR_materials_emissive_strength", "KHR_lights_punctual"};
         for (size_t i = 0; i < m.extensionsRequired.size(); ++i)
-            if (!supported.count(m.extensionsRequired[i]))
+            if (!supportedExtension(m.extensionsRequired[i]))
                 fail(file, at("extensionsRequired", i),
                      "extension '" + m.extensionsRequired[i] + "' is required but not supported");
     }
@@ -113,6 +118,7 @@ struct Checker {
     }
 
     void accessors() const {
+        size_t sparseBytes = 0;
         for (size_t i = 0; i < m.accessors.size(); ++i) {
             const tinygltf::Accessor& a = m.accessors[i];
             const std::string path = at("accessors", i);
@@ -122,7 +128,7 @@ struct Checker {
                 fail(file, path + ".componentType", "unknown componentType " + std::to_string(a.componentType));
             if (num <= 0) fail(file, path + ".type", "unknown type");
             if (a.count < 1) fail(file, path + ".count", "count " + std::to_string(a.count) + " is below 1");
-            if (a.sparse.isSparse) fail(file, path + ".sparse", "sparse accessors are not supported");
+            if (a.sparse.isSparse) checkSparse(file, m, i, sparseBytes);
             if (a.bufferView == -1) {  // all zeros: no data in the file holds the count to a sane size
                 if (a.count > kMaxZeroAccessor)
                     fail(file, path + ".count",
@@ -163,7 +169,32 @@ struct Checker {
                      std::to_string(*comps.begin()) + (comps.size() > 1 ? " (or normalized integers)" : ""));
     }
 
+    // Integers that are not normalized make no unit vectors.
+    void normalized(const std::string& path, int acc) const {
+        const tinygltf::Accessor& a = m.accessors[size_t(acc)];
+        if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !a.normalized)
+            fail(file, path,
+                 "accessor " + std::to_string(acc) + " of componentType " + std::to_string(a.componentType) +
+                     " must be normalized");
+    }
+
+    bool uses(const char* extension) const {
+        auto has = [&](const std::vector<std::string>& v) {
+            return std::find(v.begin(), v.end(), extension) != v.end();
+        };
+        return has(m.extensionsUsed) || has(m.extensionsRequired);
+    }
+
     void meshes() const {
+        // KHR_mesh_quantization: integer positions and texture coordinates (normalized or not), normalized
+        // signed integer normals and tangents.
+        const bool q = uses(kQuantization);
+        const std::initializer_list<int> floatOnly{TINYGLTF_COMPONENT_TYPE_FLOAT};
+        const std::initializer_list<int> signedInt{TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+                                                   TINYGLTF_COMPONENT_TYPE_SHORT};
+        const std::initializer_list<int> anyInt{TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+                                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
+                                                TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
         for (size_t i = 0; i < m.meshes.size(); ++i) {
             for (size_t k = 0; k < m.meshes[i].primitives.size(); ++k) {
                 const tinygltf::Primitive& p = m.meshes[i].primitives[k];
@@ -172,18 +203,21 @@ struct Checker {
                 index(path + ".material", p.material, m.materials.size(), "material", true);
                 auto pos = p.attributes.find("POSITION");
                 if (pos == p.attributes.end()) continue;  // skipped with a warning by the conversion
-                attribute(path + ".attributes.POSITION", pos->second, TINYGLTF_TYPE_VEC3,
-                          {TINYGLTF_COMPONENT_TYPE_FLOAT});
+                attribute(path + ".attributes.POSITION", pos->second, TINYGLTF_TYPE_VEC3, q ? anyInt : floatOnly);
                 const size_t n = m.accessors[size_t(pos->second)].count;
                 for (const auto& [name, acc] : p.attributes) {
                     const std::string ap = path + ".attributes." + name;
-                    if (name == "NORMAL")
-                        attribute(ap, acc, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
-                    else if (name == "TEXCOORD_0")
+                    if (name == "NORMAL" || name == "TANGENT") {
+                        attribute(ap, acc, name == "NORMAL" ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4,
+                                  q ? signedInt : floatOnly);
+                        normalized(ap, acc);
+                    } else if (name == "TEXCOORD_0" || name == "TEXCOORD_1") {
                         attribute(ap, acc, TINYGLTF_TYPE_VEC2,
-                                  {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
-                    else if (name == "COLOR_0")
+                                  q ? anyInt
+                                    : std::initializer_list<int>{TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                                                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+                    } else if (name == "COLOR_0")
                         attribute(ap, acc, TINYGLTF_TYPE_VEC4,
                                   {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
@@ -246,8 +280,6 @@ struct Checker {
             const std::string path = at("cameras", i);
             if (c.type == "perspective") {
                 const auto& p = c.perspective;
-                if (!(std::isfinite(p.yfov) && p.yfov > 0.0 && p.yfov < 3.14159265358979))
-                    fail(file, path + ".perspective.yfov", "yfov " + std::to_string(p.yfov) + " is not in (0, pi)");
                 if (!(std::isfinite(p.znear) && p.znear > 0.0))
                     fail(file, path + ".perspective.znear", "znear " + std::to_string(p.znear) + " is not positive");
                 if (!(std::isfinite(p.zfar) && (p.zfar == 0.0 || p.zfar > p.znear)))
