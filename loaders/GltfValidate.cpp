@@ -87,8 +87,9 @@ struct Checker {
     }
 
     void extensions() const {
-        static const std::set<std::string> supported{"KHR_materials_unlit", kInstancing, "KHR_texture_transform",
-                                                     "KHR_materials_emissive_strength", "KHR_lights_punctual"};
+        static const std::set<std::string> supported{"KHR_materials_unlit",   kInstancing,
+                                                     "KHR_texture_transform", "KHR_materials_emissive_strength",
+                                                     "KHR_lights_punctual",   "KHR_draco_mesh_compression"};
         for (size_t i = 0; i < m.extensionsRequired.size(); ++i)
             if (!supported.count(m.extensionsRequired[i]))
                 fail(file, at("extensionsRequired", i),

@@ -96,9 +96,12 @@ struct Writer {
         if (!mesh.uvs1().empty())
             a["TEXCOORD_1"] =
                 accessor(mesh.uvs1(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
-        if (!mesh.colors().empty())
-            a["COLOR_0"] = accessor(mesh.colors(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4,
-                                    TINYGLTF_TARGET_ARRAY_BUFFER);
+        if (!mesh.colors().empty()) {
+            // glTF's float colours lie in [0, 1]; baked light may round to a hair above 1 (1.0000001).
+            std::vector<vec4> c = mesh.colors();
+            for (vec4& x : c) x = glm::clamp(x, vec4(0.0f), vec4(1.0f));
+            a["COLOR_0"] = accessor(c, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+        }
         if (!mesh.indices16().empty())
             a["indices"] = accessor(mesh.indices16(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);

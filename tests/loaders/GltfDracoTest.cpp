@@ -1,0 +1,371 @@
+// KHR_draco_mesh_compression: files made here with Draco's own encoder load with the values the encoder's
+// quantization promises; broken streams and files that disagree with their stream are refused, naming the
+// primitive's extension.
+#include "GltfTestUtil.h"
+#include "loaders/Gltf.h"
+#include "sg/scene/DistinctGeometries.h"
+
+#include <draco/compression/decode.h>
+#include <draco/compression/encode.h>
+#include <draco/mesh/triangle_soup_mesh_builder.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <set>
+
+namespace {
+
+using namespace sg;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr const char* kExt = "KHR_draco_mesh_compression";
+constexpr int kPositionBits = 14, kNormalBits = 10, kUvBits = 12;
+
+// A UV sphere: seams and poles give points of one position with several texture coordinates.
+struct Original {
+    std::vector<vec3> positions, normals;
+    std::vector<vec2> uvs;
+    std::vector<uint32_t> indices;
+};
+
+Original sphere(int segments, int rings, float radius) {
+    Original o;
+    const float pi = 3.14159265f;
+    for (int r = 0; r <= rings; ++r)
+        for (int s = 0; s <= segments; ++s) {
+            // Pole rows hold one point per segment, at its middle in u: no triangle is degenerate.
+            const float u = (r == 0 || r == rings) ? (float(s) + 0.5f) / float(segments) : float(s) / float(segments);
+            const float v = float(r) / float(rings), theta = u * 2.0f * pi, phi = v * pi;
+            const vec3 n(std::sin(phi) * std::cos(theta), std::cos(phi), std::sin(phi) * std::sin(theta));
+            o.positions.push_back(n * radius + vec3(0.5f, -2.0f, 3.0f));
+            o.normals.push_back(n);
+            o.uvs.push_back(vec2(u, v));
+        }
+    const auto at = [&](int r, int s) { return uint32_t(r * (segments + 1) + s); };
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            if (r != 0) o.indices.insert(o.indices.end(), {at(r, s), at(r, s + 1), at(r + 1, s)});
+            if (r != rings - 1) o.indices.insert(o.indices.end(), {at(r, s + 1), at(r + 1, s + 1), at(r + 1, s)});
+        }
+    return o;
+}
+
+struct Encoded {
+    std::string bytes;
+    int position = -1, normal = -1, uv = -1;  // the attributes' Draco unique ids
+    size_t points = 0, faces = 0;             // as a decoder finds them (what the file's accessors declare)
+};
+
+Encoded encode(const Original& o, int speed = 5) {
+    draco::TriangleSoupMeshBuilder b;
+    const int faces = int(o.indices.size() / 3);
+    b.Start(faces);
+    const int pos = b.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+    const int nor = b.AddAttribute(draco::GeometryAttribute::NORMAL, 3, draco::DT_FLOAT32);
+    const int tex = b.AddAttribute(draco::GeometryAttribute::TEX_COORD, 2, draco::DT_FLOAT32);
+    for (int f = 0; f < faces; ++f) {
+        const uint32_t* i = &o.indices[size_t(f) * 3];
+        const draco::FaceIndex fi{uint32_t(f)};
+        b.SetAttributeValuesForFace(pos, fi, &o.positions[i[0]], &o.positions[i[1]], &o.positions[i[2]]);
+        b.SetAttributeValuesForFace(nor, fi, &o.normals[i[0]], &o.normals[i[1]], &o.normals[i[2]]);
+        b.SetAttributeValuesForFace(tex, fi, &o.uvs[i[0]], &o.uvs[i[1]], &o.uvs[i[2]]);
+    }
+    std::unique_ptr<draco::Mesh> mesh = b.Finalize();
+    EXPECT_TRUE(mesh);
+    draco::Encoder enc;
+    enc.SetAttributeQuantization(draco::GeometryAttribute::POSITION, kPositionBits);
+    enc.SetAttributeQuantization(draco::GeometryAttribute::NORMAL, kNormalBits);
+    enc.SetAttributeQuantization(draco::GeometryAttribute::TEX_COORD, kUvBits);
+    enc.SetSpeedOptions(speed, speed);
+    draco::EncoderBuffer buffer;
+    const draco::Status st = enc.EncodeMeshToBuffer(*mesh, &buffer);
+    EXPECT_TRUE(st.ok()) << st.error_msg_string();
+    Encoded e;
+    e.bytes.assign(buffer.data(), buffer.size());
+    e.position = int(mesh->attribute(pos)->unique_id());
+    e.normal = int(mesh->attribute(nor)->unique_id());
+    e.uv = int(mesh->attribute(tex)->unique_id());
+    draco::DecoderBuffer in;
+    in.Init(e.bytes.data(), e.bytes.size());
+    auto decoded = draco::Decoder().DecodeMeshFromBuffer(&in);
+    EXPECT_TRUE(decoded.ok());
+    e.points = decoded.value()->num_points();
+    e.faces = decoded.value()->num_faces();
+    return e;
+}
+
+// The glTF document of one primitive whose geometry is the stream `e` (accessors without buffer views, as the
+// extension has them); `edit` may change it before it is written.
+json document(const Encoded& e) {
+    json j;
+    j["asset"] = {{"version", "2.0"}};
+    j["extensionsUsed"] = {kExt};
+    j["extensionsRequired"] = {kExt};
+    j["scene"] = 0;
+    j["scenes"] = json::array({{{"nodes", {0}}}});
+    j["nodes"] = json::array({{{"mesh", 0}}});
+    json prim = {{"attributes", {{"POSITION", 0}, {"NORMAL", 1}, {"TEXCOORD_0", 2}}}, {"indices", 3}};
+    prim["extensions"][kExt] = {{"bufferView", 0},
+                                {"attributes", {{"POSITION", e.position}, {"NORMAL", e.normal}, {"TEXCOORD_0", e.uv}}}};
+    j["meshes"] = json::array({{{"primitives", {prim}}}});
+    j["accessors"] = json::array({{{"componentType", 5126}, {"count", e.points}, {"type", "VEC3"}},
+                                  {{"componentType", 5126}, {"count", e.points}, {"type", "VEC3"}},
+                                  {{"componentType", 5126}, {"count", e.points}, {"type", "VEC2"}},
+                                  {{"componentType", 5125}, {"count", e.faces * 3}, {"type", "SCALAR"}}});
+    j["bufferViews"] = json::array({{{"buffer", 0}, {"byteLength", e.bytes.size()}}});
+    j["buffers"] = json::array({{{"byteLength", e.bytes.size()},
+                                 {"uri", "data:application/octet-stream;base64," + gltftest::base64(e.bytes)}}});
+    return j;
+}
+
+GltfScene load(const json& j) {
+    const std::string text = j.dump();
+    return loadGltfFromMemory("draco.gltf", text.data(), text.size());
+}
+
+// The one mesh of a loaded scene.
+const Mesh& onlyMesh(const GltfScene& s) {
+    const Mesh* found = nullptr;
+    int n = 0;
+    forEachDistinctGeometry(*s.root, [&](const Geometry& g) {
+        found = g.mesh();
+        ++n;
+    });
+    EXPECT_EQ(n, 1);
+    if (!found) throw std::runtime_error("no mesh");
+    return *found;
+}
+
+// Triangles as corner ids rotated to start at the smallest (Draco may reorder triangles and rotate corners, but
+// keeps their winding), sorted.
+std::vector<std::array<uint32_t, 3>> canonical(const std::vector<uint32_t>& idx) {
+    std::vector<std::array<uint32_t, 3>> t;
+    for (size_t i = 0; i + 2 < idx.size(); i += 3) {
+        std::array<uint32_t, 3> a{idx[i], idx[i + 1], idx[i + 2]};
+        std::rotate(a.begin(), std::min_element(a.begin(), a.end()), a.end());
+        t.push_back(a);
+    }
+    std::sort(t.begin(), t.end());
+    return t;
+}
+
+float maxAbs(const vec3& a) { return std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)}); }
+
+// The extension's path in messages about the first primitive.
+const std::string kPath = std::string("meshes[0].primitives[0].extensions.") + kExt;
+
+void expectRefused(const json& j, const std::string& path, const std::string& reasonPart) {
+    SCOPED_TRACE(path + ": " + reasonPart);
+    try {
+        load(j);
+        ADD_FAILURE() << "loaded; expected a refusal at " << path;
+    } catch (const LoadError& e) {
+        EXPECT_EQ(e.jsonPath().rfind(path, 0), 0u) << e.what();
+        EXPECT_NE(e.reason().find(reasonPart), std::string::npos) << e.what();
+    }
+}
+
+// Every decoded point is an original one within the quantization's bound (Draco's uniform quantization rounds to
+// the nearest of 2^bits - 1 steps over the attribute's largest extent: at most half a step off per component;
+// normals are octahedral, compared by angle), and the triangles are the original ones.
+TEST(GltfDraco, DecodedMeshIsTheOriginalWithinTheQuantizationBound) {
+    const Original o = sphere(24, 12, 2.0f);
+    for (int speed : {0, 5, 10}) {  // edgebreaker (valence, standard) and sequential encodings
+        SCOPED_TRACE("speed " + std::to_string(speed));
+        const Encoded e = encode(o, speed);
+        const GltfScene s = load(document(e));
+        EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+        const Mesh& m = onlyMesh(s);
+        ASSERT_EQ(m.positions().size(), e.points);
+        ASSERT_EQ(m.normals().size(), e.points);
+        ASSERT_EQ(m.uvs().size(), e.points);
+        ASSERT_EQ(m.triangleCount(), o.indices.size() / 3);
+
+        const float posStep = 4.0f / float((1 << kPositionBits) - 1);  // the sphere's extent is its diameter, 4
+        const float uvStep = 1.0f / float((1 << kUvBits) - 1);
+        float posErr = 0.0f, uvErr = 0.0f, normalDeg = 0.0f;
+        std::vector<uint32_t> toOriginal(e.points);
+        for (size_t i = 0; i < e.points; ++i) {
+            size_t best = 0;
+            float bestD = 1e30f;
+            for (size_t k = 0; k < o.positions.size(); ++k) {
+                const float d = glm::length(m.positions()[i] - o.positions[k]) + glm::length(m.uvs()[i] - o.uvs[k]);
+                if (d < bestD) bestD = d, best = k;
+            }
+            toOriginal[i] = uint32_t(best);
+            posErr = std::max(posErr, maxAbs(m.positions()[i] - o.positions[best]));
+            const vec2 du = glm::abs(m.uvs()[i] - o.uvs[best]);
+            uvErr = std::max({uvErr, du.x, du.y});
+            const float c = glm::dot(glm::normalize(m.normals()[i]), o.normals[best]);
+            normalDeg = std::max(normalDeg, std::acos(std::min(1.0f, c)) * 57.29578f);
+        }
+        EXPECT_LE(posErr, 0.5f * posStep * 1.001f);
+        EXPECT_LE(uvErr, 0.5f * uvStep * 1.001f);
+        // 10-bit octahedral normals: the grid's diagonal is about 0.2 degrees at its coarsest.
+        EXPECT_LE(normalDeg, 0.25f);
+        std::printf(
+            "[ draco ] speed %d: %zu bytes for %zu points, %u triangles; max error position %.3g (bound %.3g), "
+            "uv %.3g (bound %.3g), normal %.3f deg\n",
+            speed, e.bytes.size(), e.points, m.triangleCount(), double(posErr), double(0.5f * posStep), double(uvErr),
+            double(0.5f * uvStep), double(normalDeg));
+
+        std::vector<uint32_t> mapped;
+        for (uint32_t t = 0; t < m.indexCount(); ++t) mapped.push_back(toOriginal[m.index(t)]);
+        EXPECT_EQ(canonical(mapped), canonical(o.indices));
+    }
+}
+
+// Two primitives of one stream (as encoders write repeated geometry) share their decoded accessors: one mesh.
+TEST(GltfDraco, PrimitivesSharingAStreamShareTheirDecodedMesh) {
+    const Encoded e = encode(sphere(8, 4, 1.0f));
+    json j = document(e);
+    j["meshes"].push_back(j["meshes"][0]);
+    j["nodes"] = json::array({{{"children", {1, 2}}}, {{"mesh", 0}}, {{"mesh", 1}, {"translation", {3, 0, 0}}}});
+    const GltfScene s = load(j);
+    std::set<const Mesh*> meshes;
+    int geometries = 0;
+    std::function<void(const Node&)> walk = [&](const Node& n) {
+        if (auto g = dynamic_cast<const Geometry*>(&n)) meshes.insert(g->mesh()), ++geometries;
+        for (size_t i = 0; i < n.numChildren(); ++i) walk(*n.child(i));
+    };
+    walk(*s.root);
+    EXPECT_EQ(geometries, 2);
+    EXPECT_EQ(meshes.size(), 1u);
+}
+
+TEST(GltfDraco, CorruptStreamsAreRefusedNamingTheExtension) {
+    const Encoded e = encode(sphere(16, 8, 1.0f));
+    {
+        Encoded bad = e;
+        bad.bytes = "not a draco stream at all";
+        expectRefused(document(bad), kPath, "Draco");
+    }
+    for (size_t keep : {size_t(0), size_t(4), size_t(10), e.bytes.size() / 2, e.bytes.size() - 1}) {
+        SCOPED_TRACE("cut to " + std::to_string(keep) + " bytes");
+        Encoded bad = e;
+        bad.bytes.resize(keep);
+        if (keep == 0) {  // an empty view: tinygltf or the decoder refuses it
+            EXPECT_THROW(load(document(bad)), LoadError);
+            continue;
+        }
+        expectRefused(document(bad), kPath, "");
+    }
+    // Bytes changed at random: loaded (the values changed) or refused with the path, never a crash.
+    std::mt19937 rng(27);
+    int refused = 0, loaded = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        Encoded bad = e;
+        const int flips = 1 + int(rng() % 4);
+        for (int f = 0; f < flips; ++f) bad.bytes[rng() % bad.bytes.size()] ^= char(1 + rng() % 255);
+        try {
+            load(document(bad));
+            ++loaded;
+        } catch (const LoadError& err) {
+            ++refused;
+            EXPECT_EQ(err.jsonPath().rfind("meshes[0].primitives[0]", 0), 0u) << err.what();
+        }
+    }
+    std::printf("[ draco ] 300 corrupted streams: %d refused, %d loaded\n", refused, loaded);
+    EXPECT_GT(refused, 0);
+}
+
+TEST(GltfDraco, FilesThatDisagreeWithTheirStreamAreRefused) {
+    const Encoded e = encode(sphere(8, 4, 1.0f));
+    json j = document(e);
+    j["accessors"][0]["count"] = e.points + 1;
+    expectRefused(j, kPath + ".attributes.POSITION", "declares");
+    j = document(e);
+    j["accessors"][3]["count"] = e.faces * 3 - 3;
+    expectRefused(j, kPath, "indices");
+    j = document(e);
+    j["meshes"][0]["primitives"][0]["extensions"][kExt]["attributes"]["NORMAL"] = 17;
+    expectRefused(j, kPath + ".attributes.NORMAL", "no attribute with id 17");
+    j = document(e);
+    j["meshes"][0]["primitives"][0]["extensions"][kExt]["attributes"]["COLOR_0"] = e.uv;
+    expectRefused(j, kPath + ".attributes.COLOR_0", "no attribute COLOR_0");
+    j = document(e);
+    j["accessors"][2]["type"] = "VEC3";  // the stream's TEXCOORD_0 has 2 components
+    expectRefused(j, kPath + ".attributes.TEXCOORD_0", "components");
+    const Encoded big = encode(sphere(24, 12, 1.0f));
+    ASSERT_GT(big.points, 256u);
+    j = document(big);
+    j["accessors"][3]["componentType"] = 5121;  // more points than an unsigned byte indexes
+    expectRefused(j, kPath, "index");
+    j = document(e);
+    j["meshes"][0]["primitives"][0]["extensions"][kExt]["bufferView"] = 5;
+    expectRefused(j, kPath + ".bufferView", "buffer view");
+    j = document(e);
+    j["meshes"][0]["primitives"][0]["mode"] = 0;  // points, but the stream is a triangle mesh
+    expectRefused(j, kPath, "triangle mesh");
+    j = document(e);
+    j["meshes"][0]["primitives"][0]["extensions"][kExt] = 3;  // tinygltf drops it: accessors without data remain
+    EXPECT_THROW(load(j), LoadError);
+}
+
+// The Draco-compressed 2CylinderEngine of Debian's assimp-testmodels (written by COLLADA2GLTF and Draco's glTF
+// tools, not here) loads with, within its quantization, the bounds of the uncompressed one.
+TEST(GltfDraco, ThirdPartyEngineModelMatchesItsUncompressedOriginal) {
+    const std::string dir = "/usr/share/assimp/models/glTF2/";
+    const std::string draco = dir + "draco/2CylinderEngine.gltf",
+                      plain = dir + "2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    if (!fs::exists(draco) || !fs::exists(plain)) GTEST_SKIP() << draco << " absent: install assimp-testmodels";
+    const GltfScene a = loadGltf(draco), b = loadGltf(plain);
+    // Triangles drawn (a mesh once per path to it) and the world box of the graph.
+    auto measure = [](const GltfScene& s, size_t& triangles, Box& box) {
+        std::function<void(const Node&, const dmat4&)> walk = [&](const Node& n, const dmat4& m) {
+            dmat4 world = m;
+            if (auto t = dynamic_cast<const Transform*>(&n)) world = m * t->matrix();
+            if (auto g = dynamic_cast<const Geometry*>(&n)) {
+                triangles += g->mesh()->triangleCount();
+                for (const vec3& p : g->mesh()->positions()) box.expand(dvec3(world * dvec4(dvec3(p), 1.0)));
+            }
+            for (size_t i = 0; i < n.numChildren(); ++i) walk(*n.child(i), world);
+        };
+        walk(*s.root, dmat4(1.0));
+    };
+    size_t ta = 0, tb = 0;
+    Box ba, bb;
+    measure(a, ta, ba);
+    measure(b, tb, bb);
+    // The compressed file has fewer triangles (its accessors declare 65,311 to the original's 75,730: Draco's
+    // encoder drops degenerate ones); the decoder's count must equal the declared one, or the load is refused.
+    EXPECT_LE(ta, tb);
+    EXPECT_GT(ta, tb * 85 / 100);
+    const double extent = glm::length(bb.max - bb.min);
+    EXPECT_LT(glm::length(ba.min - bb.min), 1e-4 * extent);
+    EXPECT_LT(glm::length(ba.max - bb.max), 1e-4 * extent);
+    std::printf(
+        "[ draco ] 2CylinderEngine: %zu triangles drawn (uncompressed %zu); box corners %.3g and %.3g apart (extent "
+        "%.4g)\n",
+        ta, tb, glm::length(ba.min - bb.min), glm::length(ba.max - bb.max), extent);
+}
+
+// libdraco.a holds its own copy of tinygltf and stb: the loader must run Debian's (the link order in
+// CMakeLists.txt), whose definitions are then the ones the process resolves.
+TEST(GltfDraco, TinygltfAndStbAreTheirOwnLibrariesNotDracosCopies) {
+    const std::pair<const char*, const char*> symbols[] = {
+        {"_ZN8tinygltf8TinyGLTF20LoadBinaryFromMemoryEPNS_5ModelEPNSt7__cxx1112basic_stringIcSt11char_"
+         "traitsIcESaIcEEES9_PKhjRKS8_j",
+         "libtinygltf"},
+        {"stbi_failure_reason", "libstb"}};
+    for (const auto& [symbol, library] : symbols) {
+        void* p = dlsym(RTLD_DEFAULT, symbol);
+        ASSERT_NE(p, nullptr) << symbol;
+        Dl_info info{};
+        ASSERT_NE(dladdr(p, &info), 0) << symbol;
+        EXPECT_NE(std::string(info.dli_fname).find(library), std::string::npos)
+            << symbol << " comes from " << info.dli_fname;
+    }
+}
+
+}  // namespace
