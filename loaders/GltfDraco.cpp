@@ -114,8 +114,10 @@ public:
                 rewrite(p.indices, path_, -1, faces * 3, [&](const tinygltf::Accessor& acc, unsigned char* out) {
                     const int size = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
                     const uint64_t max = size == 1 ? 0xffu : size == 2 ? 0xffffu : 0xffffffffu;
-                    if (acc.type != TINYGLTF_TYPE_SCALAR || size > 4 ||
-                        acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+                    if (acc.type != TINYGLTF_TYPE_SCALAR ||
+                        (acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                         acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                         acc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
                         fail(file_, path_, "the indices accessor is not SCALAR of an unsigned integer type");
                     for (size_t f = 0; f < faces; ++f)
                         for (int k = 0; k < 3; ++k) {
@@ -142,9 +144,10 @@ public:
     }
 
 private:
-    // The stream in buffer view `view`, decoded once (primitives may share one).
+    // The stream in buffer view `view`, decoded once (primitives may share one); a triangle mesh when `triangles`
+    // (the cache is keyed by both, so a view read as both kinds is refused rather than cast).
     const draco::PointCloud& decoded(int view, bool triangles) {
-        auto found = decoded_.find(view);
+        auto found = decoded_.find({view, triangles});
         if (found != decoded_.end()) return *found->second;
         const tinygltf::BufferView& v = m_.bufferViews[size_t(view)];
         if (v.buffer < 0 || size_t(v.buffer) >= m_.buffers.size())
@@ -180,7 +183,7 @@ private:
             fail(file_, path_, "the stream claims more data than can be held");
         }
         if (!out) fail(file_, path_, "Draco decoded nothing");
-        return *(decoded_[view] = std::move(out));
+        return *(decoded_[{view, triangles}] = std::move(out));
     }
 
     // Points accessor `index` (which must declare `count` elements) at a new buffer view that `fill` writes, and
@@ -232,7 +235,7 @@ private:
     std::string path_;  // the primitive's extension being decoded
     int view_ = -1;     // and its buffer view
     std::vector<unsigned char> data_;
-    std::map<int, std::unique_ptr<draco::PointCloud>> decoded_;
+    std::map<std::pair<int, bool>, std::unique_ptr<draco::PointCloud>> decoded_;
     std::map<int, std::pair<int, int>> decodedFrom_;  // accessor -> (buffer view, attribute id or -1)
 };
 

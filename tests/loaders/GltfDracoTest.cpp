@@ -8,6 +8,7 @@
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
 #include <draco/mesh/triangle_soup_mesh_builder.h>
+#include <draco/point_cloud/point_cloud_builder.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -315,6 +316,38 @@ TEST(GltfDraco, FilesThatDisagreeWithTheirStreamAreRefused) {
     j = document(e);
     j["meshes"][0]["primitives"][0]["extensions"][kExt] = 3;  // tinygltf drops it: accessors without data remain
     EXPECT_THROW(load(j), LoadError);
+}
+
+// A Draco point cloud (mode POINTS) decodes like a mesh; the conversion then skips points, as it does in any file.
+// The same stream read as triangles is refused.
+TEST(GltfDraco, PointCloudsDecodeAndAreSkippedLikeOtherPoints) {
+    draco::PointCloudBuilder b;
+    b.Start(50);
+    const int pos = b.AddAttribute(draco::GeometryAttribute::POSITION, 3, draco::DT_FLOAT32);
+    for (uint32_t i = 0; i < 50; ++i) {
+        const vec3 p(float(i), std::sin(float(i)), 0.5f * float(i % 7));
+        b.SetAttributeValueForPoint(pos, draco::PointIndex(i), &p);
+    }
+    std::unique_ptr<draco::PointCloud> cloud = b.Finalize(false);
+    ASSERT_TRUE(cloud);
+    draco::EncoderBuffer buffer;
+    ASSERT_TRUE(draco::Encoder().EncodePointCloudToBuffer(*cloud, &buffer).ok());
+    Encoded e;
+    e.bytes.assign(buffer.data(), buffer.size());
+    e.position = int(cloud->attribute(pos)->unique_id());
+    e.points = 50;
+    json j = document(e);
+    auto& prim = j["meshes"][0]["primitives"][0];
+    prim.erase("indices");
+    prim["mode"] = 0;
+    prim["attributes"] = {{"POSITION", 0}};
+    prim["extensions"][kExt]["attributes"] = {{"POSITION", e.position}};
+    j["accessors"] = json::array({j["accessors"][0]});
+    const GltfScene s = load(j);
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("points"), std::string::npos) << s.warnings[0];
+    prim["mode"] = 4;
+    expectRefused(j, kPath, "no triangle mesh");
 }
 
 // The Draco-compressed 2CylinderEngine of Debian's assimp-testmodels (written by COLLADA2GLTF and Draco's glTF
