@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# CesiumGS' 3d-tiles-tools and Khronos' glTF validator from the npm registry into PREFIX (node_modules): the tile
-# format and tileset tests check what sgkit reads and writes against them. About 4 minutes and 225 MB on a cold
+# CesiumGS' 3d-tiles-tools, Khronos' glTF validator and CesiumGS' gltf-pipeline from the npm registry into PREFIX
+# (node_modules): the tile format, tileset and glTF conformance tests check what sgkit reads and writes against
+# them; GltfDracoTest loads what gltf-pipeline's Draco compression makes. About 4 minutes and 225 MB on a cold
 # npm cache.
 set -euo pipefail
 prefix="${1:?usage: fetch-tiles-tools.sh PREFIX}"
-[ -x "$prefix/node_modules/.bin/3d-tiles-tools" ] && [ -d "$prefix/node_modules/gltf-validator" ] && exit 0
-npm install --prefix "$prefix" --no-audit --no-fund 3d-tiles-tools@0.5.4 gltf-validator@2.0.0-dev.3.10
+[ -x "$prefix/node_modules/.bin/3d-tiles-tools" ] && [ -d "$prefix/node_modules/gltf-validator" ] &&
+  [ -d "$prefix/node_modules/gltf-pipeline" ] && exit 0
+npm install --prefix "$prefix" --no-audit --no-fund 3d-tiles-tools@0.5.4 gltf-validator@2.0.0-dev.3.10 gltf-pipeline@4.3.1

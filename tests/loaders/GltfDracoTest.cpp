@@ -13,10 +13,12 @@
 #include <nlohmann/json.hpp>
 
 #include <dlfcn.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -162,6 +164,45 @@ std::vector<std::array<uint32_t, 3>> canonical(const std::vector<uint32_t>& idx)
 
 float maxAbs(const vec3& a) { return std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)}); }
 
+// How far a decoded mesh is from the original: each decoded point is matched to the nearest original one (by
+// position, UV and normal: a box's corner is three points); the largest component differences, the largest normal
+// angle, and whether the triangles (through the match, as canonical()) are the original ones.
+struct Errors {
+    float position = 0.0f, uv = 0.0f, normalDegrees = 0.0f;
+    bool sameTriangles = false;
+};
+
+Errors compare(const Mesh& m, const Original& o) {
+    Errors e;
+    std::vector<uint32_t> toOriginal(m.positions().size());
+    const bool uvs = !o.uvs.empty() && m.uvs().size() == m.positions().size();
+    const bool normals = !o.normals.empty() && m.normals().size() == m.positions().size();
+    for (size_t i = 0; i < m.positions().size(); ++i) {
+        size_t best = 0;
+        float bestD = 1e30f;
+        for (size_t k = 0; k < o.positions.size(); ++k) {
+            const float d = glm::length(m.positions()[i] - o.positions[k]) +
+                            (uvs ? glm::length(m.uvs()[i] - o.uvs[k]) : 0.0f) +
+                            (normals ? glm::length(m.normals()[i] - o.normals[k]) : 0.0f);
+            if (d < bestD) bestD = d, best = k;
+        }
+        toOriginal[i] = uint32_t(best);
+        e.position = std::max(e.position, maxAbs(m.positions()[i] - o.positions[best]));
+        if (uvs) {
+            const vec2 du = glm::abs(m.uvs()[i] - o.uvs[best]);
+            e.uv = std::max({e.uv, du.x, du.y});
+        }
+        if (normals) {
+            const float c = glm::dot(glm::normalize(m.normals()[i]), o.normals[best]);
+            e.normalDegrees = std::max(e.normalDegrees, std::acos(std::min(1.0f, c)) * 57.29578f);
+        }
+    }
+    std::vector<uint32_t> mapped;
+    for (uint32_t t = 0; t < m.indexCount(); ++t) mapped.push_back(toOriginal[m.index(t)]);
+    e.sameTriangles = canonical(mapped) == canonical(o.indices);
+    return e;
+}
+
 // The extension's path in messages about the first primitive.
 const std::string kPath = std::string("meshes[0].primitives[0].extensions.") + kExt;
 
@@ -194,35 +235,17 @@ TEST(GltfDraco, DecodedMeshIsTheOriginalWithinTheQuantizationBound) {
 
         const float posStep = 4.0f / float((1 << kPositionBits) - 1);  // the sphere's extent is its diameter, 4
         const float uvStep = 1.0f / float((1 << kUvBits) - 1);
-        float posErr = 0.0f, uvErr = 0.0f, normalDeg = 0.0f;
-        std::vector<uint32_t> toOriginal(e.points);
-        for (size_t i = 0; i < e.points; ++i) {
-            size_t best = 0;
-            float bestD = 1e30f;
-            for (size_t k = 0; k < o.positions.size(); ++k) {
-                const float d = glm::length(m.positions()[i] - o.positions[k]) + glm::length(m.uvs()[i] - o.uvs[k]);
-                if (d < bestD) bestD = d, best = k;
-            }
-            toOriginal[i] = uint32_t(best);
-            posErr = std::max(posErr, maxAbs(m.positions()[i] - o.positions[best]));
-            const vec2 du = glm::abs(m.uvs()[i] - o.uvs[best]);
-            uvErr = std::max({uvErr, du.x, du.y});
-            const float c = glm::dot(glm::normalize(m.normals()[i]), o.normals[best]);
-            normalDeg = std::max(normalDeg, std::acos(std::min(1.0f, c)) * 57.29578f);
-        }
-        EXPECT_LE(posErr, 0.5f * posStep * 1.001f);
-        EXPECT_LE(uvErr, 0.5f * uvStep * 1.001f);
+        const Errors err = compare(m, o);
+        EXPECT_LE(err.position, 0.5f * posStep * 1.001f);
+        EXPECT_LE(err.uv, 0.5f * uvStep * 1.001f);
         // 10-bit octahedral normals: the grid's diagonal is about 0.2 degrees at its coarsest.
-        EXPECT_LE(normalDeg, 0.25f);
+        EXPECT_LE(err.normalDegrees, 0.25f);
+        EXPECT_TRUE(err.sameTriangles);
         std::printf(
             "[ draco ] speed %d: %zu bytes for %zu points, %u triangles; max error position %.3g (bound %.3g), "
             "uv %.3g (bound %.3g), normal %.3f deg\n",
-            speed, e.bytes.size(), e.points, m.triangleCount(), double(posErr), double(0.5f * posStep), double(uvErr),
-            double(0.5f * uvStep), double(normalDeg));
-
-        std::vector<uint32_t> mapped;
-        for (uint32_t t = 0; t < m.indexCount(); ++t) mapped.push_back(toOriginal[m.index(t)]);
-        EXPECT_EQ(canonical(mapped), canonical(o.indices));
+            speed, e.bytes.size(), e.points, m.triangleCount(), double(err.position), double(0.5f * posStep),
+            double(err.uv), double(0.5f * uvStep), double(err.normalDegrees));
     }
 }
 
@@ -386,6 +409,71 @@ TEST(GltfDraco, ThirdPartyEngineModelMatchesItsUncompressedOriginal) {
         "[ draco ] 2CylinderEngine: %zu triangles drawn (uncompressed %zu); box corners %.3g and %.3g apart (extent "
         "%.4g)\n",
         ta, tb, glm::length(ba.min - bb.min), glm::length(ba.max - bb.max), extent);
+}
+
+// Another encoder: Cesium's gltf-pipeline (npm; Draco's JavaScript build) compresses a file saveGltf wrote. Each
+// mesh loads back within the quantization asked for, with the same triangles.
+TEST(GltfDraco, GltfPipelineOutputMatchesWhatWasSaved) {
+    const char* env = std::getenv("SGKIT_NPM_MODULES");
+#ifdef SGKIT_NPM_MODULES
+    const fs::path modules = env ? env : SGKIT_NPM_MODULES;
+#else
+    const fs::path modules = env ? env : "";
+#endif
+    const fs::path tool = modules / "gltf-pipeline" / "bin" / "gltf-pipeline.js";
+    if (!fs::exists(tool)) GTEST_SKIP() << tool << " absent: tools/fetch-tiles-tools.sh installs it";
+    if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "node is not installed";
+
+    const Original sph = sphere(24, 12, 2.0f);
+    auto sphereMesh = make<Mesh>();
+    sphereMesh->set(sph.positions, sph.normals, sph.indices, sph.uvs);
+    auto box = makeBoxMesh(dvec3(-1, -2, -3), dvec3(3, 2, 1), 2);
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(sphereMesh, make<Material>()));
+    auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(10, 0, 0)));
+    t->addChild(make<Geometry>(box, make<Material>(vec4(0.2f, 0.5f, 0.9f, 1.0f))));
+    root->addChild(t);
+
+    const fs::path dir = fs::temp_directory_path() / ("sgkit_draco_pipeline_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string in = (dir / "in.glb").string(), out = (dir / "out.glb").string();
+    saveGltf(*root, in);
+    const std::string cmd = "node '" + tool.string() + "' -i '" + in + "' -o '" + out + "' -d" +
+                            " --draco.quantizePositionBits " + std::to_string(kPositionBits) +
+                            " --draco.quantizeNormalBits " + std::to_string(kNormalBits) +
+                            " --draco.quantizeTexcoordBits " + std::to_string(kUvBits) + " > '" + out + ".log' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream f(out, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    ASSERT_NE(bytes.find(kExt), std::string::npos) << "gltf-pipeline wrote no Draco";
+
+    const GltfScene s = loadGltf(out);
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings.front();
+    std::vector<const Mesh*> loaded;
+    forEachDistinctGeometry(*s.root, [&](const Geometry& g) { loaded.push_back(g.mesh()); });
+    ASSERT_EQ(loaded.size(), 2u);
+    for (const Mesh* m : loaded) {
+        const bool isSphere = m->triangleCount() == sphereMesh->triangleCount();
+        const Mesh& original = isSphere ? *sphereMesh : *box;
+        ASSERT_EQ(m->triangleCount(), original.triangleCount());
+        Original o;
+        o.positions = original.positions();
+        o.normals = original.normals();
+        o.uvs = original.uvs();
+        for (uint32_t i = 0; i < original.indexCount(); ++i) o.indices.push_back(original.index(i));
+        const Errors err = compare(*m, o);
+        const dvec3 size = original.box().max - original.box().min;
+        const float posStep = float(std::max({size.x, size.y, size.z})) / float((1 << kPositionBits) - 1);
+        EXPECT_LE(err.position, 0.5f * posStep * 1.001f) << (isSphere ? "sphere" : "box");
+        EXPECT_LE(err.uv, 0.5f / float((1 << kUvBits) - 1) * 1.001f);
+        EXPECT_LE(err.normalDegrees, 0.25f);
+        EXPECT_TRUE(err.sameTriangles);
+        std::printf("[ draco ] gltf-pipeline %s: max error position %.3g (bound %.3g), uv %.3g, normal %.3f deg\n",
+                    isSphere ? "sphere" : "box", double(err.position), double(0.5f * posStep), double(err.uv),
+                    double(err.normalDegrees));
+    }
+    std::printf("[ draco ] gltf-pipeline: %zu bytes saved, %zu compressed\n", size_t(fs::file_size(in)), bytes.size());
+    fs::remove_all(dir);
 }
 
 // libdraco.a holds its own copy of tinygltf and stb: the loader must run Debian's (the link order in
