@@ -50,7 +50,7 @@ std::string validatorMissing() {
 
 struct Verdict {
     int errors = -1, warnings = 0;
-    std::vector<std::string> messages;
+    std::vector<std::string> messages, warningMessages;  // the first few
 };
 
 // The validator's verdict on each file, by path.
@@ -72,6 +72,7 @@ std::map<std::string, Verdict> validate(const std::vector<std::string>& files) {
         d.errors = j["errors"].get<int>();
         d.warnings = j["warnings"].get<int>();
         for (const auto& m : j["messages"]) d.messages.push_back(m.get<std::string>());
+        for (const auto& m : j["warningMessages"]) d.warningMessages.push_back(m.get<std::string>());
     }
     std::remove(out.c_str());
     EXPECT_EQ(status, 0) << all;
@@ -235,8 +236,9 @@ TEST(GltfConformance, WhatSaveGltfWritesPassesTheValidator) {
         std::string why;
         for (const std::string& m : v->second.messages) why += "\n  " + m;
         EXPECT_EQ(v->second.errors, 0) << f << why;
-        std::printf("[ conformance ] written %-16s %d errors, %d warnings\n", fs::path(f).filename().c_str(),
-                    v->second.errors, v->second.warnings);
+        std::printf("[ conformance ] written %-16s %d errors, %d warnings%s\n", fs::path(f).filename().c_str(),
+                    v->second.errors, v->second.warnings,
+                    v->second.warningMessages.empty() ? "" : (" (" + v->second.warningMessages.front() + ")").c_str());
     }
     fs::remove_all(dir);
 }

@@ -2,9 +2,9 @@
 //
 //   node validate_gltf.mjs NODE_MODULES_DIR FILE...
 //
-// Prints one line of JSON per file: {"file", "errors", "warnings", "messages": the first few errors}. External
-// resources are read from the file's directory; URIs with a scheme (http:, https:) are not fetched, and the
-// validator reports them as unreadable. Exits 2 on bad usage only: a file's errors are data, not a failure.
+// Prints one line of JSON per file: {"file", "errors", "warnings", "messages" and "warningMessages": the first
+// few of each}. External resources are read from the file's directory; URIs with a scheme (http:, https:) are not
+// fetched, and the validator reports them as unreadable. Exits 2 on bad usage only: a file's errors are data, not a failure.
 import path from "path";
 import fs from "fs/promises";
 
@@ -30,10 +30,13 @@ for (const file of files) {
     });
     line.errors = report.issues.numErrors;
     line.warnings = report.issues.numWarnings;
-    line.messages = report.issues.messages
-      .filter((m) => m.severity === 0)
-      .slice(0, 3)
-      .map((m) => `${m.pointer ?? ""}: ${m.message}`);
+    const first = (severity) =>
+      report.issues.messages
+        .filter((m) => m.severity === severity)
+        .slice(0, 3)
+        .map((m) => `${m.pointer ?? ""}: ${m.message}`);
+    line.messages = first(0);
+    line.warningMessages = first(1);
   } catch (e) {
     // The validator throws on input it cannot start on (not JSON, not glTF): one error.
     line.errors = 1;
