@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 #include <new>
+#include <string_view>
 
 namespace sg::gltf {
 namespace {
@@ -247,8 +248,9 @@ std::vector<unsigned char> dracoIndicesForTinygltf(const unsigned char* data, si
         jsonAt = 20;
         jsonLen = size_t(data[12]) | size_t(data[13]) << 8 | size_t(data[14]) << 16 | size_t(data[15]) << 24;
     }
-    std::string text(reinterpret_cast<const char*>(data) + jsonAt, jsonLen);
-    if (text.find(kDraco) == std::string::npos) return {};
+    const std::string_view json0(reinterpret_cast<const char*>(data) + jsonAt, jsonLen);
+    if (json0.find(kDraco) == std::string_view::npos) return {};  // most files: nothing copied
+    std::string text(json0);
     while (!text.empty() && (text.back() == '\0' || text.back() == ' ')) text.pop_back();  // GLB padding
     nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
     if (j.is_discarded() || !j.is_object() || !j["meshes"].is_array() || !j["accessors"].is_array()) return {};
