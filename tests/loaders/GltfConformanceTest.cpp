@@ -144,11 +144,11 @@ TEST(GltfConformance, BufferByUrlIsRefusedNamingTheUrl) {
     gltftest::Doc d;
     d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
                 "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}])";
+    const fs::path dir = fs::temp_directory_path() / ("sgkit_gltf_url_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string path = (dir / "box.gltf").string();
     for (const char* url : {"http://example.com/models/box.bin", "https://example.com/box.bin"}) {
         d.externalBin = url;
-        const std::string dir = (fs::temp_directory_path() / "sgkit_gltf_url").string();
-        fs::create_directories(dir);
-        const std::string path = dir + "/box.gltf";
         std::ofstream(path) << d.text();
         try {
             loadGltf(path);
@@ -158,6 +158,7 @@ TEST(GltfConformance, BufferByUrlIsRefusedNamingTheUrl) {
             EXPECT_NE(e.reason().find("network"), std::string::npos) << e.what();
         }
     }
+    fs::remove_all(dir);
 }
 
 // Scenes as sgkit's users write them: a small factory (LODs, switches, billboards, instances, terrain), textures,
