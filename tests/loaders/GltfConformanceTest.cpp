@@ -140,7 +140,7 @@ TEST(GltfConformance, FilesTheValidatorPassesLoadAndTheRestLoadOrAreRefused) {
 
 // A buffer on the network is not fetched: the load is refused naming the URI (a local file's loads never wait on
 // a server; tilesets fetch their contents through sg::readResource instead).
-TEST(GltfConformance, BufferByUrlIsRefusedNamingTheUrl) {
+TEST(GltfConformance, UrisOnTheNetworkAreNotFetched) {
     gltftest::Doc d;
     d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
                 "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}])";
@@ -158,6 +158,16 @@ TEST(GltfConformance, BufferByUrlIsRefusedNamingTheUrl) {
             EXPECT_NE(e.reason().find("network"), std::string::npos) << e.what();
         }
     }
+    // An image so is not fetched either; like any image that cannot be read, its texture is skipped with a warning.
+    d.externalBin.clear();
+    d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}], "images": [{"uri": "http://example.com/t.png"}],
+                "textures": [{"source": 0}], "materials": [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "material": 0}]}])";
+    std::ofstream(path) << d.text();
+    const GltfScene s = loadGltf(path);
+    std::string all;
+    for (const std::string& w : s.warnings) all += w + "\n";
+    EXPECT_NE(all.find("'http://example.com/t.png' is on the network"), std::string::npos) << all;
     fs::remove_all(dir);
 }
 
