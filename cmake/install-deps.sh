@@ -5,6 +5,8 @@ pkgs=(build-essential cmake ninja-build pkg-config libglm-dev libtinygltf-dev li
       libgl-dev libegl-dev libmeshoptimizer-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
       nlohmann-json3-dev libglu1-mesa-dev  # the map converter's TopoJSON reader; GLU's tessellator compared
       libcurl4-openssl-dev  # sg::readResource: tiles and tilesets by URL
+      libdraco-dev  # glTF's KHR_draco_mesh_compression
+      assimp-testmodels  # glTF files written elsewhere: the loader's conformance test
       python3  # the tests' local HTTP server (tests/loaders/tile_server.py)
       clang-14 libclang-rt-14-dev  # clang: the glTF loader's libFuzzer target
       clang-format  # the format check of .ci/run

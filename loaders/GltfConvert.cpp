@@ -611,7 +611,12 @@ struct Converter {
         if (kind != "Transform" && kind != "Instance" && !instancedLod && local != dmat4(1.0)) {
             // sgkit writes its kinds without a matrix; one given by hand places the node in a Transform.
             auto t = make<Transform>();
-            t->setMatrix(local);
+            try {
+                t->setMatrix(local);
+            } catch (const std::invalid_argument& e) {  // singular, as a plain Transform's above
+                warn(path, std::string("matrix cannot be used (") + e.what() + "), node skipped");
+                return {};
+            }
             t->addChild(node);
             node = t;  // the extras below still apply to the inner node: keep a handle on it
         }

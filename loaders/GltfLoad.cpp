@@ -1,5 +1,6 @@
 // loadGltf: reads the file (mapped, not copied), checks the bytes, lets tinygltf parse, validates, converts.
 #include "loaders/GltfDetail.h"
+#include "loaders/GltfDraco.h"
 #include "nodes/Geometry.h"
 #include "sg/scene/DistinctGeometries.h"
 
@@ -72,15 +73,31 @@ struct FsContext {
     bool allowFiles;
 };
 
-bool fileExists(const std::string& path, void* user) {
-    // From memory: "exists", so that readWholeFile says why it is not read.
+// A URI with a scheme (http://, https://, ...) that tinygltf joined to the file's directory, or empty: such a
+// buffer or image is on the network, and a load never waits on a server.
+std::string networkUri(const std::string& path) {
+    const size_t colon = path.find("://");
+    if (colon == std::string::npos) return {};
+    const size_t slash = path.rfind('/', colon);
+    return path.substr(slash == std::string::npos ? 0 : slash + 1);
+}
+bool isRegularFile(const std::string& path) {
     struct stat st {};
-    return !static_cast<FsContext*>(user)->allowFiles || (::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode));
+    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
+bool fileExists(const std::string& path, void* user) {
+    // From memory, or a URL: "exists", so that readWholeFile says why it is not read.
+    return !static_cast<FsContext*>(user)->allowFiles || isRegularFile(path) || !networkUri(path).empty();
 }
 std::string expandPath(const std::string& path, void*) { return path; }
 bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
     if (!static_cast<FsContext*>(user)->allowFiles) {
         if (err) *err += "external file '" + path + "' is not read when loading from memory\n";
+        return false;
+    }
+    if (const std::string uri = networkUri(path); !uri.empty() && !isRegularFile(path)) {
+        if (err) *err += "'" + uri + "' is on the network: glTF files are loaded with their local files only\n";
         return false;
     }
     try {
@@ -124,6 +141,8 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
                bool allowFiles, Progress& progress) {
     const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
     prevalidate(file, data, size, binary);
+    const std::vector<unsigned char> draco = dracoIndicesForTinygltf(data, size, binary);  // see GltfDraco.h
+    if (!draco.empty()) data = draco.data(), size = draco.size();
     progress.report(0.05, "parsing");
     tinygltf::TinyGLTF parser;
     FsContext ctx{allowFiles};
@@ -162,6 +181,7 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
     progress.report(0.5, "validating");
     try {
         decodeMeshopt(file, model);
+        decodeDraco(file, model);  // compressed primitives become plain accessors before anything reads them
         validate(file, model);
         applySparse(model);
         return convert(file, model, progress, lines(warn));

@@ -11,6 +11,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 
+#include <stb_image_write.h>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -37,8 +38,9 @@ void addProperties(Value::Object& extras, const GltfProperties& p) {
 }
 
 struct Writer {
-    explicit Writer(const GltfSaveOptions& o) : options(o) {}
+    Writer(const GltfSaveOptions& o, bool binary) : options(o), glb(binary) {}
     const GltfSaveOptions& options;
+    const bool glb;  // writing a .glb: images go into the binary chunk
     tinygltf::Model m;
     std::map<const Mesh*, std::map<std::string, int>> meshAttributes;  // attributes and "indices"
     std::map<std::pair<const Mesh*, const Material*>, int> meshes;
@@ -96,9 +98,12 @@ struct Writer {
         if (!mesh.uvs1().empty())
             a["TEXCOORD_1"] =
                 accessor(mesh.uvs1(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
-        if (!mesh.colors().empty())
-            a["COLOR_0"] = accessor(mesh.colors(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4,
-                                    TINYGLTF_TARGET_ARRAY_BUFFER);
+        if (!mesh.colors().empty()) {
+            // glTF's float colours lie in [0, 1]; baked light may round to a hair above 1 (1.0000001).
+            std::vector<vec4> c = mesh.colors();
+            for (vec4& x : c) x = glm::clamp(x, vec4(0.0f), vec4(1.0f));
+            a["COLOR_0"] = accessor(c, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
+        }
         if (!mesh.indices16().empty())
             a["indices"] = accessor(mesh.indices16(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
@@ -117,8 +122,21 @@ struct Writer {
         im.component = 4;
         im.bits = 8;
         im.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-        im.image = t.rgba();
         im.mimeType = "image/png";
+        if (glb) {
+            // In a .glb the PNG goes into the binary chunk (a data URI there is legal but wasteful, and the
+            // validator warns about it); tinygltf writes an image with a buffer view and no pixels as it is.
+            std::vector<unsigned char> png;
+            const auto append = [](void* to, void* data, int size) {
+                auto* v = static_cast<std::vector<unsigned char>*>(to);
+                v->insert(v->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
+            };
+            if (!stbi_write_png_to_func(append, &png, t.width(), t.height(), 4, t.rgba().data(), t.width() * 4))
+                throw std::runtime_error("saveGltf(): a texture could not be encoded as PNG");
+            im.bufferView = view(png.data(), png.size(), 0);
+        } else {
+            im.image = t.rgba();  // tinygltf encodes it as a PNG data URI
+        }
         m.images.push_back(std::move(im));
         tinygltf::Texture tex;
         tex.source = int(m.images.size() - 1);
@@ -476,7 +494,7 @@ struct Writer {
 
 void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& options) {
     const bool glb = path.size() >= 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-    Writer w(options);
+    Writer w(options, glb);
     w.m.asset.version = "2.0";
     w.m.asset.generator = "sgkit";
     w.m.buffers.emplace_back();

@@ -329,10 +329,9 @@ TEST(Gltf, MalformedFilesNameFilePathAndReason) {
         {"unsupported required extension",
          [&](Doc& d) {
              d.json =
-                 mesh +
-                 R"(, "extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"])";
+                 mesh + R"(, "extensionsUsed": ["KHR_technique_webgl"], "extensionsRequired": ["KHR_technique_webgl"])";
          },
-         "extensionsRequired[0]", "extension 'KHR_draco_mesh_compression' is required but not supported"},
+         "extensionsRequired[0]", "extension 'KHR_technique_webgl' is required but not supported"},
         {"missing mesh", [&](Doc& d) { d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"mesh": 3}])"; },
          "nodes[0].mesh", "mesh 3 does not exist (0 meshes)"},
         {"missing child", [&](Doc& d) { d.json = R"("scenes": [{"nodes": [0]}], "nodes": [{"children": [5]}])"; },
