@@ -1,7 +1,9 @@
 // Physical materials against glTF 2.0's BRDF (Appendix B) evaluated here on the CPU, in double, from the spec's
-// formulas: spheres and a plane of known materials under one directional light (and, in the second test, a
-// point and a spot light of KHR_lights_punctual), every pixel's ray cast into the same triangles the renderer
-// draws, the normal interpolated as the rasterizer does, the result written as sRGB and rounded to 8 bits.
+// formulas: spheres and a plane of known materials under one directional light, the headlight, or a point and a
+// spot light of KHR_lights_punctual, both as built and as a .glb written and read back. Every pixel's ray is cast
+// into the triangles the renderer draws, the normal interpolated as the rasterizer does, the result written as
+// sRGB and rounded to 8 bits.
+#include "loaders/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Transform.h"
@@ -13,10 +15,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <string>
 
 using namespace sg;
 
@@ -100,7 +104,8 @@ struct Compared {
     int worst = 0;
 };
 
-struct PbrShadingTest : ::testing::Test {
+// Parameter: the scene as built, or as a .glb written by saveGltf and read back (what a user's file gives).
+struct PbrShadingTest : ::testing::TestWithParam<bool> {
     OsmesaContext context{kW, kH};
     Renderer renderer;
     ref_ptr<Group> root = make<Group>();
@@ -122,6 +127,13 @@ struct PbrShadingTest : ::testing::Test {
             root->addChild(t);
         }
         root->addChild(make<Geometry>(floorMesh(6.0f, -0.9f), physical({0.6f, 0.6f, 0.55f}, 0.0f, 0.9f)));
+        if (GetParam()) {
+            // One file per process: ctest runs the tests side by side.
+            const std::string file = ::testing::TempDir() + "pbr_shading_" + std::to_string(getpid()) + ".glb";
+            saveGltf(*root, file);
+            root = make<Group>();
+            root->addChild(loadGltf(file).root);
+        }
     }
 
     // Draws the scene and compares every pixel with the CPU's evaluation under `lights`.
@@ -179,7 +191,7 @@ struct PbrShadingTest : ::testing::Test {
 
 }  // namespace
 
-TEST_F(PbrShadingTest, DirectionalLightMatchesAppendixB) {
+TEST_P(PbrShadingTest, DirectionalLightMatchesAppendixB) {
     // A sun and no sky or ground: what the pixels show is the BRDF alone.
     const vec3 toSun = glm::normalize(vec3(0.5f, 0.8f, 0.45f)), color(0.9f, 0.85f, 0.8f);
     renderer.setLight(DirectionalLight::sun(toSun, vec3(0.0f), color));
@@ -193,7 +205,7 @@ TEST_F(PbrShadingTest, DirectionalLightMatchesAppendixB) {
     std::printf("%zu pixels covered, %zu off by more than 2/255, worst %d/255\n", c.covered, c.mismatched, c.worst);
 }
 
-TEST_F(PbrShadingTest, HeadlightShinesFromTheEye) {
+TEST_P(PbrShadingTest, HeadlightShinesFromTheEye) {
     // No sun set: the default light is at the eye, for every fragment along its view ray.
     DirectionalLight head;
     head.ambient = vec3(0.0f);
@@ -209,7 +221,7 @@ TEST_F(PbrShadingTest, HeadlightShinesFromTheEye) {
     EXPECT_LE(c.mismatched, c.covered / 1000) << c.mismatched << " of " << c.covered << ", worst " << c.worst;
 }
 
-TEST_F(PbrShadingTest, PointAndSpotLightsMatchKhrLightsPunctual) {
+TEST_P(PbrShadingTest, PointAndSpotLightsMatchKhrLightsPunctual) {
     // The sun dark: a point light with a range and a spot whose cone edge crosses the floor.
     renderer.setLight(DirectionalLight::sun(vec3(0.0f, 1.0f, 0.0f), vec3(0.0f), vec3(0.0f)));
     PunctualLight point;
@@ -251,3 +263,6 @@ TEST_F(PbrShadingTest, PointAndSpotLightsMatchKhrLightsPunctual) {
     EXPECT_LE(c.mismatched, c.covered / 1000) << c.mismatched << " of " << c.covered << ", worst " << c.worst;
     std::printf("%zu pixels covered, %zu off by more than 2/255, worst %d/255\n", c.covered, c.mismatched, c.worst);
 }
+
+INSTANTIATE_TEST_SUITE_P(BuiltOrRead, PbrShadingTest, ::testing::Bool(),
+                         [](const auto& info) { return info.param ? "ThroughGlb" : "InMemory"; });
