@@ -79,16 +79,20 @@ int main(int argc, char** argv) try {
     full->pbr.occlusion.texture = noise(256, 4);
     full->pbr.emissive.texture = noise(256, 5);
     full->pbr.emissiveFactor = vec3(0.2f);
+    // The same with occlusion packed in the metallic-roughness texture (glTF's "ORM"): one sample for both.
+    auto packed = make<Material>(vec4(0.7f, 0.6f, 0.5f, 1.0f), full->texture);
+    packed->physical = true;
+    packed->pbr = full->pbr;
+    packed->pbr.occlusion.texture = packed->pbr.metallicRoughness.texture;
     struct Kind {
         const char* name;
         const Material* material;
         bool lights;
     };
-    const Kind kinds[] = {{"classic (texture, highlight)", classic.get(), false},
-                          {"physical, factors only", plain.get(), false},
-                          {"physical, factors, 2 lights", plain.get(), true},
-                          {"physical, 5 maps", full.get(), false},
-                          {"physical, 5 maps, 2 lights", full.get(), true}};
+    const Kind kinds[] = {
+        {"classic (texture, highlight)", classic.get(), false}, {"physical, factors only", plain.get(), false},
+        {"physical, factors, 2 lights", plain.get(), true},     {"physical, 5 maps", full.get(), false},
+        {"physical, 5 maps, 2 lights", full.get(), true},       {"physical, 4 maps (ORM packed)", packed.get(), false}};
     constexpr int kKinds = int(sizeof kinds / sizeof kinds[0]);
 
     PunctualLight point;

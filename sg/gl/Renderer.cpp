@@ -336,6 +336,10 @@ void Renderer::physicalTextures(Run& r) {
         r.shading.pbr |= slots[k].second;
         set(t);
     }
+    const TextureSlot &mr = p.metallicRoughness, &ao = p.occlusion;
+    if ((r.shading.pbr & kShadePbrMr) && (r.shading.pbr & kShadePbrOcclusion) && mr.texture == ao.texture &&
+        mr.texCoord == ao.texCoord && mr.transform == ao.transform)
+        r.shading.pbr |= kShadePbrOrm;
 }
 
 // Uniforms missing from a variant have location -1, which GL ignores; the values are kept per program, as GL keeps

@@ -210,14 +210,15 @@ void main() {
 
 uint32_t canonicalFeatures(uint32_t f) {
     constexpr uint32_t pbrOnly = kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive | kShadeUv0 |
-                                 kShadeUv1 | kShadeFlat | kShadeBlend | kShadePunctual;
+                                 kShadeUv1 | kShadeFlat | kShadeBlend | kShadePunctual | kShadePbrOrm;
     if (f & kShadePbr) {
         f &= ~(kShadeBaked | kShadeSpecular);  // the classic terms
         // Unlit: the base colour alone.
         if (!(f & kShadeLit))
             f &= ~(kShadeSun | kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive | kShadeFlat |
-                   kShadePunctual);
+                   kShadePunctual | kShadePbrOrm);
         if (f & kShadeFlat) f &= ~kShadePbrNormal;  // a normal map needs the mesh's normals and tangents
+        if (!(f & kShadePbrMr) || !(f & kShadePbrOcclusion)) f &= ~kShadePbrOrm;
         return f;
     }
     f &= ~pbrOnly;
@@ -246,7 +247,8 @@ std::string variantSource(bool vertex, uint32_t features) {
                                                       {kShadeUv1, "UV1"},
                                                       {kShadeFlat, "FLAT"},
                                                       {kShadeBlend, "BLEND"},
-                                                      {kShadePunctual, "PUNCTUAL"}};
+                                                      {kShadePunctual, "PUNCTUAL"},
+                                                      {kShadePbrOrm, "PBR_ORM"}};
     for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
     if (f & kShadePbr) return s + (vertex ? kPbrVertexShader : kPbrFragmentShader);
     return s + (vertex ? kVariantVertexShader : kVariantFragmentShader);

@@ -37,6 +37,9 @@ enum ShadeFeature : uint32_t {
     kShadeFlat = 1u << 15,          // lit without vertex normals: the triangle's own normal
     kShadeBlend = 1u << 16,         // Material::blend: the alpha is written for blending (opaque: 1)
     kShadePunctual = 1u << 17,      // the renderer has punctual lights (Renderer::setPunctualLights)
+    // The occlusion map is the metallic-roughness texture (glTF's common "ORM" packing: occlusion in R), read with
+    // the same UVs: its sample is taken once (with kShadePbrMr and kShadePbrOcclusion).
+    kShadePbrOrm = 1u << 18,
 };
 // Punctual lights a physical draw receives at most.
 constexpr int kMaxPunctualLights = 8;

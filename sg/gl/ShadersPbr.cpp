@@ -256,7 +256,11 @@ void main() {
     vec2 ab = vec2(-1.04, 1.04) * a004 + k.zw;
     vec3 ambient = cDiff * envDiffuse + envSpecular * (f0 * ab.x + ab.y);
 #if PBR_OCCLUSION
+#if PBR_ORM
+    float ao = mr.r;  // the metallic-roughness texture's sample, already taken
+#else
     float ao = texture(uOcclusionTex, uvOf(uOcclusionSet, uOcclusionXf)).r;
+#endif
     ambient *= 1.0 + uOcclusionStrength * (ao - 1.0);
 #endif
     rgb += ambient;

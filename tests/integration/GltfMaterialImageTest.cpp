@@ -215,3 +215,28 @@ TEST(GltfMaterialImage, PhysicalMaterialsRoundTripThroughSaveGltf) {
     }
     EXPECT_GT(covered, size_t(kW * kH / 4));  // the three views together
 }
+
+TEST(GltfMaterialImage, OcclusionPackedInTheMetallicRoughnessTextureDrawsAsTwoMaps) {
+    // glTF's "ORM" packing (occlusion in R of the metallic-roughness texture, one image) is sampled once: the same
+    // pixels as the occlusion given as a texture of its own with the same texels.
+    std::vector<uint8_t> px;
+    for (int i = 0; i < 64; ++i)
+        px.insert(px.end(), {uint8_t(40 + i * 3), uint8_t(60 + (i * 7) % 180), uint8_t((i * 13) % 256), 255});
+    const auto orm = make<Texture>(8, 8, px);
+    const auto material = [&](const ref_ptr<Texture>& occlusion) {
+        auto m = rough(vec3(0.8f, 0.7f, 0.6f));
+        m->pbr.metallicRoughness.texture = orm;
+        m->pbr.occlusion.texture = occlusion;
+        m->pbr.occlusionStrength = 0.9f;
+        return m;
+    };
+    Frame f;
+    f.renderer.setLight(DirectionalLight::sun(vec3(0.3f, 0.8f, 0.4f), vec3(0.6f), vec3(0.5f)));
+    const Camera cam = lookingAt(dvec3(0.3, 2.2, 1.6), dvec3(0.0));
+    const Image packed = f.draw(make<Geometry>(floorQuad(vec3(0, 1, 0), false), material(orm)), cam);
+    const Image separate =
+        f.draw(make<Geometry>(floorQuad(vec3(0, 1, 0), false), material(make<Texture>(8, 8, px))), cam);
+    const Image without = f.draw(make<Geometry>(floorQuad(vec3(0, 1, 0), false), material(nullptr)), cam);
+    EXPECT_EQ(countDifferingPixels(packed, separate, 0), 0u);
+    EXPECT_GT(countDifferingPixels(packed, without, 4), size_t(kW * kH / 4));  // the occlusion shows
+}
