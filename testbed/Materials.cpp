@@ -14,8 +14,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A UV sphere: u around (from +X toward -Z), v from the top; tangents from the UVs.
-ref_ptr<Mesh> sphere(float r, int slices, int stacks) {
+}  // namespace
+
+ref_ptr<Mesh> makeSphereMesh(float r, int slices, int stacks) {
     std::vector<vec3> p, n;
     std::vector<vec2> uv;
     std::vector<uint32_t> idx;
@@ -38,6 +39,8 @@ ref_ptr<Mesh> sphere(float r, int slices, int stacks) {
     m->setSurface(generateTangents(*m, 0), {});
     return m;
 }
+
+namespace {
 
 ref_ptr<Mesh> quad(const vec3& a, const vec3& b, const vec3& c, const vec3& d, const vec3& normal) {
     auto m = make<Mesh>();
@@ -116,7 +119,7 @@ ref_ptr<Node> placed(const ref_ptr<Node>& n, const dvec3& at) {
 ref_ptr<Group> buildMaterials() {
     auto root = make<Group>();
     root->setName("materials");
-    auto ball = sphere(0.4f, 64, 32);
+    auto ball = makeSphereMesh(0.4f, 64, 32);
     const vec3 colours[3] = {{0.9f, 0.1f, 0.08f}, {0.95f, 0.64f, 0.54f}, {0.91f, 0.78f, 0.42f}};
     for (int row = 0; row < 3; ++row)
         for (int k = 0; k < 6; ++k) {
@@ -124,7 +127,7 @@ ref_ptr<Group> buildMaterials() {
             auto g = make<Geometry>(ball, physical(vec4(colours[row], 1.0f), 0.5f * float(row), roughness));
             root->addChild(placed(g, dvec3(-2.5 + 1.0 * k, 0.4 + 1.0 * (2 - row), -1.5)));
         }
-    root->addChild(placed(make<Geometry>(sphere(1.0f, 128, 64), brickMaterial()), dvec3(3.4, 1.0, 0.3)));
+    root->addChild(placed(make<Geometry>(makeSphereMesh(1.0f, 128, 64), brickMaterial()), dvec3(3.4, 1.0, 0.3)));
     // The floor: a checker repeated 12 times across by its texture transform, single-sided, a little glossy.
     auto floorMat = physical(vec4(1.0f), 0.0f, 0.45f);
     floorMat->texture = texture(64, [](float u, float v) {

@@ -4,9 +4,14 @@
 // texture is repeated through a texture transform.
 #pragma once
 #include "nodes/Group.h"
+#include "sg/core/Mesh.h"
 
 namespace scenes {
 
 sg::ref_ptr<sg::Group> buildMaterials();
+
+// A UV sphere of `radius` centred on the origin, counter-clockwise from outside: the exact sphere's normals, u
+// around from +X toward -Z, v from the top (+Y), tangents from the UVs.
+sg::ref_ptr<sg::Mesh> makeSphereMesh(float radius, int slices, int stacks);
 
 }  // namespace scenes

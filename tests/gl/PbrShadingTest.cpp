@@ -3,6 +3,7 @@
 // spot light of KHR_lights_punctual, both as built and as a .glb written and read back. Every pixel's ray is cast
 // into the triangles the renderer draws, the normal interpolated as the rasterizer does, the result written as
 // sRGB and rounded to 8 bits.
+#include "RenderUtil.h"
 #include "loaders/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
@@ -12,6 +13,7 @@
 #include "sg/gl/Renderer.h"
 #include "sg/intersect/IntersectTraversal.h"
 #include "sg/io/ImageIO.h"
+#include "testbed/Materials.h"
 
 #include <gtest/gtest.h>
 
@@ -29,30 +31,6 @@ namespace {
 constexpr int kW = 256, kH = 192;
 constexpr double kPi = 3.14159265358979323846;
 const vec4 kClear(1.0f, 0.0f, 1.0f, 1.0f);  // magenta: no material below shades to it
-
-// A UV sphere of radius r (normals the exact sphere's, outward, counter-clockwise from outside).
-ref_ptr<Mesh> sphereMesh(double r, int slices, int stacks) {
-    std::vector<vec3> p, n;
-    std::vector<uint32_t> idx;
-    for (int j = 0; j <= stacks; ++j) {
-        const double th = kPi * j / stacks;
-        for (int i = 0; i <= slices; ++i) {
-            const double ph = 2.0 * kPi * i / slices;
-            const dvec3 d(std::sin(th) * std::cos(ph), std::cos(th), -std::sin(th) * std::sin(ph));
-            n.push_back(vec3(d));
-            p.push_back(vec3(d * r));
-        }
-    }
-    const uint32_t row = uint32_t(slices + 1);
-    for (uint32_t j = 0; j < uint32_t(stacks); ++j)
-        for (uint32_t i = 0; i < uint32_t(slices); ++i) {
-            const uint32_t a = j * row + i, b = a + row;
-            idx.insert(idx.end(), {a, b, a + 1, a + 1, b, b + 1});
-        }
-    auto m = make<Mesh>();
-    m->set(std::move(p), std::move(n), std::move(idx));
-    return m;
-}
 
 ref_ptr<Mesh> floorMesh(float half, float y) {
     auto m = make<Mesh>();
@@ -120,7 +98,7 @@ struct PbrShadingTest : ::testing::TestWithParam<bool> {
             {{0.0, 0.0, 0.0}, physical({0.95f, 0.75f, 0.35f}, 1.0f, 0.45f)},  // metal
             {{2.1, 0.0, 0.0}, physical({0.2f, 0.5f, 0.9f}, 0.5f, 0.8f)},      // between, rough
         };
-        auto ball = sphereMesh(0.9, 96, 48);
+        auto ball = scenes::makeSphereMesh(0.9f, 96, 48);
         for (const auto& [at, mat] : spheres) {
             auto t = make<Transform>(glm::translate(dmat4(1.0), at));
             t->addChild(make<Geometry>(ball, mat));
@@ -140,11 +118,7 @@ struct PbrShadingTest : ::testing::TestWithParam<bool> {
     Compared renderAndCompare(const LightAt& lights, const char* name) {
         Scene scene(root);
         scene.update();
-        DrawList list;
-        CullStats stats;
-        CullTraversal().cull(scene, cam, CullSettings{}, list, stats);
-        renderer.draw(list, cam, kClear);
-        const Image img = renderer.readColor();
+        const Image img = testutil::drawScene(renderer, scene, cam, true, kClear);
         if (std::getenv("SGKIT_TEST_IMAGES")) savePng(std::string(name) + ".png", img);
 
         const dmat4 toWorld = glm::inverse(cam.projection() * cam.view());

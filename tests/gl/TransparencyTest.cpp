@@ -1,5 +1,6 @@
 // Blended materials (glTF's alphaMode BLEND): drawn after the opaque items, farthest first, depth-tested without
 // writing depth, composited as "over" on the framebuffer's (sRGB) values.
+#include "RenderUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Transform.h"
@@ -61,15 +62,7 @@ struct TransparencyTest : ::testing::Test {
         cam.setPerspective(45.0, double(kW) / kH, 0.1, 100.0);
         cam.setViewport(kW, kH);
     }
-    Image draw(const ref_ptr<Group>& root) {
-        Scene scene(root);
-        scene.update();
-        DrawList list;
-        CullStats stats;
-        CullTraversal().cull(scene, cam, CullSettings{}, list, stats);
-        renderer.draw(list, cam, kClear);
-        return renderer.readColor();
-    }
+    Image draw(const ref_ptr<Group>& root) { return testutil::drawGraph(renderer, root, cam, true, kClear); }
 };
 
 const vec3 kRed(0.8f, 0.05f, 0.05f), kBlue(0.05f, 0.1f, 0.9f), kGreen(0.1f, 0.7f, 0.1f);

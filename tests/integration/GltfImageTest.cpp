@@ -1,5 +1,6 @@
 // glTF round trip in pixels: a scene and its copy saved to .glb and loaded back render identically.
 #include "GltfTestUtil.h"
+#include "RenderUtil.h"
 
 #include "loaders/Gltf.h"
 #include "nodes/Instance.h"
@@ -20,18 +21,6 @@ namespace {
 
 constexpr int kW = 160, kH = 120;
 
-Image render(Renderer& r, const ref_ptr<Node>& root, const Camera& cam) {
-    Scene scene(root);
-    scene.update();
-    DrawList list;
-    CullStats stats;
-    CullSettings settings;
-    settings.sort = false;  // emission order: the same graph order in both, whatever the pointers
-    CullTraversal().cull(scene, cam, settings, list, stats);
-    r.draw(list, cam);
-    return r.readColor();
-}
-
 // a and b draw the same pixels from twelve random views, and the views see much of the scene.
 void expectSamePixels(const ref_ptr<Node>& a, const ref_ptr<Node>& b, const Box& bounds, uint64_t seed) {
     OsmesaContext context(kW, kH);
@@ -40,8 +29,8 @@ void expectSamePixels(const ref_ptr<Node>& a, const ref_ptr<Node>& b, const Box&
     size_t covered = 0;
     for (int k = 0; k < 12; ++k) {
         const Camera cam = scenes::randomCamera(rng, bounds, k, kW, kH);
-        const Image ia = render(renderer, a, cam);
-        const Image ib = render(renderer, b, cam);
+        const Image ia = testutil::drawGraph(renderer, a, cam);
+        const Image ib = testutil::drawGraph(renderer, b, cam);
         EXPECT_EQ(countDifferingPixels(ia, ib, 0), 0u) << "view " << k;
         Image clear = ia;  // how much of the view the scene covers: the test must see something
         for (size_t i = 0; i < clear.rgba.size(); i += 4)
@@ -145,7 +134,8 @@ TEST(GltfImage, InstancedLodsSwitchEachAtItsOwnDistanceAfterARoundTrip) {
     size_t differ = 0;
     for (int k = 0; k < 12; ++k) {
         const Camera cam = scenes::randomCamera(views, Box{dvec3(-13, -13, 0), dvec3(13, 13, 3)}, k, kW, kH);
-        differ += countDifferingPixels(render(renderer, read.root, cam), render(renderer, unswitched, cam), 0);
+        differ += countDifferingPixels(testutil::drawGraph(renderer, read.root, cam),
+                                       testutil::drawGraph(renderer, unswitched, cam), 0);
     }
     EXPECT_GT(differ, 1000u);
 }

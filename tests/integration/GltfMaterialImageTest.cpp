@@ -1,6 +1,7 @@
 // glTF's materials in pixels: KHR_texture_transform on Khronos' own test model, normal maps (the file's tangents or
 // generated ones), and physical materials written by saveGltf and read back.
 #include "GltfTestUtil.h"
+#include "RenderUtil.h"
 
 #include "loaders/Gltf.h"
 #include "nodes/Geometry.h"
@@ -26,17 +27,7 @@ constexpr int kW = 200, kH = 150;
 struct Frame {
     OsmesaContext context{kW, kH};
     Renderer renderer;
-    Image draw(const ref_ptr<Node>& root, const Camera& cam) {
-        Scene scene(root);
-        scene.update();
-        DrawList list;
-        CullStats stats;
-        CullSettings settings;
-        settings.sort = false;  // emission order: two copies of a graph draw in the same order
-        CullTraversal().cull(scene, cam, settings, list, stats);
-        renderer.draw(list, cam);
-        return renderer.readColor();
-    }
+    Image draw(const ref_ptr<Node>& root, const Camera& cam) { return testutil::drawGraph(renderer, root, cam); }
 };
 
 Camera lookingAt(const dvec3& eye, const dvec3& center, const dvec3& up = dvec3(0, 1, 0)) {

@@ -1,6 +1,7 @@
 // The factory through gltfpack and back: saved as .glb, packed with quantization and meshopt compression (-cc)
 // and with compression alone (-cc -noq), loaded, and drawn from the same views as the scene in memory. Packing
 // moves vertices by its quantization step and rewrites normals, so pixels are compared with a tolerance.
+#include "RenderUtil.h"
 #include "loaders/Gltf.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
@@ -26,18 +27,6 @@ namespace {
 constexpr int kW = 256, kH = 144;
 // A channel differing by more than this many levels makes a pixel count as differing.
 constexpr int kLevels = 24;
-
-Image render(Renderer& r, const ref_ptr<Node>& root, const Camera& cam) {
-    Scene scene(root);
-    scene.update();
-    DrawList list;
-    CullStats stats;
-    CullSettings settings;
-    settings.sort = false;
-    CullTraversal().cull(scene, cam, settings, list, stats);
-    r.draw(list, cam);
-    return r.readColor();
-}
 
 // Each mesh once, however many Geometries draw it.
 size_t meshBytes(const Node& root) {
@@ -93,7 +82,7 @@ TEST(GltfPackImage, TheFactoryPackedByGltfpackDrawsAsTheOriginal) {
     OsmesaContext context(kW, kH);
     Renderer renderer;
     std::vector<Image> original;
-    for (const Camera& c : views) original.push_back(render(renderer, f.root, c));
+    for (const Camera& c : views) original.push_back(testutil::drawGraph(renderer, f.root, c));
     std::printf("factory: %zu bytes as .glb, %zu bytes of meshes in memory\n", size_t(fs::file_size(in)),
                 meshBytes(*f.root));
 
@@ -110,7 +99,7 @@ TEST(GltfPackImage, TheFactoryPackedByGltfpackDrawsAsTheOriginal) {
         const GltfScene packed = loadGltf(out);
         double worst = 0.0;
         for (size_t k = 0; k < views.size(); ++k) {
-            const Image img = render(renderer, packed.root, views[k]);
+            const Image img = testutil::drawGraph(renderer, packed.root, views[k]);
             const double fraction = double(countDifferingPixels(original[k], img, kLevels)) / double(kW * kH);
             worst = std::max(worst, fraction);
 

@@ -1,5 +1,6 @@
 // Tilesets in pixels: the same tiles placed millions of metres from the origin (Earth-centred data) draw as
 // they do at the origin, through the renderer's camera-relative path.
+#include "RenderUtil.h"
 #include "loaders/Tileset.h"
 #include "nodes/Geometry.h"
 #include "nodes/Transform.h"
@@ -55,15 +56,7 @@ std::string writeGrid(const std::string& dir, const dmat4& rootMatrix) {
 
 Image render(Renderer& r, const Tileset& ts, const Camera& cam) {
     refineAll(*ts.root(), ts.loadFunction());
-    Scene scene(ts.root());
-    scene.update();
-    DrawList list;
-    CullStats stats;
-    CullSettings settings;
-    settings.sort = false;
-    CullTraversal().cull(scene, cam, settings, list, stats);
-    r.draw(list, cam);
-    return r.readColor();
+    return testutil::drawGraph(r, ts.root(), cam);
 }
 
 }  // namespace
