@@ -9,7 +9,7 @@ set(_below_intersect core nodes scene intersect)
 set(_below_io io)
 set(_below_paging core nodes scene paging)
 set(_below_gl core nodes scene lod cull io gl)
-set(_below_viewer core nodes scene lod cull io gl paging viewer)
+set(_below_viewer core nodes scene intersect lod cull io gl paging viewer)
 file(GLOB_RECURSE _layered RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} CONFIGURE_DEPENDS
   sg/*.h sg/*.cpp nodes/*.h nodes/*.cpp)
 foreach(f IN LISTS _layered)
@@ -38,7 +38,7 @@ endforeach()
 # Internal headers: kernels and helpers of the traversals, whose shape may change with any release. Not
 # installed; a public header must not include one (CMakeLists.txt), and neither may the testbed or the examples,
 # which use the library as an application would. (The kernel benchmarks in bench/kernels measure them directly.)
-set(SGKIT_INTERNAL_HEADERS sg/cull/FrustumKernel.h sg/cull/CullContext.h sg/scene/BspBuilder.h sg/scene/LodChooser.h
+set(SGKIT_INTERNAL_HEADERS sg/viewer/StageThread.h sg/cull/FrustumKernel.h sg/cull/CullContext.h sg/scene/BspBuilder.h sg/scene/LodChooser.h
   sg/scene/ImageWalk.h sg/intersect/IntersectPrimitives.h sg/gl/GlProgram.h sg/gl/Shaders.h sg/gl/GpuCache.h
   sg/gl/DepthTarget.h sg/core/MeshClosed.h sg/gl/BackFaces.h sg/scene/DistinctGeometries.h)
 

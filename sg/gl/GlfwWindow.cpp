@@ -57,6 +57,7 @@ GlfwWindow::~GlfwWindow() {
 }
 
 void GlfwWindow::makeCurrent() { glfwMakeContextCurrent(win_); }
+void GlfwWindow::release() { glfwMakeContextCurrent(nullptr); }
 bool GlfwWindow::shouldClose() const { return glfwWindowShouldClose(win_) == GLFW_TRUE; }
 void GlfwWindow::close() { glfwSetWindowShouldClose(win_, GLFW_TRUE); }
 void GlfwWindow::swapBuffers() { glfwSwapBuffers(win_); }

@@ -22,6 +22,8 @@ public:
     GlfwWindow& operator=(const GlfwWindow&) = delete;
 
     void makeCurrent();
+    // Releases the calling thread's current context (another thread may then make this one current).
+    static void release();
     bool shouldClose() const;
     // Asks the window to close: shouldClose() becomes true (the window stays until destroyed).
     void close();

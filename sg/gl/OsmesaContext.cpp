@@ -57,6 +57,12 @@ void OsmesaContext::makeCurrent() {
                                  "x" + std::to_string(h_));
 }
 
+void OsmesaContext::release() {
+    // OSMesa unbinds the calling thread's context when given neither a context nor a buffer.
+    if (!OSMesaMakeCurrent(nullptr, nullptr, GL_UNSIGNED_BYTE, 0, 0))
+        throw std::runtime_error("OsmesaContext::release(): OSMesaMakeCurrent failed to release the context");
+}
+
 void OsmesaContext::resize(int width, int height) {
     checkSize(width, height, "OsmesaContext::resize()");
     std::vector<uint8_t> buf(size_t(width) * size_t(height) * 4u, 0);

@@ -18,6 +18,9 @@ public:
 
     // Throws std::runtime_error when OSMesa refuses to bind the buffer.
     void makeCurrent();
+    // Releases the context from the calling thread (another thread may then make it current: a viewer's draw
+    // thread, ViewerSettings::bindContext). Throws std::runtime_error when OSMesa refuses.
+    void release();
     // Reallocates the colour buffer (the depth buffer follows) and makes the context current; the
     // previous contents are lost. Same exceptions as the constructor.
     void resize(int width, int height);

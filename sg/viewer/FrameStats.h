@@ -8,7 +8,9 @@
 namespace sg {
 
 // One frame's stages, milliseconds. workMs is everything but the wait; frameMs the whole frame, wait included;
-// intervalMs the time from the last frame's start to this one's (what the frame rate is made of).
+// intervalMs the time from the last frame's start to this one's (what the frame rate is made of). Pipelined
+// (ThreadingModel other than SingleThreaded), workMs is the slowest stage's time and frameMs the frame's latency:
+// from its start to the end of its draw and present.
 struct StageTimes {
     uint64_t frame = 0;
     double appMs = 0.0;     // events and the application's callbacks
@@ -19,6 +21,7 @@ struct StageTimes {
     double gpuMs = 0.0;     // the views' draws as the GL timed them (0 where not known: no timer queries, not finished)
     double waitMs = 0.0;    // the frame-rate phase's wait (FramePhase::Limit, Lock)
     double presentMs = 0.0;  // present callbacks (a window's buffer swap)
+    double syncMs = 0.0;     // pipelined models: the application thread's wait for the last frame's cull or draw
     double workMs = 0.0;
     double frameMs = 0.0;
     double intervalMs = 0.0;

@@ -8,16 +8,52 @@
 #include "sg/gl/TextOverlay.h"
 #include "sg/paging/Pager.h"
 #include "sg/viewer/FrameStats.h"
+#include "sg/viewer/IsectStage.h"
 #include "sg/viewer/View.h"
 
+#include <array>
 #include <chrono>
 #include <deque>
+#include <exception>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace sg {
+
+// Which threads run a frame's stages (Performer's pfMultiprocess, OpenSceneGraph's threading models). The latency is
+// the frames between a frame's app stage and its picture: frame() returns while that many frames are still in flight.
+enum class ThreadingModel : uint8_t {
+    SingleThreaded,     // every stage on the thread that calls frame(); latency 0
+    DrawThread,         // the draw on a thread of its own, which owns the GL context, while the calling thread runs the
+                        // next frame's app, update and cull (OSG's DrawThreadPerContext, Performer's APPCULL_DRAW);
+                        // latency 1
+    CullThreadPerView,  // as DrawThread, and each view culled on a thread of its own (OSG's
+                        // CullThreadPerCameraDrawThreadPerContext); latency 1
+    AppCullDraw,        // app, cull and draw of three consecutive frames at once, each stage on its own thread
+                        // (Performer's APP_CULL_DRAW); latency 2
+};
+const char* threadingModelName(ThreadingModel m);
+// Throws std::invalid_argument listing the valid names ("single", "draw", "cull-per-view", "app-cull-draw").
+ThreadingModel parseThreadingModel(const std::string& name);
+int threadingLatency(ThreadingModel m);
+
+// A stage's failure, rethrown on the application thread by frame() or flush(): the stage ("events", "app", "pager",
+// "update", "cull", "draw", "present", "context"), the frame it ran for and, nested, what it threw
+// (std::rethrow_if_nested).
+class StageError : public std::runtime_error, public std::nested_exception {
+public:
+    StageError(std::string stage, uint64_t frame, const std::string& what);
+    const std::string& stage() const { return stage_; }
+    uint64_t frame() const { return frame_; }
+
+private:
+    std::string stage_;
+    uint64_t frame_;
+};
 
 // How frames are paced (Performer's pfPhase).
 enum class FramePhase : uint8_t {
@@ -40,6 +76,12 @@ struct ViewerSettings {
     bool keepFreedMemory = true;
     // Seconds for FrameInfo::time; null: a steady clock from the viewer's construction.
     std::function<double()> clock;
+    // Read at each frame; a change drains the frames in flight first (flush()).
+    ThreadingModel threading = ThreadingModel::SingleThreaded;
+    // The models with a draw thread move the GL context there: bindContext(false) releases it from the calling
+    // thread, bindContext(true) makes it current on the calling thread (e.g. OsmesaContext::makeCurrent/release,
+    // GlfwWindow::makeCurrent/release). Required by those models; a throw is the "context" stage's failure.
+    std::function<void(bool current)> bindContext;
 };
 
 class Viewer {
@@ -65,11 +107,15 @@ public:
     // The stages' callbacks, run in the order added: events first (a window's pollEvents, input), then the
     // application's (camera, switches); update callbacks run after the pager and before Scene::update() (what
     // depends on details just attached); overlay callbacks after the views' draw (text over the frame, counted in
-    // the draw); present callbacks after the draw is finished (a window's swapBuffers).
+    // the draw); drawn callbacks once the frame's draw is finished (read its pixels), with the drawn frame's
+    // info; present callbacks after them (a window's swapBuffers). Events, app and update callbacks run on the
+    // thread that calls frame() and may change the graph; overlay, drawn and present callbacks run on the thread
+    // that draws, with the GL context current, and must not touch the graph (docs/architecture.md, Threads).
     void onEvents(Callback f) { events_.push_back(std::move(f)); }
     void onApp(FrameCallback f) { app_.push_back(std::move(f)); }
     void onUpdate(FrameCallback f) { update_.push_back(std::move(f)); }
     void onOverlay(Callback f) { overlayCallbacks_.push_back(std::move(f)); }
+    void onDrawn(FrameCallback f) { drawn_.push_back(std::move(f)); }
     void onPresent(Callback f) { present_.push_back(std::move(f)); }
 
     // Paging: a pager of the viewer's own, made for its scene (the load function reads a detail: see sg::Pager),
@@ -79,10 +125,15 @@ public:
     void usePager(Pager* pager);
     Pager* pager() { return pager_; }
 
-    // One frame through every stage. Throws what a stage throws (bad settings, a stale scene), the frame left
-    // where it stopped: the views keep their last complete results.
+    // One frame through every stage; with a threaded model it returns while the last threadingLatency() frames are
+    // still culled or drawn. Throws std::invalid_argument for impossible settings (before any stage runs, or the
+    // cull's SettingError as it is), and
+    // StageError when a stage failed (this frame's, or one in flight): the frames in flight before the failure are
+    // drawn first, the threads stop (a later frame() starts them again) and the views keep their last drawn frame.
     void frame();
-    // Frames until done(): a callback (the window's close) calls setDone().
+    // Draws every frame in flight and brings the views' results and the history up to them. Throws as frame().
+    void flush();
+    // Frames until done(): a callback (the window's close) calls setDone(). Flushes at the end.
     void run();
     bool done() const { return done_; }
     void setDone(bool d = true) { done_ = d; }
@@ -92,9 +143,13 @@ public:
     std::function<std::string()> overlayText;
     std::string statsText() const;
 
+    // Picking and viewpoint collision on a thread of their own (Performer's ISECT).
+    IsectStage& isect() { return isect_; }
+
     const FrameHistory& history() const { return history_; }
     const StageTimes& lastFrame() const { return history_.last(); }
-    uint64_t frameNumber() const { return frame_; }
+    uint64_t frameNumber() const { return frame_; }  // frames started
+    uint64_t framesDrawn() const { return drawnFrames_; }
     ViewerSettings& settings() { return settings_; }
     const ViewerSettings& settings() const { return settings_; }
     Renderer& renderer() { return *renderer_; }
@@ -104,12 +159,34 @@ public:
 
 private:
     using Clock = std::chrono::steady_clock;
+    struct Packet;
+    struct Failure {
+        std::string stage;
+        uint64_t frame = 0;
+        std::exception_ptr error;
+    };
     void init();
     double periodMs() const { return 1000.0 / settings_.frameRate; }
-    void cullViews(StageTimes& t);
-    void drawViews(StageTimes& t);
+    void checkSettings() const;
+    void appStage(Packet& p, Clock::time_point start, const char*& stage);
+    void updateStage(Packet& p);
+    void cullSetup(Packet& p);
+    void cullViews(Packet& p, bool parallel);
+    void drawPacket(Packet& p);  // on the thread that holds the context
+    void startDraw(std::unique_ptr<Packet> p);
+    void waitDraw();  // the draw in hand done and retired
+    void waitCull();  // the cull in hand (AppCullDraw) done and handed to the draw
+    void retire(std::unique_ptr<Packet> p);
+    bool drawFailed();  // the recorded failure is the draw thread's
     void wait(Clock::time_point start, StageTimes& t);
     double now() const;
+    // Threads for the model in use: started at the first frame that needs them, stopped by stop().
+    void startThreads();
+    void stop();
+    void fail(const char* stage, uint64_t frame);  // records the current exception (the first one wins)
+    void rethrowFailure();                         // stop(), then throw the recorded failure
+    bool failed();
+    std::unique_ptr<Packet> takePacket();
 
     Scene* scene_;
     std::unique_ptr<Renderer> own_;
@@ -117,7 +194,7 @@ private:
     ViewerSettings settings_;
     std::deque<std::unique_ptr<View>> views_;
     std::vector<Callback> events_, overlayCallbacks_, present_;
-    std::vector<FrameCallback> app_, update_;
+    std::vector<FrameCallback> app_, update_, drawn_;
     std::unique_ptr<Pager> ownPager_;
     bool keepingFreed_ = false;  // keepFreedMemory() engaged for a software rasterizer
     Pager* pager_ = nullptr;
@@ -129,6 +206,20 @@ private:
     Clock::time_point lastStart_{};
     Clock::time_point tick_{};  // Lock: the tick the last frame started on
     double spentMs_ = 0.0;      // the last frame's time before its draw (app, pager, update, cull)
+    uint64_t drawnFrames_ = 0;
+    std::array<double, 4> waitMs_{};  // the phase's wait of the frames in flight, by frame number
+
+    // The pipeline (models other than SingleThreaded). running_: the model the threads were started for.
+    bool threaded_ = false;
+    ThreadingModel running_ = ThreadingModel::SingleThreaded;
+    std::unique_ptr<class StageThread> drawThread_, cullThread_;
+    std::vector<std::unique_ptr<class StageThread>> viewThreads_;
+    std::unique_ptr<Packet> drawing_, culling_;  // in the draw thread's and the cull thread's hands
+    std::vector<std::unique_ptr<Packet>> spare_;
+    std::mutex failMutex_;
+    Failure failure_;
+    bool hasFailure_ = false;
+    IsectStage isect_;
 };
 
 }  // namespace sg
