@@ -54,6 +54,7 @@ int runPcvr(const Args& a);
 int runPareto(const Args& a);
 int runDepth(const Args& a);
 int runTiles(const Args& a);
+int runFrame(const Args& a);
 // The PVS grid around city's street path (n) or office's walk (n rooms a side), computed only at the
 // cameras' eyes, for their near planes.
 sg::PvsBuilder::Options pvsPathOptions(bool city, int n, const std::vector<sg::Camera>& cams);

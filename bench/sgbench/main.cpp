@@ -135,6 +135,10 @@ static void usage() {
         "       sgbench tiles --tileset PATH|URL [--n N] [--path orbit|low|teleport [--views K]] [--frames F]\n"
         "                [--width W --height H] [--fps F] [--keep-freed-memory 0|1] [--share-meshes 0|1]\n"
         "                [--loaders K] [--loader-nice V] [--baseline] [--csv FILE] [--json]\n"
+        "       sgbench frame [--scene city|factory] [--n N] [--path orbit|street|walk] [--threading "
+        "draw|cull-per-view|app-cull-draw]\n"
+        "                [--frames F] [--rounds R] [--views 1|2] [--lod static|stress|budget] [--budget-ms B]\n"
+        "                [--collide none|sync|async] [--width W --height H] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -153,6 +157,7 @@ int main(int argc, char** argv) {
         if (a.command == "pcvr") return bench::runPcvr(a);
         if (a.command == "pareto") return bench::runPareto(a);
         if (a.command == "tiles") return bench::runTiles(a);
+        if (a.command == "frame") return bench::runFrame(a);
         if (a.command == "depth") return bench::runDepth(a);
         usage();
         return 2;
