@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Whole frames of the city orbit in a 1280x720 window: sgkit's viewer (bench/frame/sgframe) against
-# OpenSceneGraph's osgViewer (bench/osg_peer/sgframe_osg), SingleThreaded and DrawThreadPerContext, alternating
+# OpenSceneGraph's osgViewer (bench/osg_peer/sgframe_osg), each SingleThreaded and with a draw thread (sgkit's
+# DrawThread, OSG's DrawThreadPerContext), alternating
 # (A B C A B C ...) in one X server so that all see the same machine speed. Prints each run, then per size the
 # medians of the runs' median frames and the ratio sgkit / OpenSceneGraph per round and its median.
 #   bench/compare_osg_frame.sh BUILD_DIR [N ...]     (BUILD_DIR configured with -DSGKIT_BENCH_OSG=ON; ROUNDS=5)
@@ -19,6 +20,7 @@ run() {
   for r in $(seq "$rounds"); do
     for n in $sizes; do
       "$build/bench/sgframe" --n "$n" --passes "$passes"
+      "$build/bench/sgframe" --n "$n" --passes "$passes" --threading draw
       "$build/bench/osg_peer/sgframe_osg" --n "$n" --passes "$passes" --threading single
       "$build/bench/osg_peer/sgframe_osg" --n "$n" --passes "$passes" --threading draw
       if [[ -n ${EXTRA:-} ]]; then
@@ -36,7 +38,9 @@ python3 -c '
 import json, statistics, sys
 runs = [json.loads(l) for l in sys.stdin if l.startswith("{")]
 def who(r):
-    if r["peer"] == "sgkit": return "sgkit" + ("" if r["back_faces"] == "auto" else " all-back-faces")
+    if r["peer"] == "sgkit":
+        return "sgkit" + ("" if r["back_faces"] == "auto" else " all-back-faces") + \
+            ("" if r.get("threading", "single") == "single" else " " + r["threading"])
     return r["peer"] + " " + r["threading"]
 for r in runs:
     g = r["geometries_mean"]
@@ -55,11 +59,18 @@ for n in sorted({r["n"] for r in runs}):
         if k == "sgkit": continue
         if k.startswith("sgkit"):
             o = [r["frame_ms_median"] for r in per[k]]
-            line.append(f"{k} {statistics.median(o):.1f} ms (p95 {p95(k):.1f})")
+            gain = [s / x for s, x in zip(sg, o)]
+            line.append(f"{k} {statistics.median(o):.1f} ms (p95 {p95(k):.1f}), "
+                        f"gain over sgkit single per round {[round(x, 2) for x in gain]}, median {statistics.median(gain):.2f}x")
             continue
         o = [r["frame_ms_median"] for r in per[k]]
         ratios = [s / x for s, x in zip(sg, o)]
         line.append(f"{k} {statistics.median(o):.1f} ms (p95 {p95(k):.1f}), "
                     f"sgkit/OSG per round {[round(x, 2) for x in ratios]}, median {statistics.median(ratios):.2f}x")
+        if k == "openscenegraph draw" and "openscenegraph single" in per:
+            osgs = [r["frame_ms_median"] for r in per["openscenegraph single"]]
+            gain = [s / x for s, x in zip(osgs, o)]
+            line.append(f"  OSG DrawThreadPerContext gain over OSG SingleThreaded per round "
+                        f"{[round(x, 2) for x in gain]}, median {statistics.median(gain):.2f}x")
     print("\n  ".join(line))
 ' <<<"$out"

@@ -113,6 +113,12 @@ struct Viewer::Packet {
     std::string overlay;  // the stats text, made on the application thread (it reads the history)
     bool culled = false, drawn = false;
     Clock::time_point drawEnd;
+    // The pager's details to upload on the draw thread within the budget, whether each got done, and those the
+    // pager dropped after asking (pipelined models: Viewer::prepareOnDraw).
+    std::vector<ref_ptr<Node>> upload;
+    std::vector<char> uploadDone;
+    std::vector<ref_ptr<const Node>> forget;
+    PrepareBudget uploadBudget;
 };
 
 Viewer::Viewer(Scene& scene, ViewerSettings settings)
@@ -252,11 +258,13 @@ void Viewer::frame() {
         cullThread_->run([this] { cullViews(*culling_, false); });
     } else {
         cullViews(*p, model == ThreadingModel::CullThreadPerView);
-        if (failed()) rethrowFailure();
         const auto at = Clock::now();
-        waitDraw();  // the last frame's draw done: this one goes to the draw thread
+        if (!failed()) waitDraw();  // the last frame's draw done: this one goes to the draw thread
         p->times.syncMs += msSince(at);
-        if (failed()) rethrowFailure();
+        if (failed()) {
+            recycle(std::move(p));
+            rethrowFailure();
+        }
         startDraw(std::move(p));
     }
     StageTimes waited;
@@ -300,10 +308,13 @@ void Viewer::updateStage(Packet& p) {
         // pager's budget before they are attached (Renderer::prepare), for this update only: the pager may
         // outlive the viewer. Only where the renderer's context is current here (SingleThreaded): with a draw
         // thread, a detail is uploaded at its first draw.
-        const bool wire = !threaded_ && !pager_->prepare();
-        if (wire)
+        const bool wire = !pager_->prepare();
+        if (wire && !threaded_)
             pager_->setPrepare([r = renderer_](Node& d, PrepareBudget& b) { return r->prepare(d, b); },
                                [r = renderer_](const Node& d) { r->forgetPrepare(d); });
+        else if (wire)
+            pager_->setPrepare([this](Node& d, PrepareBudget& b) { return prepareOnDraw(d, b); },
+                               [this](const Node& d) { dropOnDraw(d); });
         try {
             pager_->update(p.info);
         } catch (...) {
@@ -337,6 +348,12 @@ void Viewer::cullSetup(Packet& p) {
         vf.clear = v->clearColor;
         vf.finished = v->lod != LodPolicy::Static || settings_.finish;
     }
+    p.upload = std::move(uploadAsked_);
+    uploadAsked_.clear();
+    p.uploadDone.assign(p.upload.size(), 0);
+    p.forget = std::move(uploadForget_);
+    uploadForget_.clear();
+    p.uploadBudget = uploadBudget_;
     p.finishAll = settings_.finish;
     p.drawOverlay = overlay;
     p.overlay = overlay ? statsText() : std::string();
@@ -392,6 +409,12 @@ void Viewer::drawPacket(Packet& p) {
     const char* stage = "draw";
     try {
         const auto start = Clock::now();
+        if (!p.upload.empty() || !p.forget.empty()) {
+            PrepareBudget b(p.uploadBudget.ms, p.uploadBudget.objects);
+            for (size_t k = 0; k < p.upload.size() && !b.exhausted(); ++k)
+                p.uploadDone[k] = renderer_->prepare(*p.upload[k], b);
+            for (const auto& d : p.forget) renderer_->forgetPrepare(*d);
+        }
         int width = 0, height = 0;  // what the views cover, for the overlay
         for (size_t k = 0; k < p.viewCount; ++k) {
             Packet::ViewFrame& vf = p.views[k];
@@ -443,7 +466,7 @@ void Viewer::waitDraw() {
     drawThread_->wait();
     std::unique_ptr<Packet> p = std::move(drawing_);
     if (!p->drawn) {
-        spare_.push_back(std::move(p));
+        recycle(std::move(p));
         return;
     }
     Packet& q = *p;
@@ -466,7 +489,7 @@ void Viewer::waitCull() {
     if (p->culled) waitDraw();
     p->times.syncMs += msSince(at);
     if (!p->culled || drawFailed()) {  // nothing to draw, or no draw thread to draw it
-        spare_.push_back(std::move(p));
+        recycle(std::move(p));
         return;
     }
     startDraw(std::move(p));
@@ -494,8 +517,49 @@ void Viewer::retire(std::unique_ptr<Packet> p) {
     }
     history_.push(p->times);
     ++drawnFrames_;
+    settleUploads(*p, true);
     p->keep.clear();
     spare_.push_back(std::move(p));
+}
+
+void Viewer::recycle(std::unique_ptr<Packet> p) {
+    settleUploads(*p, false);
+    p->keep.clear();
+    spare_.push_back(std::move(p));
+}
+
+bool Viewer::prepareOnDraw(Node& detail, PrepareBudget& budget) {
+    if (uploaded_.erase(&detail)) return true;
+    if (uploadPending_.insert(&detail).second) uploadAsked_.emplace_back(&detail);
+    uploadBudget_ = PrepareBudget(budget.ms, budget.objects);
+    return false;
+}
+
+void Viewer::dropOnDraw(const Node& detail) {
+    uploaded_.erase(&detail);
+    if (!uploadPending_.erase(&detail)) return;
+    const auto asked = std::find_if(uploadAsked_.begin(), uploadAsked_.end(),
+                                    [&](const ref_ptr<Node>& d) { return d.get() == &detail; });
+    if (asked != uploadAsked_.end())
+        uploadAsked_.erase(asked);
+    else
+        uploadForget_.emplace_back(&detail);  // sent: the renderer may hold a list for it
+}
+
+// What the draw thread uploaded becomes the pager's "done"; what it did not is asked again with the next frame.
+void Viewer::settleUploads(Packet& p, bool drawn) {
+    for (size_t k = 0; k < p.upload.size(); ++k) {
+        const Node* d = p.upload[k].get();
+        if (!uploadPending_.count(d)) continue;  // dropped meanwhile
+        if (drawn && p.uploadDone[k]) {
+            uploadPending_.erase(d);
+            uploaded_.insert(d);
+        } else {
+            uploadAsked_.push_back(p.upload[k]);
+        }
+    }
+    p.upload.clear();
+    p.forget.clear();
 }
 
 void Viewer::startThreads() {
@@ -526,6 +590,10 @@ void Viewer::stop() {
     if (!threaded_) return;
     viewThreads_.clear();
     cullThread_.reset();
+    // Uploads asked of the draw thread start again with the next model (the pager asks again).
+    uploadAsked_.clear();
+    uploadPending_.clear();
+    uploaded_.clear();
     if (drawThread_) {
         drawThread_->run([this] {
             try {
@@ -539,9 +607,11 @@ void Viewer::stop() {
     threaded_ = false;
     try {
         settings_.bindContext(true);
+        for (const auto& d : uploadForget_) renderer_->forgetPrepare(*d);
     } catch (...) {
         fail("context", frame_);
     }
+    uploadForget_.clear();
 }
 
 // The frames in flight before the failure are drawn when they can be (not behind a failed draw), the threads stop,

@@ -20,6 +20,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace sg {
@@ -187,6 +188,13 @@ private:
     void rethrowFailure();                         // stop(), then throw the recorded failure
     bool failed();
     std::unique_ptr<Packet> takePacket();
+    void recycle(std::unique_ptr<Packet> p);  // an undrawn packet: its uploads are asked again
+    // Pipelined, the pager's details are uploaded on the draw thread within the pager's budget: the pager asks on
+    // the application thread (prepareOnDraw), a packet carries the detail to the draw thread, and the answer comes
+    // back with the packet (settleUploads); the pager's next ask of a detail uploaded returns true.
+    bool prepareOnDraw(Node& detail, PrepareBudget& budget);
+    void dropOnDraw(const Node& detail);
+    void settleUploads(Packet& p, bool drawn);
 
     Scene* scene_;
     std::unique_ptr<Renderer> own_;
@@ -208,6 +216,11 @@ private:
     double spentMs_ = 0.0;      // the last frame's time before its draw (app, pager, update, cull)
     uint64_t drawnFrames_ = 0;
     std::array<double, 4> waitMs_{};  // the phase's wait of the frames in flight, by frame number
+    std::vector<ref_ptr<Node>> uploadAsked_;         // asked by the pager, not sent to the draw thread yet
+    std::unordered_set<const Node*> uploadPending_;  // asked and not dropped, not uploaded yet
+    std::unordered_set<const Node*> uploaded_;       // uploaded: the pager's next ask returns true
+    std::vector<ref_ptr<const Node>> uploadForget_;  // dropped after being sent: the renderer lets them go
+    PrepareBudget uploadBudget_;
 
     // The pipeline (models other than SingleThreaded). running_: the model the threads were started for.
     bool threaded_ = false;

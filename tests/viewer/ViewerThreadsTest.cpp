@@ -5,6 +5,7 @@
 // answers a frame later, equal to the synchronous ones. Headless (OSMesa); run under ThreadSanitizer in CI.
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/io/ImageIO.h"
@@ -317,6 +318,61 @@ TEST(ViewerThreads, AThreadedModelWithoutAWayToMoveTheContextIsRefused) {
     }
     EXPECT_EQ(parseThreadingModel("app-cull-draw"), ThreadingModel::AppCullDraw);
     EXPECT_THROW(parseThreadingModel("fast"), std::invalid_argument);
+}
+
+// With a draw thread the pager's details are uploaded there, within the pager's budget, before they are attached:
+// the first frame that draws a detail finds its mesh uploaded already (no upload inside that frame's draw).
+TEST(ViewerThreads, ThePagersDetailsAreUploadedOnTheDrawThreadBeforeTheyAreAttached) {
+    for (ThreadingModel m : kModels) {
+        Small s;
+        s.place->removeChild(size_t(0));  // the paged node alone in view
+        auto paged = make<PagedLOD>();
+        paged->addChild(box(vec4(0.1f, 0.1f, 0.9f, 1.0f)));  // the coarse level
+        paged->setFile("detail");
+        paged->setRange(0.0f, 100.0f);
+        s.root->addChild(paged);
+        Viewer viewer(s.scene, settingsFor(m, s.ctx));
+        viewer.addView(lookingAt(dvec3(0, -6, 0), Small::kW, Small::kH));
+        Pager& pager = viewer.enablePaging([](const std::string&) -> ref_ptr<Node> {
+            auto g = make<Group>();
+            g->addChild(box(vec4(0.1f, 0.9f, 0.1f, 1.0f)));
+            return g;
+        });
+        std::map<uint64_t, size_t> cached;
+        std::map<uint64_t, Image> pictures;
+        viewer.onDrawn([&](const FrameInfo& fi) {
+            cached[fi.frame] = viewer.renderer().cachedMeshes();
+            pictures[fi.frame] = viewer.renderer().readColor();
+        });
+        uint64_t attachedAt = 0;
+        viewer.onUpdate([&](const FrameInfo& fi) {
+            if (!attachedAt && paged->state() == PagedLOD::State::Loaded) attachedAt = fi.frame;
+        });
+        for (int i = 0; i < 200 && !attachedAt; ++i) {
+            viewer.frame();
+            pager.waitIdle();  // the load done; its upload and attachment are the viewer's
+        }
+        ASSERT_NE(attachedAt, 0u) << threadingModelName(m);
+        for (int i = 0; i < 3; ++i) viewer.frame();
+        viewer.flush();
+        EXPECT_FALSE(pager.prepare()) << "wired for the pager stage only";
+        ASSERT_TRUE(cached.count(attachedAt - 1) && cached.count(attachedAt));
+        if (m == ThreadingModel::SingleThreaded) {  // uploaded in the pager stage of the frame that attaches it
+            EXPECT_EQ(cached[attachedAt], cached[attachedAt - 1] + 1);
+        } else {
+            EXPECT_EQ(cached[attachedAt], cached[attachedAt - 1]) << threadingModelName(m);
+            EXPECT_GT(cached[attachedAt - 1], cached[0]) << threadingModelName(m);
+        }
+        // The detail (green) is drawn from its first frame on, the coarse level (blue) before.
+        auto green = [](const Image& img) {
+            size_t n = 0;
+            for (size_t p = 0; p < img.rgba.size(); p += 4)
+                n += img.rgba[p + 1] > img.rgba[p] + 40 && img.rgba[p + 1] > img.rgba[p + 2] + 40;
+            return n;
+        };
+        EXPECT_EQ(green(pictures[attachedAt - 1]), 0u) << threadingModelName(m);
+        EXPECT_GT(green(pictures[attachedAt]), 100u) << threadingModelName(m);
+    }
 }
 
 // --- ISECT ---
