@@ -63,13 +63,14 @@ void IsectStage::start(const Scene& scene, uint64_t frame) {
             q->answer.frame = frame;
             answer(scene, *q);
         }
-        lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        runMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     });
 }
 
 void IsectStage::finish() {
     if (running_.empty()) return;
     thread_->wait();
+    lastMs_ = runMs_;  // read here, once the thread is done with it
     std::vector<std::unique_ptr<Query>> done = std::move(running_);
     running_.clear();
     for (auto& q : done) {

@@ -39,7 +39,7 @@ public:
     void move(ViewpointCollider& collider, const dvec3& from, const dvec3& step, Done done);
     // Queries asked and not answered yet.
     size_t pending() const { return queued_.size() + running_.size(); }
-    // The ISECT thread's time on the last frame's queries, ms (off every stage of the frame).
+    // The ISECT thread's time on the queries answered last (those of the frame before), ms: off every stage.
     double lastMs() const { return lastMs_; }
     uint64_t answered() const { return answered_; }
 
@@ -64,7 +64,7 @@ private:
     std::vector<std::unique_ptr<Query>> queued_, running_;
     IntersectTraversal traversal_;
     std::unique_ptr<StageThread> thread_;
-    double lastMs_ = 0.0;
+    double lastMs_ = 0.0, runMs_ = 0.0;
     uint64_t answered_ = 0;
 };
 

@@ -111,7 +111,8 @@ public:
     // the draw); drawn callbacks once the frame's draw is finished (read its pixels), with the drawn frame's
     // info; present callbacks after them (a window's swapBuffers). Events, app and update callbacks run on the
     // thread that calls frame() and may change the graph; overlay, drawn and present callbacks run on the thread
-    // that draws, with the GL context current, and must not touch the graph (docs/architecture.md, Threads).
+    // that draws, with the GL context current, and must not touch the graph (docs/architecture.md, Threads). Add
+    // callbacks before the frames run, or after flush(): the draw thread reads its lists during frames.
     void onEvents(Callback f) { events_.push_back(std::move(f)); }
     void onApp(FrameCallback f) { app_.push_back(std::move(f)); }
     void onUpdate(FrameCallback f) { update_.push_back(std::move(f)); }
