@@ -57,7 +57,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
                          CullStats& stats) {
     constexpr const char* fn = "CullTraversal::cull()";
     const auto t0 = std::chrono::steady_clock::now();
-    checkUpdated(scene, fn);
+    if (!set.imageOfLastUpdate) checkUpdated(scene, fn, true);
     set.validate(fn);
     scene_ = &scene;
     cam_ = &cam;

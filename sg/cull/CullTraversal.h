@@ -27,7 +27,8 @@ public:
     // one flat kernel call (vectorized); above that the walk tests one bound at a time.
     static constexpr uint32_t kBatch = 1024;
 
-    // Throws std::logic_error when the scene changed since its last update() (the image would be stale).
+    // Throws std::logic_error when the scene changed since its last update() (the image would be stale), unless
+    // CullSettings::imageOfLastUpdate.
     void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out, CullStats& stats);
 
     // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Adaptive
