@@ -45,8 +45,10 @@ void measure(const std::string& name, Scene& scene, Switch& sw, Transform& t, in
     int k = 0;
     const double unchanged = medianMs(
         runs, [] {}, [&] { scene.update(); });
+    const uint64_t v0 = scene.version();
     const double turn = medianMs(
         runs, [&] { sw.setAll(++k % 2 == 0); }, [&] { scene.update(); });
+    const int turned = int(scene.version() - v0);  // the updates that saw a turn (not the first when it was off)
     const double move = medianMs(
         runs, [&] { t.setMatrix(glm::rotate(at, 0.01 * double(++k % 100 + 1), dvec3(0, 0, 1))); },
         [&] { scene.update(); });
@@ -58,9 +60,9 @@ void measure(const std::string& name, Scene& scene, Switch& sw, Transform& t, in
             entries = copied.size();
         });
     std::printf(
-        "%-10s entries %9zu  image %8.1f MB  update: unchanged %.4f ms, switch turned %.4f ms, general "
-        "transform moved %.4f ms  |  image copy %.3f ms\n",
-        name.c_str(), entries, double(scene.image().bytes()) / 1e6, unchanged, turn, move, copy);
+        "%-10s entries %9zu  image %8.1f MB  update: unchanged %.4f ms, switch turned %.4f ms (%d of %d turned), "
+        "general transform moved %.4f ms  |  image copy %.3f ms\n",
+        name.c_str(), entries, double(scene.image().bytes()) / 1e6, unchanged, turn, turned, runs, move, copy);
 }
 
 }  // namespace
