@@ -5,6 +5,7 @@
 // is reported there.
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
@@ -16,6 +17,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <random>
 #include <thread>
@@ -392,4 +394,33 @@ TEST(ImageThreads, DeferredReleaseScopesNest) {
     std::vector<const Referenced*> q = outer.take();
     releaseNow(q);
     EXPECT_EQ(deaths, 2);
+}
+
+TEST(ImageThreads, ASwitchInAnAttachedDetailIsCopiedAtTheUpdate) {
+    auto mat = make<Material>();
+    auto paged = make<PagedLOD>();
+    paged->setRange(0.0f, std::numeric_limits<float>::infinity());  // the detail wanted from anywhere
+    paged->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), mat));
+    auto sw = make<Switch>();
+    auto a = make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1, 1, 2)), mat);
+    auto b = make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1, 1, 3)), mat);
+    sw->addChild(a);
+    sw->addChild(b, false);
+    paged->attachDetail(sw, 0);
+    auto root = make<Group>();
+    root->addChild(paged);
+    Scene s(root);
+    s.update();
+    CullTraversal cull;
+    const auto meshes = [&] {
+        std::vector<const Mesh*> v;
+        for (const DrawItem& it : cullOnce(cull, s, settingsBeside()).items) v.push_back(it.mesh);
+        return v;
+    };
+    ASSERT_EQ(meshes(), std::vector<const Mesh*>{a->mesh()});
+    sw->setOnly(1);
+    EXPECT_EQ(meshes(), std::vector<const Mesh*>{a->mesh()});
+    s.update();
+    EXPECT_EQ(s.lastUpdate().entriesWritten, 0u);  // copied without a refit
+    EXPECT_EQ(meshes(), std::vector<const Mesh*>{b->mesh()});
 }
