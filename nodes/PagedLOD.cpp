@@ -10,12 +10,12 @@ namespace sg {
 
 void PagedLOD::setFile(std::string file) {
     if (file.empty()) throw std::invalid_argument("PagedLOD::setFile(): " + describe() + ": file name is empty");
-    if (state_ == State::Requested || state_ == State::Loaded)
+    if (state() == State::Requested || state() == State::Loaded)
         throw std::logic_error("PagedLOD::setFile(): " + describe() + ": the detail of '" + file_ +
                                "' is requested or attached; release it first");
     file_ = std::move(file);
     failures_ = 0;
-    if (state_ == State::Failed) setUnloaded();
+    if (state() == State::Failed) setUnloaded();
 }
 
 void PagedLOD::setRange(float mn, float mx) {
@@ -54,21 +54,21 @@ void PagedLOD::setRadius(double r) {
 }
 
 void PagedLOD::setRequested() {
-    state_ = State::Requested;
+    state_.store(State::Requested, std::memory_order_relaxed);
     error_.clear();
 }
 
 void PagedLOD::setFailed(std::string error) { setFailed(std::move(error), std::numeric_limits<double>::infinity()); }
 
 void PagedLOD::setFailed(std::string error, double retryTime) {
-    state_ = State::Failed;
+    state_.store(State::Failed, std::memory_order_relaxed);
     error_ = std::move(error);
-    retryTime_ = retryTime;
+    retryTime_.store(retryTime, std::memory_order_relaxed);
     failures_++;
 }
 
 void PagedLOD::setUnloaded() {
-    state_ = State::Unloaded;
+    state_.store(State::Unloaded, std::memory_order_relaxed);
     error_.clear();
 }
 
@@ -83,7 +83,7 @@ void PagedLOD::attachDetail(ref_ptr<Node> detail, size_t bytes) {
         throw;
     }
     detailBytes_ = bytes;
-    state_ = State::Loaded;
+    state_.store(State::Loaded, std::memory_order_relaxed);
     error_.clear();
     failures_ = 0;
 }
@@ -100,7 +100,7 @@ void PagedLOD::childRemoved(size_t) {
     if (detail_ && indexOf(detail_) == numChildren()) {
         detail_ = nullptr;
         detailBytes_ = 0;
-        if (state_ == State::Loaded) state_ = State::Unloaded;
+        if (state() == State::Loaded) state_.store(State::Unloaded, std::memory_order_relaxed);
     }
 }
 

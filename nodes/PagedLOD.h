@@ -55,8 +55,8 @@ public:
     bool screenSpaceError() const { return screenError_; }
     double geometricError() const { return geometricError_; }
     double maxScreenPixels() const { return maxPixels_; }
-    void setTrigger(Trigger t) { trigger_ = t; }
-    Trigger trigger() const { return trigger_; }
+    void setTrigger(Trigger t) { trigger_.store(t, std::memory_order_relaxed); }
+    Trigger trigger() const { return trigger_.load(std::memory_order_relaxed); }
 
     // Centre in the node's frame; by default the centre of its bound.
     void setCenter(const dvec3& c);
@@ -72,13 +72,13 @@ public:
     Node* detail() const noexcept { return detail_; }
     // Index of the detail among the children, or numChildren() when none is attached.
     size_t detailIndex() const noexcept { return detail_ ? indexOf(detail_) : numChildren(); }
-    State state() const noexcept { return state_; }
+    State state() const noexcept { return state_.load(std::memory_order_relaxed); }
     // Why the last load failed (names the file and the reason); empty unless Failed.
     const std::string& error() const { return error_; }
     // Loads failed in a row (0 once a detail is attached or the file changes), and the FrameInfo::time from which
     // the cull asks for a failed Range node again (infinity: never; the pager's back-off sets it).
     uint32_t failures() const noexcept { return failures_; }
-    double retryTime() const noexcept { return retryTime_; }
+    double retryTime() const noexcept { return retryTime_.load(std::memory_order_relaxed); }
     // Mesh and texture bytes of the attached detail, as the pager measured them.
     size_t detailBytes() const noexcept { return detailBytes_; }
 
@@ -120,15 +120,19 @@ private:
     double radius_ = 0.0;
     Node* detail_ = nullptr;  // one of the children (which hold the reference)
     size_t detailBytes_ = 0;
-    double retryTime_ = std::numeric_limits<double>::infinity();
+    // The cull reads the trigger, the state and the retry time (to post a request) while the application thread
+    // may set them (the pager's update, beside a cull of the last update's image): atomic. Relaxed, as the cull's
+    // reading is only a hint: the pager checks the state again on its own thread before acting on a request, so a
+    // stale value at worst posts a request it drops or posts one an update later.
+    std::atomic<double> retryTime_{std::numeric_limits<double>::infinity()};
     uint32_t failures_ = 0;
     std::atomic<uint64_t> lastNeeded_{0};
     double geometricError_ = 0.0, maxPixels_ = 0.0;
     std::atomic<float> needPriority_{0.0f};
     float min_ = 0.0f, max_ = std::numeric_limits<float>::infinity();
     Mode mode_ = Mode::Distance;
-    Trigger trigger_ = Trigger::Range;
-    State state_ = State::Unloaded;
+    std::atomic<Trigger> trigger_{Trigger::Range};
+    std::atomic<State> state_{State::Unloaded};
     bool userCenter_ = false;
     bool screenError_ = false;
 };

@@ -11,8 +11,8 @@ public:
     Switch() : Group(NodeKind::Switch) {}
     void addChild(ref_ptr<Node> child, bool on = true);
     bool isOn(size_t i) const noexcept { return i < on_.size() && on_[i]; }
-    // A change moves the scene's version() at its next update() (no refit). Throws std::out_of_range naming
-    // the index when there is no such child.
+    // A change is copied into the scene's image at its next update() (no refit) and moves its version(). Throws
+    // std::out_of_range naming the index when there is no such child.
     void setOn(size_t i, bool on);
     void setAll(bool on);
     void setOnly(size_t i);  // one child on, the rest off
@@ -24,7 +24,7 @@ protected:
     void childRemoved(size_t i) override;
 
 private:
-    std::vector<bool> on_;  // the cull reads it each frame: flipping costs no refit
+    std::vector<bool> on_;  // the update copies it into the image (the cull may run beside the application)
 };
 
 }  // namespace sg

@@ -45,7 +45,7 @@ public:
         kDirtyStructure = 4,  // children were added or removed here or below
         kHasMask = 8,         // node mask is not all ones (the cull then reads it)
         kHasExtras = 16,      // name, callback or more parents are kept in the node's Extras block
-        kDirtyChoice = 32,    // a choice the cull reads each frame (Switch bits) changed here or below
+        kDirtyChoice = 32,    // a choice the image copies without a refit (Switch bits) changed here or below
     };
 
     NodeKind kind() const noexcept { return kind_; }
@@ -72,7 +72,8 @@ public:
 
     virtual void accept(NodeVisitor& v);
 
-    // The marks that make the flat image stale (kDirtyChoice is not one: the image holds no choice).
+    // The marks that make the flat image's structure or bounds stale (kDirtyChoice is not one: the update copies
+    // the new switch bits into the image without a refit).
     uint8_t dirtyBits() const noexcept { return state_ & (kDirtyBound | kDirtyBelow | kDirtyStructure); }
     bool choiceChanged() const noexcept { return state_ & kDirtyChoice; }
     void clearDirty() noexcept { state_ &= kHasMask | kHasExtras; }

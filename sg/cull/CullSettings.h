@@ -149,6 +149,12 @@ struct CullSettings {
     // off; >= 0. At 1 it is the terrain paper's screen-radius test r = wR / (2 d tan(theta / 2)) < 1 pixel.
     double smallFeaturePixels = 0.0;
     uint32_t traversalMask = 0xffffffffu;
+    // The application may be changing the graph while this cull runs (a viewer's app stage running beside the
+    // cull): cull the image of the scene's last update() without checking that the graph is unchanged since,
+    // a check that reads the root node. The cull reads no node state the application writes per frame (switch
+    // bits, node masks and matrices are copies in the image), but a node it removes must outlive the cull
+    // (sg::DeferredRelease). Off: a scene changed since its update() is refused.
+    bool imageOfLastUpdate = false;
     bool sort = true;  // sort the draw list by state, then front to back
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
     // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the

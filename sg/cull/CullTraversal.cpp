@@ -55,14 +55,9 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t, bool 
 
 void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettings& set, DrawList& out,
                          CullStats& stats) {
-    checkUpdated(scene, "CullTraversal::cull()");
-    cullImage(scene, cam, set, out, stats);
-}
-
-void CullTraversal::cullImage(const Scene& scene, const Camera& cam, const CullSettings& set, DrawList& out,
-                              CullStats& stats) {
     constexpr const char* fn = "CullTraversal::cull()";
     const auto t0 = std::chrono::steady_clock::now();
+    if (!set.imageOfLastUpdate) checkUpdated(scene, fn, true);
     set.validate(fn);
     scene_ = &scene;
     cam_ = &cam;

@@ -27,13 +27,9 @@ public:
     // one flat kernel call (vectorized); above that the walk tests one bound at a time.
     static constexpr uint32_t kBatch = 1024;
 
-    // Throws std::logic_error when the scene changed since its last update() (the image would be stale).
+    // Throws std::logic_error when the scene changed since its last update() (the image would be stale), unless
+    // CullSettings::imageOfLastUpdate.
     void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out, CullStats& stats);
-    // As cull(), without the check of the graph's dirty marks: for a caller that ran Scene::update() itself and
-    // lets the graph change while the cull reads the image (sg::Viewer's AppCullDraw, whose next app stage writes
-    // nodes, never the image; the check would read what it writes).
-    void cullImage(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out,
-                   CullStats& stats);
 
     // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Adaptive
     // mode's state from frame to frame: use one traversal per view.

@@ -22,7 +22,7 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     }
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
-    if ((fl & FlatImage::kMasked) && !(img.maskedNode(i)->nodeMask() & set_->traversalMask)) return;
+    if ((fl & FlatImage::kMasked) && !(img.maskOf(i) & set_->traversalMask)) return;
     const uint32_t maskIn = mask;
     // A batch started by this entry's test covers its subtree: restore the enclosing one on return.
     struct BatchScope {
@@ -79,10 +79,10 @@ void CullTraversal::group(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
 
 void CullTraversal::switchChildren(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ) {
     const FlatImage& img = *c.img;
-    const auto* sw = static_cast<Switch*>(img.nodes[img.aux[i]]);
+    const uint8_t* on = img.switchOn.data() + img.aux[i];  // the bits as of the update, not the node's
     uint32_t j = i + 1;
     for (size_t k = 0; j < img.end[i]; ++k, j = img.end[j])
-        if (sw->isOn(k)) visit(c, j, mask, m, occ);
+        if (on[k]) visit(c, j, mask, m, occ);
 }
 
 void CullTraversal::billboard(Ctx& c, uint32_t i, const dmat4& m) {
@@ -97,7 +97,8 @@ void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) 
     const FlatImage* p = place.proto;
     if (!p || p->size() == 0) return;
     stats_->instancesVisited++;
-    const dmat4 pm = place.matrix ? m * *place.matrix : glm::translate(m, place.translation);
+    const dmat4 pm =
+        place.matrix != FlatImage::kNone ? m * c.img->matrices[place.matrix] : glm::translate(m, place.translation);
     const uint32_t subMask = set_->strategy == CullStrategy::None ? 0u : mask;
     if (placementDepth_ == placementCtx_.size()) placementCtx_.push_back(std::make_shared<Ctx>());
     Ctx& sub = *placementCtx_[placementDepth_];

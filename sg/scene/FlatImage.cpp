@@ -26,11 +26,12 @@ size_t FlatImage::bytes() const {
         if (p.detail) owned += p.detail->bytes();
     for (const auto& p : prototypes) owned += p.second->bytes() + sizeof(p) + 2 * sizeof(void*);
     return owned + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
-           matrices.capacity() * sizeof(void*) + nodes.capacity() * sizeof(void*) + masked.capacity() * 16 +
-           lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) + ranges.capacity() * sizeof(Range) +
-           draws.capacity() * sizeof(Draw) + placements.capacity() * sizeof(Placement) +
-           wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 + occluders.capacity() * sizeof(OccluderRef) +
-           occluderMatrices.capacity() * sizeof(dmat4) + occluderChunks.capacity() * sizeof(Box);
+           matrices.capacity() * sizeof(dmat4) + switchOn.capacity() + nodes.capacity() * sizeof(void*) +
+           masked.capacity() * 8 + lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) +
+           ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
+           placements.capacity() * sizeof(Placement) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +
+           occluders.capacity() * sizeof(OccluderRef) + occluderMatrices.capacity() * sizeof(dmat4) +
+           occluderChunks.capacity() * sizeof(Box);
 }
 
 Box FlatImage::box(size_t i) const {
@@ -77,12 +78,12 @@ void FlatImage::setBound(size_t i, const Box& b, double radius) {
     flags[i] &= ~(kEmpty | kInvalid);
 }
 
-const Node* FlatImage::maskedNode(uint32_t i) const {
-    SG_ASSERT(i < size(), "FlatImage::maskedNode(): entry past the image");
-    auto it = std::lower_bound(masked.begin(), masked.end(), std::make_pair(i, static_cast<const Node*>(nullptr)));
+uint32_t FlatImage::maskOf(uint32_t i) const {
+    SG_ASSERT(i < size(), "FlatImage::maskOf(): entry past the image");
+    auto it = std::lower_bound(masked.begin(), masked.end(), std::make_pair(i, 0u));
     const bool listed = it != masked.end() && it->first == i;
-    SG_ASSERT(listed || !(flags[i] & kMasked), "FlatImage::maskedNode(): a kMasked entry is not in `masked`");
-    return listed ? it->second : nullptr;
+    SG_ASSERT(listed || !(flags[i] & kMasked), "FlatImage::maskOf(): a kMasked entry is not in `masked`");
+    return listed ? it->second : 0xffffffffu;
 }
 
 void FlatImage::setInvalid(size_t i) {

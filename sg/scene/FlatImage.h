@@ -37,8 +37,9 @@ struct FlatImage {
     std::vector<uint8_t> flags;  // 1 byte (kGeneral is set once, at the transform's write; not a cull flag)
     std::vector<uint32_t> aux;   // index into the table of its kind (see below)
 
-    // What the cull reads for the common kinds, copied here so that it never waits on a node.
-    // Transform entries: aux indexes `translations`, or with kGeneral set, `matrices` (kept by the node).
+    // What the cull reads of the nodes, copied here at Scene::update(): it never waits on a node, and the
+    // application may change the graph (turn switches, move transforms, set masks) while a cull reads the image
+    // of the last update. Transform entries: aux indexes `translations`, or with kGeneral set, `matrices`.
     struct Lod {
         float cx, cy, cz;     // the centre (user's, or the bound's), in image coordinates like the bounds
         uint32_t firstRange;  // into ranges, one per child
@@ -76,13 +77,17 @@ struct FlatImage {
     std::map<std::vector<float>, uint32_t> rangeIndex;
 
     std::vector<dvec3> translations;
-    std::vector<const dmat4*> matrices;
-    // Entries of the kinds the cull meets rarely (Switch, Billboard, BspGroup, Occluder):
-    // aux indexes their node. Entries whose node mask is not all ones are listed, sorted, in `masked`;
-    // maskedNode(i) finds entry i's node there (null when it is not listed, never for a kMasked entry).
+    std::vector<dmat4> matrices;  // general Transforms' and Instances' matrices
+    // Switch entries: aux indexes `switchOn`, one byte per child (Switch::isOn), rewritten by an update after
+    // a switch turned (Node::choiceChanged()) without a refit.
+    std::vector<uint8_t> switchOn;
+    // Billboard and BspGroup entries: aux indexes their node. The cull reads the billboard's axis and the BSP
+    // tree there: both are set when the graph is built (the BSP by Scene::update()), not per frame.
     std::vector<Node*> nodes;
-    std::vector<std::pair<uint32_t, const Node*>> masked;
-    const Node* maskedNode(uint32_t i) const;
+    // Entries whose node mask is not all ones, sorted, with the mask as of the last update; maskOf(i) finds entry
+    // i's mask there (all ones when it is not listed, never for a kMasked entry).
+    std::vector<std::pair<uint32_t, uint32_t>> masked;
+    uint32_t maskOf(uint32_t i) const;
     std::vector<Lod> lods;
     std::vector<Range> ranges;
     // PagedLOD entries (their aux indexes `paged`): the LOD value's centre and mode as an LOD's (lod.firstRange
@@ -103,9 +108,10 @@ struct FlatImage {
     struct Placement {
         const Node* node;        // the Instance
         const FlatImage* proto;  // its prototype's image (held by this image or the Scene); null: none
-        dvec3 translation;       // the placement, when `matrix` is null
-        const dmat4* matrix;     // the node's matrix when it is not a translation
+        dvec3 translation;       // the placement, when `matrix` is kNone
+        uint32_t matrix;         // the node's matrix in `matrices` when it is not a translation
     };
+    static constexpr uint32_t kNone = ~0u;
     std::vector<Placement> placements;
 
     // The images of the Instance prototypes placed in this image, by prototype, when it owns them: a paged
@@ -114,7 +120,8 @@ struct FlatImage {
     // image and its prototypes' images: the Scene keeps those (Scene::prototypeImage()).
     std::unordered_map<const Node*, std::shared_ptr<FlatImage>> prototypes;
 
-    // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Only occluders that are
+    // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Its shape is read from the node
+    // (Occluder::box(), polygon()): set when the graph is built, not per frame. Only occluders that are
     // drawn whatever the frame are active: not below a Switch, LOD, Billboard or a masked node, not
     // masked themselves, not inside an Instance's prototype.
     struct OccluderRef {

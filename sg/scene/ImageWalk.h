@@ -13,13 +13,15 @@ namespace sg {
 
 // parent * the transform of entry i (a Transform entry).
 inline dmat4 transformed(const FlatImage& img, uint32_t i, const dmat4& parent) {
-    return (img.flags[i] & FlatImage::kGeneral) ? parent * *img.matrices[img.aux[i]]
+    return (img.flags[i] & FlatImage::kGeneral) ? parent * img.matrices[img.aux[i]]
                                                 : mulTranslate(parent, img.translations[img.aux[i]]);
 }
 
-// Throws std::logic_error naming `fn` when the scene changed since its last update() (its image is stale).
-inline void checkUpdated(const Scene& scene, const char* fn) {
-    if (scene.root()->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure))
+// Throws std::logic_error naming `fn` when the scene changed since its last update() (its image is stale);
+// `choices`: a Switch turned counts too (the cull reads the image's copy of its bits, the intersection the node).
+inline void checkUpdated(const Scene& scene, const char* fn, bool choices = false) {
+    if ((scene.root()->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure)) ||
+        (choices && scene.root()->choiceChanged()))
         throw std::logic_error(std::string(fn) +
                                ": the scene changed since its last update(); call Scene::update() first");
 }

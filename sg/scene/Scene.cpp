@@ -7,6 +7,7 @@
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
 #include "nodes/PagedLOD.h"
+#include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/scene/BspBuilder.h"
 
@@ -86,7 +87,7 @@ struct Scene::Builder {
         // The tables are filled in order and rewritten in place by later refits. Translations and LODs get
         // one allocation of the counted size (for translations an upper bound: general matrices go to
         // `matrices`), replacing any larger one a previous build left; the other tables grow as filled.
-        img.matrices.clear(), img.nodes.clear(), img.masked.clear(), img.placements.clear();
+        img.matrices.clear(), img.switchOn.clear(), img.nodes.clear(), img.masked.clear(), img.placements.clear();
         img.translations = {}, img.translations.reserve(c.xforms);
         img.lods = {}, img.lods.reserve(c.lods);
         img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
@@ -318,16 +319,28 @@ struct Scene::Builder {
         v[img.aux[i]] = value;
         return img.aux[i];
     }
+    // A matrix in img.matrices for the entry that held slot `had` (kNone: none, or a full build): rewritten in
+    // place, else appended.
+    uint32_t matrixSlot(uint32_t had, const dmat4& m) {
+        if (!fresh && had != FlatImage::kNone) {
+            img.matrices[had] = m;
+            return had;
+        }
+        img.matrices.push_back(m);
+        return uint32_t(img.matrices.size() - 1);
+    }
+    // The mask is copied (setNodeMask() marks kDirtyBound, which rewrites the entry): the application may set it
+    // again while a cull reads this image.
     void setMasked(uint32_t i, const Node* n) {
         auto& v = img.masked;
-        auto it = std::lower_bound(v.begin(), v.end(), std::make_pair(i, static_cast<const Node*>(nullptr)));
+        auto it = std::lower_bound(v.begin(), v.end(), std::make_pair(i, 0u));
         const bool present = it != v.end() && it->first == i;
         if (n->nodeMask() != 0xffffffffu) {
             img.flags[i] |= FlatImage::kMasked;
             if (present)
-                it->second = n;
+                it->second = n->nodeMask();
             else
-                v.insert(it, {i, n});
+                v.insert(it, {i, n->nodeMask()});
         } else if (present) {
             v.erase(it);
         }
@@ -337,8 +350,8 @@ struct Scene::Builder {
             case NodeKind::Transform: {
                 const auto* t = static_cast<const Transform*>(n);
                 const bool wasGeneral = img.flags[i] & FlatImage::kGeneral;
-                if (t->matrixPtr()) {
-                    img.aux[i] = slot(img.matrices, i, t->matrixPtr(), wasGeneral);
+                if (t->matrixPtr()) {  // a copy: the node frees its matrix when set again
+                    img.aux[i] = matrixSlot(wasGeneral ? img.aux[i] : FlatImage::kNone, *t->matrixPtr());
                     img.flags[i] |= FlatImage::kGeneral;
                 } else {
                     img.aux[i] = slot(img.translations, i, t->translation(), !wasGeneral);
@@ -396,14 +409,24 @@ struct Scene::Builder {
             case NodeKind::Instance: {  // the prototype's image is filled in by write(), once built
                 const dmat4& m = static_cast<const Instance*>(n)->matrix();
                 const bool t = isTranslation(m);
+                const uint32_t had = fresh ? FlatImage::kNone : img.placements[img.aux[i]].matrix;
                 img.aux[i] = slot(img.placements, i,
-                                  FlatImage::Placement{n, nullptr, t ? dvec3(m[3]) : dvec3(0.0), t ? nullptr : &m});
+                                  FlatImage::Placement{n, nullptr, t ? dvec3(m[3]) : dvec3(0.0),
+                                                       t ? FlatImage::kNone : matrixSlot(had, m)});
                 break;
             }
             case NodeKind::Group:
                 if (fresh) img.aux[i] = 0;  // a wide Group's index is kept by refits
                 break;
             case NodeKind::Occluder: break;  // written with its frame, in write()
+            case NodeKind::Switch: {
+                if (fresh) {
+                    img.aux[i] = uint32_t(img.switchOn.size());
+                    img.switchOn.resize(img.switchOn.size() + n->numChildren());
+                }
+                switchBits(i, n);
+                break;
+            }
             default: img.aux[i] = slot(img.nodes, i, n); break;
         }
     }
@@ -530,6 +553,49 @@ struct Scene::Builder {
         if (n->kind() == NodeKind::BspGroup) bsp(i, n, cm);
     }
 
+    // Switch n's on bits into its entry i's slot (the children are the same since its entry was written).
+    void switchBits(uint32_t i, const Node* n) {
+        const auto* sw = static_cast<const Switch*>(n);
+        uint8_t* on = img.switchOn.data() + img.aux[i];
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) on[k] = sw->isOn(k);
+    }
+
+    // A Switch turned below n (entry i), with no refit to rewrite its entry: follows the kDirtyChoice marks down,
+    // into Instance prototypes' and paged details' images too, and copies the bits of the Switches met. A
+    // prototype placed many times is met once per path: the copy is the same each time.
+    void choices(uint32_t i, Node* n) {
+        if (n->kind() == NodeKind::Switch) switchBits(i, n);
+        if (n->kind() == NodeKind::Instance) {
+            Node* p = static_cast<Instance*>(n)->prototype();
+            if (!p || !p->choiceChanged()) return;
+            auto& table = detail ? img.prototypes : scene.protos_;
+            auto it = table.find(p);
+            if (it == table.end() || !it->second || it->second->size() == 0) return;
+            std::unordered_set<const Node*> built;
+            Builder b{scene, *it->second, built};
+            b.detail = detail;
+            b.choices(0, p);
+            return;
+        }
+        const Node* skip = detailOf(n);
+        if (skip && skip->choiceChanged()) {
+            const FlatImage::Paged& pg = img.paged[img.aux[i]];
+            if (pg.detail && pg.detail->size()) {
+                std::unordered_set<const Node*> built;
+                Builder b{scene, *pg.detail, built};
+                b.detail = true;
+                b.choices(0, const_cast<Node*>(skip));
+            }
+        }
+        uint32_t j = i + 1;
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) {
+            Node* ch = n->child(k);
+            if (ch == skip) continue;
+            if (ch->choiceChanged()) choices(j, ch);
+            j = img.end[j];
+        }
+    }
+
     static void clear(Node* n) {
         if (!n->dirtyBits() && !n->choiceChanged()) return;
         n->clearDirty();
@@ -610,9 +676,14 @@ void Scene::refresh() {
             b.updateExtent();
         }
         if (b.occludersWritten) b.occluderChunks();
+        // A Switch turned beside a refit that did not rewrite it (a full build wrote every switch's bits).
+        if (!b.collect && root_->choiceChanged()) b.choices(0, root_.get());
         Builder::clear(root_.get());
-    } else if (root_->choiceChanged()) {  // a Switch turned: the image holds no choice, what is derived does
+    } else if (root_->choiceChanged()) {  // a Switch turned: its bits copied into the image, no refit
         version_++;
+        std::unordered_set<const Node*> built;
+        Builder b{*this, main_, built};
+        b.choices(0, root_.get());
         Builder::clear(root_.get());
     }
 }

@@ -135,6 +135,7 @@ Viewer::Viewer(Scene& scene, Renderer& shared, ViewerSettings settings)
 // for the renderer's destructor.
 Viewer::~Viewer() {
     if (cullThread_) cullThread_->wait();
+    releaseNow(dropped_);
     if (drawThread_) drawThread_->wait();
     culling_.reset();
     drawing_.reset();
@@ -222,10 +223,22 @@ void Viewer::frame() {
     const char* stage = "isect";
     try {
         isect_.finish();  // last frame's answers, before anything writes the scene
-        appStage(*p, start, stage);
+        if (model == ThreadingModel::AppCullDraw) {
+            // The last frame's cull may still point at what the callbacks drop: freed after the update.
+            DeferredRelease hold;
+            struct Take {
+                DeferredRelease& hold;
+                std::vector<const Referenced*>& into;
+                ~Take() { into = hold.take(); }
+            } take{hold, dropped_};
+            appStage(*p, start, stage);
+        } else {
+            appStage(*p, start, stage);
+        }
         if (model == ThreadingModel::AppCullDraw) waitCull();  // the image may be written once the cull is done
         stage = "update";
         updateStage(*p);
+        releaseNow(dropped_);  // the image no longer points at them, and no cull runs
     } catch (...) {
         fail(stage, p->info.frame);
     }
@@ -344,6 +357,9 @@ void Viewer::cullSetup(Packet& p) {
         vf.view = v.get();
         vf.camera = v->camera;
         vf.settings = v->frameSettings(periodMs(), spent, held);
+        // AppCullDraw: Scene::update() ran just before this cull is handed over (the image is current), and the
+        // next app stage may write the graph's dirty marks while it runs: the cull must not read them.
+        vf.settings.imageOfLastUpdate = running_ == ThreadingModel::AppCullDraw && threaded_;
         vf.viewport = v->viewport;
         vf.clear = v->clearColor;
         vf.finished = v->lod != LodPolicy::Static || settings_.finish;
@@ -366,12 +382,7 @@ void Viewer::cullViews(Packet& p, bool parallel) {
         Packet::ViewFrame& vf = p.views[k];
         const auto at = Clock::now();
         try {
-            // Pipelined, Scene::update() ran just before this cull was handed over (the image is current); the
-            // graph's dirty marks may be written meanwhile by the next app stage.
-            if (running_ == ThreadingModel::AppCullDraw && threaded_)
-                vf.view->traversal_.cullImage(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
-            else
-                vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
+            vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
         } catch (...) {
             fail("cull", p.info.frame);
             ok = false;
@@ -622,6 +633,7 @@ void Viewer::rethrowFailure() {
         waitDraw();
         stop();
     }
+    releaseNow(dropped_);  // no cull runs now
     Failure f;
     {
         std::lock_guard<std::mutex> lock(failMutex_);

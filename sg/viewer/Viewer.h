@@ -230,6 +230,7 @@ private:
     std::vector<std::unique_ptr<class StageThread>> viewThreads_;
     std::unique_ptr<Packet> drawing_, culling_;  // in the draw thread's and the cull thread's hands
     std::vector<std::unique_ptr<Packet>> spare_;
+    std::vector<const Referenced*> dropped_;  // AppCullDraw: what the app stage dropped, freed after the update
     std::mutex failMutex_;
     Failure failure_;
     bool hasFailure_ = false;

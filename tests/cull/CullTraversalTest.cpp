@@ -162,7 +162,9 @@ TEST(Cull, SwitchMasksAndNodeMasks) {
     auto c = cullWith(s, lookingDownMinusZ(), CullStrategy::Sphere);
     ASSERT_EQ(c.list.items.size(), 1u);
     EXPECT_EQ(c.list.items[0].mesh, a->mesh());
-    sw->setAll(true);  // no update needed: the cull reads the bits
+    sw->setAll(true);  // the image holds the bits as of the last update: stale until the next
+    EXPECT_THROW(cullWith(s, lookingDownMinusZ(), CullStrategy::Sphere), std::logic_error);
+    s.update();
     EXPECT_EQ(cullWith(s, lookingDownMinusZ(), CullStrategy::Sphere).list.items.size(), 2u);
     a->setNodeMask(0x2);
     s.update();

@@ -244,7 +244,7 @@ TEST(Scene, RefitGivesTheImageAFullBuildGives) {
             if (a.kind[i] != NodeKind::Transform) continue;
             ASSERT_EQ(a.flags[i], b.flags[i]) << i;
             if (a.flags[i] & FlatImage::kGeneral)
-                ASSERT_EQ(*a.matrices[a.aux[i]], *b.matrices[b.aux[i]]) << i;
+                ASSERT_EQ(a.matrices[a.aux[i]], b.matrices[b.aux[i]]) << i;
             else
                 ASSERT_EQ(a.translations[a.aux[i]], b.translations[b.aux[i]]) << i;
         }
