@@ -47,17 +47,44 @@ constexpr double kEnterTimeoutMs = 60000.0;  // a load that takes longer is repo
 
 }  // namespace
 
-Session::Session(Atlas& atlas, Display& display, int width, int height)
-    : atlas_(atlas), display_(display), viewer_(atlas.scene(), display.renderer()) {
+namespace {
+ViewerSettings viewerSettings(Display& display, ThreadingModel threading) {
+    ViewerSettings s;
+    s.threading = threading;
+    s.bindContext = [&display](bool current) { display.bindContext(current); };
+    return s;
+}
+}  // namespace
+
+Session::Session(Atlas& atlas, Display& display, int width, int height, ThreadingModel threading)
+    : atlas_(atlas), display_(display), viewer_(atlas.scene(), display.renderer(), viewerSettings(display, threading)) {
     View& v = viewer_.addView();
     v.cull.traversalMask = ~(kPickable | kCollidable);  // a level's pick-only regions are not drawn
     v.clearColor = kSeaColor;
     // The atlas's pager is updated by the viewer; between it and the scene's update, the level entered or failed.
     viewer_.usePager(&atlas_.pager());
-    viewer_.onUpdate([this](const FrameInfo&) {
+    viewer_.onUpdate([this](const FrameInfo& fi) {
         step_ = atlas_.step();
         if (step_.entered) picked_.clear();
         if (!step_.error.empty()) note_ = "error: " + step_.error;
+        if (step_.entered || release_) {
+            std::lock_guard<std::mutex> lock(drawSide_);
+            releaseAfter_ = int64_t(fi.frame);
+            release_ = false;
+        }
+    });
+    // A level read or left: once the frame is drawn, the GPU copies of the meshes it did not draw (the level left,
+    // or the level above at the detail it had while this one loaded), then the loader's scratch memory and the
+    // level's freed meshes go back to the system, so that the resident memory follows what is loaded and drawn.
+    // The renderer is used only where the frame is drawn.
+    viewer_.onDrawn([this](const FrameInfo& fi) {
+        std::lock_guard<std::mutex> lock(drawSide_);
+        if (int64_t(fi.frame) == pictureOf_) picture_ = display_.read();
+        if (releaseAfter_ >= 0 && int64_t(fi.frame) >= releaseAfter_) {
+            releaseAfter_ = -1;
+            display_.renderer().releaseUnused();
+            malloc_trim(0);
+        }
     });
     viewer_.overlayText = [this] { return overlayText(); };
     view_.width = width;
@@ -74,17 +101,21 @@ double Session::frame() {
     viewer_.view().camera = view_.camera();
     viewer_.overlay = overlay;
     viewer_.frame();
-    // A level read or left: the GPU copies of the meshes this frame did not draw (the level left, or the level
-    // above at the detail it had while this one loaded), then the loader's scratch memory and the level's freed
-    // meshes go back to the system, so that the resident memory follows what is loaded and drawn.
-    if (step_.entered || release_) {
-        display_.renderer().releaseUnused();
-        release_ = false;
-        malloc_trim(0);
-    }
     const double ms = msSince(t0);
     frameMs_.push_back(ms);
     return ms;
+}
+
+sg::Image Session::picture() {
+    {
+        std::lock_guard<std::mutex> lock(drawSide_);
+        pictureOf_ = int64_t(viewer_.frameNumber());  // the next frame's number
+    }
+    frame();
+    viewer_.flush();
+    std::lock_guard<std::mutex> lock(drawSide_);
+    pictureOf_ = -1;
+    return std::move(picture_);
 }
 
 std::string Session::regionLine(int index) const {
@@ -289,9 +320,8 @@ std::string Session::command(const std::string& line) {
     }
     if (c == "screenshot") {
         if (w.size() != 2) return "error\tusage: screenshot FILE";
-        frame();
         try {
-            savePng(w[1], display_.read());
+            savePng(w[1], picture());
         } catch (const std::exception& e) {
             return "error\t" + std::string(e.what());
         }
