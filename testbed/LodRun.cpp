@@ -52,7 +52,8 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
         });
         for (const auto& f : setup_) f(*viewer_);
     }
-    viewer_->setScene(scene);
+    // AppCullDraw's cull of the last frame may still read the viewer's scene: it is written only to change it.
+    if (&viewer_->scene() != &scene) viewer_->setScene(scene);
     sg::ViewerSettings& vs = viewer_->settings();
     vs.phase = set_.limitRate ? sg::FramePhase::Limit : sg::FramePhase::FreeRun;
     vs.frameRate = 1000.0 / set_.budgetMs;
