@@ -106,6 +106,10 @@ double Session::frame() {
     return ms;
 }
 
+void Session::beforeChange() {
+    if (viewer_.settings().threading == ThreadingModel::AppCullDraw) viewer_.flush();
+}
+
 sg::Image Session::picture() {
     {
         std::lock_guard<std::mutex> lock(drawSide_);
@@ -139,6 +143,7 @@ std::string Session::enterByZoom() {
     if (atlas_.entering() >= 0) return {};
     const int index = atlas_.pickPixel(view_.camera(), 0.5 * view_.width, 0.5 * view_.height);
     if (index < 0 || !atlas_.level().regions[size_t(index)].paged || coverage(index) <= 0.5) return {};
+    beforeChange();
     if (!atlas_.enter(size_t(index)).empty()) return {};
     const Region& r = atlas_.level().regions[size_t(index)];
     note_ = "entering " + r.name;
@@ -148,6 +153,7 @@ std::string Session::enterByZoom() {
 std::string Session::pickAt(double x, double y) { return showPick(atlas_.pickPixel(view_.camera(), x, y)); }
 
 std::string Session::showPick(int index) {
+    beforeChange();
     atlas_.highlight(index);
     release_ = atlas_.level().merged != nullptr;  // the level's mesh before the highlight
     picked_.clear();
@@ -161,10 +167,12 @@ std::string Session::showPick(int index) {
 std::string Session::back() {
     if (const int e = atlas_.entering(); e >= 0) {
         const std::string line = "stopped\t" + regionLine(e);
+        beforeChange();
         atlas_.back();
         return line;
     }
     const std::string parentId = atlas_.level().parent;
+    beforeChange();
     if (const std::string err = atlas_.back(); !err.empty()) return "error\t" + err;
     picked_.clear();
     release_ = true;
@@ -185,6 +193,7 @@ std::string Session::enter(const std::vector<std::string>& args) {
         if (index < 0) return "error\tno region under the window centre";
     }
     const Region region = l.regions[size_t(index)];
+    beforeChange();
     if (const std::string err = atlas_.enter(size_t(index)); !err.empty()) return "error\t" + err;
     const auto t0 = Clock::now();
     view_.frame(atlas_.sceneBox(size_t(index)), 0.9);

@@ -63,6 +63,10 @@ private:
     std::string enter(const std::vector<std::string>& args);
     std::string waitIdle();
     std::string stats() const;
+    // Before the atlas changes the graph between frames (a pick's highlight, entering, going back): AppCullDraw
+    // culls the last frame on a thread of its own after frame() returns, so that cull is waited for (the other
+    // models' cull is done by then, and their draw reads only the frame's own list).
+    void beforeChange();
 
     Atlas& atlas_;
     Display& display_;
