@@ -50,11 +50,15 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
         viewer_->onApp([this](const sg::FrameInfo&) {
             if (prepare_) prepare_();
         });
+        for (const auto& f : setup_) f(*viewer_);
     }
-    viewer_->setScene(scene);
+    // AppCullDraw's cull of the last frame may still read the viewer's scene: it is written only to change it.
+    if (&viewer_->scene() != &scene) viewer_->setScene(scene);
     sg::ViewerSettings& vs = viewer_->settings();
     vs.phase = set_.limitRate ? sg::FramePhase::Limit : sg::FramePhase::FreeRun;
     vs.frameRate = 1000.0 / set_.budgetMs;
+    vs.threading = set_.threading;
+    vs.bindContext = set_.bindContext;
     sg::View& v = viewer_->view();
     v.camera = cam;
     v.cull = set_.cull;
@@ -64,6 +68,13 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     prepare_ = prepare;
     viewer_->frame();
     prepare_ = nullptr;
+    collect();
+    return last_;
+}
+
+void LodRun::collect() {
+    if (!viewer_ || viewer_->framesDrawn() == 0) return;  // threaded: nothing drawn yet
+    const sg::View& v = viewer_->view();
     const sg::StageTimes& t = viewer_->lastFrame();
     last_.cullMs = t.appMs + t.pagerMs + t.updateMs + t.cullMs;
     last_.drawMs = t.drawMs;
@@ -71,7 +82,23 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
     last_.workMs = last_.cullMs + last_.drawMs;
     last_.frameMs = set_.limitRate ? t.frameMs : last_.workMs;
     last_.stats = v.cullStats();
+}
+
+const LodFrame& LodRun::flush() {
+    if (viewer_) viewer_->flush();
+    collect();
     return last_;
+}
+
+const LodFrame& LodRun::stopThreads() {
+    if (viewer_) viewer_->stopThreads();
+    collect();
+    return last_;
+}
+
+void LodRun::onViewer(std::function<void(sg::Viewer&)> f) {
+    if (viewer_) f(*viewer_);
+    setup_.push_back(std::move(f));
 }
 
 void LodRun::run(sg::Scene& scene, int count, int warmup, const std::function<sg::Camera(int)>& cameraAt,
@@ -82,7 +109,9 @@ void LodRun::run(sg::Scene& scene, int count, int warmup, const std::function<sg
     };
     for (int i = 0; i < std::min(count, warmup); ++i) one(i);
     for (int i = 0; i < count; ++i) {
-        const LodFrame& f = one(i);
+        one(i);
+        // Threaded, frame i is drawn a frame or two later: each record waits for its own frame.
+        const LodFrame& f = set_.threading == sg::ThreadingModel::SingleThreaded ? last_ : flush();
         if (recorded) recorded(i, f);
     }
 }

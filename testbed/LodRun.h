@@ -44,6 +44,12 @@ public:
         // time, at most a fifth of the budget): a frame planned a little short waits, one planned to the
         // edge runs over half the time.
         bool limitRate = false;
+        // The viewer's threading model and how it moves the GL context (ViewerSettings::threading, bindContext).
+        // Threaded, frame() returns with threadingLatency() frames in flight: what it reports is of the frame
+        // drawn last, and the picture is the renderer's only on the draw thread (onViewer's drawn callbacks)
+        // or after stopThreads().
+        sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded;
+        std::function<void(bool current)> bindContext;
     };
     // Draws with `renderer` (its context current), through a viewer of its own made at the first frame. Throws
     // std::invalid_argument for a budget that is not a positive number of milliseconds.
@@ -51,11 +57,22 @@ public:
 
     // One frame of `scene` seen by `cam`: prepare() (the scene's state for the frame, e.g. switches) and the
     // cull, then the draw until finished; the method learns from the measured times. The picture stays in
-    // the renderer's buffer until the next draw.
+    // the renderer's buffer until the next draw. Threaded: the frame drawn last, if any (drawn() counts them).
     const LodFrame& frame(sg::Scene& scene, const sg::Camera& cam, const std::function<void()>& prepare = nullptr);
+    // The frames in flight drawn; last() is then the last frame's.
+    const LodFrame& flush();
+    // flush(), and the GL context back on the calling thread (sg::Viewer::stopThreads()): to draw or read with
+    // the renderer here, or to let another LodRun's viewer draw with it. The next frame() takes it again.
+    const LodFrame& stopThreads();
+    const LodFrame& last() const { return last_; }
+    uint64_t drawn() const { return viewer_ ? viewer_->framesDrawn() : 0; }
+    // Runs `f` on the viewer when it is made (at the first frame), or now if it is: its callbacks (drawn, overlay,
+    // present), which run on the draw thread when threaded.
+    void onViewer(std::function<void(sg::Viewer&)> f);
 
     // frames(0 .. count): the first `warmup` of them once untimed (the stress scale and the model settle
-    // on the path), then all of them, each handed to recorded(i, frame) right after it is drawn.
+    // on the path), then all of them, each handed to recorded(i, frame) right after it is drawn (threaded: the
+    // timed frames are flushed one by one, so that each record is its own frame's).
     // cameraAt(i) is frame i's camera; prepare(i), when set, runs in frame i before its cull.
     void run(sg::Scene& scene, int count, int warmup, const std::function<sg::Camera(int)>& cameraAt,
              const std::function<void(int)>& prepare, const std::function<void(int, const LodFrame&)>& recorded);
@@ -69,7 +86,9 @@ public:
 
 private:
     const sg::View& view() const;
+    void collect();  // last_ from the viewer's last drawn frame
     sg::Renderer& renderer_;
+    std::vector<std::function<void(sg::Viewer&)>> setup_;
     Settings set_;
     std::unique_ptr<sg::Viewer> viewer_;
     std::function<void()> prepare_;  // this frame's, run in the viewer's app stage

@@ -28,7 +28,7 @@ long integer(const std::string& name, const std::string& v, long lo, long hi) {
 const char* usage() {
     return "usage: factory [--headless] [--frames N] [--size WxH] [--budget-ms MS] [--out-dir DIR] [--json]\n"
            "               [--cache-dir DIR] [--no-lighting] [--camera ex,ey,ez,cx,cy,cz] [--keys \"...\"]\n"
-           "               [--background-load none|spin] [--free-run] [--help]\n"
+           "               [--background-load none|spin] [--free-run] [--threading MODEL] [--help]\n"
            "  --headless         the scripted walkthrough offscreen: pictures, per-frame CSV, the paper's table\n"
            "                     (without it: the site in a window, 1070x865 by default; needs a display or xvfb-run)\n"
            "  --frames N         headless: the path's length (default 480); window: quit after N frames, writing\n"
@@ -39,6 +39,9 @@ const char* usage() {
            "  --out-dir DIR      pictures, CSV and screenshots (default .)   --json  headless: the summary as JSON\n"
            "  --cache-dir DIR    where the baked lighting is kept   --no-lighting  the site unlit (no bake)\n"
            "  --background-load spin  a thread busy on another core all along: the walkthrough on a busy machine\n"
+           "  --threading MODEL  the viewer's threads: single (default), draw (a draw thread), cull-per-view,\n"
+           "                     app-cull-draw (sg::ThreadingModel); headless, the methods share one context and\n"
+           "                     each frame is compared at full detail, so the stages of a frame never overlap\n"
            "  --camera E,C       window: start at eye E looking at centre C (+Z up; default: the walk's start)\n"
            "  --keys \"...\"       window: keys replayed, a token a frame: W A S D (W*30: held 30 frames), F M O P\n"
            "                     H Esc, drag:DX,DY, wait*N\n"
@@ -90,6 +93,13 @@ Options parseOptions(int argc, char** argv) {
                 o.backgroundLoad = scenes::BackgroundLoad::parse(v);
             } catch (const std::invalid_argument&) {
                 throw OptionError("--background-load '" + v + "' is not none or spin");
+            }
+        } else if (k == "--threading") {
+            const std::string v = value(argc, argv, i);
+            try {
+                o.threading = sg::parseThreadingModel(v);
+            } catch (const std::invalid_argument&) {
+                throw OptionError("--threading '" + v + "' is not single, draw, cull-per-view or app-cull-draw");
             }
         } else if (k == "--jitter-draws") {
             o.jitterDraws = int(integer(k, value(argc, argv, i), 2, 10000));

@@ -2,6 +2,7 @@
 // and replayed keys.
 #pragma once
 #include "sg/core/Math.h"
+#include "sg/viewer/Viewer.h"
 #include "testbed/BackgroundLoad.h"
 
 #include <stdexcept>
@@ -24,6 +25,8 @@ struct Options {
     // Budget and stress hold the frame rate at 1000 / budgetMs (frames that finish early wait, as at a
     // fixed frame rate); freeRun lets them run as fast as they finish.
     bool freeRun = false;
+    // Which threads run the viewer's stages (sg::ThreadingModel; --threading single|draw|cull-per-view|app-cull-draw).
+    sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded;
     bool help = false;
     // The window: quit after `frames` when framesGiven (writing the last one to outDir/factory-window.png),
     // the keys of `keys` replayed one frame after another (parseKeyScript), the start view from --camera.

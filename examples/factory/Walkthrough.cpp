@@ -89,14 +89,21 @@ std::vector<ModeRun> Walkthrough::run(const std::vector<sg::LodPolicy>& modes, d
     for (size_t k = 0; k < modes.size(); ++k) {
         out[k].mode = modes[k];
         out[k].budgetMs = budgetMs;
-        scenes::LodRun::Settings set{modes[k], budgetMs, true, sg::CullSettings{}};
+        scenes::LodRun::Settings set;
+        set.method = modes[k];
+        set.budgetMs = budgetMs;
         set.limitRate = limitRate && modes[k] != sg::LodPolicy::Static;  // static aims at no frame time
+        set.threading = threading_;
+        set.bindContext = bindContext_;
         runs.push_back(std::make_unique<scenes::LodRun>(renderer_, set));
     }
     const int n = int(path_.frames.size());
     auto frame = [&](size_t k, int i) -> const scenes::LodFrame& {
         const scenes::PathFrame& p = path_.frames[size_t(i)];
-        return runs[k]->frame(scene_, scenes::pathCamera(p, width_, height_), [&] { showWorkshop(p.workshop); });
+        runs[k]->frame(scene_, scenes::pathCamera(p, width_, height_), [&] { showWorkshop(p.workshop); });
+        // The next frame is another method's (its own viewer), or the comparison's draw here: both need the
+        // context on this thread. Stopped, the frame is drawn and last() is its own.
+        return threading_ == sg::ThreadingModel::SingleThreaded ? runs[k]->last() : runs[k]->stopThreads();
     };
     for (size_t k = 0; k < modes.size(); ++k)  // the warm-up: the stress scale and the model settle on the path
         for (int i = 0; i < std::min(n, kWarmupFrames); ++i) frame(k, i);

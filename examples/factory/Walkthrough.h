@@ -40,6 +40,14 @@ public:
     // budget and stress hold the frame rate (LodRun::Settings::limitRate). With compare, each frame is also
     // drawn at full detail for image_mae. onFrame(k, i, image) sees mode k's frame i when set (it costs a
     // read-back).
+    // The viewers' threading model (--threading) and how they move the context to their draw thread. The three
+    // methods share the renderer's one context and each frame is compared with a full-detail picture drawn here,
+    // so a threaded run hands the context back after every frame: each frame is drawn on a draw thread, but no
+    // two stages overlap.
+    void setThreading(sg::ThreadingModel model, std::function<void(bool current)> bindContext) {
+        threading_ = model;
+        bindContext_ = std::move(bindContext);
+    }
     std::vector<ModeRun> run(const std::vector<sg::LodPolicy>& modes, double budgetMs, bool limitRate, bool compare,
                              const std::function<void(size_t, int, const sg::Image&)>& onFrame = nullptr);
     // Path frame `frame` drawn `draws` times with the static settings: the frame times.
@@ -55,6 +63,8 @@ private:
     const scenes::WalkPath& path_;
     int width_, height_;
     int shown_ = -1;
+    sg::ThreadingModel threading_ = sg::ThreadingModel::SingleThreaded;
+    std::function<void(bool current)> bindContext_;
     sg::Renderer renderer_;
     sg::CullTraversal refCull_;
     sg::DrawList list_;

@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
 
         sg::OsmesaContext ctx(o.width, o.height);
         Walkthrough walk(f, scene, path, o.width, o.height);
+        walk.setThreading(o.threading, [&ctx](bool current) { current ? ctx.makeCurrent() : ctx.release(); });
         const scenes::BackgroundLoad load(o.backgroundLoad);
         Summary s;
         s.width = o.width;

@@ -20,6 +20,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <thread>
 
 using namespace factory;
@@ -73,9 +75,10 @@ private:
     }
     void onKey(int key, int action);
     void press(Key k);
-    void showWorkshop();
+    bool showWorkshop();
     std::string statsText() const;
     void screenshot(const std::string& name, const sg::Image& img);
+    void shootAt(uint64_t frame, std::string name);  // frame's picture to outDir/name once it is drawn
 
     const Options& o_;
     scenes::Factory& f_;
@@ -95,6 +98,12 @@ private:
     // The last frame, for the overlay.
     double fps_ = 0.0, frameMs_ = 0.0, cullMs_ = 0.0, drawMs_ = 0.0;
     sg::CullStats stats_;
+    // Handed from the loop to the viewer's draw-side callbacks (the draw thread when threaded): the overlay's text
+    // and size, and the screenshots wanted by frame number.
+    std::mutex drawSide_;
+    std::string overlayText_;  // empty: no overlay
+    int overlayW_ = 0, overlayH_ = 0;
+    std::map<uint64_t, std::string> shots_;
 };
 
 void FactoryWindow::onKey(int key, int action) {
@@ -141,12 +150,14 @@ void FactoryWindow::press(Key k) {
 }
 
 // Inside a workshop only its interior is on; outside, the defaults (what the walkthrough does at each step).
-void FactoryWindow::showWorkshop() {
+// Returns whether it changed.
+bool FactoryWindow::showWorkshop() {
     const int k = scenes::factoryWorkshopAt(f_, nav_.eye());
-    if (k == workshop_) return;
+    if (k == workshop_) return false;
     scenes::setFactoryEye(f_, k);
     scene_.update();
     workshop_ = k;
+    return true;
 }
 
 std::string FactoryWindow::statsText() const {
@@ -179,14 +190,49 @@ void FactoryWindow::screenshot(const std::string& name, const sg::Image& img) {
     std::fflush(stdout);
 }
 
+void FactoryWindow::shootAt(uint64_t frame, std::string name) {
+    std::lock_guard<std::mutex> lock(drawSide_);
+    shots_[frame] = std::move(name);
+}
+
 int FactoryWindow::run() {
     sg::Renderer renderer;
     if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     sg::TextOverlay overlay;
     renderer.setLight(scenes::factoryLight(workshop_));
     // The walkthrough's LOD choice (the same frame loop as the headless run), switched by the M key.
-    scenes::LodRun lod(renderer, {mode_, o_.budgetMs, false, set0_});
+    scenes::LodRun::Settings ls;
+    ls.method = mode_;
+    ls.budgetMs = o_.budgetMs;
+    ls.mayDrop = false;
+    ls.cull = set0_;
+    ls.threading = o_.threading;
+    ls.bindContext = [this](bool current) { current ? window_.makeCurrent() : sg::GlfwWindow::release(); };
+    const bool threaded = o_.threading != sg::ThreadingModel::SingleThreaded;
+    scenes::LodRun lod(renderer, ls);
+    // After the views' draw, where the context is: the overlay, the screenshots of their frames (before the
+    // swap, which leaves the back buffer undefined), the swap.
+    lod.onViewer([this, &overlay, &renderer](sg::Viewer& v) {
+        v.onOverlay([this, &overlay] {
+            std::lock_guard<std::mutex> lock(drawSide_);
+            if (!overlayText_.empty() && overlayW_ > 0)
+                overlay.draw(overlayText_, overlayW_, overlayH_, overlayW_ >= 960 && overlayH_ >= 480 ? 2.0f : 1.0f);
+        });
+        v.onDrawn([this, &renderer](const sg::FrameInfo& fi) {
+            std::string name;
+            {
+                std::lock_guard<std::mutex> lock(drawSide_);
+                const auto it = shots_.find(fi.frame);
+                if (it == shots_.end()) return;
+                name = it->second;
+                shots_.erase(it);
+            }
+            screenshot(name, renderer.readColor());
+        });
+        v.onPresent([this] { window_.swapBuffers(); });
+    });
     int shown = 0, counted = 0, shots = 0;
+    uint64_t frameNumber = 0;  // the viewer's number for the next frame (one a lod.frame())
     double last = window_.time(), since = last;
     while (!window_.shouldClose() && (!o_.framesGiven || shown < o_.frames)) {
         window_.pollEvents();
@@ -221,25 +267,31 @@ int FactoryWindow::run() {
         lod.settings().method = mode_;
         lod.settings().limitRate = !o_.freeRun && mode_ != sg::LodPolicy::Static;  // as the headless run
         lod.settings().cull.occlusion.mode = occlusion_;
-        const scenes::LodFrame& fr = lod.frame(scene_, cam, [&] {
-            showWorkshop();
-            renderer.setLight(scenes::factoryLight(workshop_));  // the sun outside, the roof's light inside
-        });
-        stats_ = fr.stats;
-        cullMs_ = fr.cullMs;
-        drawMs_ = fr.drawMs;
-        frameMs_ = fr.frameMs;
-
-        if (overlay_) overlay.draw(statsText(), w, h, w >= 960 && h >= 480 ? 2.0f : 1.0f);
+        // The light is the renderer's, read by the draw: a frame in flight must be drawn before it changes.
+        if (threaded && scenes::factoryWorkshopAt(f_, nav_.eye()) != workshop_) lod.flush();
+        {
+            std::lock_guard<std::mutex> lock(drawSide_);
+            overlayText_ = overlay_ ? statsText() : std::string();  // of the last frame drawn
+            overlayW_ = w;
+            overlayH_ = h;
+        }
         if (wantShot_) {
             wantShot_ = false;
             char name[32];
             do std::snprintf(name, sizeof name, "factory-%04d.png", ++shots);
             while (std::filesystem::exists(std::filesystem::path(o_.outDir) / name));
-            screenshot(name, renderer.readColor());
+            shootAt(frameNumber, name);
         }
-        if (o_.framesGiven && shown + 1 == o_.frames) screenshot("factory-window.png", renderer.readColor());
-        window_.swapBuffers();
+        if (o_.framesGiven && shown + 1 == o_.frames) shootAt(frameNumber, "factory-window.png");
+        const scenes::LodFrame& fr = lod.frame(scene_, cam, [&] {
+            // The sun outside, the roof's light inside.
+            if (showWorkshop()) renderer.setLight(scenes::factoryLight(workshop_));
+        });
+        ++frameNumber;
+        stats_ = fr.stats;
+        cullMs_ = fr.cullMs;
+        drawMs_ = fr.drawMs;
+        frameMs_ = fr.frameMs;
         ++shown;
         ++counted;
         if (now - since >= 0.5) {  // the rate over the last half second
@@ -248,6 +300,7 @@ int FactoryWindow::run() {
             since = now;
         }
     }
+    stats_ = lod.flush().stats;  // the frames in flight drawn (and their screenshots written)
     const sg::dvec3 e = nav_.eye();
     std::printf("factory: %d frames; eye (%.6f, %.6f, %.6f); %s; lod %s; occlusion %s; workshop %d; triangles %llu\n",
                 shown, e.x, e.y, e.z, common::navModeName(nav_.mode()), sg::lodPolicyName(mode_),

@@ -15,6 +15,9 @@ public:
     virtual ~Display() = default;
     // The renderer of the context (current): the session's viewer draws with it.
     virtual sg::Renderer& renderer() = 0;
+    // Makes the context current on the calling thread, or releases it from it: a threaded viewer draws on a
+    // thread of its own (sg::ViewerSettings::bindContext).
+    virtual void bindContext(bool current) = 0;
     sg::Image read() { return renderer().readColor(); }
 };
 

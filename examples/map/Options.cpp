@@ -12,7 +12,7 @@ namespace sgmap {
 namespace {
 
 const char* kUsage =
-    "usage: sgmap [--headless [--script FILE|-] [--overlay]] [--data DIR] [--size WxH]\n"
+    "usage: sgmap [--headless [--script FILE|-] [--overlay]] [--data DIR] [--size WxH] [--threading MODEL]\n"
     "  --headless      render offscreen and run a script (default: the built-in demo), one result line per command\n"
     "  --script FILE   the commands, one per line ('-': standard input):\n"
     "                    goto LON LAT HEIGHT_KM   zoom FACTOR   enter [ID]   back   pick X Y   pickgeo LON LAT\n"
@@ -21,6 +21,8 @@ const char* kUsage =
     "  --size WxH      window or picture size (default 1280x720)\n"
     "  --overlay       headless: draw the overlay into screenshots\n"
     "  --loader-nice N the loader thread's nice value, 0 (default: the program's priority) to 19\n"
+    "  --threading MODEL  the viewer's threads: single (default), draw (a draw thread), cull-per-view,\n"
+    "                  app-cull-draw (sg::ThreadingModel)\n"
     "  --frames N      window: quit after N frames;  --commands \"a;b\": window: commands run at start\n"
     "in the window: click picks, right click or B goes back up, scroll zooms (a region covering more than half\n"
     "  of the window is entered), drag pans, E enters the region in the centre, H the overlay, P a screenshot\n";
@@ -49,6 +51,14 @@ int readCommandLine(int argc, char** argv, Options& o) {
             o.loaderNice = std::atoi(v);
             if (o.loaderNice < 0 || o.loaderNice > 19) {
                 std::fprintf(stderr, "sgmap: --loader-nice wants 0 to 19, not '%s'\n", v);
+                return 2;
+            }
+        } else if (a == "--threading" && (v = value())) {
+            try {
+                o.threading = sg::parseThreadingModel(v);
+            } catch (const std::invalid_argument&) {
+                std::fprintf(stderr,
+                             "sgmap: --threading wants single, draw, cull-per-view or app-cull-draw, not '%s'\n", v);
                 return 2;
             }
         } else if (a == "--frames" && (v = value())) {

@@ -1,5 +1,7 @@
 // The map program's command line.
 #pragma once
+#include "sg/viewer/Viewer.h"
+
 #include <string>
 
 namespace sgmap {
@@ -15,6 +17,7 @@ struct Options {
     int frames = 0;        // window: quit after this many frames (0: when closed)
     std::string commands;  // window: commands run after the first frame, separated by ';' (tests)
     int loaderNice = 0;    // the loader thread's nice value (sg::PagerSettings::loaderNice)
+    sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded;  // the viewer's threads (--threading)
 };
 
 // Parses argv; returns -1 to go on, or the exit code (after --help, or a message on stderr for a bad option).

@@ -10,6 +10,7 @@ class OsmesaDisplay : public Display {
 public:
     OsmesaDisplay(int width, int height) : context_(width, height) {}
     sg::Renderer& renderer() override { return renderer_; }
+    void bindContext(bool current) override { current ? context_.makeCurrent() : context_.release(); }
 
 private:
     sg::OsmesaContext context_;  // first: the renderer needs it current

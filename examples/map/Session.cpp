@@ -47,17 +47,44 @@ constexpr double kEnterTimeoutMs = 60000.0;  // a load that takes longer is repo
 
 }  // namespace
 
-Session::Session(Atlas& atlas, Display& display, int width, int height)
-    : atlas_(atlas), display_(display), viewer_(atlas.scene(), display.renderer()) {
+namespace {
+ViewerSettings viewerSettings(Display& display, ThreadingModel threading) {
+    ViewerSettings s;
+    s.threading = threading;
+    s.bindContext = [&display](bool current) { display.bindContext(current); };
+    return s;
+}
+}  // namespace
+
+Session::Session(Atlas& atlas, Display& display, int width, int height, ThreadingModel threading)
+    : atlas_(atlas), display_(display), viewer_(atlas.scene(), display.renderer(), viewerSettings(display, threading)) {
     View& v = viewer_.addView();
     v.cull.traversalMask = ~(kPickable | kCollidable);  // a level's pick-only regions are not drawn
     v.clearColor = kSeaColor;
     // The atlas's pager is updated by the viewer; between it and the scene's update, the level entered or failed.
     viewer_.usePager(&atlas_.pager());
-    viewer_.onUpdate([this](const FrameInfo&) {
+    viewer_.onUpdate([this](const FrameInfo& fi) {
         step_ = atlas_.step();
         if (step_.entered) picked_.clear();
         if (!step_.error.empty()) note_ = "error: " + step_.error;
+        if (step_.entered || release_) {
+            std::lock_guard<std::mutex> lock(drawSide_);
+            releaseAfter_ = int64_t(fi.frame);
+            release_ = false;
+        }
+    });
+    // A level read or left: once the frame is drawn, the GPU copies of the meshes it did not draw (the level left,
+    // or the level above at the detail it had while this one loaded), then the loader's scratch memory and the
+    // level's freed meshes go back to the system, so that the resident memory follows what is loaded and drawn.
+    // The renderer is used only where the frame is drawn.
+    viewer_.onDrawn([this](const FrameInfo& fi) {
+        std::lock_guard<std::mutex> lock(drawSide_);
+        if (int64_t(fi.frame) == pictureOf_) picture_ = display_.read();
+        if (releaseAfter_ >= 0 && int64_t(fi.frame) >= releaseAfter_) {
+            releaseAfter_ = -1;
+            display_.renderer().releaseUnused();
+            malloc_trim(0);
+        }
     });
     viewer_.overlayText = [this] { return overlayText(); };
     view_.width = width;
@@ -74,17 +101,25 @@ double Session::frame() {
     viewer_.view().camera = view_.camera();
     viewer_.overlay = overlay;
     viewer_.frame();
-    // A level read or left: the GPU copies of the meshes this frame did not draw (the level left, or the level
-    // above at the detail it had while this one loaded), then the loader's scratch memory and the level's freed
-    // meshes go back to the system, so that the resident memory follows what is loaded and drawn.
-    if (step_.entered || release_) {
-        display_.renderer().releaseUnused();
-        release_ = false;
-        malloc_trim(0);
-    }
     const double ms = msSince(t0);
     frameMs_.push_back(ms);
     return ms;
+}
+
+void Session::beforeChange() {
+    if (viewer_.settings().threading == ThreadingModel::AppCullDraw) viewer_.flush();
+}
+
+sg::Image Session::picture() {
+    {
+        std::lock_guard<std::mutex> lock(drawSide_);
+        pictureOf_ = int64_t(viewer_.frameNumber());  // the next frame's number
+    }
+    frame();
+    viewer_.flush();
+    std::lock_guard<std::mutex> lock(drawSide_);
+    pictureOf_ = -1;
+    return std::move(picture_);
 }
 
 std::string Session::regionLine(int index) const {
@@ -108,6 +143,7 @@ std::string Session::enterByZoom() {
     if (atlas_.entering() >= 0) return {};
     const int index = atlas_.pickPixel(view_.camera(), 0.5 * view_.width, 0.5 * view_.height);
     if (index < 0 || !atlas_.level().regions[size_t(index)].paged || coverage(index) <= 0.5) return {};
+    beforeChange();
     if (!atlas_.enter(size_t(index)).empty()) return {};
     const Region& r = atlas_.level().regions[size_t(index)];
     note_ = "entering " + r.name;
@@ -117,6 +153,7 @@ std::string Session::enterByZoom() {
 std::string Session::pickAt(double x, double y) { return showPick(atlas_.pickPixel(view_.camera(), x, y)); }
 
 std::string Session::showPick(int index) {
+    beforeChange();
     atlas_.highlight(index);
     release_ = atlas_.level().merged != nullptr;  // the level's mesh before the highlight
     picked_.clear();
@@ -130,10 +167,12 @@ std::string Session::showPick(int index) {
 std::string Session::back() {
     if (const int e = atlas_.entering(); e >= 0) {
         const std::string line = "stopped\t" + regionLine(e);
+        beforeChange();
         atlas_.back();
         return line;
     }
     const std::string parentId = atlas_.level().parent;
+    beforeChange();
     if (const std::string err = atlas_.back(); !err.empty()) return "error\t" + err;
     picked_.clear();
     release_ = true;
@@ -154,6 +193,7 @@ std::string Session::enter(const std::vector<std::string>& args) {
         if (index < 0) return "error\tno region under the window centre";
     }
     const Region region = l.regions[size_t(index)];
+    beforeChange();
     if (const std::string err = atlas_.enter(size_t(index)); !err.empty()) return "error\t" + err;
     const auto t0 = Clock::now();
     view_.frame(atlas_.sceneBox(size_t(index)), 0.9);
@@ -289,9 +329,8 @@ std::string Session::command(const std::string& line) {
     }
     if (c == "screenshot") {
         if (w.size() != 2) return "error\tusage: screenshot FILE";
-        frame();
         try {
-            savePng(w[1], display_.read());
+            savePng(w[1], picture());
         } catch (const std::exception& e) {
             return "error\t" + std::string(e.what());
         }

@@ -8,7 +8,10 @@
 #include "sg/viewer/Viewer.h"
 
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <iosfwd>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -16,11 +19,18 @@ namespace sgmap {
 
 class Session {
 public:
-    // Draws with the display's renderer (its context current).
-    Session(Atlas& atlas, Display& display, int width, int height);
+    // Draws with the display's renderer (its context current), its viewer's stages on the threads of `threading`
+    // (the draw on a thread of its own but for SingleThreaded, the display's context moved there).
+    Session(Atlas& atlas, Display& display, int width, int height,
+            sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded);
 
-    // One frame: the pager's update and a level entered or failed, the cull, the draw. Returns its milliseconds.
+    // One frame: the pager's update and a level entered or failed, the cull, the draw. Returns its milliseconds
+    // (threaded: the frame's app side; its draw goes on after it returns).
     double frame();
+    // One frame and its picture, read where the frame is drawn once it is (the frames before it drawn too).
+    sg::Image picture();
+    // Called after each frame's draw where it is drawn (the draw thread when threaded): a window's swap.
+    void onPresent(std::function<void()> f) { viewer_.onPresent(std::move(f)); }
     // Runs one command line ("goto -98 39 6000"); returns its result line (empty for a blank or comment line).
     std::string command(const std::string& line);
     // Every line of `in`, each result line to `out` as soon as it is known. Returns how many printed `error`.
@@ -53,6 +63,10 @@ private:
     std::string enter(const std::vector<std::string>& args);
     std::string waitIdle();
     std::string stats() const;
+    // Before the atlas changes the graph between frames (a pick's highlight, entering, going back): AppCullDraw
+    // culls the last frame on a thread of its own after frame() returns, so that cull is waited for (the other
+    // models' cull is done by then, and their draw reads only the frame's own list).
+    void beforeChange();
 
     Atlas& atlas_;
     Display& display_;
@@ -62,6 +76,11 @@ private:
     Atlas::Step step_;      // of the last frame
     bool release_ = false;  // a level was left: free its GPU copies after the next frame
     std::string picked_, note_;
+    // Handed to the draw side (the draw thread when threaded), by frame number: the frame after whose draw the
+    // renderer frees what it did not draw, and the frame whose picture picture() wants.
+    std::mutex drawSide_;
+    int64_t releaseAfter_ = -1, pictureOf_ = -1;
+    sg::Image picture_;
 };
 
 }  // namespace sgmap

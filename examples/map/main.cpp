@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "sgmap: %s map from %s: %zu regions, %zu triangles at the world level\n",
                      atlas.generated() ? "generated" : "real", dir.c_str(), atlas.level().regions.size(),
                      atlas.level().triangles);
-        Session session(atlas, display, o.width, o.height);
+        Session session(atlas, display, o.width, o.height, o.threading);
         session.emptyKb = emptyKb;
         session.readyKb = readyKb;
         session.overlay = o.overlay;

@@ -21,9 +21,12 @@ namespace {
 
 class WindowDisplay : public Display {
 public:
+    explicit WindowDisplay(sg::GlfwWindow& window) : window_(window) {}
     sg::Renderer& renderer() override { return renderer_; }
+    void bindContext(bool current) override { current ? window_.makeCurrent() : sg::GlfwWindow::release(); }
 
 private:
+    sg::GlfwWindow& window_;
     sg::Renderer renderer_;
 };
 
@@ -41,8 +44,9 @@ int main(int argc, char** argv) {
         const std::string dir = dataDirectory(o);
         Atlas atlas(dir, atlasSettings(o));
         sg::GlfwWindow window(o.width, o.height, "sgmap");
-        WindowDisplay display;
-        Session session(atlas, display, window.width(), window.height());
+        WindowDisplay display(window);
+        Session session(atlas, display, window.width(), window.height(), o.threading);
+        session.onPresent([&window] { window.swapBuffers(); });  // where the frame is drawn, after it
         bool down = false, dragged = false;
         double x = 0.0, y = 0.0;
         int shots = 0;
@@ -95,7 +99,6 @@ int main(int argc, char** argv) {
                 for (std::string c; std::getline(in, c, ';');) say(session.command(c));
             }
             if (o.frames > 0 && shown + 1 == o.frames) say(session.command("screenshot sgmap-window.png"));
-            window.swapBuffers();
             ++shown;
         }
         return 0;

@@ -90,15 +90,25 @@ EglContext::EglContext(int width, int height) {
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         char code[16];
         std::snprintf(code, sizeof code, "0x%04x", unsigned(status));
-        release();
+        destroy();
         throw std::runtime_error("EglContext::EglContext(): the " + std::to_string(width) + "x" +
                                  std::to_string(height) + " framebuffer is incomplete (status " + code + ")");
     }
 }
 
-EglContext::~EglContext() { release(); }
+EglContext::~EglContext() { destroy(); }
+
+void EglContext::makeCurrent() {
+    if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
+        throw std::runtime_error(eglError("eglMakeCurrent"));
+}
 
 void EglContext::release() {
+    if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT))
+        throw std::runtime_error(eglError("eglMakeCurrent (release)"));
+}
+
+void EglContext::destroy() {
     if (!context_) return;
     glDeleteFramebuffers(1, &fbo_);
     glDeleteRenderbuffers(1, &color_);

@@ -15,9 +15,13 @@ public:
     EglContext& operator=(const EglContext&) = delete;
     int width() const { return w_; }
     int height() const { return h_; }
+    // Current on the calling thread, or released from it (a threaded viewer's draw thread takes it: its
+    // framebuffer stays bound, being the context's). Throw std::runtime_error naming the EGL call that failed.
+    void makeCurrent();
+    void release();
 
 private:
-    void release();
+    void destroy();
     void* display_ = nullptr;  // EGLDisplay and EGLContext, kept out of this header
     void* context_ = nullptr;
     unsigned fbo_ = 0, color_ = 0, depth_ = 0;

@@ -13,7 +13,8 @@ using namespace sg;
 
 int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     EglContext context(o.width, o.height);
-    View view(scene, loaded.title);
+    View view(scene, loaded.title, o.threading,
+              [&context](bool current) { current ? context.makeCurrent() : context.release(); });
     view.setSceneLights(loaded.up, loaded.lights);
     view.settings.strategy = o.strategy;
     view.settings.occlusion.mode = o.occlusion;
@@ -22,10 +23,20 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     double cullMs = 0.0, drawMs = 0.0;
     if (loaded.pageLoad) view.enablePaging(loaded.pageLoad);
     int frames = 0;
-    for (int f = 0; f < o.frames; ++f, ++frames) {
-        view.frame(camera, o.overlay && f == o.frames - 1, fs);  // updated, drawn and finished
+    // The stats are the frame drawn last's: threaded, frames drawn together at the end show only the last one's,
+    // so the means are over the frames seen.
+    uint64_t seen = 0, counted = 0;
+    auto count = [&] {
+        if (view.viewer().framesDrawn() == seen) return;
+        seen = view.viewer().framesDrawn();
+        ++counted;
         cullMs += view.cullStats().ms;
         drawMs += view.renderStats().ms;
+    };
+    for (int f = 0; f < o.frames; ++f, ++frames) {
+        view.frame(camera, o.overlay && f == o.frames - 1, fs);  // updated, drawn and finished
+        if (f + 1 == o.frames) view.flush();
+        count();
     }
     // A tileset: the picture is of the settled view, every tile it asks for loaded (a tile that failed is not
     // asked for again until its back-off passes; the frames are bounded all the same).
@@ -35,6 +46,7 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
          ++frames) {
         p->waitIdle();
         view.frame(camera, o.overlay, fs);
+        view.flush();  // threaded: what this frame asked the pager for is known once it is drawn
     }
     savePng(o.out, view.read());
     IntersectTraversal picker;
@@ -43,9 +55,9 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     std::printf(
         "sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
         "eye (%g, %g, %g)\n",
-        o.out.c_str(), o.width, o.height, frames, frames == 1 ? "" : "s", cullMs / o.frames, drawMs / o.frames,
-        (unsigned long long)view.renderStats().instances, (unsigned long long)view.renderStats().triangles, e.x, e.y,
-        e.z);
+        o.out.c_str(), o.width, o.height, frames, frames == 1 ? "" : "s", cullMs / double(counted),
+        drawMs / double(counted), (unsigned long long)view.renderStats().instances,
+        (unsigned long long)view.renderStats().triangles, e.x, e.y, e.z);
     return 0;
 }
 

@@ -2,9 +2,12 @@
 
 #include "sg/core/Camera.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <iterator>
+#include <utility>
 
 namespace sgview {
 
@@ -126,6 +129,19 @@ Options parseOptions(int argc, const char* const* argv) {
             } catch (const std::invalid_argument& e) {
                 bad(a, v, e.what());
             }
+        } else if (a == "--threading") {
+            const std::string v = value();
+            // sg::parseThreadingModel's names: it is defined in both GL libraries, and calling it from here would
+            // link the OSMesa one beside the window's.
+            static const std::pair<const char*, sg::ThreadingModel> models[] = {
+                {"single", sg::ThreadingModel::SingleThreaded},
+                {"draw", sg::ThreadingModel::DrawThread},
+                {"cull-per-view", sg::ThreadingModel::CullThreadPerView},
+                {"app-cull-draw", sg::ThreadingModel::AppCullDraw}};
+            const auto* m =
+                std::find_if(std::begin(models), std::end(models), [&](const auto& x) { return v == x.first; });
+            if (m == std::end(models)) bad(a, v, "expected single, draw, cull-per-view or app-cull-draw");
+            o.threading = m->second;
         } else if (a.size() > 1 && a[0] == '-')
             throw UsageError("unknown option '" + a + "'");
         else
@@ -158,6 +174,7 @@ const char* usageText() {
            "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
            "              [--refine-all]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
+           "              [--threading MODEL]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
            "or\n"
            "                     an http(s) URL): its tiles load as the view needs them\n"
@@ -172,6 +189,8 @@ const char* usageText() {
            "  --size WxH         picture or window size (default 1280x720)\n"
            "  --strategy S       culling: none, sphere, aabb (default), sphere-sphere, center-box\n"
            "  --occlusion M      when occlusion culling runs: off, every-frame, adaptive (default)\n"
+           "  --threading MODEL  the viewer's threads: single (default), draw (a draw thread), cull-per-view,\n"
+           "                     app-cull-draw (sg::ThreadingModel)\n"
            "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable)\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"

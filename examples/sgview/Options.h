@@ -2,6 +2,7 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/viewer/Viewer.h"
 
 #include <optional>
 #include <stdexcept>
@@ -32,6 +33,7 @@ struct Options {
     int width = 1280, height = 720;
     sg::CullStrategy strategy = sg::CullStrategy::Aabb;
     sg::OcclusionMode occlusion = sg::OcclusionMode::Adaptive;
+    sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded;  // the viewer's threads (--threading)
     std::string save;                              // write the scene as glTF here and exit (--save)
     std::vector<std::pair<double, double>> picks;  // headless: pixels to pick in the last frame (--pick X,Y)
 };

@@ -6,9 +6,32 @@ namespace sgview {
 
 using namespace sg;
 
-View::View(Scene& scene, std::string title)
-    : viewer_(scene), settings(viewer_.addView().cull), view_(viewer_.view()), title_(std::move(title)) {
-    viewer_.overlayText = [this] { return statsText(fs_); };
+namespace {
+ViewerSettings viewerSettings(ThreadingModel threading, std::function<void(bool)> bindContext) {
+    ViewerSettings s;
+    s.threading = threading;
+    s.bindContext = std::move(bindContext);
+    return s;
+}
+}  // namespace
+
+View::View(Scene& scene, std::string title, ThreadingModel threading, std::function<void(bool)> bindContext)
+    : viewer_(scene, viewerSettings(threading, std::move(bindContext))),
+      settings(viewer_.addView().cull),
+      view_(viewer_.view()),
+      title_(std::move(title)) {
+    viewer_.overlayText = [this] { return statsText(fs_); };  // on this thread, as the frame is culled
+    viewer_.onDrawn([this](const FrameInfo& fi) {
+        Picture picture;
+        {
+            std::lock_guard<std::mutex> lock(pictures_);
+            const auto it = wanted_.find(fi.frame);
+            if (it == wanted_.end()) return;
+            picture = std::move(it->second);
+            wanted_.erase(it);
+        }
+        picture(viewer_.renderer().readColor());
+    });
 }
 
 void View::setSceneLights(const dvec3& up, std::vector<PunctualLight> lights) {
@@ -18,7 +41,11 @@ void View::setSceneLights(const dvec3& up, std::vector<PunctualLight> lights) {
     viewer_.renderer().setPunctualLights(std::move(lights));
 }
 
-void View::frame(const Camera& camera, bool overlay, const FrameStats& fs) {
+void View::frame(const Camera& camera, bool overlay, const FrameStats& fs, Picture picture) {
+    if (picture) {
+        std::lock_guard<std::mutex> lock(pictures_);
+        wanted_[viewer_.frameNumber()] = std::move(picture);  // the number this frame gets
+    }
     view_.camera = camera;
     viewer_.overlay = overlay;
     fs_ = fs;

@@ -3,6 +3,10 @@
 #pragma once
 #include "sg/viewer/Viewer.h"
 
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
 #include <string>
 
 namespace sgview {
@@ -15,16 +19,30 @@ class View {
     mutable sg::Viewer viewer_;  // first: the members below refer to it
 
 public:
-    // Needs a current OpenGL 3.3 core context; same exceptions as sg::Renderer and sg::TextOverlay.
-    View(sg::Scene& scene, std::string title);
+    using Picture = std::function<void(const sg::Image&)>;
+    // Needs a current OpenGL 3.3 core context; same exceptions as sg::Renderer and sg::TextOverlay. A threaded
+    // model draws on a thread of its own, where bindContext moves the context (sg::ViewerSettings).
+    View(sg::Scene& scene, std::string title, sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded,
+         std::function<void(bool current)> bindContext = nullptr);
 
     // One frame of the scene seen by `camera` (updated, culled with `settings`, drawn and finished); then the
-    // stats overlay when `overlay` is set.
-    void frame(const sg::Camera& camera, bool overlay, const FrameStats& fs);
+    // stats overlay when `overlay` is set. picture, when set, is handed the frame's picture where it is drawn,
+    // once it is (the draw thread when threaded: it must not touch the scene). Threaded, the frame is still in
+    // flight when this returns, and the stats below are of the frame drawn last.
+    void frame(const sg::Camera& camera, bool overlay, const FrameStats& fs, Picture picture = nullptr);
+    // The frames in flight drawn.
+    void flush() { viewer_.flush(); }
+    // Called after each frame's draw where it is drawn: a window's swap.
+    void onPresent(std::function<void()> f) { viewer_.onPresent(std::move(f)); }
     // The scene's up axis (the sky of physical materials' ambient light) and its punctual lights (at most
     // sg::Renderer::kMaxLights).
     void setSceneLights(const sg::dvec3& up, std::vector<sg::PunctualLight> lights);
-    sg::Image read() const { return viewer_.renderer().readColor(); }
+    // The last frame's picture, read here: the frames in flight drawn and the context back on this thread (an
+    // offscreen buffer: a window's is undefined after its swap).
+    sg::Image read() {
+        viewer_.stopThreads();
+        return viewer_.renderer().readColor();
+    }
 
     sg::CullSettings& settings;  // the view's
     const sg::CullStats& cullStats() const { return view_.cullStats(); }
@@ -46,6 +64,8 @@ private:
     sg::View& view_;
     std::string title_;
     FrameStats fs_;
+    std::mutex pictures_;                 // frame(..., picture) hands them to the draw side
+    std::map<uint64_t, Picture> wanted_;  // by frame number
 };
 
 // Bounds culled by any test (frustum, the sphere and centre pre-tests, small features, occlusion).

@@ -29,7 +29,8 @@ public:
         : o_(o),
           scene_(scene),
           window_(o.width, o.height, "sgview: " + loaded.title),
-          view_(scene, loaded.title),
+          view_(scene, loaded.title, o.threading,
+                [this](bool current) { current ? window_.makeCurrent() : GlfwWindow::release(); }),
           nav_(sceneBound(scene), o.camera ? o.camera->up : loaded.up),
           start_(startCamera(o, sceneBound(scene), loaded.up)),
           walker_(walkSettings(sceneBound(scene), nav_.up())) {
@@ -43,6 +44,7 @@ public:
         window_.setMouseButtonCallback([this](int button, int action, int) { onButton(button, action); });
         window_.setCursorCallback([this](double x, double y) { onCursor(x, y); });
         window_.setScrollCallback([this](double, double dy) { nav_.scroll(dy); });
+        view_.onPresent([this] { window_.swapBuffers(); });  // where the frame is drawn, after it
     }
 
     int run();
@@ -54,7 +56,7 @@ private:
     void onButton(int button, int action);
     void onCursor(double x, double y);
     void onPick(double x, double y);
-    void screenshot();
+    void screenshot(const std::string& name, const Image& img);
 
     const Options& o_;
     Scene& scene_;
@@ -65,6 +67,7 @@ private:
     ViewpointCollider walker_;  // walk mode: collisions and ground following
     MoveKeys keys_;
     bool overlay_ = true, wantShot_ = false;
+    int shots_ = 0;             // screenshots asked for: the next takes the first free name after them
     int held_ = -1;             // mouse button held, -1: none
     double x_ = 0.0, y_ = 0.0;  // cursor
     double pressX_ = 0.0, pressY_ = 0.0;
@@ -89,12 +92,26 @@ int Viewer::run() {
         }
         nav_.move(keys_, dt);
         fs.mode = navModeName(nav_.mode());
-        view_.frame(nav_.camera(w, h), overlay_, fs);
-        if (wantShot_) screenshot();
-        if (!o_.out.empty() && shown + 1 == o_.frames) savePng(o_.out, view_.read());  // scripted runs
-        window_.swapBuffers();
+        // The pictures are read where the frame is drawn, before its swap (after it the back buffer is undefined).
+        View::Picture picture;
+        if (wantShot_) {
+            wantShot_ = false;
+            char name[32];
+            do std::snprintf(name, sizeof name, "sgview-%04d.png", ++shots_);
+            while (std::filesystem::exists(name));
+            picture = [this, file = std::string(name)](const Image& img) { screenshot(file, img); };
+        }
+        if (!o_.out.empty() && shown + 1 == o_.frames) {  // scripted runs
+            View::Picture shot = std::move(picture);
+            picture = [this, shot](const Image& img) {
+                if (shot) shot(img);
+                savePng(o_.out, img);  // a failure stops the run (the viewer rethrows it here)
+            };
+        }
+        view_.frame(nav_.camera(w, h), overlay_, fs, std::move(picture));
         ++shown;
     }
+    view_.flush();  // the frames in flight drawn, their pictures written
     std::printf("sgview: %d frames; last: %s\n", shown, view_.statsText(fs).c_str());
     return 0;
 }
@@ -141,19 +158,14 @@ void Viewer::onCursor(double x, double y) {
     if (dragged_) nav_.drag(held_, dx, dy, window_.height());
 }
 
-void Viewer::screenshot() {
-    wantShot_ = false;
-    char name[32];
-    for (int i = 1;; ++i) {
-        std::snprintf(name, sizeof name, "sgview-%04d.png", i);
-        if (!std::filesystem::exists(name)) break;
-    }
+void Viewer::screenshot(const std::string& name, const Image& img) {
     try {
-        savePng(name, view_.read());
-        std::printf("screenshot: %s\n", name);
+        savePng(name, img);
+        std::printf("screenshot: %s\n", name.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgview: screenshot: %s\n", e.what());
     }
+    std::fflush(stdout);
 }
 
 // ---- Picking: where the intersection traversal plugs in. ------------------------------------------------

@@ -299,6 +299,12 @@ void Viewer::flush() {
     }
 }
 
+void Viewer::stopThreads() {
+    flush();
+    stop();
+    if (failed()) rethrowFailure();  // the context could not be moved
+}
+
 void Viewer::run() {
     while (!done_) frame();
     flush();

@@ -135,6 +135,10 @@ public:
     void frame();
     // Draws every frame in flight and brings the views' results and the history up to them. Throws as frame().
     void flush();
+    // flush(), then the threaded model's threads stop and the GL context comes back to the calling thread
+    // (bindContext(true)), for a program that draws with it between frames or shares it with other viewers; the
+    // next frame() starts them again. Throws as frame().
+    void stopThreads();
     // Frames until done(): a callback (the window's close) calls setDone(). Flushes at the end.
     void run();
     bool done() const { return done_; }

@@ -8,13 +8,16 @@
 #include "integration/ProgramRun.h"
 #include "nodes/Geometry.h"
 #include "sg/gl/OsmesaContext.h"
+#include "sg/io/ImageIO.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 using namespace factory;
 namespace fs = std::filesystem;
@@ -81,6 +84,41 @@ TEST(FactoryRun, StaticRunDrawsLessThanTheSiteAndSwitchesInside) {
         EXPECT_EQ(s.f.outside->isOn(0), k < 0) << "frame " << i;
         for (size_t w = 0; w < s.f.workshops.size(); ++w)
             EXPECT_EQ(s.f.workshops[w].interior->isOn(0), int(w) == k) << "frame " << i << " workshop " << w;
+    }
+}
+
+// The walkthrough's viewers with a draw thread (and the other models): the path's static frames, the eye entering
+// a workshop (its Switch turned, the light changed) and LODs fading, drawn as one thread draws them, and the same
+// records; the three methods interleaved as in the program (their viewers share the one context).
+TEST(FactoryRun, TheThreadingModelsDrawThePathAsOneThreadDoes) {
+    Site& s = site();
+    sg::OsmesaContext ctx(kW, kH);
+    auto walkWith = [&](sg::ThreadingModel m, std::vector<sg::Image>& pictures) {
+        Walkthrough walk(s.f, s.scene, s.path, kW, kH);
+        walk.setThreading(m, [&ctx](bool current) { current ? ctx.makeCurrent() : ctx.release(); });
+        pictures.assign(size_t(kFrames), sg::Image{});
+        const auto keep = [&](size_t k, int i, const sg::Image& img) {
+            if (k == 0) pictures[size_t(i)] = img;
+        };
+        return walk.run({sg::LodPolicy::Static, sg::LodPolicy::Budget}, 33.0, false, false, keep);
+    };
+    std::vector<sg::Image> want;
+    const std::vector<ModeRun> single = walkWith(sg::ThreadingModel::SingleThreaded, want);
+    for (sg::ThreadingModel m :
+         {sg::ThreadingModel::DrawThread, sg::ThreadingModel::CullThreadPerView, sg::ThreadingModel::AppCullDraw}) {
+        std::vector<sg::Image> got;
+        const std::vector<ModeRun> runs = walkWith(m, got);
+        ASSERT_EQ(runs.size(), 2u);
+        ASSERT_EQ(runs[0].frames.size(), size_t(kFrames));
+        for (int i = 0; i < kFrames; ++i) {
+            const FrameRecord &a = runs[0].frames[size_t(i)], &b = single[0].frames[size_t(i)];
+            EXPECT_EQ(a.frame, i) << sg::threadingModelName(m);
+            EXPECT_EQ(a.triangles, b.triangles) << sg::threadingModelName(m) << " frame " << i;
+            EXPECT_EQ(a.geometries, b.geometries) << sg::threadingModelName(m) << " frame " << i;
+            EXPECT_EQ(sg::countDifferingPixels(got[size_t(i)], want[size_t(i)]), 0u)
+                << sg::threadingModelName(m) << " frame " << i << " (" << s.path.frames[size_t(i)].segment << ")";
+        }
+        EXPECT_EQ(runs[1].frames.size(), size_t(kFrames));  // the budget's frames differ with their times
     }
 }
 
@@ -198,6 +236,39 @@ TEST(FactoryRun, ProgramPrintsJsonAndWritesPictures) {
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1 + 3 * 40);
 }
 
+// The program with a draw thread: the static run's pictures (outside, inside the workshop, the overview) and its
+// frames' counts as with one thread.
+TEST(FactoryRun, ProgramWithADrawThreadWritesThePicturesOfOneThread) {
+    const std::string args = "--headless --json --frames 40 --size 160x120 --jitter-draws 5 --no-lighting";
+    ASSERT_EQ(runFactory(args + " --out-dir single").code, 0);
+    const fs::path dir = testDirectory("factory_");
+    // The static rows' mode, frame, segment, workshop, eye and counts (the times differ).
+    auto staticCounts = [&](const std::string& sub) {
+        std::istringstream csv(slurpFile(dir / sub / "factory-frames.csv"));
+        std::string rows;
+        for (std::string line; std::getline(csv, line);)
+            if (line.rfind("static,", 0) == 0) {
+                size_t at = 0;
+                for (int comma = 0; comma < 10 && at != std::string::npos; ++comma) at = line.find(',', at + 1);
+                rows += line.substr(0, at) + "\n";
+            }
+        return rows;
+    };
+    const std::string want = staticCounts("single");
+    EXPECT_EQ(std::count(want.begin(), want.end(), '\n'), 40);
+    for (const char* model : {"draw", "app-cull-draw"}) {
+        const Result r = runProgram(dir, "'" FACTORY_EXE "' " + args + " --threading " + model + " --out-dir " + model);
+        ASSERT_EQ(r.code, 0) << model << ": " << r.err;
+        for (const char* file : {"factory-outside.png", "factory-inside.png", "factory-overview.png"}) {
+            const sg::Image a = sg::loadPng((dir / "single" / file).string());
+            const sg::Image b = sg::loadPng((dir / model / file).string());
+            ASSERT_GT(a.width, 0) << file;
+            EXPECT_EQ(sg::countDifferingPixels(a, b), 0u) << model << " " << file;
+        }
+        EXPECT_EQ(staticCounts(model), want) << model;
+    }
+}
+
 TEST(FactoryRun, SummarySeparatesTheFramesDrawnAtFullDetail) {
     // A budget cannot slow a frame that is already at full detail: its mean over the others is reported apart.
     ModeRun run;
@@ -223,12 +294,17 @@ TEST(FactoryRun, SummarySeparatesTheFramesDrawnAtFullDetail) {
 
 TEST(FactoryRun, BadOptionsExitWithCode2) {
     for (const char* bad : {"--size 0x0", "--size 100", "--frames abc", "--frames 3", "--budget-ms -1", "--bogus",
-                            "--frames", "--cache-dir"}) {
+                            "--frames", "--cache-dir", "--threading two", "--threading"}) {
         const Result r = runFactory(bad);
         EXPECT_EQ(r.code, 2) << bad << ": " << r.err;
         const std::string option = std::string(bad).substr(0, std::string(bad).find(' '));
         EXPECT_NE(r.err.find(option), std::string::npos) << bad << ": " << r.err;
     }
+    // A bad threading model is refused with the valid ones named.
+    const Result r = runFactory("--headless --threading two");
+    EXPECT_EQ(r.code, 2);
+    EXPECT_NE(r.err.find("--threading 'two' is not single, draw, cull-per-view or app-cull-draw"), std::string::npos)
+        << r.err;
 }
 
 }  // namespace

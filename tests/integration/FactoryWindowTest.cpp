@@ -206,6 +206,34 @@ TEST(FactoryWindow, WalkingIntoAWorkshopSwitchesToItsInterior) {
     EXPECT_TRUE(box.contains(exitEye(in.out))) << in.out;
 }
 
+// The draw on a thread of its own (--threading): the same pictures as one thread draws, as the eye walks into a
+// workshop (its Switch turned, the light changed to the roof's) with a screenshot on the way and the last frame.
+TEST(FactoryWindow, TheThreadingModelsShowWhatOneThreadShows) {
+    Site& s = site();
+    const sg::Box& box = s.f.buildings[size_t(s.f.workshops[0].building)].box;
+    const double x = box.center().x, y = box.min.y - 3.0;
+    const sg::dvec3 eye(x, y, s.f.terrainHeight(x, y) + 1.7), center = eye + sg::dvec3(0, 10, 0);
+    auto walkIn = [&](const std::string& model) {
+        fs::remove_all(scratch() / model);  // the screenshot numbers start at 1
+        // H: no overlay (its times differ from run to run); P: a screenshot at the door.
+        return runWindow(cameraArg(eye, center) + " --threading " + model + " --out-dir " + model, 70, "H W*25 P W*35");
+    };
+    const Result single = walkIn("single");
+    ASSERT_EQ(single.code, 0) << single.err;
+    EXPECT_NE(single.out.find("; workshop 0;"), std::string::npos) << single.out;
+    for (const char* model : {"draw", "cull-per-view", "app-cull-draw"}) {
+        const Result r = walkIn(model);
+        ASSERT_EQ(r.code, 0) << model << ": " << r.err;
+        EXPECT_NE(r.out.find("; workshop 0;"), std::string::npos) << model << ": " << r.out;
+        for (const char* picture : {"factory-0001.png", "factory-window.png"}) {
+            const sg::Image want = sg::loadPng((scratch() / "single" / picture).string());
+            const sg::Image got = sg::loadPng((scratch() / model / picture).string());
+            ASSERT_EQ(got.width, kW) << model << " " << picture;
+            EXPECT_EQ(sg::countDifferingPixels(got, want), 0u) << model << " " << picture;
+        }
+    }
+}
+
 TEST(FactoryWindow, MCyclesTheLodMethodShown) {
     const Result none = runWindow("", 10, "wait");
     const Result once = runWindow("", 10, "M");

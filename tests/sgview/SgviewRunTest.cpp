@@ -184,6 +184,8 @@ TEST(SgviewRun, BadInputExitsWithTwoAndSaysWhy) {
         {"--headless", "nothing to show"},
         {"--headless missing.gltf", "'missing.gltf': no such file"},
         {"--info missing.glb", "'missing.glb': no such file"},
+        {"--headless --scene city --threading two",
+         "--threading 'two': expected single, draw, cull-per-view or app-cull-draw"},
     };
     for (const auto& [args, message] : cases) {
         const Result r = runSgview(args);
@@ -222,6 +224,12 @@ TEST(SgviewRun, TheWindowShowsWhatHeadlessRenders) {
     const Result w = run(xvfbRun(XVFB_RUN) + " '" SGVIEW_EXE "' " + view + " --frames 3 --out window.png");
     ASSERT_EQ(w.code, 0) << w.err;
     EXPECT_NE(w.out.find("sgview: 3 frames"), std::string::npos) << w.out;
+    // With the draw on a thread of its own (the picture read there before the swap): the same picture but for the
+    // panel's times.
+    const Result wd =
+        run(xvfbRun(XVFB_RUN) + " '" SGVIEW_EXE "' " + view + " --frames 3 --out window-draw.png --threading draw");
+    ASSERT_EQ(wd.code, 0) << wd.err;
+    EXPECT_NE(wd.out.find("sgview: 3 frames"), std::string::npos) << wd.out;
     ASSERT_EQ(runSgview("--headless --out headless.png " + view).code, 0);
     const Image win = loadPng((scratch() / "window.png").string());
     const Image off = loadPng((scratch() / "headless.png").string());
@@ -239,6 +247,13 @@ TEST(SgviewRun, TheWindowShowsWhatHeadlessRenders) {
     // edge pixel or two (none here today).
     EXPECT_LE(rest, size_t(400 * 300 / 1000));
     EXPECT_GT(panel, size_t(250 * 60));
+    // The draw thread's window: below the panel, the one thread's pixels.
+    const Image drawn = loadPng((scratch() / "window-draw.png").string());
+    ASSERT_EQ(drawn.rgba.size(), win.rgba.size());
+    size_t below = 0;
+    for (size_t i = size_t(110) * 400 * 4; i < win.rgba.size(); i += 4)
+        below += std::memcmp(&win.rgba[i], &drawn.rgba[i], 3) != 0;
+    EXPECT_EQ(below, 0u);
 #endif
 }
 
@@ -293,6 +308,29 @@ TEST(SgviewRun, HeadlessRendersAGltfFile) {
     EXPECT_NE(bad.err.find("--save"), std::string::npos) << bad.err;
 }
 #endif
+
+// The viewer's threading models (--threading): a built-in scene's picture, and a glTF file's where the loader is
+// built, as one thread draws them (several frames, so that some are in flight when the picture is asked for).
+TEST(SgviewRun, TheThreadingModelsDrawThePicturesOfOneThread) {
+    std::vector<std::string> views = {std::string("--scene office --n 3 --size 320x200 --frames 3")};
+#ifdef SGVIEW_TEST_GLTF
+    ASSERT_EQ(runSgview("--scene city --n 8 --save city8.glb").code, 0);
+    views.push_back("city8.glb --size 400x300 --frames 3 --camera -20,90,20,80,0,-80,0,1,0");
+#endif
+    for (size_t v = 0; v < views.size(); ++v) {
+        const std::string base = "--headless " + views[v] + " --out v" + std::to_string(v) + "-";
+        ASSERT_EQ(runSgview(base + "single.png").code, 0) << views[v];
+        const Image want = loadPng((scratch() / ("v" + std::to_string(v) + "-single.png")).string());
+        EXPECT_GT(nonBackground(want), size_t(want.width * want.height / 10)) << views[v];
+        for (const char* model : {"draw", "cull-per-view", "app-cull-draw"}) {
+            const Result r = runSgview(base + model + ".png --threading " + model);
+            ASSERT_EQ(r.code, 0) << views[v] << " " << model << ": " << r.err;
+            EXPECT_NE(r.out.find(", 3 frames:"), std::string::npos) << r.out;
+            const Image got = loadPng((scratch() / ("v" + std::to_string(v) + "-" + model + ".png")).string());
+            EXPECT_EQ(countDifferingPixels(got, want), 0u) << views[v] << " " << model;
+        }
+    }
+}
 
 #ifdef SGVIEW_TEST_GLTF
 // Physical materials and KHR_lights_punctual: a grey quad lit by a point light and a red spot from the file, drawn
