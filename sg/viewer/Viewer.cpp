@@ -305,6 +305,12 @@ void Viewer::stopThreads() {
     if (failed()) rethrowFailure();  // the context could not be moved
 }
 
+void Viewer::setScene(Scene& scene) {
+    if (&scene == scene_) return;
+    flush();
+    scene_ = &scene;
+}
+
 void Viewer::run() {
     while (!done_) frame();
     flush();

@@ -160,8 +160,9 @@ public:
     const ViewerSettings& settings() const { return settings_; }
     Renderer& renderer() { return *renderer_; }
     Scene& scene() { return *scene_; }
-    // Another scene (the views' traversals start over on it).
-    void setScene(Scene& scene) { scene_ = &scene; }
+    // Another scene (the views' traversals start over on it). The frames in flight are drawn first (flush()): a
+    // cull of the old scene may still be running. Throws as flush().
+    void setScene(Scene& scene);
 
 private:
     using Clock = std::chrono::steady_clock;
