@@ -4,7 +4,7 @@
 // The city orbit or street path, or the factory's walk with its Switch turning; one view, or two side by side
 // (--views 2: the second on the street path); the time budget (--lod budget) or static ranges; a viewpoint
 // collider stepping along the path each frame (--collide sync: in the app stage; async: on the ISECT thread).
-// LP_NUM_THREADS=1 in the environment gives llvmpipe one rasterizer thread (the other core runs the cull).
+// --app-ms keeps the app stage busy that long each frame (the application's own work). LP_NUM_THREADS=1 in the environment gives llvmpipe one rasterizer thread (the other core runs the cull).
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/viewer/Viewer.h"
@@ -73,6 +73,10 @@ int runFrame(const Args& a) {
     if (collide != "none" && collide != "sync" && collide != "async")
         throw std::invalid_argument("sgbench frame: --collide must be none, sync or async (got '" + collide + "')");
     const int w = int(a.num("width", 1280)), h = int(a.num("height", 720));
+    // An application's own work each frame (a simulation, input, networking): the app stage kept busy this long,
+    // so that a pipeline has something to overlap with the draw where the cull alone is a small share of it.
+    const double appWorkMs = double(a.num("app-ms", 0));
+    if (appWorkMs < 0) throw std::invalid_argument("sgbench frame: --app-ms must not be negative");
 
     // The scene and its path.
     std::unique_ptr<scenes::Factory> site;
@@ -114,6 +118,9 @@ int runFrame(const Args& a) {
         sg::ViewpointCollider collider(cs);
         double collideMs = 0.0;
         viewer.onApp([&](const sg::FrameInfo& fi) {
+            const auto busyUntil = Clock::now() + std::chrono::microseconds(int64_t(appWorkMs * 1000.0));
+            while (Clock::now() < busyUntil) {
+            }
             const int i = int(fi.frame);
             if (factory) scenes::setFactoryEye(*site, walk.frames[size_t(i % frames)].workshop);
             viewer.view(0).camera = camera(i);
@@ -171,7 +178,7 @@ int runFrame(const Args& a) {
     Json j;
     j.add("scene", sceneName).addInt("n", factory ? 0 : n).add("path", path).addInt("views", views);
     j.add("threading", sg::threadingModelName(model)).addInt("latency_frames", sg::threadingLatency(model));
-    j.add("lod", sg::lodPolicyName(lod)).add("collide", collide).addInt("frames", frames).addInt("rounds", rounds);
+    j.add("lod", sg::lodPolicyName(lod)).add("collide", collide).add("app_work_ms", appWorkMs).addInt("frames", frames).addInt("rounds", rounds);
     for (auto [name, v] : {std::pair<const char*, const std::vector<Figures>*>{"single", &singles}, {"model", &others}}) {
         const std::string p = name;
         j.add(p + "_period_ms", med(*v, &Figures::period));
