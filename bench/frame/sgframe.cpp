@@ -99,14 +99,15 @@ int main(int argc, char** argv) try {
     }
     const double k = double(cullMs.size());
     std::printf(
-        "{\"peer\": \"sgkit\", \"threading\": \"%s\", \"back_faces\": \"%s\", \"n\": %d, \"width\": %d, \"height\": %d, \"frames\": %zu, "
+        "{\"peer\": \"sgkit\", \"threading\": \"%s\", \"back_faces\": \"%s\", \"n\": %d, \"width\": %d, \"height\": "
+        "%d, \"frames\": %zu, "
         "\"frame_ms_median\": %.3f, "
         "\"frame_ms_p95\": %.3f, \"cull_ms_median\": %.3f, \"draw_ms_median\": %.3f, \"gpu_ms_median\": %.3f, "
         "\"geometries_mean\": %.1f, \"triangles_mean\": %.1f, \"draw_calls_mean\": %.1f, \"back_faces_skipped_mean\": "
         "%.1f, \"build_s\": %.2f}\n",
-        threadingModelName(threading), backFaces.c_str(), n, w, h, frameMs.size(), quantile(frameMs, 0.5), quantile(frameMs, 0.95),
-        quantile(cullMs, 0.5), quantile(drawMs, 0.5), quantile(gpuMs, 0.5), geometries / k, triangles / k,
-        drawCalls / k, skipped / k, buildS);
+        threadingModelName(threading), backFaces.c_str(), n, w, h, frameMs.size(), quantile(frameMs, 0.5),
+        quantile(frameMs, 0.95), quantile(cullMs, 0.5), quantile(drawMs, 0.5), quantile(gpuMs, 0.5), geometries / k,
+        triangles / k, drawCalls / k, skipped / k, buildS);
     viewer.flush();
     return 0;
 } catch (const std::exception& e) {

@@ -4,7 +4,8 @@
 // The city orbit or street path, or the factory's walk with its Switch turning; one view, or two side by side
 // (--views 2: the second on the street path); the time budget (--lod budget) or static ranges; a viewpoint
 // collider stepping along the path each frame (--collide sync: in the app stage; async: on the ISECT thread).
-// --app-ms keeps the app stage busy that long each frame (the application's own work). LP_NUM_THREADS=1 in the environment gives llvmpipe one rasterizer thread (the other core runs the cull).
+// --app-ms keeps the app stage busy that long each frame (the application's own work). LP_NUM_THREADS=1 in the
+// environment gives llvmpipe one rasterizer thread (the other core runs the cull).
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/viewer/Viewer.h"
@@ -58,7 +59,8 @@ int runFrame(const Args& a) {
         throw std::invalid_argument("sgbench frame: --scene must be city or factory (got '" + sceneName + "')");
     const bool factory = sceneName == "factory";
     const int n = int(a.num("n", 316));
-    if (n < 1 || n > 3162) throw std::invalid_argument("sgbench frame: --n " + std::to_string(n) + " is not in 1..3162");
+    if (n < 1 || n > 3162)
+        throw std::invalid_argument("sgbench frame: --n " + std::to_string(n) + " is not in 1..3162");
     const std::string path = a.str("path", factory ? "walk" : "orbit");
     if (factory ? path != "walk" : path != "orbit" && path != "street")
         throw std::invalid_argument("sgbench frame: --path must be orbit or street for the city, walk for the factory");
@@ -178,8 +180,13 @@ int runFrame(const Args& a) {
     Json j;
     j.add("scene", sceneName).addInt("n", factory ? 0 : n).add("path", path).addInt("views", views);
     j.add("threading", sg::threadingModelName(model)).addInt("latency_frames", sg::threadingLatency(model));
-    j.add("lod", sg::lodPolicyName(lod)).add("collide", collide).add("app_work_ms", appWorkMs).addInt("frames", frames).addInt("rounds", rounds);
-    for (auto [name, v] : {std::pair<const char*, const std::vector<Figures>*>{"single", &singles}, {"model", &others}}) {
+    j.add("lod", sg::lodPolicyName(lod))
+        .add("collide", collide)
+        .add("app_work_ms", appWorkMs)
+        .addInt("frames", frames)
+        .addInt("rounds", rounds);
+    for (auto [name, v] :
+         {std::pair<const char*, const std::vector<Figures>*>{"single", &singles}, {"model", &others}}) {
         const std::string p = name;
         j.add(p + "_period_ms", med(*v, &Figures::period));
         j.add(p + "_app_ms", med(*v, &Figures::app));

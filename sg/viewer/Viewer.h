@@ -221,7 +221,7 @@ private:
     Clock::time_point tick_{};  // Lock: the tick the last frame started on
     double spentMs_ = 0.0;      // the last frame's time before its draw (app, pager, update, cull)
     uint64_t drawnFrames_ = 0;
-    std::array<double, 4> waitMs_{};  // the phase's wait of the frames in flight, by frame number
+    std::array<double, 4> waitMs_{};                 // the phase's wait of the frames in flight, by frame number
     std::vector<ref_ptr<Node>> uploadAsked_;         // asked by the pager, not sent to the draw thread yet
     std::unordered_set<const Node*> uploadPending_;  // asked and not dropped, not uploaded yet
     std::unordered_set<const Node*> uploaded_;       // uploaded: the pager's next ask returns true
