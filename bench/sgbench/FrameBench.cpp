@@ -4,10 +4,12 @@
 // The city orbit or street path, or the factory's walk with its Switch turning; one view, or two side by side
 // (--views 2: the second on the street path); the time budget (--lod budget) or static ranges; a viewpoint
 // collider stepping along the path each frame (--collide sync: in the app stage; async: on the ISECT thread).
+// --cull-only times two orbit views' culls alone (the second across the city), one after the other and on two threads.
 // --app-ms keeps the app stage busy that long each frame (the application's own work). LP_NUM_THREADS=1 in the
 // environment gives llvmpipe one rasterizer thread (the other core runs the cull).
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
+#include "sg/viewer/StageThread.h"
 #include "sg/viewer/Viewer.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
@@ -49,6 +51,39 @@ Figures figures(const Pass& p, sg::ThreadingModel m) {
         case sg::ThreadingModel::AppCullDraw: f.slowest = std::max({f.app, f.cull, f.draw}); break;
     }
     return f;
+}
+
+// Two views' culls alone, with no draw beside them to compete for the cores: one after the other on one thread, and
+// each on a thread of its own as CullThreadPerView runs them (a StageThread for the second), alternating frame by
+// frame. The wall time of each way, medians and the median of the per-frame ratios.
+void cullPair(const Args& a, const sg::Scene& scene, const std::function<sg::Camera(int)>& first,
+              const std::function<sg::Camera(int)>& second, int frames) {
+    sg::CullTraversal t0, t1;
+    sg::DrawList l0, l1;
+    sg::CullStats s0, s1;
+    const sg::CullSettings set;
+    sg::StageThread worker;
+    std::vector<double> seq, par, ratio;
+    auto ms = [](Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); };
+    for (int i = 0; i < frames + 20; ++i) {
+        const sg::Camera c0 = first(i), c1 = second(i);
+        auto t = Clock::now();
+        t0.cull(scene, c0, set, l0, s0);
+        t1.cull(scene, c1, set, l1, s1);
+        const double one = ms(t);
+        t = Clock::now();
+        worker.run([&] { t1.cull(scene, c1, set, l1, s1); });
+        t0.cull(scene, c0, set, l0, s0);
+        worker.wait();
+        const double two = ms(t);
+        if (i < 20) continue;  // warm-up
+        seq.push_back(one), par.push_back(two), ratio.push_back(two / one);
+    }
+    Json j;
+    j.add("measure", "cull-pair").addInt("frames", frames);
+    j.add("sequential_cull_ms", median(seq)).add("parallel_cull_ms", median(par));
+    j.add("parallel_over_sequential", median(ratio));
+    j.print(a);
 }
 
 }  // namespace
@@ -100,6 +135,18 @@ int runFrame(const Args& a) {
         return path == "orbit" ? scenes::cityOrbitCamera(n, i % scenes::kOrbitFrames, vw, h)
                                : scenes::cityStreetCamera(n, i % scenes::kStreetFrames, vw, h);
     };
+
+    if (a.flag("cull-only")) {  // two views' culls without a draw: the cull's own parallelism
+        if (factory) throw std::invalid_argument("sgbench frame: --cull-only is for the city");
+        // The second view the orbit's opposite side: two culls of the same size, as two viewers of one city have.
+        cullPair(
+            a, scene, camera,
+            [&](int i) {
+                return scenes::cityOrbitCamera(n, (i + scenes::kOrbitFrames / 2) % scenes::kOrbitFrames, vw, h);
+            },
+            frames);
+        return 0;
+    }
 
     sg::OsmesaContext ctx(w, h);
     const int warmup = std::min(20, frames / 4);

@@ -138,7 +138,7 @@ static void usage() {
         "       sgbench frame [--scene city|factory] [--n N] [--path orbit|street|walk] [--threading "
         "draw|cull-per-view|app-cull-draw]\n"
         "                [--frames F] [--rounds R] [--views 1|2] [--lod static|stress|budget] [--budget-ms B]\n"
-        "                [--collide none|sync|async] [--app-ms MS] [--width W --height H] [--json]\n"
+        "                [--collide none|sync|async] [--app-ms MS] [--cull-only] [--width W --height H] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
