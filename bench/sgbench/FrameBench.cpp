@@ -211,7 +211,6 @@ int runFrame(const Args& a) {
     };
 
     std::vector<double> fpsRatio, cullRatio;
-    Figures single, other;
     std::vector<Figures> singles, others;
     for (int r = 0; r < rounds; ++r) {
         singles.push_back(figures(pass(sg::ThreadingModel::SingleThreaded), sg::ThreadingModel::SingleThreaded));

@@ -131,17 +131,11 @@ Options parseOptions(int argc, const char* const* argv) {
             }
         } else if (a == "--threading") {
             const std::string v = value();
-            // sg::parseThreadingModel's names: it is defined in both GL libraries, and calling it from here would
-            // link the OSMesa one beside the window's.
-            static const std::pair<const char*, sg::ThreadingModel> models[] = {
-                {"single", sg::ThreadingModel::SingleThreaded},
-                {"draw", sg::ThreadingModel::DrawThread},
-                {"cull-per-view", sg::ThreadingModel::CullThreadPerView},
-                {"app-cull-draw", sg::ThreadingModel::AppCullDraw}};
-            const auto* m =
-                std::find_if(std::begin(models), std::end(models), [&](const auto& x) { return v == x.first; });
-            if (m == std::end(models)) bad(a, v, "expected single, draw, cull-per-view or app-cull-draw");
-            o.threading = m->second;
+            try {
+                o.threading = sg::parseThreadingModel(v);
+            } catch (const std::invalid_argument& e) {
+                bad(a, v, e.what());
+            }
         } else if (a.size() > 1 && a[0] == '-')
             throw UsageError("unknown option '" + a + "'");
         else

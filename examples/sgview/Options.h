@@ -2,7 +2,7 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/cull/CullSettings.h"
-#include "sg/viewer/Viewer.h"
+#include "sg/viewer/Threading.h"
 
 #include <optional>
 #include <stdexcept>

@@ -52,34 +52,6 @@ FramePhase parseFramePhase(const std::string& name) {
     throw std::invalid_argument("parseFramePhase(): '" + name + "' is not a frame phase (free-run, limit, lock)");
 }
 
-const char* threadingModelName(ThreadingModel m) {
-    switch (m) {
-        case ThreadingModel::SingleThreaded: return "single";
-        case ThreadingModel::DrawThread: return "draw";
-        case ThreadingModel::CullThreadPerView: return "cull-per-view";
-        case ThreadingModel::AppCullDraw: return "app-cull-draw";
-    }
-    return "?";
-}
-
-ThreadingModel parseThreadingModel(const std::string& name) {
-    for (ThreadingModel m : {ThreadingModel::SingleThreaded, ThreadingModel::DrawThread,
-                             ThreadingModel::CullThreadPerView, ThreadingModel::AppCullDraw})
-        if (name == threadingModelName(m)) return m;
-    throw std::invalid_argument("parseThreadingModel(): '" + name +
-                                "' is not a threading model (single, draw, cull-per-view, app-cull-draw)");
-}
-
-int threadingLatency(ThreadingModel m) {
-    switch (m) {
-        case ThreadingModel::SingleThreaded: return 0;
-        case ThreadingModel::DrawThread:
-        case ThreadingModel::CullThreadPerView: return 1;
-        case ThreadingModel::AppCullDraw: return 2;
-    }
-    return 0;
-}
-
 StageError::StageError(std::string stage, uint64_t frame, const std::string& what)
     : std::runtime_error("Viewer: the " + stage + " stage failed on frame " + std::to_string(frame) + ": " + what),
       stage_(std::move(stage)),

@@ -9,6 +9,7 @@
 #include "sg/paging/Pager.h"
 #include "sg/viewer/FrameStats.h"
 #include "sg/viewer/IsectStage.h"
+#include "sg/viewer/Threading.h"
 #include "sg/viewer/View.h"
 
 #include <array>
@@ -24,23 +25,6 @@
 #include <vector>
 
 namespace sg {
-
-// Which threads run a frame's stages (Performer's pfMultiprocess, OpenSceneGraph's threading models). The latency is
-// the frames between a frame's app stage and its picture: frame() returns while that many frames are still in flight.
-enum class ThreadingModel : uint8_t {
-    SingleThreaded,     // every stage on the thread that calls frame(); latency 0
-    DrawThread,         // the draw on a thread of its own, which owns the GL context, while the calling thread runs the
-                        // next frame's app, update and cull (OSG's DrawThreadPerContext, Performer's APPCULL_DRAW);
-                        // latency 1
-    CullThreadPerView,  // as DrawThread, and each view culled on a thread of its own (OSG's
-                        // CullThreadPerCameraDrawThreadPerContext); latency 1
-    AppCullDraw,        // app, cull and draw of three consecutive frames at once, each stage on its own thread
-                        // (Performer's APP_CULL_DRAW); latency 2
-};
-const char* threadingModelName(ThreadingModel m);
-// Throws std::invalid_argument listing the valid names ("single", "draw", "cull-per-view", "app-cull-draw").
-ThreadingModel parseThreadingModel(const std::string& name);
-int threadingLatency(ThreadingModel m);
 
 // A stage's failure, rethrown on the application thread by frame() or flush(): the stage ("events", "app", "pager",
 // "update", "cull", "draw", "present", "context"), the frame it ran for and, nested, what it threw

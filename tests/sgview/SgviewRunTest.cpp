@@ -1,5 +1,6 @@
 // The sgview program itself: its headless pictures against the library's own render (OSMesa, in this process),
 // the overlay's pixels, --info's counts, and bad input (exit code 2 and a message naming the option).
+#include "RenderUtil.h"
 #include "integration/ProgramRun.h"
 #include "testbed/City.h"
 #ifdef SGVIEW_TEST_GLTF
@@ -41,12 +42,7 @@ Result runSgview(const std::string& args) { return run("'" SGVIEW_EXE "' " + arg
 Image libraryRender(const Scene& scene, const Camera& cam) {
     OsmesaContext context(cam.width(), cam.height());
     Renderer renderer;
-    CullTraversal cull;
-    DrawList list;
-    CullStats stats;
-    cull.cull(scene, cam, CullSettings{}, list, stats);
-    renderer.draw(list, cam);
-    return renderer.readColor();
+    return testutil::drawScene(renderer, scene, cam, true);
 }
 
 // Pixels that are not the renderer's default clear colour.
@@ -185,7 +181,8 @@ TEST(SgviewRun, BadInputExitsWithTwoAndSaysWhy) {
         {"--headless missing.gltf", "'missing.gltf': no such file"},
         {"--info missing.glb", "'missing.glb': no such file"},
         {"--headless --scene city --threading two",
-         "--threading 'two': expected single, draw, cull-per-view or app-cull-draw"},
+         "--threading 'two': parseThreadingModel(): 'two' is not a threading model (single, draw, cull-per-view, "
+         "app-cull-draw)"},
     };
     for (const auto& [args, message] : cases) {
         const Result r = runSgview(args);
@@ -366,12 +363,7 @@ TEST(SgviewRun, HeadlessLightsPhysicalMaterialsWithTheFilesLights) {
         light.up = vec3(0, 1, 0);
         renderer.setLight(light);
         if (withLights) renderer.setPunctualLights(g.lights);
-        CullTraversal cull;
-        DrawList list;
-        CullStats stats;
-        cull.cull(scene, cam, CullSettings{}, list, stats);
-        renderer.draw(list, cam);
-        return renderer.readColor();
+        return testutil::drawScene(renderer, scene, cam, true);
     };
     const Image shown = loadPng((scratch() / "lit.png").string());
     EXPECT_EQ(countDifferingPixels(shown, render(true)), 0u);
