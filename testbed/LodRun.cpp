@@ -52,8 +52,7 @@ const LodFrame& LodRun::frame(sg::Scene& scene, const sg::Camera& cam, const std
         });
         for (const auto& f : setup_) f(*viewer_);
     }
-    // AppCullDraw's cull of the last frame may still read the viewer's scene: it is written only to change it.
-    if (&viewer_->scene() != &scene) viewer_->setScene(scene);
+    viewer_->setScene(scene);  // the same scene: nothing happens (another one: the frames in flight are drawn first)
     sg::ViewerSettings& vs = viewer_->settings();
     vs.phase = set_.limitRate ? sg::FramePhase::Limit : sg::FramePhase::FreeRun;
     vs.frameRate = 1000.0 / set_.budgetMs;
