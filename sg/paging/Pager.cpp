@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -33,7 +34,13 @@ std::string withFile(const std::string& file, const std::string& message) {
 
 void trimFreed() {
 #ifdef __GLIBC__
-    malloc_trim(0);
+    // The first call initializes glibc's malloc when nothing has yet (a sanitizer's allocator replaces malloc, so
+    // only malloc_trim reaches glibc's): two loader threads doing that at once each took the main arena without
+    // counting themselves attached, and the second to exit failed glibc's arena assertion. Once, then freely.
+    static std::once_flag initialized;
+    bool trimmed = false;
+    std::call_once(initialized, [&] { malloc_trim(0), trimmed = true; });
+    if (!trimmed) malloc_trim(0);
 #endif
 }
 
