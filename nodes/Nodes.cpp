@@ -200,6 +200,12 @@ void Occluder::setPolygon(std::vector<dvec3> v) {
     shape_ = Shape::Polygon;
     markDirty(kDirtyBound);
 }
+void Occluder::setEyeOutside(const Box& b) {
+    if (!b.empty() && (!isFinite(b.min) || !isFinite(b.max)))
+        throw std::invalid_argument("Occluder::setEyeOutside(): " + describe() + ": box is not finite");
+    eyeOutside_ = b;
+}
+
 void Occluder::accept(NodeVisitor& v) { v.apply(*this); }
 
 }  // namespace sg

@@ -1,4 +1,5 @@
-// Occluder: marks a box or a convex polygon as a major occluder (designated at modelling time).
+// Occluder: marks a box or a convex polygon as a major occluder (designated at modelling time, or generated from the
+// geometry: sg/scene/GeneratedOccluders.h).
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
@@ -19,12 +20,37 @@ public:
     const Box& box() const { return box_; }  // for a polygon: its bounding box
     const std::vector<dvec3>& polygon() const { return polygon_; }
 
+    // What a generated occluder carries (sg::generateOccluders); an authored one has none of it.
+    // Made by generateOccluders (removeOccluders(root, true) takes these away, and only these).
+    void setGenerated(bool g) { generated_ = g; }
+    bool generated() const { return generated_; }
+    // Used only while the eye is outside this box, in the occluder's frame: a box inside a closed mesh stands behind
+    // its surface only for an eye outside the solid, and outside the mesh's bound is surely outside. Empty: anywhere.
+    // Throws std::invalid_argument for a non-finite box.
+    void setEyeOutside(const Box& b);
+    const Box& eyeOutside() const { return eyeOutside_; }
+    // Used only while `lod`, its sibling just before it under the same parent, shows one of its levels with no fade
+    // to nothing (the box lies inside every level); null: always. Not owned: the pass finds the LOD by its place, and
+    // an occluder whose sibling before it is not `lod` is not used.
+    void setShownWith(const Node* lod) {
+        shownWith_ = lod;
+        markDirty(kDirtyBound);
+    }
+    const Node* shownWith() const { return shownWith_; }
+    // A polygon on a single-sided surface (back faces not drawn): used only while the eye is on its front side, where
+    // it turns counter-clockwise.
+    void setOneSided(bool s) { oneSided_ = s; }
+    bool oneSided() const { return oneSided_; }
+
     void accept(NodeVisitor& v) override;
 
 private:
     Box box_;
     std::vector<dvec3> polygon_;
     Shape shape_ = Shape::Box;
+    Box eyeOutside_;
+    const Node* shownWith_ = nullptr;
+    bool generated_ = false, oneSided_ = false;
 };
 
 }  // namespace sg

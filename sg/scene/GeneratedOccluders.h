@@ -1,0 +1,63 @@
+// Occluders made from the geometry itself, for scenes nobody placed Occluder nodes in (a glTF file, a tileset, a
+// capture): boxes inside closed meshes, large planar faces of open ones. Each is provably inside what it stands for,
+// so the occlusion pass stays conservative with them (the argument is in GeneratedOccluders.cpp; tests/scene/
+// GeneratedOccludersTest.cpp checks it with random rays).
+#pragma once
+#include "sg/core/Math.h"
+#include "sg/core/Mesh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace sg {
+
+class Node;
+
+struct OccluderGenSettings {
+    uint32_t voxels = 32;           // cells along a closed mesh's longest axis when looking for boxes inside it
+    uint32_t maxBoxes = 4;          // per closed mesh, largest first
+    double minBoxShare = 0.05;      // boxes below this share of the mesh bound's volume are left out
+    uint32_t maxPolygons = 6;       // per open mesh, largest first
+    double minPolygonShare = 0.05;  // polygons below this share of the bound's largest face area are left out
+    // Throws std::invalid_argument naming `fn` and the setting: voxels not in 1..256, maxBoxes or maxPolygons above
+    // 64, a share not in [0, 1].
+    void validate(const char* fn) const;
+};
+
+// A mesh's occluders, in its frame.
+struct MeshOccluders {
+    bool closed = false;      // Mesh::closed(): the boxes are inside its solid; otherwise polygons on its faces
+    std::vector<Box> boxes;   // inside the solid: every point of a box has winding number 1 or more
+    std::vector<std::vector<dvec3>> polygons;  // convex, on the union of its triangles, counter-clockwise seen
+                                               // from the side the triangles face
+    uint64_t voxelsInside = 0;                 // closed meshes: grid cells found wholly inside the solid
+};
+
+// Boxes for a closed mesh (Mesh::closed()), polygons for an open one; nothing for a mesh with non-finite positions
+// or no triangles. Pure: the same mesh and settings give the same shapes.
+MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s = {});
+
+struct OccluderGenStats {
+    uint64_t geometries = 0;        // Geometry nodes that got occluders
+    uint64_t meshes = 0;            // distinct meshes analysed
+    uint64_t meshTriangles = 0;     // their triangles
+    uint64_t sceneTriangles = 0;    // triangles of every Geometry visited (a shared mesh counted at each use)
+    uint64_t boxes = 0, polygons = 0;  // Occluder nodes added
+    uint64_t lods = 0;              // of those, standing for an LOD (used while it shows a level)
+    uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, under a Switch,
+                                    // Billboard, Instance prototype or masked node, or beside an authored occluder
+    double ms = 0.0;                // wall time
+};
+
+// Adds Occluder nodes for the geometry below `root`: beside each opaque Geometry (in its parent Group, in its
+// frame) its mesh's shapes; beside an LOD the boxes inside every one of its levels (an LOD whose levels are all
+// closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Geometry under a Switch, a
+// Billboard, a masked node or an Instance's prototype gets none (the pass would not use them); a parent that
+// already has an Occluder child keeps its authored ones and gets no generated ones. Meshes shared by many
+// Geometry nodes are analysed once. Running it again first removes the occluders it added before.
+OccluderGenStats generateOccluders(Node& root, const OccluderGenSettings& s = {});
+
+// Removes the Occluder nodes below `root` (generated ones only when `generatedOnly`); returns how many.
+size_t removeOccluders(Node& root, bool generatedOnly = false);
+
+}  // namespace sg
