@@ -30,8 +30,9 @@ constexpr uint8_t kCube[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5
                                2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
 
 // The box grows by this share of its size on each side: the corners are rounded in float on another path than the
-// vertices of the mesh inside it, and a face of the box that coincides with a face of its mesh (a box mesh) must
-// not end a hair behind it, nor its silhouette a hair inside the mesh's.
+// vertices of the mesh inside it, and the silhouette of a box mesh's box must not end a hair inside the mesh's.
+// (In depth a millimetre at hundreds of metres is below the depth buffer's step: the polygon offset in issue()
+// covers that.)
 constexpr double kGrow = 1e-3;
 
 int64_t mm(double v) { return std::llround(v * 1000.0); }
@@ -204,18 +205,23 @@ void OcclusionQueries::issue(const mat4& viewProj, bool reverseDepth) {
         glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(corners_.size() * sizeof(vec3)), corners_.data(), GL_STREAM_DRAW);
         glUseProgram(program_);
         glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, &viewProj[0][0]);
-        // Tested against the frame's depth, changing nothing: a box face at its mesh's own depth passes (LEQUAL,
-        // GEQUAL when depth is reversed), and the box is grown besides (kGrow).
+        // Tested against the frame's depth, changing nothing. A box face on its mesh's own face (a box mesh) must
+        // pass, though the two are triangulated differently and their depths round apart by a step of the depth
+        // buffer: LEQUAL (GEQUAL with reversed depth) and the box pulled toward the eye by one step and its slope
+        // (polygon offset; without it a static view of the city lost a few pixels a frame), besides kGrow.
         glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
         glDepthMask(GL_FALSE);
         glDepthFunc(reverseDepth ? GL_GEQUAL : GL_LEQUAL);
         glDisable(GL_CULL_FACE);
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(reverseDepth ? 1.0f : -1.0f, reverseDepth ? 1.0f : -1.0f);
         // Any sample: the visibility threshold is 0 pixels, and the answer may come before the box is done.
         for (size_t k = 0; k < n; ++k) {
             glBeginQuery(GL_ANY_SAMPLES_PASSED, queries_[k]);
             glDrawElements(GL_TRIANGLES, 36, GL_UNSIGNED_INT, reinterpret_cast<const void*>(k * 36 * 4));
             glEndQuery(GL_ANY_SAMPLES_PASSED);
         }
+        glDisable(GL_POLYGON_OFFSET_FILL);
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         glDepthMask(GL_TRUE);
         glDepthFunc(reverseDepth ? GL_GREATER : GL_LESS);

@@ -107,17 +107,25 @@ TEST(OcclusionQueries, HiddenFromTheSecondFrameAndBackWhenSeen) {
 
 // A view drawn again and again: from the second frame on, exactly the pixels of the render without queries, with
 // items hidden, in either depth mode (LEQUAL, or GEQUAL with reversed depth).
+// A small city along its street, and the large one from its orbit at a larger viewport (box faces on building faces
+// hundreds of metres away, where the depth buffer's steps are centimetres).
 TEST(OcclusionQueries, RepeatedViewMatchesTheUnculledRender) {
-    OsmesaContext ctx(kW, kH);
+    const int w = 320, h = 180;
+    OsmesaContext ctx(w, h);
     Renderer renderer;
-    Scene scene(scenes::buildCity({6, false}));
-    scene.update();
+    Scene small(scenes::buildCity({6, false})), large(scenes::buildCity({100, false}));
+    small.update();
+    large.update();
+    std::vector<std::pair<const Scene*, Camera>> views;
+    for (int f : {0, 60, 150}) views.push_back({&small, scenes::cityStreetCamera(6, f, kW, kH)});
+    for (int f : {10, 50, 90}) views.push_back({&large, scenes::cityOrbitCamera(100, f, w, h)});
     std::vector<Renderer::DepthMode> modes = {Renderer::DepthMode::Classic};
     if (renderer.reverseZSupported()) modes.push_back(Renderer::DepthMode::ReverseZ);
     for (Renderer::DepthMode mode : modes) {
         renderer.setDepthMode(mode);
-        for (int f : {0, 60, 150}) {
-            const Camera cam = scenes::cityStreetCamera(6, f, kW, kH);
+        for (size_t f = 0; f < views.size(); ++f) {
+            const Scene& scene = *views[f].first;
+            const Camera& cam = views[f].second;
             CullTraversal cull;
             DrawList list;
             CullStats st;
