@@ -1,6 +1,7 @@
 #include "testbed/Pareto.h"
 
 #include "sg/cull/CullTraversal.h"
+#include "sg/gl/OcclusionQueries.h"
 #include "sg/io/ImageIO.h"
 
 #include <algorithm>
@@ -150,8 +151,8 @@ std::vector<Method> methods() {
     using S = CullStrategy;
     using L = sg::LodPolicy;
     return {
-        {"none", frustumOnly(S::None), L::Static, true, false, false},
-        {"center-box", frustumOnly(S::CenterBox), L::Static, false, false, false},
+        {"none", frustumOnly(S::None), L::Static, true, false, false, false},
+        {"center-box", frustumOnly(S::CenterBox), L::Static, false, false, false, false},
         // The PCVR paper's pair: centres against the frustum's box, then clusters of triangles whose screen
         // rectangle is off the viewport dropped (conservative on its own: the error is center-box's).
         {"center-box+screen-rect",
@@ -160,26 +161,28 @@ std::vector<Method> methods() {
              c.screenRect = true;
              return c;
          }(),
-         L::Static, false, false, false},
+         L::Static, false, false, false, false},
         {"aabb+screen-rect",
          [] {
              auto c = frustumOnly(S::Aabb);
              c.screenRect = true;
              return c;
          }(),
-         L::Static, true, false, false},
-        {"sphere", frustumOnly(S::Sphere), L::Static, true, false, false},
-        {"sphere-sphere", frustumOnly(S::SphereSphere), L::Static, true, false, false},
-        {"aabb", frustumOnly(S::Aabb), L::Static, true, false, false},
-        {"aabb+small-feature-1px", frustumOnly(S::Aabb, 1.0), L::Static, false, false, false},
-        {"aabb+small-feature-2px", frustumOnly(S::Aabb, 2.0), L::Static, false, false, false},
-        {"aabb+small-feature-4px", frustumOnly(S::Aabb, 4.0), L::Static, false, false, false},
-        {"occlusion-tree", withOcclusion(OcclusionMethod::Tree, 1.0), L::Static, true, false, false},
-        {"hom", withOcclusion(OcclusionMethod::Hom, 1.0), L::Static, true, false, false},
-        {"hom-approx", withOcclusion(OcclusionMethod::Hom, 0.75), L::Static, false, false, false},
-        {"default", CullSettings{}, L::Static, true, true, false},
-        {"lod-stress", CullSettings{}, L::Stress, true, false, true},
-        {"lod-budget", CullSettings{}, L::Budget, true, false, true},
+         L::Static, true, false, false, false},
+        {"sphere", frustumOnly(S::Sphere), L::Static, true, false, false, false},
+        {"sphere-sphere", frustumOnly(S::SphereSphere), L::Static, true, false, false, false},
+        {"aabb", frustumOnly(S::Aabb), L::Static, true, false, false, false},
+        {"aabb+small-feature-1px", frustumOnly(S::Aabb, 1.0), L::Static, false, false, false, false},
+        {"aabb+small-feature-2px", frustumOnly(S::Aabb, 2.0), L::Static, false, false, false, false},
+        {"aabb+small-feature-4px", frustumOnly(S::Aabb, 4.0), L::Static, false, false, false, false},
+        {"occlusion-tree", withOcclusion(OcclusionMethod::Tree, 1.0), L::Static, true, false, false, false},
+        {"hom", withOcclusion(OcclusionMethod::Hom, 1.0), L::Static, true, false, false, false},
+        {"hom-approx", withOcclusion(OcclusionMethod::Hom, 0.75), L::Static, false, false, false, false},
+        // OpenSceneGraph's OcclusionQueryNode: a query per item every frame, whose answer decides the next frame.
+        {"gpu-query", frustumOnly(S::Aabb), L::Static, false, false, false, true},
+        {"default", CullSettings{}, L::Static, true, true, false, false},
+        {"lod-stress", CullSettings{}, L::Stress, true, false, true, false},
+        {"lod-budget", CullSettings{}, L::Budget, true, false, true, false},
     };
 }
 
@@ -219,10 +222,12 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
     // follow the views as they would follow frames.
     std::vector<std::unique_ptr<CullTraversal>> culls(M);
     std::vector<std::unique_ptr<scenes::LodRun>> runs(M);
+    std::vector<std::unique_ptr<OcclusionQueries>> queries(M);  // a method's queries answer its own last frame
     for (size_t k = 0; k < M; ++k) {
-        if (use[k]->lod == sg::LodPolicy::Static)
+        if (use[k]->lod == sg::LodPolicy::Static) {
             culls[k] = std::make_unique<CullTraversal>();
-        else
+            if (use[k]->gpuQueries) queries[k] = std::make_unique<OcclusionQueries>();
+        } else
             runs[k] = std::make_unique<scenes::LodRun>(
                 r, scenes::LodRun::Settings{use[k]->lod, o.budgetMs, true, use[k]->cull});
     }
@@ -240,7 +245,13 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
     for (size_t k = 0; k < M; ++k)
         if (culls[k]) {
             culls[k]->cull(scene, sv.views[0], use[k]->cull, list, st);
-            r.draw(list, sv.views[0]);
+            if (queries[k]) {
+                queries[k]->draw(r, list, sv.views[0]);
+                r.finish();
+                queries[k]->reset();  // the first timed frame has no frame before it
+            } else {
+                r.draw(list, sv.views[0]);
+            }
         }
     for (size_t k = 0; k < M; ++k)
         if (runs[k])
@@ -251,7 +262,7 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
 
     struct Acc {
         std::vector<double> cull, frame;
-        double objects = 0, triangles = 0, error = 0;
+        double objects = 0, triangles = 0, error = 0, queries = 0;
         int viewsWithError = 0;
         uint64_t wrong = 0;
     };
@@ -285,9 +296,20 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
                     const auto t0 = Clock::now();
                     culls[k]->cull(scene, cam, use[k]->cull, list, s);
                     cullMs = msSince(t0);
-                    r.draw(list, cam);
+                    if (queries[k]) {
+                        queries[k]->draw(r, list, cam);
+                        drawn = &queries[k]->drawn();
+                    } else {
+                        r.draw(list, cam);
+                    }
                     r.finish();
                     frameMs = msSince(t0);
+                    if (queries[k]) {  // what was drawn: the cull's items less those the queries hid
+                        const OcclusionQueries::Stats& q = queries[k]->lastStats();
+                        s.geometries -= q.hidden;
+                        s.triangles -= q.hiddenTriangles;
+                        if (round == 0) acc[k].queries += q.queries;
+                    }
                 }
                 Acc& a = acc[k];
                 a.cull.push_back(cullMs);
@@ -325,6 +347,7 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
         w.viewsWithError = a.viewsWithError;
         w.wronglyCulledTotal = a.wrong;
         w.wronglyCulled = double(a.wrong) / double(V);
+        w.queries = a.queries / double(V);
         w.frames = a.frame;
     }
     for (const Row& none : rows)

@@ -20,11 +20,14 @@ struct Method {
     bool conservative = false;  // culls only what cannot be seen: 0 differing pixels where LODs do not differ
     bool isDefault = false;     // CullSettings{} with the scene's static LOD ranges
     bool needsLods = false;     // only on scenes with LODs (the stress and budget methods)
+    // Drawn through sg::OcclusionQueries (its own, following the views as frames): the items whose bounding box
+    // showed no sample in the method's previous frame are left out.
+    bool gpuQueries = false;
 };
 
 // The table every scene runs, in this order: none, center-box, sphere, sphere-sphere, aabb, aabb with
-// small-feature 1, 2, 4 px, the occlusion tree, hom, hom-approx (each every frame), the default, LOD stress,
-// LOD budget.
+// small-feature 1, 2, 4 px, the occlusion tree, hom, hom-approx (each every frame), gpu-query (aabb, then hardware
+// occlusion queries on the items' boxes, a frame late), the default, LOD stress, LOD budget.
 std::vector<Method> methods();
 // The methods whose names are in the comma-separated `names` (all when empty), in the table's order. Throws
 // std::invalid_argument naming an unknown method and listing the valid ones.
@@ -58,6 +61,7 @@ struct Row {
     int viewsWithError = 0;
     double wronglyCulled = 0.0;  // reference-visible geometries the method did not draw, mean per view
     uint64_t wronglyCulledTotal = 0;
+    double queries = 0.0;  // occlusion queries issued per frame, mean per view (Method::gpuQueries; else 0)
     // Every timed frame's ms, round by round, view by view: the same order for every method of a scene, so that
     // two methods compare frame by frame (the view's own cost cancels).
     std::vector<double> frames;

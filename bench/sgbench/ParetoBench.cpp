@@ -164,6 +164,10 @@ int runPareto(const Args& a) {
         rows.insert(rows.end(), got.begin(), got.end());
         std::fprintf(stderr, "sgbench pareto: %s, %zu views, %zu methods: %.1f s\n", name.c_str(), sv.views.size(),
                      got.size(), std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+        for (const pareto::Row& w : got)
+            if (w.queries > 0)
+                std::fprintf(stderr, "sgbench pareto: %s, %s: %.1f occlusion queries per frame\n", name.c_str(),
+                             w.method.c_str(), w.queries);
     }
     pareto::markFront(rows);
 

@@ -398,6 +398,9 @@ void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewp
     if (timeQuery_) glBeginQuery(GL_TIME_ELAPSED, timeQuery_);
     beginFrame(t, camera, clearColor);
     if (!runs_.empty()) drawRuns(list, camera, t.reverse);
+    if (afterItems_)
+        afterItems_(mat4((t.reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation()),
+                    t.reverse);
     endFrame(t);
     if (timeQuery_) {
         glEndQuery(GL_TIME_ELAPSED);

@@ -12,6 +12,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <unordered_map>
 #include <vector>
@@ -113,6 +114,14 @@ public:
     void draw(const DrawList& list, const Camera& camera, const Viewport& viewport,
               const vec4& clearColor = kClearColor);
     const RenderStats& lastStats() const { return stats_; }
+    // Drawn into every frame after its items (opaque, then blended ones, which write no depth) and before the frame
+    // ends, with the frame's framebuffer, viewport, scissor and depth buffer still bound: what must test against the
+    // frame's depth (OcclusionQueries' boxes). viewProj: the frame's projection times the view's rotation (the items'
+    // matrices are eye-relative); reverseDepth: the frame stores reversed depth (nearer is greater, GL_GREATER). The
+    // pass leaves GL as it found it: depth test on with the frame's function, depth and colour writes on, no program
+    // or vertex array bound. Empty: none (the default).
+    using AfterItems = std::function<void(const mat4& viewProj, bool reverseDepth)>;
+    void setAfterItems(AfterItems pass) { afterItems_ = std::move(pass); }
     // The light of the next draws. A sun shades a lit fragment with albedo x (ambient + color x sun x
     // max(0, n.l)) + color x sun x specular x max(0, n.h)^shininess (Blinn-Phong, n turned toward the eye,
     // h halfway between the light and the eye), where sun is the vertex alpha for a bakedLight material
@@ -285,6 +294,7 @@ private:
     std::vector<int> rangeCounts_;
     std::vector<const void*> rangeOffsets_;
     RenderStats stats_;
+    AfterItems afterItems_;
 };
 
 }  // namespace sg

@@ -77,6 +77,12 @@ TEST(ParetoMethods, SelectsByNameAndRejectsUnknown) {
     int defaults = 0;
     for (const auto& m : all) defaults += m.isDefault;
     EXPECT_EQ(defaults, 1);
+    // The occlusion queries' row: a frame late, so not conservative.
+    const auto q = pareto::selectMethods(all, "gpu-query");
+    ASSERT_EQ(q.size(), 1u);
+    EXPECT_TRUE(q[0].gpuQueries);
+    EXPECT_FALSE(q[0].conservative);
+    EXPECT_EQ(q[0].cull.strategy, sg::CullStrategy::Aabb);
 }
 
 TEST(Pareto, TinyOfficeInvariantsAndCsv) {
@@ -91,7 +97,7 @@ TEST(Pareto, TinyOfficeInvariantsAndCsv) {
     for (int f : {0, 80, 160}) sv.views.push_back(scenes::officeWalkCamera(2, f, w, h));
     std::vector<pareto::Method> methods = pareto::methods();
     // Culls every geometry: the error measures must see it.
-    pareto::Method everything{"cull-everything", {}, sg::LodPolicy::Static, false, false, false};
+    pareto::Method everything{"cull-everything", {}, sg::LodPolicy::Static, false, false, false, false};
     everything.cull.smallFeaturePixels = 1e6;
     methods.push_back(everything);
     const std::vector<pareto::Row> rows = pareto::measure(renderer, sv, methods, pareto::Options{});
@@ -167,6 +173,35 @@ TEST(Pareto, CoarseLevelsAreNotWronglyCulled) {
         EXPECT_EQ(r.triangles, 18.0 * 12) << r.method;  // every building at its 12-triangle level
         EXPECT_EQ(r.wronglyCulledTotal, 0u) << r.method;
     }
+}
+
+// Along a street of a small city the buildings hide most of the others: from the second view on (the first has no
+// answer yet) the queries leave out what the frustum alone draws, with their own state from view to view.
+TEST(Pareto, GpuQueriesDrawFewerTrianglesThanTheFrustum) {
+    const int w = 160, h = 90, n = 6;
+    sg::OsmesaContext ctx(w, h);
+    sg::Renderer renderer;
+    sg::Scene scene(scenes::buildCity({n, false}));
+    scene.update();
+    pareto::SceneViews sv;
+    sv.name = "city-6";
+    sv.scene = &scene;
+    sv.hasLods = true;
+    sv.views = {scenes::cityStreetCamera(n, 40, w, h), scenes::cityStreetCamera(n, 41, w, h),
+                scenes::cityStreetCamera(n, 42, w, h)};
+    const auto rows = pareto::measure(renderer, sv, pareto::selectMethods(pareto::methods(), "aabb,gpu-query"), {});
+    ASSERT_EQ(rows.size(), 2u);
+    const pareto::Row& aabb = rows[0];
+    const pareto::Row& gpu = rows[1];
+    ASSERT_EQ(aabb.method, "aabb");
+    ASSERT_EQ(gpu.method, "gpu-query");
+    EXPECT_FALSE(gpu.conservative);
+    EXPECT_LT(gpu.triangles, aabb.triangles);
+    EXPECT_LT(gpu.objects, aabb.objects);
+    EXPECT_GT(gpu.queries, 0.0);
+    EXPECT_EQ(aabb.queries, 0.0);
+    // Every view's items are queried: those in the frustum.
+    EXPECT_LE(gpu.queries, aabb.objects);
 }
 
 }  // namespace
