@@ -29,9 +29,9 @@ public:
     // Throws std::invalid_argument for a non-finite box.
     void setEyeOutside(const Box& b);
     const Box& eyeOutside() const { return eyeOutside_; }
-    // Used only while `lod`, its sibling just before it under the same parent, shows one of its levels with no fade
-    // to nothing (the box lies inside every level); null: always. Not owned: the pass finds the LOD by its place, and
-    // an occluder whose sibling before it is not `lod` is not used.
+    // Used only while `lod`, the sibling before it under the same parent (other occluders between them), shows one of
+    // its levels with no fade to nothing (the shape lies inside every level); null: always. Not owned: the pass finds
+    // the LOD by its place, and an occluder placed otherwise is not used.
     void setShownWith(const Node* lod) {
         shownWith_ = lod;
         markDirty(kDirtyBound);

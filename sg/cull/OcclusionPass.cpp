@@ -24,6 +24,8 @@ bool conditionsHold(const FlatImage& img, const FlatImage::OccluderRef& o, const
     const auto* node = static_cast<const Occluder*>(o.node);
     const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
     const dvec3 eye = cam.eye();
+    for (uint32_t k = 0; k < o.switchCount; ++k)
+        if (!img.switchOn[img.occluderSwitchBits[o.switchFirst + k]]) return false;
     if (!node->eyeOutside().empty()) {
         // Outside the box's world bound is outside the box. And the surface a sight line crosses before the
         // occluder lies in that box: grown by the reach of the near plane's corners, no such crossing is clipped.
@@ -188,12 +190,17 @@ struct ByOrder {
 };
 }  // namespace
 
+namespace {
+double sq(double x) { return x * x; }
+}  // namespace
+
 uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
-    // Largest on screen first (distance over radius): nearer, larger occluders hide farther ones, whose parts then add
-    // nothing to the tree, and a chair beside the eye does not take a wall's place (docs/benchmarks.md, "Generated
-    // occluders": nearest first did that).
+    // Near and large first: the distance over the squared radius (the size on screen times the size), so that nearer,
+    // larger occluders hide farther ones, whose parts then add nothing to the tree, and a desk beside the eye does not
+    // take a wall's place (docs/benchmarks.md, "Generated occluders": nearest first, and the size on screen alone, did
+    // that with occluders made from every mesh).
     for (Candidate& c : cands_)
-        c.order = std::max(c.dist, cam.nearDistance()) / std::max(double(img.r[img.occluders[c.index].entry]), 1e-300);
+        c.order = std::max(c.dist, cam.nearDistance()) / std::max(sq(double(img.r[img.occluders[c.index].entry])), 1e-300);
     const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders) * 4);
     std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByOrder());
     std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByOrder());

@@ -31,7 +31,7 @@ size_t FlatImage::bytes() const {
            ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
            placements.capacity() * sizeof(Placement) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +
            occluders.capacity() * sizeof(OccluderRef) + occluderMatrices.capacity() * sizeof(dmat4) +
-           occluderChunks.capacity() * sizeof(Box);
+           occluderChunks.capacity() * sizeof(Box) + occluderSwitchBits.capacity() * sizeof(uint32_t);
 }
 
 Box FlatImage::box(size_t i) const {

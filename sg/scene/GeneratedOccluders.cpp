@@ -34,6 +34,7 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace sg {
 
@@ -382,7 +383,9 @@ void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders&
     std::array<double, 3> e{ext.x, ext.y, ext.z};
     std::sort(e.begin(), e.end());
     const double minArea = s.minPolygonShare * e[1] * e[2];
-    const double coplanar = eps::kCoplanar * size * 0.5;
+    // Float positions are rounded to ~6e-8 of their coordinates: a flat face far from the origin or not along the axes
+    // is flat to that, not to double's precision.
+    const double coplanar = 1e-6 * (size + glm::length(glm::max(glm::abs(bb.min), glm::abs(bb.max))));
     std::vector<uint8_t> used(nt, 0);
     std::vector<uint32_t> order(nt);
     for (uint32_t t = 0; t < nt; ++t) order[t] = t;
@@ -443,7 +446,15 @@ void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders&
             const dvec3 a = vp[l[(i + l.size() - 1) % l.size()]], b = vp[l[i]], c = vp[l[(i + 1) % l.size()]];
             if (glm::length(glm::cross(b - a, c - b)) > 1e-12 * size * size) v.push_back(b);
         }
-        if (v.size() >= 3) out.polygons.push_back(std::move(v));
+        // Onto the plane through their centre: the corners are off it by the positions' rounding only, and an
+        // Occluder's polygon must be planar to double's precision.
+        if (v.size() < 3) continue;
+        dvec3 c(0.0), n(0.0);
+        for (const dvec3& x : v) c += x / double(v.size());
+        for (size_t i = 0; i < v.size(); ++i) n += glm::cross(v[i] - c, v[(i + 1) % v.size()] - c);
+        n = glm::normalize(n);
+        for (dvec3& x : v) x -= n * glm::dot(x - c, n);
+        out.polygons.push_back(std::move(v));
     }
 }
 
@@ -504,19 +515,57 @@ struct Generator {
         for (const Box& b : sh.boxes) add.push_back(box(b, m->box()));
         for (const auto& p : sh.polygons) {
             auto o = make<Occluder>();
-            o->setPolygon(p);
+            try {
+                o->setPolygon(p);
+            } catch (const std::invalid_argument&) {
+                continue;  // a sliver the polygon check refuses: left out
+            }
             o->setGenerated(true);
             o->setOneSided(g.material() && !g.material()->doubleSided);
             add.push_back(o);
         }
-        st.geometries += !sh.boxes.empty() || !sh.polygons.empty();
     }
 
-    // Boxes inside every level of an LOD whose levels are all opaque closed meshes.
+    // The part of convex polygon p inside convex polygon q, both on one plane facing one way (normal n); empty when
+    // they are not.
+    static std::vector<dvec3> clip(std::vector<dvec3> p, const std::vector<dvec3>& q, const dvec3& n, double tol) {
+        const dvec3 nq = newell(q);
+        if (glm::dot(nq, n) < 1.0 - 1e-9 || std::abs(glm::dot(q[0] - p[0], n)) > tol) return {};
+        for (size_t k = 0; k < q.size() && p.size() >= 3; ++k) {
+            const dvec3 a = q[k], e = q[(k + 1) % q.size()] - a, in = glm::cross(n, e);  // left of the edge: inside
+            std::vector<dvec3> out;
+            for (size_t j = 0; j < p.size(); ++j) {
+                const dvec3 u = p[j], v = p[(j + 1) % p.size()];
+                const double du = glm::dot(u - a, in), dv = glm::dot(v - a, in);
+                if (du >= 0.0) out.push_back(u);
+                if ((du >= 0.0) != (dv >= 0.0)) out.push_back(u + (v - u) * (du / (du - dv)));
+            }
+            p = std::move(out);
+        }
+        return p.size() >= 3 ? p : std::vector<dvec3>{};
+    }
+    static dvec3 newell(const std::vector<dvec3>& p) {
+        dvec3 n(0.0);
+        for (size_t k = 1; k + 1 < p.size(); ++k) n += glm::cross(p[k] - p[0], p[k + 1] - p[0]);
+        const double l = glm::length(n);
+        return l > 0.0 ? n / l : n;
+    }
+    static double area(const std::vector<dvec3>& p) {
+        dvec3 n(0.0);
+        for (size_t k = 1; k + 1 < p.size(); ++k) n += glm::cross(p[k] - p[0], p[k + 1] - p[0]);
+        return 0.5 * glm::length(n);
+    }
+
+    // Occluders inside every level of an LOD whose levels are all opaque Geometry: boxes inside every closed level
+    // (when all are closed), or the parts of the first level's polygons that every open level's polygons cover too.
     void lod(LOD& l, std::vector<ref_ptr<Occluder>>& add) {
         std::vector<Box> common;
+        std::vector<std::vector<dvec3>> polys;
+        bool oneSided = false;
         Box bound;
-        for (size_t c = 0; c < l.numChildren(); ++c) {
+        const size_t levels = l.numChildren();
+        std::vector<const MeshOccluders*> shapesOf;
+        for (size_t c = 0; c < levels; ++c) {
             const Node* ch = l.child(c);
             if (ch->kind() != NodeKind::Geometry || ch->nodeMask() != 0xffffffffu) return;
             const auto& g = static_cast<const Geometry&>(*ch);
@@ -526,21 +575,43 @@ struct Generator {
                 st.skipped++;
                 return;
             }
-            const MeshOccluders& sh = shapes(*g.mesh());
+            oneSided = oneSided || (g.material() && !g.material()->doubleSided);
+            shapesOf.push_back(&shapes(*g.mesh()));
             bound.expand(g.mesh()->box());
-            if (c == 0) {
-                common = sh.boxes;
-                continue;
-            }
-            std::vector<Box> next;
-            for (const Box& a : common)
-                for (const Box& b : sh.boxes) {
-                    const Box x{glm::max(a.min, b.min), glm::min(a.max, b.max)};
-                    if (x.min.x < x.max.x && x.min.y < x.max.y && x.min.z < x.max.z) next.push_back(x);
-                }
-            common = std::move(next);
         }
-        if (common.empty()) return;
+        if (shapesOf.empty()) return;
+        const bool closed =
+            std::all_of(shapesOf.begin(), shapesOf.end(), [](const MeshOccluders* m) { return m->closed; });
+        const bool open =
+            std::none_of(shapesOf.begin(), shapesOf.end(), [](const MeshOccluders* m) { return m->closed; });
+        if (closed) {
+            common = shapesOf[0]->boxes;
+            for (size_t c = 1; c < levels; ++c) {
+                std::vector<Box> next;
+                for (const Box& a : common)
+                    for (const Box& b : shapesOf[c]->boxes) {
+                        const Box x{glm::max(a.min, b.min), glm::min(a.max, b.max)};
+                        if (x.min.x < x.max.x && x.min.y < x.max.y && x.min.z < x.max.z) next.push_back(x);
+                    }
+                common = std::move(next);
+            }
+        } else if (open) {
+            const double tol = 1e-6 * (glm::length(bound.max - bound.min) +
+                                       glm::length(glm::max(glm::abs(bound.min), glm::abs(bound.max))));
+            for (const auto& p0 : shapesOf[0]->polygons) {
+                std::vector<dvec3> p = p0;
+                const dvec3 n = newell(p0);
+                for (size_t c = 1; c < levels && !p.empty(); ++c) {
+                    std::vector<dvec3> best;
+                    for (const auto& q : shapesOf[c]->polygons) {
+                        std::vector<dvec3> x = clip(p, q, n, tol);
+                        if (!x.empty() && (best.empty() || area(x) > area(best))) best = std::move(x);
+                    }
+                    p = std::move(best);
+                }
+                if (!p.empty() && area(p) >= s.minPolygonShare * area(p0)) polys.push_back(std::move(p));
+            }
+        }
         auto vol = [](const Box& x) {
             const dvec3 e = x.max - x.min;
             return e.x * e.y * e.z;
@@ -552,18 +623,38 @@ struct Generator {
             o->setShownWith(&l);
             add.push_back(o);
         }
-        st.geometries++;
+        for (auto& p : polys) {
+            auto o = make<Occluder>();
+            try {
+                o->setPolygon(std::move(p));
+            } catch (const std::invalid_argument&) {
+                continue;  // a sliver the polygon check refuses: left out
+            }
+            o->setGenerated(true);
+            o->setOneSided(oneSided);
+            o->setShownWith(&l);
+            add.push_back(o);
+        }
+    }
+
+    // The Geometry nodes in a subtree left without occluders (an LOD's levels counted as one).
+    static uint64_t geometriesIn(const Node& n) {
+        if (n.kind() == NodeKind::Geometry || n.kind() == NodeKind::LOD) return 1;
+        if (n.kind() == NodeKind::Instance) return 0;
+        uint64_t k = 0;
+        for (size_t c = 0; c < n.numChildren(); ++c) k += geometriesIn(*n.child(c));
+        return k;
     }
 
     static bool hidesWholeSubtree(const Node& n) {
         const NodeKind k = n.kind();
-        return n.nodeMask() != 0xffffffffu || k == NodeKind::Switch || k == NodeKind::Billboard ||
-               k == NodeKind::Instance || k == NodeKind::PagedLOD;
+        return n.nodeMask() != 0xffffffffu || k == NodeKind::Billboard || k == NodeKind::Instance ||
+               k == NodeKind::PagedLOD;
     }
 
     void visit(Node& n) {
         if (hidesWholeSubtree(n)) {
-            st.skipped++;
+            st.skipped += geometriesIn(n);
             return;
         }
         if (n.kind() == NodeKind::LOD) return;  // its levels are handled beside it, by its parent
@@ -593,13 +684,15 @@ struct Generator {
                 visit(*ch);
             for (auto& o : add) inserts.push_back({c + 1, std::move(o)});
         }
-        for (auto& in : inserts) pending.push_back({static_cast<Group*>(&n), in.first, std::move(in.second)});
+        for (auto& in : inserts)
+            pending.push_back({static_cast<Group*>(&n), in.first, std::move(in.second), n.child(in.first - 1)});
     }
 
     struct Pending {
         Group* group;
         size_t at;
         ref_ptr<Occluder> occ;
+        const Node* source;  // the Geometry or LOD it stands for
     };
     std::vector<Pending> pending;  // in walk order: within a group, by position
 
@@ -620,6 +713,7 @@ struct Generator {
     void insert() {
         double largest = 0.0;
         for (const Pending& p : pending) largest = std::max(largest, face(*p.occ));
+        std::unordered_set<const Node*> sources;
         for (size_t k = pending.size(); k-- > 0;) {
             const Pending& p = pending[k];
             if (face(*p.occ) < s.minMajorShare * largest) {
@@ -627,6 +721,7 @@ struct Generator {
                 continue;
             }
             p.group->insertChild(p.at, p.occ);
+            if (sources.insert(p.source).second) st.geometries++;
             if (p.occ->shape() == Occluder::Shape::Box)
                 st.boxes++;
             else

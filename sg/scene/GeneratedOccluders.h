@@ -17,11 +17,11 @@ struct OccluderGenSettings {
     uint32_t voxels = 32;           // cells along a closed mesh's longest axis when looking for boxes inside it
     uint32_t maxBoxes = 4;          // per closed mesh, largest first
     double minBoxShare = 0.05;      // boxes below this share of the mesh bound's volume are left out
-    uint32_t maxPolygons = 6;       // per open mesh, largest first
+    uint32_t maxPolygons = 16;      // per open mesh, largest first
     double minPolygonShare = 0.05;  // polygons below this share of the bound's largest face area are left out
     // generateOccluders keeps the major occluders only: those whose largest face is at least this share of the largest
     // generated in the subtree (a car beside a tower, a desk beside a wall would take a wall's place in the pass).
-    double minMajorShare = 0.1;
+    double minMajorShare = 0.02;
     // Throws std::invalid_argument naming `fn` and the setting: voxels not in 1..256, maxBoxes or maxPolygons above
     // 64, a share not in [0, 1].
     void validate(const char* fn) const;
@@ -41,23 +41,26 @@ struct MeshOccluders {
 MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s = {});
 
 struct OccluderGenStats {
-    uint64_t geometries = 0;        // Geometry nodes that got occluders
+    uint64_t geometries = 0;        // Geometry nodes (an LOD counted once) that got occluders, after the major filter
     uint64_t meshes = 0;            // distinct meshes analysed
     uint64_t meshTriangles = 0;     // their triangles
     uint64_t sceneTriangles = 0;    // triangles of every Geometry visited (a shared mesh counted at each use)
     uint64_t boxes = 0, polygons = 0;  // Occluder nodes added
     uint64_t lods = 0;              // of those, standing for an LOD (used while it shows a level)
     uint64_t minor = 0;             // left out as minor (OccluderGenSettings::minMajorShare)
-    uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, under a Switch,
-                                    // Billboard, Instance prototype or masked node, or beside an authored occluder
+    uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, under a Billboard,
+                                    // Instance prototype or masked node, a Switch's own child, or beside an
+                                    // authored occluder
     double ms = 0.0;                // wall time
 };
 
-// Adds Occluder nodes for the geometry below `root`: beside each opaque Geometry (in its parent Group, in its
-// frame) its mesh's shapes; beside an LOD the boxes inside every one of its levels (an LOD whose levels are all
-// closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Geometry under a Switch, a
-// Billboard, a masked node or an Instance's prototype gets none (the pass would not use them); a parent that
-// already has an Occluder child keeps its authored ones and gets no generated ones. Meshes shared by many
+// Adds Occluder nodes for the geometry below `root`: beside each opaque Geometry (in its parent Group or Transform, in
+// its frame) its mesh's shapes; beside an LOD the boxes inside every one of its levels (an LOD whose levels are all
+// closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Below a Switch they are used while
+// its children on their path are on (the image's switch bits); a Switch's own Geometry children get none (an
+// occluder among its children would shift them). Geometry under a Billboard, a masked node or an Instance's prototype
+// gets none (the pass would not use them); a parent that already has an Occluder child keeps its authored ones and
+// gets no generated ones; only major occluders are kept (OccluderGenSettings::minMajorShare). Meshes shared by many
 // Geometry nodes are analysed once. Running it again first removes the occluders it added before.
 OccluderGenStats generateOccluders(Node& root, const OccluderGenSettings& s = {});
 

@@ -37,6 +37,10 @@ struct Scene::Builder {
     // write(): the child written before the current one, and its entry (Occluder::shownWith).
     const Node* prevSibling = nullptr;
     uint32_t prevSiblingEntry = ~0u;
+    // The Switch children on the path being written (their bytes in switchOn): an occluder below is used while they
+    // are on. Only unmasked Switches: a masked one leaves what is below it inactive (counted in `conditional`).
+    std::vector<uint32_t> switchPath;
+    static bool pathSwitch(const Node* n) { return n->kind() == NodeKind::Switch && n->nodeMask() == 0xffffffffu; }
 
     static bool isConditional(const Node* n) {
         const NodeKind k = n->kind();
@@ -96,6 +100,7 @@ struct Scene::Builder {
         img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();
         img.wides.clear(), img.wideEntry.clear(), img.wcx.clear(), img.wcy.clear(), img.wcz.clear(), img.wr.clear();
         img.occluders.clear(), img.occluderMatrices.clear(), img.occluderChunks.clear();
+        img.occluderSwitchBits.clear();
         img.prototypes.clear();  // rebuilt as met: no prototype left out of the structure keeps its image
         fresh = true;
         cursor = 0;
@@ -475,16 +480,20 @@ struct Scene::Builder {
         const int cond = isConditional(n);
         conditional += cond;
         const Node* skip = detailOf(n);
-        const Node* before = nullptr;  // the child written before, and its entry
+        const Node* before = nullptr;  // the last child written that is not an occluder, and its entry
         uint32_t beforeEntry = ~0u;
         for (size_t k = 0, c = n->numChildren(); k < c; ++k) {
             if (n->child(k) == skip) continue;
-            // The sibling before an occluder: the LOD a generated one may be shown with (Occluder::shownWith).
+            // The last sibling before an occluder that is not one: the LOD a generated one may be shown with.
             prevSibling = before;
             prevSiblingEntry = beforeEntry;
-            before = n->child(k);
-            beforeEntry = cursor;
+            if (n->child(k)->kind() != NodeKind::Occluder) {  // an LOD's occluders follow it, one after another
+                before = n->child(k);
+                beforeEntry = cursor;
+            }
+            if (pathSwitch(n)) switchPath.push_back(img.aux[i] + uint32_t(k));
             write(n->child(k), cm);
+            if (pathSwitch(n)) switchPath.pop_back();
         }
         conditional -= cond;
         img.end[i] = cursor;
@@ -499,9 +508,17 @@ struct Scene::Builder {
     // The occluder's frame, and whether the occlusion pass may use it.
     void occluder(uint32_t i, const Node* n, const dmat4& m) {
         FlatImage::OccluderRef ref{n, i, ~0u, dvec3(m[3]),
-                                   !prototype && conditional == 0 && n->nodeMask() == 0xffffffffu};
+                                   !prototype && conditional == int(switchPath.size()) && n->nodeMask() == 0xffffffffu};
         const auto* oc = static_cast<const Occluder*>(n);
-        ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith();
+        if (fresh) {
+            ref.switchFirst = uint32_t(img.occluderSwitchBits.size());
+            ref.switchCount = uint32_t(switchPath.size());
+            img.occluderSwitchBits.insert(img.occluderSwitchBits.end(), switchPath.begin(), switchPath.end());
+        } else {  // the structure is unchanged in a refit: the path is the one written in the full build
+            ref.switchFirst = img.occluders[img.aux[i]].switchFirst;
+            ref.switchCount = img.occluders[img.aux[i]].switchCount;
+        }
+        ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith() || ref.switchCount;
         if (oc->shownWith()) {
             // Written by its parent's walk, the LOD just before it is known; a refit of the occluder alone keeps
             // the entry it had (entries do not move in a refit).
@@ -567,7 +584,11 @@ struct Scene::Builder {
         for (size_t k = 0, c = n->numChildren(); k < c; ++k) {
             Node* ch = n->child(k);
             if (ch == skip) continue;
-            if (ch->dirtyBits()) refit(j, ch, cm);
+            if (ch->dirtyBits()) {
+                if (pathSwitch(n)) switchPath.push_back(img.aux[i] + uint32_t(k));
+                refit(j, ch, cm);
+                if (pathSwitch(n)) switchPath.pop_back();
+            }
             j = img.end[j];
         }
         conditional -= cond;
