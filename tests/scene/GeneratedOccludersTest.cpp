@@ -356,8 +356,8 @@ void expectBoxRules(const Mesh& mesh, const MeshOccluders& occ, const OccluderGe
     const double boundVolume = volume(mesh.box());
     for (size_t k = 0; k < occ.boxes.size(); ++k) {
         EXPECT_GE(volume(occ.boxes[k]), s.minBoxShare * boundVolume * (1.0 - 1e-9)) << "box " << k << " too small";
-        if (k > 0) {
-            EXPECT_GE(volume(occ.boxes[k - 1]), volume(occ.boxes[k])) << "boxes not largest first at " << k;
+        if (k > 0) {  // equal cell counts may differ in the last bits
+            EXPECT_GE(volume(occ.boxes[k - 1]), volume(occ.boxes[k]) * (1.0 - 1e-9)) << "not largest first at " << k;
         }
     }
     if (!occ.boxes.empty()) {
@@ -375,17 +375,25 @@ dvec3 newellNormal(const std::vector<dvec3>& poly) {  // length: twice the area
 }
 double area(const std::vector<dvec3>& poly) { return 0.5 * glm::length(newellNormal(poly)); }
 
-// Planar and convex, turning counter-clockwise about its own normal (every corner turns the same way).
-void expectConvexPlanar(const std::vector<dvec3>& poly, double size) {
+// The rounding allowance of a mesh's float positions: relative to its size and to how far it is from the origin.
+double toleranceOf(const Mesh& m) {
+    const Box b = m.box();
+    return 1e-5 * (glm::length(b.max - b.min) + std::max(glm::length(b.min), glm::length(b.max)));
+}
+
+// Planar and convex, turning counter-clockwise about its own normal (every corner turns the same way), by `tol`.
+void expectConvexPlanar(const std::vector<dvec3>& poly, double tol) {
     ASSERT_GE(poly.size(), 3u);
     for (const dvec3& v : poly) ASSERT_TRUE(isFinite(v));
     const dvec3 n = newellNormal(poly);
     ASSERT_GT(glm::length(n), 0.0);
     const dvec3 un = glm::normalize(n);
-    for (const dvec3& v : poly) EXPECT_NEAR(glm::dot(v - poly[0], un), 0.0, 1e-6 * size) << "not planar";
+    for (const dvec3& v : poly) EXPECT_NEAR(glm::dot(v - poly[0], un), 0.0, tol) << "not planar";
     for (size_t i = 0; i < poly.size(); ++i) {
         const dvec3 &a = poly[i], &b = poly[(i + 1) % poly.size()], &c = poly[(i + 2) % poly.size()];
-        EXPECT_GE(glm::dot(glm::cross(b - a, c - b), un), -1e-9 * size * size) << "not convex at corner " << i + 1;
+        const double turn = glm::dot(glm::cross(b - a, c - b), un);
+        EXPECT_GE(turn, -tol * (glm::length(b - a) + glm::length(c - b)))
+            << "not convex at corner " << (i + 1) % poly.size();
     }
 }
 
@@ -407,14 +415,17 @@ std::vector<dvec3> samplesOf(const std::vector<dvec3>& poly, scenes::Rng& rng, i
     return out;
 }
 
-// The triangle containing p (within `tol` of its plane and of its edges), or -1.
-int containingTriangle(const std::vector<Tri>& tris, const dvec3& p, double tol) {
+// A triangle facing `facing` (parallel, the same way) that contains p (within `tol` of its plane and of its edges),
+// or -1.
+int containingTriangle(const std::vector<Tri>& tris, const dvec3& p, const dvec3& facing, double tol) {
+    const dvec3 f = glm::normalize(facing);
     for (size_t t = 0; t < tris.size(); ++t) {
         const Tri& tr = tris[t];
         const dvec3 n = tr.normal();
         const double len = glm::length(n);
         if (len == 0.0) continue;
         const dvec3 un = n / len;
+        if (glm::dot(un, f) < 1.0 - 1e-6) continue;
         if (std::abs(glm::dot(p - tr.a, un)) > tol) continue;
         bool in = true;  // on the inner side of each edge, by tol
         const dvec3 v[3] = {tr.a, tr.b, tr.c};
@@ -434,23 +445,24 @@ void expectPolygonRules(const Mesh& mesh, const MeshOccluders& occ, const Occlud
     const std::vector<Tri> tris = trianglesOf(mesh);
     const Box bound = mesh.box();
     const dvec3 d = bound.max - bound.min;
-    const double size = glm::length(d), largestFace = std::max({d.x * d.y, d.y * d.z, d.z * d.x});
+    const double tol = toleranceOf(mesh), largestFace = std::max({d.x * d.y, d.y * d.z, d.z * d.x});
     EXPECT_FALSE(occ.closed);
     EXPECT_TRUE(occ.boxes.empty());
     EXPECT_LE(occ.polygons.size(), size_t(s.maxPolygons));
     for (size_t k = 0; k < occ.polygons.size(); ++k) {
         const auto& poly = occ.polygons[k];
         SCOPED_TRACE("polygon " + std::to_string(k) + " of " + std::to_string(poly.size()) + " corners");
-        expectConvexPlanar(poly, size);
+        expectConvexPlanar(poly, tol);
         EXPECT_GE(area(poly), s.minPolygonShare * largestFace * (1.0 - 1e-9));
         if (k > 0) {
             EXPECT_GE(area(occ.polygons[k - 1]), area(poly) * (1.0 - 1e-9)) << "not largest first";
         }
         const dvec3 n = newellNormal(poly);
         for (const dvec3& p : samplesOf(poly, rng, 30)) {
-            const int t = containingTriangle(tris, p, 1e-5 * size);
-            ASSERT_GE(t, 0) << "point (" << p.x << " " << p.y << " " << p.z << ") on no triangle";
-            EXPECT_GT(glm::dot(tris[size_t(t)].normal(), n), 0.0) << "turns clockwise seen from the front";
+            if (containingTriangle(tris, p, n, tol) >= 0) continue;
+            ASSERT_LT(containingTriangle(tris, p, -n, tol), 0)
+                << "turns clockwise seen from the side the triangles face";
+            FAIL() << "point (" << p.x << " " << p.y << " " << p.z << ") on no triangle";
         }
     }
 }
@@ -652,7 +664,7 @@ TEST(GeneratedOccluders, AQuadGivesItself) {
         for (const vec3& corner : quad->positions()) {
             double nearest = kInf;
             for (const dvec3& v : poly) nearest = std::min(nearest, glm::length(v - dvec3(corner)));
-            EXPECT_LT(nearest, 1e-5 * glm::length(quad->box().max - quad->box().min)) << "a corner of the quad missing";
+            EXPECT_LT(nearest, toleranceOf(*quad)) << "a corner of the quad missing";
         }
     }
 }
@@ -668,12 +680,15 @@ TEST(GeneratedOccluders, AnOpenBoxGivesItsFaces) {
     ASSERT_EQ(occ.polygons.size(), 5u);
     for (const auto& poly : occ.polygons) EXPECT_NEAR(area(poly), 4.0, 1e-5);
 
-    // Faces split into 3 x 3 quads, placed anywhere: polygons on the faces, at least one quad of 2/3 x 2/3 large.
+    // Faces split into 3 x 3 quads, placed anywhere: polygons on the faces, at least one quad of 2/3 x 2/3 large
+    // (the two triangles of a quad are coplanar up to the rounding of their float positions).
+    OccluderGenSettings any = s;
+    any.minPolygonShare = 0.0;
     for (int i = 0; i < 4; ++i) {
         const ref_ptr<Mesh> m = transformed(*withoutTriangles(*makeBoxMesh(dvec3(-1), dvec3(1), 3), 18, 18),
                                             i == 0 ? dmat4(1.0) : randomPlacement(rng));
-        const MeshOccluders o = meshOccluders(*m, s);
-        expectPolygonRules(*m, o, s, rng);
+        const MeshOccluders o = meshOccluders(*m, any);
+        expectPolygonRules(*m, o, any, rng);
         ASSERT_FALSE(o.polygons.empty());
         const double quad = glm::length(trianglesOf(*m)[0].normal());  // two triangles of a quad
         EXPECT_GE(area(o.polygons[0]), quad * (1.0 - 1e-5));
