@@ -8,6 +8,7 @@
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
+#include "sg/scene/GeneratedOccluders.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
@@ -91,6 +92,22 @@ int runOcclusion(const Args& a) {
         root = site.root;
     } else {
         root = city ? scenes::buildCity({n, true}) : scenes::buildOffice(n);
+    }
+    // --occluders generated: the authored occluders removed and occluders made from the geometry instead
+    // (sg/scene/GeneratedOccluders.h), the time to make them reported.
+    const std::string occluders = a.str("occluders", "authored");
+    if (occluders != "authored" && occluders != "generated")
+        throw std::invalid_argument("sgbench occlusion: --occluders must be authored or generated (got '" + occluders +
+                                    "')");
+    sg::OccluderGenStats gen;
+    size_t authored = 0;
+    if (occluders == "generated") {
+        authored = sg::removeOccluders(*root);
+        sg::OccluderGenSettings gs;
+        gs.voxels = uint32_t(a.num("voxels", gs.voxels));
+        gs.maxBoxes = uint32_t(a.num("max-boxes", gs.maxBoxes));
+        gs.minMajorShare = double(a.num("major-percent", long(gs.minMajorShare * 100))) / 100.0;
+        gen = sg::generateOccluders(*root, gs);
     }
     sg::Scene scene(root);
     scene.update();
@@ -228,6 +245,18 @@ int runOcclusion(const Args& a) {
     Json j;
     j.add("command", "occlusion").add("scene", sceneName).add("path", path);
     if (!factory) j.addInt(city ? "n" : "r", n);
+    j.add("occluders", occluders);
+    if (occluders == "generated")
+        j.addInt("authored_removed", long(authored))
+            .add("generate_ms", gen.ms)
+            .addInt("generated_boxes", long(gen.boxes))
+            .addInt("generated_polygons", long(gen.polygons))
+            .addInt("generated_lods", long(gen.lods))
+            .addInt("meshes_analysed", long(gen.meshes))
+            .addInt("mesh_triangles", long(gen.meshTriangles))
+            .addInt("scene_triangles", long(gen.sceneTriangles))
+            .add("ms_per_million_mesh_triangles", gen.ms * 1e6 / std::max(1.0, double(gen.meshTriangles)))
+            .add("ms_per_million_scene_triangles", gen.ms * 1e6 / std::max(1.0, double(gen.sceneTriangles)));
     j.add("occlusion", sg::occlusionModeName(occl.occlusion.mode)).add("cap", cap).addInt("frames", long(cams.size()));
     j.add("method", method);
     if (hom)

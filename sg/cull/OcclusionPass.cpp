@@ -1,6 +1,7 @@
 #include "sg/cull/OcclusionPass.h"
 
 #include "nodes/Occluder.h"
+#include "sg/scene/LodChooser.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +19,63 @@ bool outsideFrustum(const std::array<Plane, 6>& planes, const dvec3& lo, const d
     }
     return false;
 }
+// A generated occluder's conditions (Occluder::eyeOutside, oneSided, shownWith) this frame.
+bool conditionsHold(const FlatImage& img, const FlatImage::OccluderRef& o, const Camera& cam, const CullSettings& set) {
+    const auto* node = static_cast<const Occluder*>(o.node);
+    const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
+    const dvec3 eye = cam.eye();
+    if (!node->eyeOutside().empty()) {
+        // Outside the box's world bound is outside the box. And the surface a sight line crosses before the
+        // occluder lies in that box: grown by the reach of the near plane's corners, no such crossing is clipped.
+        const Box& lb = node->eyeOutside();
+        Box wb = m ? transformBox(*m, lb) : Box{lb.min + o.shift, lb.max + o.shift};
+        const dmat4& p = cam.projection();
+        const double sx = (1.0 + std::abs(p[2][0])) / p[0][0], sy = (1.0 + std::abs(p[2][1])) / p[1][1];
+        const double reach = 1.001 * cam.nearDistance() * std::sqrt(1.0 + sx * sx + sy * sy);
+        wb.min -= dvec3(reach), wb.max += dvec3(reach);
+        if (wb.contains(eye)) return false;
+    }
+    if (node->oneSided()) {
+        const auto& p = node->polygon();
+        dvec3 n(0.0), v0 = m ? dvec3(*m * dvec4(p[0], 1.0)) : p[0] + o.shift;
+        for (size_t k = 0; k < p.size(); ++k) {
+            const dvec3 a = m ? dvec3(*m * dvec4(p[k], 1.0)) : p[k] + o.shift,
+                        b = m ? dvec3(*m * dvec4(p[(k + 1) % p.size()], 1.0)) : p[(k + 1) % p.size()] + o.shift;
+            n += glm::cross(a - v0, b - v0);
+        }
+        if (!(glm::dot(n, eye - v0) > 0.0)) return false;  // its back, or edge on: not drawn from here
+    }
+    if (node->shownWith()) {
+        // The box lies inside every level, so it stands for the LOD wherever the LOD's ranges (with the fade band
+        // about the value, where a level may be dissolving to nothing) cover the value. The budget and hysteresis
+        // choose levels by other rules: not used with them.
+        if (o.lod == ~0u || set.lodBudget.enabled || set.lodHysteresis > 0.0) return false;
+        ImageFrame f;
+        f.img = &img;
+        f.eyeImg = eye - img.origin;
+        f.imgToEye = glm::translate(dmat4(1.0), img.origin - eye);
+        const FlatImage::Lod& l = LodChooser::lod(img, o.lod);
+        const double v = LodChooser({&cam, set.lodScale}).value(f, l, o.lod);
+        const double h = set.lodFade ? 0.5 * double(l.fade) : 0.0;
+        double lo = std::max(v - h, 0.0);
+        const double hi = v + h;
+        // Cover [lo, hi] with the children's ranges, joined end to end.
+        const FlatImage::Range* rg = &img.ranges[l.firstRange];
+        size_t count = 0;
+        for (uint32_t j = o.lod + 1; j < img.end[o.lod]; j = img.end[j]) ++count;
+        for (bool moved = true; moved && lo <= hi;) {
+            moved = false;
+            for (size_t c = 0; c < count; ++c)
+                if (rg[c].min <= lo && lo < rg[c].max) {
+                    lo = rg[c].max;
+                    moved = true;
+                }
+        }
+        if (lo <= hi) return false;
+    }
+    return true;
+}
+
 constexpr double kWakeShare =
     0.25;  // Adaptive: the eye's move, over its distance to the nearest occluder, that wakes it
 }  // namespace
@@ -49,6 +107,19 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     const dvec3 eye = cam.eye();
     const auto& planes = cam.eyePlanes();
 
+    // A thin occluder lying on a face of the scene's bound, the eye on its inner side (a floor, a ground slab), hides
+    // only what is within its own thickness: it would take the place of a wall.
+    const Box sb = img.size() ? img.box(0) : Box{};
+    const dvec3 sLo = sb.min - eye, sHi = sb.max - eye, sExt = sb.max - sb.min;
+    auto flatOnBound = [&](const dvec3& c, const dvec3& h) {
+        for (int a = 0; a < 3; ++a) {
+            if (2.0 * h[a] > 0.1 * sExt[a]) continue;
+            const double tol = 1e-3 * sExt[a];
+            if ((c[a] + h[a] < 0.0 && c[a] - h[a] <= sLo[a] + tol) || (c[a] - h[a] > 0.0 && c[a] + h[a] >= sHi[a] - tol))
+                return true;
+        }
+        return false;
+    };
     // Candidates: active occluders in the frustum, large enough on screen, by distance.
     cands_.clear();
     const uint32_t chunk = FlatImage::kOccluderChunk;
@@ -58,16 +129,17 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         const uint32_t end = uint32_t(std::min<size_t>(img.occluders.size(), (k + 1) * chunk));
         for (uint32_t j = uint32_t(k * chunk); j < end; ++j) {
             const FlatImage::OccluderRef& o = img.occluders[j];
-            if (!o.active) continue;
+            if (!o.active || (o.conditional && !conditionsHold(img, o, cam, set))) continue;
             const uint32_t e = o.entry;
             if (img.flags[e] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
             const dvec3 c = img.origin + dvec3(img.cx[e], img.cy[e], img.cz[e]) - eye,
                         h(img.ex[e], img.ey[e], img.ez[e]);
             if (outsideFrustum(planes, c - h, c + h)) continue;
+            if (flatOnBound(c, h)) continue;
             const dvec3 gap = glm::max(glm::abs(c) - h, dvec3(0.0));  // eye to the box
             const double dist = glm::length(gap);
             if (cam.pixelSize(2.0 * img.r[e], dist) < os.minOccluderPixels) continue;
-            cands_.push_back({dist, j});
+            cands_.push_back({dist, j, 0.0});
         }
     }
     stats.occluderCandidates = cands_.size();
@@ -108,13 +180,23 @@ struct ByDist {
         return a.dist < b.dist || (a.dist == b.dist && a.index < b.index);
     }
 };
+struct ByOrder {
+    template <class C>
+    bool operator()(const C& a, const C& b) const {
+        return a.order < b.order || (a.order == b.order && ByDist()(a, b));
+    }
+};
 }  // namespace
 
 uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
-    // Nearest first: nearer occluders hide farther ones, whose parts then add nothing to the tree.
+    // Largest on screen first (distance over radius): nearer, larger occluders hide farther ones, whose parts then add
+    // nothing to the tree, and a chair beside the eye does not take a wall's place (docs/benchmarks.md, "Generated
+    // occluders": nearest first did that).
+    for (Candidate& c : cands_)
+        c.order = std::max(c.dist, cam.nearDistance()) / std::max(double(img.r[img.occluders[c.index].entry]), 1e-300);
     const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders) * 4);
-    std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByDist());
-    std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByDist());
+    std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByOrder());
+    std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByOrder());
     tree_.reset(cam.eye(), OcclusionTree::optionsFor(cam, os));
     uint64_t used = 0;
     size_t k = 0;

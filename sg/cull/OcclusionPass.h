@@ -48,6 +48,7 @@ private:
     struct Candidate {
         double dist;  // the tree: eye to the box; the map: minus the solid angle over the distance
         uint32_t index;
+        double order;  // the tree: the distance over the bound's radius (smallest first)
     };
     // Adds the chosen occluders to the tree (nearest first) or the map (largest solid angle over
     // distance first); returns how many added something.

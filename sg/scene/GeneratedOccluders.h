@@ -19,6 +19,9 @@ struct OccluderGenSettings {
     double minBoxShare = 0.05;      // boxes below this share of the mesh bound's volume are left out
     uint32_t maxPolygons = 6;       // per open mesh, largest first
     double minPolygonShare = 0.05;  // polygons below this share of the bound's largest face area are left out
+    // generateOccluders keeps the major occluders only: those whose largest face is at least this share of the largest
+    // generated in the subtree (a car beside a tower, a desk beside a wall would take a wall's place in the pass).
+    double minMajorShare = 0.1;
     // Throws std::invalid_argument naming `fn` and the setting: voxels not in 1..256, maxBoxes or maxPolygons above
     // 64, a share not in [0, 1].
     void validate(const char* fn) const;
@@ -44,6 +47,7 @@ struct OccluderGenStats {
     uint64_t sceneTriangles = 0;    // triangles of every Geometry visited (a shared mesh counted at each use)
     uint64_t boxes = 0, polygons = 0;  // Occluder nodes added
     uint64_t lods = 0;              // of those, standing for an LOD (used while it shows a level)
+    uint64_t minor = 0;             // left out as minor (OccluderGenSettings::minMajorShare)
     uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, under a Switch,
                                     // Billboard, Instance prototype or masked node, or beside an authored occluder
     double ms = 0.0;                // wall time

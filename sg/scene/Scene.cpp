@@ -34,6 +34,9 @@ struct Scene::Builder {
     bool detail = false;
     int conditional = 0;  // Switch, LOD, Billboard or masked nodes above: drawn or not per frame
     bool occludersWritten = false;
+    // write(): the child written before the current one, and its entry (Occluder::shownWith).
+    const Node* prevSibling = nullptr;
+    uint32_t prevSiblingEntry = ~0u;
 
     static bool isConditional(const Node* n) {
         const NodeKind k = n->kind();
@@ -96,6 +99,7 @@ struct Scene::Builder {
         img.prototypes.clear();  // rebuilt as met: no prototype left out of the structure keeps its image
         fresh = true;
         cursor = 0;
+        prevSibling = nullptr;
         write(root, frame);
         updateExtent();
         if (!detail) scene.stats_.fullRebuilds++;
@@ -471,8 +475,17 @@ struct Scene::Builder {
         const int cond = isConditional(n);
         conditional += cond;
         const Node* skip = detailOf(n);
-        for (size_t k = 0, c = n->numChildren(); k < c; ++k)
-            if (n->child(k) != skip) write(n->child(k), cm);
+        const Node* before = nullptr;  // the child written before, and its entry
+        uint32_t beforeEntry = ~0u;
+        for (size_t k = 0, c = n->numChildren(); k < c; ++k) {
+            if (n->child(k) == skip) continue;
+            // The sibling before an occluder: the LOD a generated one may be shown with (Occluder::shownWith).
+            prevSibling = before;
+            prevSiblingEntry = beforeEntry;
+            before = n->child(k);
+            beforeEntry = cursor;
+            write(n->child(k), cm);
+        }
         conditional -= cond;
         img.end[i] = cursor;
         boundFromChildren(i);
@@ -487,6 +500,17 @@ struct Scene::Builder {
     void occluder(uint32_t i, const Node* n, const dmat4& m) {
         FlatImage::OccluderRef ref{n, i, ~0u, dvec3(m[3]),
                                    !prototype && conditional == 0 && n->nodeMask() == 0xffffffffu};
+        const auto* oc = static_cast<const Occluder*>(n);
+        ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith();
+        if (oc->shownWith()) {
+            // Written by its parent's walk, the LOD just before it is known; a refit of the occluder alone keeps
+            // the entry it had (entries do not move in a refit).
+            if (prevSibling == oc->shownWith())
+                ref.lod = prevSiblingEntry;
+            else if (!fresh && prevSibling == nullptr)
+                ref.lod = img.occluders[img.aux[i]].lod;
+            ref.active = ref.active && ref.lod != ~0u;
+        }
         if (glm::dmat3(m) != glm::dmat3(1.0)) {
             const bool had = !fresh && img.occluders[img.aux[i]].matrix != ~0u;
             ref.matrix = had ? img.occluders[img.aux[i]].matrix : uint32_t(img.occluderMatrices.size());
@@ -531,6 +555,7 @@ struct Scene::Builder {
         if ((n->dirtyBits() & Node::kDirtyBound) || n->kind() == NodeKind::Billboard ||
             n->kind() == NodeKind::Instance) {
             cursor = i;
+            prevSibling = nullptr;  // not the parent's walk: an occluder written alone keeps its LOD's entry
             write(n, m);
             return;
         }
