@@ -65,6 +65,16 @@ ref_ptr<Mesh> withoutTriangles(const Mesh& m, uint32_t first, uint32_t count) {
     return meshOf(pos, std::move(idx));
 }
 
+// Both meshes' triangles in one mesh.
+ref_ptr<Mesh> merged(const Mesh& a, const Mesh& b) {
+    std::vector<dvec3> pos;
+    for (const vec3& p : a.positions()) pos.push_back(dvec3(p));
+    for (const vec3& p : b.positions()) pos.push_back(dvec3(p));
+    std::vector<uint32_t> idx = indicesOf(a);
+    for (uint32_t i : indicesOf(b)) idx.push_back(i + uint32_t(a.positions().size()));
+    return meshOf(pos, std::move(idx));
+}
+
 // The boundary of a union of cubes of the integer lattice (scaled by `cell`), one quad per face between a cube and
 // an empty one, the lattice points shared: closed when no two cubes meet only along an edge or at a corner.
 ref_ptr<Mesh> cellsMesh(const std::set<std::array<int, 3>>& cells, double cell = 1.0) {
@@ -223,10 +233,12 @@ double rayHit(const Tri& t, const dvec3& o, const dvec3& d) {
     return glm::dot(e2, qv) / det;
 }
 
-// Crossings of the ray from p along d.
-int crossings(const std::vector<Tri>& tris, const dvec3& p, const dvec3& d) {
+// The winding number at p counted along the ray from p along d: +1 for each face the ray leaves the solid
+// through, -1 for each it enters through (ray parity, with the count's sign kept for nested or crossing shells).
+int signedCrossings(const std::vector<Tri>& tris, const dvec3& p, const dvec3& d) {
     int n = 0;
-    for (const Tri& t : tris) n += rayHit(t, p, d) > 0.0;
+    for (const Tri& t : tris)
+        if (rayHit(t, p, d) > 0.0) n += glm::dot(t.normal(), d) > 0.0 ? 1 : -1;
     return n;
 }
 
@@ -303,9 +315,9 @@ std::string str(const Box& b) {
     return s;
 }
 
-// Every box lies wholly inside the solid of `mesh`: no triangle meets it, its centre is inside (winding number and
-// ray parity along three random directions agree), so is every sampled point, and every ray from outside the mesh's
-// bound into the box crosses the surface before it reaches the box.
+// Every box lies wholly inside the solid of `mesh`: no triangle meets it; at its corners, face and edge centres and
+// random points the winding number is 1 or more, and the signed crossings along three random rays (ray parity, the
+// sign kept) agree with it; and every ray from outside the mesh's bound into the box crosses the surface first.
 void expectInsideSolid(const Mesh& mesh, const std::vector<Box>& boxes, scenes::Rng& rng, const std::string& what,
                        int points = 40, int rays = 60) {
     const std::vector<Tri> tris = trianglesOf(mesh);
@@ -323,10 +335,12 @@ void expectInsideSolid(const Mesh& mesh, const std::vector<Box>& boxes, scenes::
             const double w = windingNumber(tris, p);
             ASSERT_GT(w, 0.5) << "point (" << p.x << " " << p.y << " " << p.z << ") winding number " << w;
             ASSERT_NEAR(w, std::round(w), 1e-6) << "point off the surface but a winding number not whole";
-            int odd = 0;
-            for (int r = 0; r < 3; ++r) odd += crossings(tris, p, randomDirection(rng)) % 2;
-            ASSERT_EQ(odd, 3) << "ray parity: point (" << p.x << " " << p.y << " " << p.z << ") outside along "
-                              << 3 - odd << " of 3 rays";
+            for (int r = 0; r < 3; ++r) {
+                const dvec3 d = randomDirection(rng);
+                ASSERT_EQ(signedCrossings(tris, p, d), int(std::round(w)))
+                    << "point (" << p.x << " " << p.y << " " << p.z << "): crossings along (" << d.x << " " << d.y
+                    << " " << d.z << ") disagree with the winding number";
+            }
         }
         for (int r = 0; r < rays; ++r) {
             const dvec3 o = bound.center() + randomDirection(rng) * (size * 2.0 + 1.0);
@@ -571,6 +585,29 @@ TEST(GeneratedOccluders, ConcaveShapesBoxesStayOutOfTheirNotches) {
     EXPECT_TRUE(left && right) << occ.boxes.size() << " boxes";
 }
 
+TEST(GeneratedOccluders, NestedAndOverlappingShellsBoxesAreInsideThem) {
+    // Two closed shells, one inside the other or crossing it: the winding number is 2 where both enclose, and the
+    // inner shell's faces cross the outer solid, where no box may pass through them.
+    scenes::Rng rng(14);
+    const ref_ptr<Mesh> outer = makeBoxMesh(dvec3(-3), dvec3(3));
+    const std::pair<const char*, ref_ptr<Mesh>> shapes[] = {
+        {"nested", merged(*outer, *makeBoxMesh(dvec3(-1), dvec3(1)))},
+        {"crossing", merged(*outer, *makeBoxMesh(dvec3(1, -1, -1), dvec3(5, 1, 1)))},
+        {"crossing tori",
+         merged(*torus(3.0, 1.2, 32, 16),
+                *transformed(*torus(3.0, 1.2, 32, 16), glm::rotate(dmat4(1.0), kPi / 2, dvec3(1, 0, 0))))}};
+    OccluderGenSettings s;
+    s.maxBoxes = 8;
+    s.minBoxShare = 0.001;
+    for (const auto& [name, m] : shapes) {
+        ASSERT_TRUE(m->closed()) << name;
+        const MeshOccluders occ = meshOccluders(*m, s);
+        EXPECT_FALSE(occ.boxes.empty()) << name;
+        expectBoxRules(*m, occ, s);
+        expectInsideSolid(*m, occ.boxes, rng, name);
+    }
+}
+
 TEST(GeneratedOccluders, SphereBoxesAreInsideIt) {
     scenes::Rng rng(5);
     OccluderGenSettings s;
@@ -651,7 +688,9 @@ TEST(GeneratedOccluders, OpenMeshesGetNoBoxes) {
 TEST(GeneratedOccluders, AQuadGivesItself) {
     scenes::Rng rng(7);
     const dmat4 placements[] = {dmat4(1.0), randomPlacement(rng), randomPlacement(rng)};
-    for (const dmat4& xf : placements) {
+    for (size_t i = 0; i < std::size(placements); ++i) {
+        SCOPED_TRACE(i == 0 ? "in place" : "placement " + std::to_string(i) + " (turned, float positions)");
+        const dmat4& xf = placements[i];
         const ref_ptr<Mesh> quad = transformed(*quadMesh(), xf);
         const OccluderGenSettings s;
         const MeshOccluders occ = meshOccluders(*quad, s);
@@ -687,6 +726,7 @@ TEST(GeneratedOccluders, AnOpenBoxGivesItsFaces) {
     OccluderGenSettings any = s;
     any.minPolygonShare = 0.0;
     for (int i = 0; i < 4; ++i) {
+        SCOPED_TRACE(i == 0 ? "in place" : "placement " + std::to_string(i) + " (turned, float positions)");
         const ref_ptr<Mesh> m = transformed(*withoutTriangles(*makeBoxMesh(dvec3(-1), dvec3(1), 3), 18, 18),
                                             i == 0 ? dmat4(1.0) : randomPlacement(rng));
         const MeshOccluders o = meshOccluders(*m, any);
@@ -709,6 +749,7 @@ TEST(GeneratedOccluders, AnLShapedRegionGivesConvexPolygonsInsideIt) {
         idx.insert(idx.end(), {v(x, y), v(x + 1, y), v(x + 1, y + 1), v(x, y), v(x + 1, y + 1), v(x, y + 1)});
     const ref_ptr<Mesh> plain = meshOf(pos, idx);
     for (int i = 0; i < 4; ++i) {
+        SCOPED_TRACE(i == 0 ? "in place" : "placement " + std::to_string(i) + " (turned, float positions)");
         const ref_ptr<Mesh> m = i == 0 ? plain : transformed(*plain, randomPlacement(rng));
         const OccluderGenSettings s;
         const MeshOccluders occ = meshOccluders(*m, s);
@@ -906,6 +947,40 @@ TEST(GeneratedOccluders, AnLodGetsABoxInsideEveryLevel) {
     EXPECT_EQ(st.lods, withLod.size());
 }
 
+TEST(GeneratedOccluders, EveryBoxOfAnLodStandsRightAfterIt) {
+    // Levels shaped as an L give a box in each arm: each box must be the LOD's next sibling to be used with it
+    // (Occluder::setShownWith), which the image records as the LOD's entry.
+    scenes::Rng rng(15);
+    auto root = make<Group>();
+    auto lod = make<LOD>();
+    const ref_ptr<Mesh> fine = lPrism();
+    const ref_ptr<Mesh> coarse =
+        transformed(*lPrism(), glm::translate(dmat4(1.0), dvec3(3, 3, 1)) * glm::scale(dmat4(1.0), dvec3(1.05)) *
+                                   glm::translate(dmat4(1.0), dvec3(-3, -3, -1)));
+    lod->addChild(geometryOf(fine), 0.0f, 50.0f);
+    lod->addChild(geometryOf(coarse), 50.0f, 500.0f);
+    root->addChild(lod);
+    OccluderGenSettings s;
+    s.maxBoxes = 4;
+    generateOccluders(*root, s);
+    std::vector<Occluder*> withLod;
+    for (Occluder* o : occludersUnder(root.get()))
+        if (o->shownWith() == lod.get()) withLod.push_back(o);
+    ASSERT_FALSE(withLod.empty());
+    for (Occluder* o : withLod) {
+        expectInsideSolid(*fine, {o->box()}, rng, "fine L");
+        expectInsideSolid(*coarse, {o->box()}, rng, "coarse L");
+        EXPECT_EQ(root->indexOf(o), root->indexOf(lod.get()) + 1)
+            << withLod.size() << " boxes with the LOD: only the one right after it is used";
+    }
+    Scene scene(root);
+    scene.update();
+    for (const FlatImage::OccluderRef& ref : scene.image().occluders) {
+        if (static_cast<const Occluder*>(ref.node)->shownWith() != lod.get()) continue;
+        EXPECT_TRUE(ref.active && ref.lod != ~0u) << "an occluder of the LOD the pass never uses";
+    }
+}
+
 TEST(GeneratedOccluders, AnLodWithAnOpenLevelOrLevelsApartGetsNoBox) {
     for (int k = 0; k < 2; ++k) {
         auto root = make<Group>();
@@ -1025,6 +1100,31 @@ TEST(GeneratedOccluders, AMeshSharedByManyGeometriesIsAnalysedOnce) {
     }
 }
 
+TEST(GeneratedOccluders, StatsCountGeometryNodes) {
+    // Three geometries under a Switch are three left without; a small box beside a large one is left out as minor,
+    // and its geometry did not get an occluder.
+    auto root = make<Group>();
+    auto sw = make<Switch>();
+    for (int i = 0; i < 3; ++i) sw->addChild(geometryOf(unitBoxMesh()), true);
+    root->addChild(sw);
+    root->addChild(make<Switch>());  // no geometry: nothing left without
+    auto big = make<Group>();
+    big->addChild(geometryOf(makeBoxMesh(dvec3(0), dvec3(100))));
+    root->addChild(big);
+    auto small = make<Group>();
+    small->addChild(geometryOf(makeBoxMesh(dvec3(200), dvec3(201))));
+    root->addChild(small);
+    OccluderGenSettings s;
+    s.minMajorShare = 0.1;
+    const OccluderGenStats st = generateOccluders(*root, s);
+    EXPECT_EQ(small->numChildren(), 1u) << "a 1-unit box beside a 100-unit one is minor";
+    EXPECT_EQ(big->numChildren(), 2u);
+    EXPECT_EQ(st.minor, 1u);
+    EXPECT_EQ(st.boxes, 1u);
+    EXPECT_EQ(st.skipped, 3u) << "Geometry nodes left without";
+    EXPECT_EQ(st.geometries, 1u) << "Geometry nodes that got occluders";
+}
+
 // --- 4. Bad settings.
 
 namespace {
@@ -1064,6 +1164,11 @@ TEST(GeneratedOccluders, BadSettingsAreRejectedByName) {
     expectRejected(s, "minPolygonShare");
     s.minPolygonShare = kNaN;
     expectRejected(s, "minPolygonShare");
+    s = {};
+    s.minMajorShare = 2.0;
+    expectRejected(s, "minMajorShare");
+    s.minMajorShare = kNaN;
+    expectRejected(s, "minMajorShare");
     s = {};
     s.maxBoxes = 65;
     expectRejected(s, "maxBoxes");
