@@ -608,6 +608,51 @@ TEST(GeneratedOccluders, NestedAndOverlappingShellsBoxesAreInsideThem) {
     }
 }
 
+TEST(GeneratedOccluders, RandomBlobsFarOffAndThinSlabsKeepTheBoxesInside) {
+    // Random unions of lattice boxes (those whose boundary is closed: no cubes meeting along an edge alone, no
+    // cavities), turned and placed, some far from the origin where float positions are coarse, over several grids.
+    scenes::Rng rng(16);
+    int tried = 0, withBoxes = 0;
+    for (int blob = 0; tried < 24 && blob < 400; ++blob) {
+        std::set<std::array<int, 3>> cells;  // a union of 2 to 4 lattice boxes, each at least 2 cubes wide
+        for (int k = 0, n = 2 + rng.below(3); k < n; ++k) {
+            int lo[3], hi[3];
+            for (int a = 0; a < 3; ++a) lo[a] = rng.below(6), hi[a] = lo[a] + 2 + rng.below(4);
+            for (int x = lo[0]; x < hi[0]; ++x)
+                for (int y = lo[1]; y < hi[1]; ++y)
+                    for (int z = lo[2]; z < hi[2]; ++z) cells.insert({x, y, z});
+        }
+        const ref_ptr<Mesh> plain = cellsMesh(cells, 0.5);
+        if (cells.empty() || !plain->closed()) continue;
+        ++tried;
+        dmat4 xf = tried % 3 == 0 ? dmat4(1.0) : randomPlacement(rng);
+        if (tried % 4 == 1) xf = glm::translate(dmat4(1.0), dvec3(3e4, -2e4, 1e4)) * xf;
+        const ref_ptr<Mesh> m = transformed(*plain, xf);
+        if (!m->closed()) continue;  // far off, float rounding may weld or split corners
+        OccluderGenSettings s;
+        s.voxels = 8u + 8u * uint32_t(rng.below(6));
+        s.maxBoxes = 1u + uint32_t(rng.below(8));
+        s.minBoxShare = 0.0;
+        const MeshOccluders occ = meshOccluders(*m, s);
+        withBoxes += !occ.boxes.empty();
+        expectBoxRules(*m, occ, s);
+        expectInsideSolid(*m, occ.boxes, rng, "blob " + std::to_string(blob) + " voxels " + std::to_string(s.voxels),
+                          15, 20);
+    }
+    EXPECT_EQ(tried, 24);
+    EXPECT_GE(withBoxes, 18) << "the blobs are several cells thick";
+    // A slab thinner than a cell: no cell fits inside, so no box (or boxes inside it).
+    for (double t : {0.05, 0.3, 0.6}) {
+        const ref_ptr<Mesh> slab = transformed(*makeBoxMesh(dvec3(-5, -5, 0), dvec3(5, 5, t)), randomPlacement(rng));
+        OccluderGenSettings s;
+        s.minBoxShare = 0.0;
+        s.maxBoxes = 16;
+        const MeshOccluders occ = meshOccluders(*slab, s);
+        expectBoxRules(*slab, occ, s);
+        expectInsideSolid(*slab, occ.boxes, rng, "slab " + std::to_string(t));
+    }
+}
+
 TEST(GeneratedOccluders, SphereBoxesAreInsideIt) {
     scenes::Rng rng(5);
     OccluderGenSettings s;
