@@ -738,7 +738,7 @@ OccluderGenStats generateOccluders(Node& root, const OccluderGenSettings& s) {
     const auto t0 = std::chrono::steady_clock::now();
     removeOccluders(root, true);
     OccluderGenStats st;
-    Generator g{s, st, {}};
+    Generator g{s, st, {}, {}};
     g.visit(root);
     g.insert();
     st.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

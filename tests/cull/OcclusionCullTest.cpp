@@ -119,7 +119,7 @@ TEST(OcclusionCull, NoOccludersNoPass) {
 }
 
 TEST(OcclusionCull, OccludersThatMayNotBeDrawnAreNotUsed) {
-    // Below a Switch (even one that is on now) or masked: whether it is drawn changes per frame.
+    // Below a Switch: used while the Switch shows it (the image's copy of its bits), not once it is turned off.
     auto root = make<Group>();
     auto sw = make<Switch>();
     sw->addChild(wall(), true);
@@ -128,9 +128,16 @@ TEST(OcclusionCull, OccludersThatMayNotBeDrawnAreNotUsed) {
     root->addChild(behind);
     Scene s(root);
     s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
+    sw->setAll(false);
+    s.update();
     Culled r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_EQ(r.stats.occluderCandidates, 0u);
     EXPECT_TRUE(r.drew(behind->mesh()));
+    sw->setAll(true);
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
+    // Masked: whether it is drawn depends on the traversal mask, so not used.
     // Moved out of the Switch: used.
     auto w = ref_ptr<Node>(sw->child(0));
     sw->removeChild(size_t(0));
