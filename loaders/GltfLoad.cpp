@@ -194,13 +194,16 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
 }  // namespace gltf
 
 GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options) {
+    if (options.generateOccluders) options.occluders.validate("sg::loadGltf()");
     gltf::Progress progress(options);
     progress.report(0.0, "reading");
     gltf::FileBytes bytes(path);
     const size_t slash = path.find_last_of('/');
     const std::string baseDir = slash == std::string::npos ? "" : path.substr(0, slash);
     static const unsigned char empty = 0;
-    return gltf::load(path, baseDir, bytes.size() ? bytes.data() : &empty, bytes.size(), true, progress);
+    GltfScene scene = gltf::load(path, baseDir, bytes.size() ? bytes.data() : &empty, bytes.size(), true, progress);
+    if (options.generateOccluders && scene.root) generateOccluders(*scene.root, options.occluders);
+    return scene;
 }
 
 void gltf::workOutSolids(const Node& root) {
@@ -216,9 +219,13 @@ ref_ptr<Node> loadGltfPage(const std::string& file) {
 }
 
 GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t size, const GltfLoadOptions& options) {
+    if (options.generateOccluders) options.occluders.validate("sg::loadGltfFromMemory()");
     gltf::Progress progress(options);
     static const unsigned char empty = 0;
-    return gltf::load(name, "", size ? static_cast<const unsigned char*>(data) : &empty, size, false, progress);
+    GltfScene scene =
+        gltf::load(name, "", size ? static_cast<const unsigned char*>(data) : &empty, size, false, progress);
+    if (options.generateOccluders && scene.root) generateOccluders(*scene.root, options.occluders);
+    return scene;
 }
 
 }  // namespace sg

@@ -3,6 +3,8 @@
 // and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion; triangles drawn by each,
 // cull and pass times, the whole frame drawn headless (1280x720), and with --pixels the pixels that differ from the
 // unculled render.
+#include "loaders/Gltf.h"
+#include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
@@ -41,6 +43,11 @@ int runOcclusion(const Args& a) {
             "sgbench occlusion: --path must be street or orbit for city, walk for office and "
             "the factory (got '" +
             path + "')");
+    // --gltf FILE: the city read from a glTF file written by sgview --save (its --n gives the path), in place of the
+    // built-in one.
+    const std::string gltfFile = a.str("gltf", "");
+    if (!gltfFile.empty() && !city)
+        throw std::invalid_argument("sgbench occlusion: --gltf is a city saved by sgview --save: use --scene city");
     const bool draw = !a.flag("no-draw");
     const bool pixels = draw && a.flag("pixels");
     const int every = int(a.num("every", 1));  // every k-th frame of the path
@@ -90,6 +97,11 @@ int runOcclusion(const Args& a) {
     if (factory) {
         site = scenes::buildFactory();
         root = site.root;
+    } else if (!gltfFile.empty()) {
+        // A city saved by sgview --save (+Y up): turned back to +Z up under a Transform, so the path's cameras fit.
+        auto up = sg::make<sg::Transform>(glm::rotate(sg::dmat4(1.0), glm::half_pi<double>(), sg::dvec3(1, 0, 0)));
+        up->addChild(sg::loadGltf(gltfFile).root);
+        root = up;
     } else {
         root = city ? scenes::buildCity({n, true}) : scenes::buildOffice(n);
     }
@@ -244,6 +256,7 @@ int runOcclusion(const Args& a) {
     const double k = double(cams.size());
     Json j;
     j.add("command", "occlusion").add("scene", sceneName).add("path", path);
+    if (!gltfFile.empty()) j.add("gltf", gltfFile);
     if (!factory) j.addInt(city ? "n" : "r", n);
     j.add("occluders", occluders);
     if (occluders == "generated")

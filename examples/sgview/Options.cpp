@@ -90,6 +90,8 @@ Options parseOptions(int argc, const char* const* argv) {
             o.info = true;
         else if (a == "--refine-all")
             o.refineAll = true;
+        else if (a == "--auto-occluders")
+            o.autoOccluders = true;
         else if (a == "--overlay")
             o.overlay = true;
         else if (a == "--scene") {
@@ -166,13 +168,15 @@ Options parseOptions(int argc, const char* const* argv) {
 const char* usageText() {
     return "usage: sgview FILE... | --scene city|office|factory|materials [--n N]\n"
            "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
-           "              [--refine-all]\n"
+           "              [--refine-all] [--auto-occluders]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "              [--threading MODEL]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
            "or\n"
            "                     an http(s) URL): its tiles load as the view needs them\n"
            "  --refine-all       a tileset: load every tile and show it fully refined (with --info or --headless too)\n"
+           "  --auto-occluders   make occluders from the geometry (boxes inside closed meshes, large flat faces) for\n"
+           "                     the occlusion pass; authored ones stay where present (not inside a tileset's tiles)\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6);\n"
            "                     factory: the walkthrough site; materials: physical materials (--n not used)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"

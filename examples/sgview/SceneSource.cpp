@@ -1,12 +1,14 @@
 // Built-in scenes, and the checks every file passes before the loader sees it.
 #include "nodes/Group.h"
 #include "sg/gl/Renderer.h"
+#include "sg/scene/GeneratedOccluders.h"
 #include "sgview/LoadScene.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
 #include "testbed/Materials.h"
 #include "testbed/Office.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -37,7 +39,28 @@ void checkReadable(const std::string& path) {
 
 }  // namespace
 
+namespace {
+LoadedScene loadSources(const Options& o);
+}  // namespace
+
+// --auto-occluders: occluders made from the geometry, what was made said among the warnings.
 LoadedScene loadScene(const Options& o) {
+    LoadedScene s = loadSources(o);
+    if (!o.autoOccluders || !s.root) return s;
+    const sg::OccluderGenStats st = sg::generateOccluders(*s.root);
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "--auto-occluders: %llu boxes and %llu polygons for %llu geometries (%llu meshes, %llu triangles) in "
+                  "%.1f ms%s",
+                  (unsigned long long)st.boxes, (unsigned long long)st.polygons, (unsigned long long)st.geometries,
+                  (unsigned long long)st.meshes, (unsigned long long)st.meshTriangles, st.ms,
+                  s.pageLoad ? "; none inside the tileset's tiles" : "");
+    s.warnings.push_back(line);
+    return s;
+}
+
+namespace {
+LoadedScene loadSources(const Options& o) {
     const std::string size = std::to_string(o.n) + "x" + std::to_string(o.n);
     if (o.scene == "city") return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + size};
     if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
@@ -69,5 +92,7 @@ LoadedScene loadScene(const Options& o) {
     all.title = std::to_string(o.files.size()) + " files";
     return all;
 }
+
+}  // namespace
 
 }  // namespace sgview

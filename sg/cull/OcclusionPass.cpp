@@ -131,7 +131,7 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         const uint32_t end = uint32_t(std::min<size_t>(img.occluders.size(), (k + 1) * chunk));
         for (uint32_t j = uint32_t(k * chunk); j < end; ++j) {
             const FlatImage::OccluderRef& o = img.occluders[j];
-            if (!o.active || (o.conditional && !conditionsHold(img, o, cam, set))) continue;
+            if (!o.active) continue;
             const uint32_t e = o.entry;
             if (img.flags[e] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
             const dvec3 c = img.origin + dvec3(img.cx[e], img.cy[e], img.cz[e]) - eye,
@@ -141,6 +141,7 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
             const dvec3 gap = glm::max(glm::abs(c) - h, dvec3(0.0));  // eye to the box
             const double dist = glm::length(gap);
             if (cam.pixelSize(2.0 * img.r[e], dist) < os.minOccluderPixels) continue;
+            if (o.conditional && !conditionsHold(img, o, cam, set)) continue;  // the dearest test last
             cands_.push_back({dist, j, 0.0});
         }
     }

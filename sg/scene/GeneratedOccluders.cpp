@@ -127,8 +127,10 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
         for (int a = 0; a < 3; ++a) {
             const double mn = std::min({t.a[a], t.b[a], t.c[a]}) - 2 * clear,
                          mx = std::max({t.a[a], t.b[a], t.c[a]}) + 2 * clear;
-            lo[a] = std::max(0, int(std::floor((mn - g.lo[a]) / g.cell[a])) - 1);
-            hi[a] = std::min(g.n[a] - 1, int(std::floor((mx - g.lo[a]) / g.cell[a])) + 1);
+            // The cells the triangle's box (grown as the test grows it) reaches, and a little more for the division's
+            // rounding: cells beyond are apart along an axis, as the test's first three axes would find.
+            lo[a] = std::max(0, int(std::floor((mn - g.lo[a]) / g.cell[a] - 1e-6)));
+            hi[a] = std::min(g.n[a] - 1, int(std::floor((mx - g.lo[a]) / g.cell[a] + 1e-6)));
         }
         for (int k = lo[2]; k <= hi[2]; ++k)
             for (int j = lo[1]; j <= hi[1]; ++j)
@@ -309,11 +311,16 @@ void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& 
     // The grid spans the bound shrunk by a margin far above kClear, so that faces on the bound (a box mesh's) leave
     // every cell clear; cells are about cubic, the longest axis cut in `voxels`.
     const double clear = 1e-9 * size;
+    // Cells along the longest axis: a mesh of few triangles has few features to follow (a box mesh is found whole at
+    // any size), so the grid grows with the cube root of its triangles, up to `voxels`: the cost then follows the
+    // triangles, not the grid.
+    const uint32_t cells =
+        std::min(s.voxels, std::max<uint32_t>(8, uint32_t(std::lround(4.0 * std::cbrt(double(mesh.triangleCount()))))));
     Grid g;
     for (int a = 0; a < 3; ++a) {
         const double margin = std::max(1e-4 * ext[a], 1e-6 * size);
         if (ext[a] <= 4.0 * margin) return;  // flat: no volume inside
-        g.n[a] = std::clamp(int(std::ceil(double(s.voxels) * ext[a] / size - 1e-9)), 1, int(s.voxels));
+        g.n[a] = std::clamp(int(std::ceil(double(cells) * ext[a] / size - 1e-9)), 1, int(cells));
         g.lo[a] = b.min[a] + margin;
         g.cell[a] = (ext[a] - 2.0 * margin) / double(g.n[a]);
     }

@@ -14,7 +14,9 @@ namespace sg {
 class Node;
 
 struct OccluderGenSettings {
-    uint32_t voxels = 32;           // cells along a closed mesh's longest axis when looking for boxes inside it
+    // Cells along a closed mesh's longest axis when looking for boxes inside it, at most (fewer for meshes of few
+    // triangles: 4 times the cube root of their count, at least 8).
+    uint32_t voxels = 24;
     uint32_t maxBoxes = 4;          // per closed mesh, largest first
     double minBoxShare = 0.05;      // boxes below this share of the mesh bound's volume are left out
     uint32_t maxPolygons = 16;      // per open mesh, largest first
