@@ -204,6 +204,7 @@ void Occluder::setEyeOutside(const Box& b) {
     if (!b.empty() && (!isFinite(b.min) || !isFinite(b.max)))
         throw std::invalid_argument("Occluder::setEyeOutside(): " + describe() + ": box is not finite");
     eyeOutside_ = b;
+    markDirty(kDirtyBound);  // the image notes which occluders carry conditions
 }
 
 void Occluder::accept(NodeVisitor& v) { v.apply(*this); }

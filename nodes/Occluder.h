@@ -39,7 +39,10 @@ public:
     const Node* shownWith() const { return shownWith_; }
     // A polygon on a single-sided surface (back faces not drawn): used only while the eye is on its front side, where
     // it turns counter-clockwise.
-    void setOneSided(bool s) { oneSided_ = s; }
+    void setOneSided(bool s) {
+        oneSided_ = s;
+        markDirty(kDirtyBound);  // the image notes which occluders carry conditions
+    }
     bool oneSided() const { return oneSided_; }
 
     void accept(NodeVisitor& v) override;

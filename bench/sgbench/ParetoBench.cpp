@@ -4,6 +4,7 @@
 // each scene's Pareto front.
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
+#include "sg/scene/GeneratedOccluders.h"
 #include "sg/gl/Renderer.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
@@ -82,6 +83,22 @@ int runPareto(const Args& a) {
             throw std::invalid_argument("sgbench pareto: --scenes: no scene '" + s +
                                         "' (valid: city-orbit, city-street, office, factory, terrain, pcvr-city)");
 
+    // --occluders generated: every scene's authored occluders removed and occluders made from its geometry instead
+    // (sg/scene/GeneratedOccluders.h), so that the occlusion rows use those, beside the GPU's queries (gpu-query).
+    const std::string occluders = a.str("occluders", "authored");
+    if (occluders != "authored" && occluders != "generated")
+        throw std::invalid_argument("sgbench pareto: --occluders must be authored or generated (got '" + occluders +
+                                    "')");
+    auto prepared = [&](sg::ref_ptr<sg::Node> root) {
+        if (occluders == "generated") {
+            sg::removeOccluders(*root);
+            const sg::OccluderGenStats st = sg::generateOccluders(*root);
+            std::fprintf(stderr, "sgbench pareto: %llu boxes, %llu polygons generated in %.1f ms\n",
+                         (unsigned long long)st.boxes, (unsigned long long)st.polygons, st.ms);
+        }
+        return root;
+    };
+
     sg::OsmesaContext ctx(width, height);
     sg::Renderer renderer;
     if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
@@ -101,7 +118,7 @@ int runPareto(const Args& a) {
             if (!city) {
                 // With occluders (the occlusion methods need them); the two levels are the same box: error 0
                 // tells the budget so (as sgbench lod).
-                city = std::make_unique<sg::Scene>(scenes::buildCity({n, true}));
+                city = std::make_unique<sg::Scene>(prepared(scenes::buildCity({n, true})));
                 setLevelErrorsToZero(*city->root());
                 city->update();
             }
@@ -112,7 +129,7 @@ int runPareto(const Args& a) {
                 sv.views.push_back(orbit ? scenes::cityOrbitCamera(n, f, width, height)
                                          : scenes::cityStreetCamera(n, f, width, height));
         } else if (name == "office") {
-            own = std::make_unique<sg::Scene>(scenes::buildOffice(r));
+            own = std::make_unique<sg::Scene>(prepared(scenes::buildOffice(r)));
             own->update();
             sv.scene = own.get();
             for (int f : spread(scenes::kWalkFrames, views))
@@ -121,7 +138,7 @@ int runPareto(const Args& a) {
             // The walkthrough's path (outside, through a workshop, round the site, up), each view drawn with
             // the Switch state of its eye.
             site = scenes::buildFactory();
-            own = std::make_unique<sg::Scene>(site.root);
+            own = std::make_unique<sg::Scene>(prepared(site.root));
             own->update();
             walk = scenes::buildWalkPath(site, *own, 240);
             sv.scene = own.get();
@@ -140,7 +157,7 @@ int runPareto(const Args& a) {
             // 1025^2 samples (10 km), the terrain paper's eye turned round the centre in steps, its three fields
             // of view in turn.
             terrain = scenes::buildTerrainScene(1025, 2002);
-            own = std::make_unique<sg::Scene>(terrain.terrain.root);
+            own = std::make_unique<sg::Scene>(prepared(terrain.terrain.root));
             own->update();
             sv.scene = own.get();
             sv.hasLods = true;
@@ -154,7 +171,7 @@ int runPareto(const Args& a) {
             }
         } else if (name == "pcvr-city") {
             // The PCVR paper's city (25 objects, 23,400 triangles) and its drive; no LODs.
-            own = std::make_unique<sg::Scene>(scenes::buildPcvrCity());
+            own = std::make_unique<sg::Scene>(prepared(scenes::buildPcvrCity()));
             own->update();
             sv.scene = own.get();
             for (int f : spread(scenes::kPcvrFrames, views))

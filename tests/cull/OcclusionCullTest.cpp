@@ -2,6 +2,7 @@
 #include "TestUtil.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "nodes/LOD.h"
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
@@ -262,4 +263,92 @@ TEST(OcclusionCull, OrthographicCameraRunsNoPass) {
     const Culled r = cull(s, cam);
     EXPECT_FALSE(r.stats.occlusionRan);
     EXPECT_TRUE(r.drew(behind->mesh()));
+}
+
+// A generated occluder's conditions (Occluder::eyeOutside, shownWith, oneSided), checked by the pass each frame.
+namespace {
+// The wall at y = 20..21 as geometry, with a generated-style box occluder beside it.
+ref_ptr<Occluder> boxOccluder(const Box& b) {
+    auto o = make<Occluder>();
+    o->setBox(b);
+    o->setGenerated(true);
+    return o;
+}
+const Box kWall{dvec3(-10, 20, -10), dvec3(10, 21, 10)};
+}  // namespace
+
+TEST(OcclusionCull, AnEyeInsideTheOccludersEyeOutsideBoxIsNotServed) {
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(makeBoxMesh(kWall.min, kWall.max), make<Material>()));
+    auto o = boxOccluder(kWall);
+    root->addChild(o);
+    auto behind = boxGeom(dvec3(-1, 40, -1), dvec3(1, 42, 1));
+    root->addChild(behind);
+    Scene s(root);
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // The eye (the origin) inside the box the occluder must be seen from outside of: not used.
+    o->setEyeOutside(Box{dvec3(-1, -1, -1), dvec3(1, 30, 1)});
+    s.update();
+    Culled r = cull(s, testutil::lookingAlongY());
+    EXPECT_TRUE(r.drew(behind->mesh()));
+    EXPECT_EQ(r.stats.occluderCandidates, 0u);
+    // A box that ends 0.2 short of the eye: the near plane (0.5 here) could clip the surface in it, so still not used.
+    o->setEyeOutside(Box{dvec3(-1, 0.2, -1), dvec3(1, 30, 1)});
+    s.update();
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // Well clear of the eye: used.
+    o->setEyeOutside(Box{dvec3(-10, 15, -10), dvec3(10, 30, 10)});
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+}
+
+TEST(OcclusionCull, AnOccluderShownWithAnLodIsUsedWhileTheLodShowsALevel) {
+    // The LOD shows the wall up to 60 (eye at the origin, centre at y = 20.5): used; beyond its last range the LOD
+    // shows nothing and the occluder must not hide what is behind.
+    auto root = make<Group>();
+    auto lod = make<LOD>();
+    lod->addChild(make<Geometry>(makeBoxMesh(kWall.min, kWall.max), make<Material>()), 0.0f, 60.0f);
+    root->addChild(lod);
+    auto o = boxOccluder(kWall);
+    o->setShownWith(lod.get());
+    root->addChild(o);
+    auto behind = boxGeom(dvec3(-1, 40, -1), dvec3(1, 42, 1));
+    root->addChild(behind);
+    Scene s(root);
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    lod->setRange(0, 0.0f, 15.0f);  // the wall is past its range: not drawn
+    s.update();
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // A fade band about the end of the range: dissolving to nothing from 19 (the value is 20.5, the wall's centre).
+    lod->setRange(0, 0.0f, 23.0f);
+    lod->setTransition(8.0f);
+    s.update();
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    lod->setTransition(0.0f);
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // Not right after its LOD (a Geometry between): never used.
+    root->insertChild(1, boxGeom(dvec3(100, 100, 100), dvec3(101, 101, 101)));
+    s.update();
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+}
+
+TEST(OcclusionCull, AOneSidedPolygonHidesOnlyFromItsFront) {
+    auto root = make<Group>();
+    auto o = make<Occluder>();
+    // Counter-clockwise seen from -y (the eye's side): its front faces the eye.
+    o->setPolygon({dvec3(-10, 20, -10), dvec3(10, 20, -10), dvec3(10, 20, 10), dvec3(-10, 20, 10)});
+    o->setGenerated(true);
+    o->setOneSided(true);
+    root->addChild(o);
+    auto behind = boxGeom(dvec3(-1, 40, -1), dvec3(1, 42, 1));
+    root->addChild(behind);
+    Scene s(root);
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    o->setPolygon({dvec3(-10, 20, 10), dvec3(10, 20, 10), dvec3(10, 20, -10), dvec3(-10, 20, -10)});  // turned round
+    s.update();
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
 }
