@@ -233,6 +233,9 @@ bool OcclusionPass::treeLeavesOccludersVisible(const FlatImage& img, const dvec3
     // the map would add. Fewer than 8: nothing much to add.
     const size_t n = treeKept_ > treeStop_ ? treeKept_ - treeStop_ : 0;
     if (n < 8) return false;
+    // The nearest of those the tree did not take (it takes them near and large first): the map would add them.
+    std::nth_element(cands_.begin() + ptrdiff_t(treeStop_), cands_.begin() + ptrdiff_t(treeKept_), cands_.end(),
+                     ByDist());
     size_t visible = 0;
     for (size_t k = treeStop_; k < treeKept_; ++k) {
         const uint32_t e = img.occluders[cands_[k].index].entry;
