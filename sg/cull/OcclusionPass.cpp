@@ -24,8 +24,12 @@ bool conditionsHold(const FlatImage& img, const FlatImage::OccluderRef& o, const
     const auto* node = static_cast<const Occluder*>(o.node);
     const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
     const dvec3 eye = cam.eye();
-    for (uint32_t k = 0; k < o.switchCount; ++k)
-        if (!img.switchOn[img.occluderSwitchBits[o.switchFirst + k]]) return false;
+    for (uint32_t k = 0; k < o.switchCount; ++k) {
+        const uint32_t c = img.occluderSwitchBits[o.switchFirst + k];
+        if (c & FlatImage::kMaskCondition ? !(img.maskOf(c & ~FlatImage::kMaskCondition) & set.traversalMask)
+                                          : !img.switchOn[c])
+            return false;
+    }
     if (!node->eyeOutside().empty()) {
         // Outside the box's world bound is outside the box. And the surface a sight line crosses before the
         // occluder lies in that box: grown by the reach of the near plane's corners, no such crossing is clipped.

@@ -122,8 +122,8 @@ struct FlatImage {
 
     // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Its shape is read from the node
     // (Occluder::box(), polygon()): set when the graph is built, not per frame. Only occluders that are
-    // drawn whatever the frame, or while the Switch children on their path are on, are active: not below an LOD,
-    // Billboard or a masked node, not masked themselves, not inside an Instance's prototype.
+    // drawn whatever the frame, or while the Switch children and masked nodes on their path let them be drawn, are
+    // active: not below an LOD, PagedLOD or Billboard, not masked themselves, not inside an Instance's prototype.
     struct OccluderRef {
         const Node* node;  // an Occluder
         uint32_t entry;
@@ -134,14 +134,15 @@ struct FlatImage {
         // frame. `lod`: the entry of the LOD it is shown with (kNone: none; with shownWith set, it is not used).
         bool conditional = false;
         uint32_t lod = ~0u;
-        // The Switch children on its path (their bytes in switchOn, listed in occluderSwitchBits from switchFirst):
-        // it is used while every one is on.
+        // What its path needs to be drawn (listed in occluderSwitchBits from switchFirst): each Switch child's byte in
+        // switchOn on, each masked node's entry (kMaskCondition set) seen by the traversal mask.
         uint32_t switchFirst = 0, switchCount = 0;
     };
     static constexpr uint32_t kOccluderChunk = 32;
     std::vector<OccluderRef> occluders;
     std::vector<dmat4> occluderMatrices;
     std::vector<uint32_t> occluderSwitchBits;
+    static constexpr uint32_t kMaskCondition = 0x80000000u;
     std::vector<Box> occluderChunks;  // world box of each run of kOccluderChunk active occluders
 
     size_t size() const { return end.size(); }

@@ -655,8 +655,7 @@ struct Generator {
 
     static bool hidesWholeSubtree(const Node& n) {
         const NodeKind k = n.kind();
-        return n.nodeMask() != 0xffffffffu || k == NodeKind::Billboard || k == NodeKind::Instance ||
-               k == NodeKind::PagedLOD;
+        return k == NodeKind::Billboard || k == NodeKind::Instance || k == NodeKind::PagedLOD;
     }
 
     void visit(Node& n) {

@@ -50,18 +50,18 @@ struct OccluderGenStats {
     uint64_t boxes = 0, polygons = 0;  // Occluder nodes added
     uint64_t lods = 0;              // of those, standing for an LOD (used while it shows a level)
     uint64_t minor = 0;             // left out as minor (OccluderGenSettings::minMajorShare)
-    uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, under a Billboard,
-                                    // Instance prototype or masked node, a Switch's own child, or beside an
+    uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, masked themselves,
+                                    // under a Billboard or Instance prototype, a Switch's own child, or beside an
                                     // authored occluder
     double ms = 0.0;                // wall time
 };
 
 // Adds Occluder nodes for the geometry below `root`: beside each opaque Geometry (in its parent Group or Transform, in
 // its frame) its mesh's shapes; beside an LOD the boxes inside every one of its levels (an LOD whose levels are all
-// closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Below a Switch they are used while
-// its children on their path are on (the image's switch bits); a Switch's own Geometry children get none (an
-// occluder among its children would shift them). Geometry under a Billboard, a masked node or an Instance's prototype
-// gets none (the pass would not use them); a parent that already has an Occluder child keeps its authored ones and
+// closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Below a Switch or a masked node
+// they are used while the Switch shows them and the traversal mask sees the node (the image's copies of both); a
+// Switch's own Geometry children get none (an occluder among its children would shift them). Geometry masked
+// itself, under a Billboard or an Instance's prototype gets none (the pass would not use them); a parent that already has an Occluder child keeps its authored ones and
 // gets no generated ones; only major occluders are kept (OccluderGenSettings::minMajorShare). Meshes shared by many
 // Geometry nodes are analysed once. Running it again first removes the occluders it added before.
 OccluderGenStats generateOccluders(Node& root, const OccluderGenSettings& s = {});

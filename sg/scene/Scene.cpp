@@ -37,10 +37,28 @@ struct Scene::Builder {
     // write(): the child written before the current one, and its entry (Occluder::shownWith).
     const Node* prevSibling = nullptr;
     uint32_t prevSiblingEntry = ~0u;
-    // The Switch children on the path being written (their bytes in switchOn): an occluder below is used while they
-    // are on. Only unmasked Switches: a masked one leaves what is below it inactive (counted in `conditional`).
-    std::vector<uint32_t> switchPath;
-    static bool pathSwitch(const Node* n) { return n->kind() == NodeKind::Switch && n->nodeMask() == 0xffffffffu; }
+    // What an occluder below the path being written needs to be drawn, for the pass to check per frame: the Switch
+    // children on it (their bytes in switchOn) on, and the masked nodes on it (their entries, kMaskCondition set)
+    // seen by the traversal mask. `described` counts the conditional nodes so described: an occluder below an LOD,
+    // PagedLOD or Billboard (`conditional` counts those too) is not used.
+    std::vector<uint32_t> pathConds;
+    int described = 0;
+    // Pushes the conditions of going from n (entry i) to its child k; returns how many it pushed.
+    int enter(uint32_t i, const Node* n, size_t k) {
+        const NodeKind kind = n->kind();
+        if (kind == NodeKind::LOD || kind == NodeKind::PagedLOD || kind == NodeKind::Billboard) return 0;
+        int pushed = 0;
+        if (kind == NodeKind::Switch) pathConds.push_back(img.aux[i] + uint32_t(k)), pushed++;
+        if (n->nodeMask() != 0xffffffffu) pathConds.push_back(FlatImage::kMaskCondition | i), pushed++;
+        described += isConditional(n);
+        return pushed;
+    }
+    void leave(const Node* n, int pushed) {
+        const NodeKind kind = n->kind();
+        if (kind == NodeKind::LOD || kind == NodeKind::PagedLOD || kind == NodeKind::Billboard) return;
+        pathConds.resize(pathConds.size() - size_t(pushed));
+        described -= isConditional(n);
+    }
 
     static bool isConditional(const Node* n) {
         const NodeKind k = n->kind();
@@ -491,9 +509,9 @@ struct Scene::Builder {
                 before = n->child(k);
                 beforeEntry = cursor;
             }
-            if (pathSwitch(n)) switchPath.push_back(img.aux[i] + uint32_t(k));
+            const int pushed = enter(i, n, k);
             write(n->child(k), cm);
-            if (pathSwitch(n)) switchPath.pop_back();
+            leave(n, pushed);
         }
         conditional -= cond;
         img.end[i] = cursor;
@@ -508,15 +526,19 @@ struct Scene::Builder {
     // The occluder's frame, and whether the occlusion pass may use it.
     void occluder(uint32_t i, const Node* n, const dmat4& m) {
         FlatImage::OccluderRef ref{n, i, ~0u, dvec3(m[3]),
-                                   !prototype && conditional == int(switchPath.size()) && n->nodeMask() == 0xffffffffu};
+                                   !prototype && conditional == described && n->nodeMask() == 0xffffffffu};
         const auto* oc = static_cast<const Occluder*>(n);
-        if (fresh) {
+        // A refit keeps the list it had when the path's conditions are the same (a node masked since makes them
+        // differ: the new list is appended, and the old one left until the next full build).
+        const FlatImage::OccluderRef* had = fresh ? nullptr : &img.occluders[img.aux[i]];
+        if (had && had->switchCount == pathConds.size() &&
+            std::equal(pathConds.begin(), pathConds.end(), img.occluderSwitchBits.begin() + had->switchFirst)) {
+            ref.switchFirst = had->switchFirst;
+            ref.switchCount = had->switchCount;
+        } else {
             ref.switchFirst = uint32_t(img.occluderSwitchBits.size());
-            ref.switchCount = uint32_t(switchPath.size());
-            img.occluderSwitchBits.insert(img.occluderSwitchBits.end(), switchPath.begin(), switchPath.end());
-        } else {  // the structure is unchanged in a refit: the path is the one written in the full build
-            ref.switchFirst = img.occluders[img.aux[i]].switchFirst;
-            ref.switchCount = img.occluders[img.aux[i]].switchCount;
+            ref.switchCount = uint32_t(pathConds.size());
+            img.occluderSwitchBits.insert(img.occluderSwitchBits.end(), pathConds.begin(), pathConds.end());
         }
         ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith() || ref.switchCount;
         if (oc->shownWith()) {
@@ -585,9 +607,9 @@ struct Scene::Builder {
             Node* ch = n->child(k);
             if (ch == skip) continue;
             if (ch->dirtyBits()) {
-                if (pathSwitch(n)) switchPath.push_back(img.aux[i] + uint32_t(k));
+                const int pushed = enter(i, n, k);
                 refit(j, ch, cm);
-                if (pathSwitch(n)) switchPath.pop_back();
+                leave(n, pushed);
             }
             j = img.end[j];
         }

@@ -119,7 +119,7 @@ TEST(OcclusionCull, NoOccludersNoPass) {
     EXPECT_EQ(r2.stats.occlusionTests, 0u);
 }
 
-TEST(OcclusionCull, OccludersThatMayNotBeDrawnAreNotUsed) {
+TEST(OcclusionCull, OccludersAreUsedWhileWhatIsAboveThemIsDrawn) {
     // Below a Switch: used while the Switch shows it (the image's copy of its bits), not once it is turned off.
     auto root = make<Group>();
     auto sw = make<Switch>();
@@ -138,19 +138,31 @@ TEST(OcclusionCull, OccludersThatMayNotBeDrawnAreNotUsed) {
     sw->setAll(true);
     s.update();
     EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
-    // Masked: whether it is drawn depends on the traversal mask, so not used.
     // Moved out of the Switch: used.
     auto w = ref_ptr<Node>(sw->child(0));
     sw->removeChild(size_t(0));
     root->addChild(w);
     s.update();
     EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
-    // Masked: not used.
+    // Below a masked node: used while the traversal mask sees the node (the wall is drawn then), not otherwise.
     w->setNodeMask(0x1);
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY(500.0)).drew(behind->mesh()));
+    CullSettings set;
+    set.occlusion.mode = OcclusionMode::EveryFrame;
+    set.occlusion.method = OcclusionMethod::Tree;
+    set.traversalMask = 0x2;
+    CullTraversal t;
+    r = Culled{};
+    t.cull(s, testutil::lookingAlongY(500.0), set, r.list, r.stats);
+    EXPECT_TRUE(r.drew(behind->mesh()));
+    EXPECT_EQ(r.stats.occluderCandidates, 0u);
+    // Masked itself: not used (its own mask is not among the conditions an occluder carries).
+    w->setNodeMask(0xffffffffu);
+    w->child(1)->setNodeMask(0x1);
     s.update();
     r = cull(s, testutil::lookingAlongY(500.0));
     EXPECT_TRUE(r.drew(behind->mesh()));
-    EXPECT_EQ(r.stats.occluderCandidates, 0u);
 }
 
 TEST(OcclusionCull, MovedOccluderIsFollowedByTheRefit) {

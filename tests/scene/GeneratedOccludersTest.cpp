@@ -920,12 +920,19 @@ TEST(GeneratedOccluders, GeometryThePassWouldNotUseGetsNone) {
     }
     {
         auto root = make<Group>();
+        // A masked Geometry gets none (the occluder beside it would not carry its mask); below a masked Group, the
+        // occluder carries the Group's mask as the pass's condition, so it is made.
         auto masked = make<Group>();
         masked->setNodeMask(0x1);
-        masked->addChild(geometryOf(unitBoxMesh()));
+        auto g = geometryOf(unitBoxMesh());
+        g->setNodeMask(0x1);
+        masked->addChild(g);
         root->addChild(masked);
         generateOccluders(*root);
-        EXPECT_TRUE(occludersUnder(root.get()).empty()) << "under a masked node";
+        EXPECT_TRUE(occludersUnder(root.get()).empty()) << "a masked Geometry";
+        g->setNodeMask(0xffffffffu);
+        generateOccluders(*root);
+        EXPECT_EQ(occludersUnder(root.get()).size(), 1u) << "below a masked Group";
     }
     {
         auto root = make<Group>();
