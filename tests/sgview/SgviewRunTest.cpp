@@ -167,6 +167,21 @@ TEST(SgviewRun, InfoCountsTheCity) {
     EXPECT_NE(office.out.find("Occluder"), std::string::npos);
 }
 
+// --auto-occluders: a box inside each building (the cars are minor beside the towers), said among the warnings; the
+// picture from a street, where they cull, is the one drawn without them.
+TEST(SgviewRun, AutoOccludersMakesABoxPerBuildingAndChangesNoPixel) {
+    const Result r = runSgview("--scene city --n 8 --info --auto-occluders");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("  Occluder   64"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("--auto-occluders: 64 boxes and 0 polygons for 64 geometries"), std::string::npos) << r.out;
+    const std::string street = " --headless --size 320x180 --camera 80,0.5,1.7,80,100,1.7,0,0,1";
+    ASSERT_EQ(runSgview("--scene city --n 8 --out plain.png" + street).code, 0);
+    ASSERT_EQ(runSgview("--scene city --n 8 --auto-occluders --out auto.png" + street).code, 0);
+    const Image plain = loadPng((scratch() / "plain.png").string()), made = loadPng((scratch() / "auto.png").string());
+    EXPECT_GT(nonBackground(plain), size_t(320 * 180 / 4));
+    EXPECT_EQ(countDifferingPixels(plain, made), 0u);
+}
+
 TEST(SgviewRun, BadInputExitsWithTwoAndSaysWhy) {
     const std::pair<std::string, std::string> cases[] = {
         {"--scene city --bogus", "unknown option '--bogus'"},
