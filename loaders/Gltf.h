@@ -1,10 +1,10 @@
 // glTF 2.0 in and out (.gltf with external or embedded buffers, .glb), through tinygltf, with the
 // validation tinygltf does not do. sgkit's own node kinds travel in glTF `extras`.
 #pragma once
-#include "sg/scene/GeneratedOccluders.h"
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
+#include "sg/scene/GeneratedOccluders.h"
 
 #include <functional>
 #include <map>

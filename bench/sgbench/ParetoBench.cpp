@@ -4,8 +4,8 @@
 // each scene's Pareto front.
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
-#include "sg/scene/GeneratedOccluders.h"
 #include "sg/gl/Renderer.h"
+#include "sg/scene/GeneratedOccluders.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"

@@ -26,7 +26,7 @@ struct Options {
     std::string scene;  // "city" or "office" or "factory" (testbed/, docs/scenes.md) when no files are given
     int n = 0;          // city: N x N cells (default 32); office: R x R rooms (default 6)
     bool headless = false, info = false, overlay = false, help = false;
-    bool refineAll = false;  // a tileset: every tile loaded and shown refined
+    bool refineAll = false;      // a tileset: every tile loaded and shown refined
     bool autoOccluders = false;  // occluders made from the geometry (sg::generateOccluders) for the occlusion pass
     int frames = 0;   // headless: frames rendered (default 1); window: quit after this many (0: run until closed)
     std::string out;  // headless: the picture (default sgview.png); window with --frames: frame K, written at exit

@@ -121,7 +121,8 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         for (int a = 0; a < 3; ++a) {
             if (2.0 * h[a] > 0.1 * sExt[a]) continue;
             const double tol = 1e-3 * sExt[a];
-            if ((c[a] + h[a] < 0.0 && c[a] - h[a] <= sLo[a] + tol) || (c[a] - h[a] > 0.0 && c[a] + h[a] >= sHi[a] - tol))
+            if ((c[a] + h[a] < 0.0 && c[a] - h[a] <= sLo[a] + tol) ||
+                (c[a] - h[a] > 0.0 && c[a] + h[a] >= sHi[a] - tol))
                 return true;
         }
         return false;
@@ -205,7 +206,8 @@ uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const
     // take a wall's place (docs/benchmarks.md, "Generated occluders": nearest first, and the size on screen alone, did
     // that with occluders made from every mesh).
     for (Candidate& c : cands_)
-        c.order = std::max(c.dist, cam.nearDistance()) / std::max(sq(double(img.r[img.occluders[c.index].entry])), 1e-300);
+        c.order =
+            std::max(c.dist, cam.nearDistance()) / std::max(sq(double(img.r[img.occluders[c.index].entry])), 1e-300);
     const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders) * 4);
     std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByOrder());
     std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByOrder());

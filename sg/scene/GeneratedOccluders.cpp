@@ -418,7 +418,8 @@ void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders&
         };
         auto area = [&](const std::vector<uint32_t>& loop) {
             dvec3 nn(0.0);
-            for (size_t i = 0; i < loop.size(); ++i) nn += glm::cross(vp[loop[i]] - o, vp[loop[(i + 1) % loop.size()]] - o);
+            for (size_t i = 0; i < loop.size(); ++i)
+                nn += glm::cross(vp[loop[i]] - o, vp[loop[(i + 1) % loop.size()]] - o);
             return 0.5 * glm::dot(nn, p.n);
         };
         for (bool grew = true; grew;) {
@@ -666,8 +667,7 @@ struct Generator {
         if (n.kind() == NodeKind::LOD) return;  // its levels are handled beside it, by its parent
         const bool canHold = n.kind() == NodeKind::Group || n.kind() == NodeKind::Transform;
         bool authored = false;
-        for (size_t c = 0; c < n.numChildren(); ++c)
-            authored = authored || n.child(c)->kind() == NodeKind::Occluder;
+        for (size_t c = 0; c < n.numChildren(); ++c) authored = authored || n.child(c)->kind() == NodeKind::Occluder;
         // (position, occluder): inserted after the walk of the children, from the back.
         std::vector<std::pair<size_t, ref_ptr<Occluder>>> inserts;
         for (size_t c = 0; c < n.numChildren(); ++c) {

@@ -31,8 +31,8 @@ struct OccluderGenSettings {
 
 // A mesh's occluders, in its frame.
 struct MeshOccluders {
-    bool closed = false;      // Mesh::closed(): the boxes are inside its solid; otherwise polygons on its faces
-    std::vector<Box> boxes;   // inside the solid: every point of a box has winding number 1 or more
+    bool closed = false;     // Mesh::closed(): the boxes are inside its solid; otherwise polygons on its faces
+    std::vector<Box> boxes;  // inside the solid: every point of a box has winding number 1 or more
     std::vector<std::vector<dvec3>> polygons;  // convex, on the union of its triangles, counter-clockwise seen
                                                // from the side the triangles face
     uint64_t voxelsInside = 0;                 // closed meshes: grid cells found wholly inside the solid
@@ -43,17 +43,17 @@ struct MeshOccluders {
 MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s = {});
 
 struct OccluderGenStats {
-    uint64_t geometries = 0;        // Geometry nodes (an LOD counted once) that got occluders, after the major filter
-    uint64_t meshes = 0;            // distinct meshes analysed
-    uint64_t meshTriangles = 0;     // their triangles
-    uint64_t sceneTriangles = 0;    // triangles of every Geometry visited (a shared mesh counted at each use)
+    uint64_t geometries = 0;      // Geometry nodes (an LOD counted once) that got occluders, after the major filter
+    uint64_t meshes = 0;          // distinct meshes analysed
+    uint64_t meshTriangles = 0;   // their triangles
+    uint64_t sceneTriangles = 0;  // triangles of every Geometry visited (a shared mesh counted at each use)
     uint64_t boxes = 0, polygons = 0;  // Occluder nodes added
-    uint64_t lods = 0;              // of those, standing for an LOD (used while it shows a level)
-    uint64_t minor = 0;             // left out as minor (OccluderGenSettings::minMajorShare)
-    uint64_t skipped = 0;           // Geometry nodes left without: blended or alpha-masked, masked themselves,
-                                    // under a Billboard or Instance prototype, a Switch's own child, or beside an
-                                    // authored occluder
-    double ms = 0.0;                // wall time
+    uint64_t lods = 0;                 // of those, standing for an LOD (used while it shows a level)
+    uint64_t minor = 0;                // left out as minor (OccluderGenSettings::minMajorShare)
+    uint64_t skipped = 0;              // Geometry nodes left without: blended or alpha-masked, masked themselves,
+                                       // under a Billboard or Instance prototype, a Switch's own child, or beside an
+                                       // authored occluder
+    double ms = 0.0;                   // wall time
 };
 
 // Adds Occluder nodes for the geometry below `root`: beside each opaque Geometry (in its parent Group or Transform, in
@@ -61,9 +61,10 @@ struct OccluderGenStats {
 // closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Below a Switch or a masked node
 // they are used while the Switch shows them and the traversal mask sees the node (the image's copies of both); a
 // Switch's own Geometry children get none (an occluder among its children would shift them). Geometry masked
-// itself, under a Billboard or an Instance's prototype gets none (the pass would not use them); a parent that already has an Occluder child keeps its authored ones and
-// gets no generated ones; only major occluders are kept (OccluderGenSettings::minMajorShare). Meshes shared by many
-// Geometry nodes are analysed once. Running it again first removes the occluders it added before.
+// itself, under a Billboard or an Instance's prototype gets none (the pass would not use them); a parent that already
+// has an Occluder child keeps its authored ones and gets no generated ones; only major occluders are kept
+// (OccluderGenSettings::minMajorShare). Meshes shared by many Geometry nodes are analysed once. Running it again first
+// removes the occluders it added before.
 OccluderGenStats generateOccluders(Node& root, const OccluderGenSettings& s = {});
 
 // Removes the Occluder nodes below `root` (generated ones only when `generatedOnly`); returns how many.
