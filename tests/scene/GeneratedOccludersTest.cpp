@@ -827,9 +827,10 @@ TEST(GeneratedOccluders, NonFiniteOrEmptyMeshesGiveNothing) {
         MeshOccluders occ = meshOccluders(*quad);
         EXPECT_TRUE(occ.polygons.empty() && occ.boxes.empty());
         std::vector<dvec3> pos;
-        for (const vec3& p : makeBoxMesh(dvec3(-1), dvec3(1))->positions()) pos.push_back(dvec3(p));
+        const ref_ptr<Mesh> box = makeBoxMesh(dvec3(-1), dvec3(1));  // held: the loop reads its positions
+        for (const vec3& p : box->positions()) pos.push_back(dvec3(p));
         pos[5].y = bad;
-        occ = meshOccluders(*meshOf(pos, indicesOf(*makeBoxMesh(dvec3(-1), dvec3(1)))));
+        occ = meshOccluders(*meshOf(pos, indicesOf(*box)));
         EXPECT_TRUE(occ.polygons.empty() && occ.boxes.empty());
     }
     const MeshOccluders occ = meshOccluders(*make<Mesh>());
