@@ -17,6 +17,7 @@
 #include <fstream>
 #include <memory>
 #include <stdexcept>
+#include <string>
 
 namespace bench {
 
@@ -117,6 +118,7 @@ int runTiles(const Args& a) {
     vs.keepFreedMemory = a.num("keep-freed-memory", 1) != 0;
     sg::Viewer viewer(scene, vs);
     sg::View& view = viewer.addView();
+    view.prefetchSeconds = std::stod(a.str("prefetch", "0"));  // look-ahead, seconds (0: off)
     sg::PagerSettings ps;
     ps.loaderThreads = size_t(a.num("loaders", long(ps.loaderThreads)));
     ps.loaderNice = int(a.num("loader-nice", ps.loaderNice));
@@ -144,12 +146,14 @@ int runTiles(const Args& a) {
     double maxRss = 0.0;
     long settled = 0, settledDiffering = 0, loadingFrames = 0, loadingDiffering = 0;
     double loadingPixels = 0.0;
+    long prefetchRequests = 0;
     t0 = Clock::now();
     for (int f = 0; f < frames; ++f) {
         view.camera = flightCamera(path, n, double(f) / frames, w, h);
         viewer.frame();
         const double ms = viewer.lastFrame().workMs;
         stages.push_back(viewer.lastFrame());
+        prefetchRequests += long(view.prefetchStats().pagedRequested);
         const sg::PagerStats& st = pager.stats();
         const bool busy = st.queued > 0 || st.loading > 0 || st.pending > 0;
         const bool done = !busy && view.cullStats().pagedRequested == 0 && view.cullStats().pagedCoarse == 0;
@@ -182,7 +186,8 @@ int runTiles(const Args& a) {
 
     Json j;
     j.add("command", "tiles").add("tileset", file).add("path", path).addInt("n", n).addInt("frames", frames);
-    j.add("open_ms", openMs).add("seconds", seconds);
+    j.add("open_ms", openMs).add("seconds", seconds).add("prefetch_s", view.prefetchSeconds);
+    j.addInt("prefetch_requests", prefetchRequests);
     j.add("frame_ms_median", median(all))
         .add("frame_ms_p99", percentile(all, 0.99))
         .add("frame_ms_max", percentile(all, 1.0));

@@ -138,6 +138,10 @@ struct LodBudgetSettings {
     void validate(const char* caller) const;
 };
 
+// How far a look-ahead cull's requests rank below a drawing cull's (CullSettings::prefetchOnly): a drawing cull's
+// priorities lie in (-depth, 1] (CullTraversal::pagedPriority), depth below this.
+constexpr float kPrefetchPriorityDrop = 256.0f;
+
 // CullSettings::MeasureOnly::frustumPlanes without the near, top and bottom planes.
 constexpr uint32_t kTerrainPaperPlanes = 0x23;
 
@@ -156,6 +160,11 @@ struct CullSettings {
     // (sg::DeferredRelease). Off: a scene changed since its update() is refused.
     bool imageOfLastUpdate = false;
     bool sort = true;  // sort the draw list by state, then front to back
+    // A cull that only looks ahead for the pager (View::prefetchSeconds): nothing is drawn (the draw list stays
+    // empty), and each paged detail this camera would want is marked needed and asked for below every request a
+    // drawing cull makes (its priority lowered by kPrefetchPriorityDrop), so that what a view will soon need loads
+    // in the time the loaders have left, and stays while it is still predicted.
+    bool prefetchOnly = false;
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
     // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
     // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs

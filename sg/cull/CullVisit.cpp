@@ -178,7 +178,7 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
     if (wanted && node->trigger() == PagedLOD::Trigger::Range) {
         stats_->pagedWanted++;
         if (node->markNeeded(scene_->updateCount())) {
-            const float priority = pagedPriority(c, i);
+            const float priority = pagedPriority(c, i) - (set_->prefetchOnly ? kPrefetchPriorityDrop : 0.0f);
             node->setNeedPriority(priority);  // a request queued already takes it at the pager's update
             const PagedLOD::State st = node->state();
             // A failed node is asked for again once its back-off has passed (the pager sets retryTime()).

@@ -6,6 +6,7 @@
 #include "sg/gl/Renderer.h"
 #include "sg/lod/DrawCostModel.h"
 #include "sg/lod/LodStress.h"
+#include "sg/paging/CameraMotion.h"
 
 #include <string>
 
@@ -35,10 +36,18 @@ public:
     Renderer::Viewport viewport{};
     vec4 clearColor = Renderer::kClearColor;
     bool enabled = true;  // a disabled view is neither culled nor drawn, and its policies learn nothing
+    // Paging ahead, when the viewer has a pager: the camera carried this many seconds ahead by its motion over the
+    // last frames (sg::CameraMotion) is culled as well, after the view's own cull, and the paged details it would
+    // want are asked for below everything the view itself needs (CullSettings::prefetchOnly), so that the detail
+    // ahead of a moving camera is loading before it shows. Not while the pager is over its byte budget. 0: off.
+    double prefetchSeconds = 0.0;
 
     // Its last frame.
     const DrawList& drawList() const { return list_; }
     const CullStats& cullStats() const { return stats_; }
+    // The last frame's look-ahead cull (prefetchSeconds): its requests are pagedRequested; all zero when none ran.
+    const CullStats& prefetchStats() const { return prefetchStats_; }
+    const CameraMotion& motion() const { return motion_; }
     const RenderStats& renderStats() const { return render_; }
     double cullMs() const { return cullMs_; }
     double drawMs() const { return drawMs_; }  // submitted and, when timed, finished
@@ -63,6 +72,10 @@ private:
     CullTraversal traversal_;
     DrawList list_;
     CullStats stats_;
+    CameraMotion motion_;     // observed at each frame's cull setup
+    CullTraversal prefetch_;  // the look-ahead cull's (its state is not the view's)
+    DrawList prefetchList_;   // stays empty
+    CullStats prefetchStats_;
     RenderStats render_;
     double cullMs_ = 0.0, drawMs_ = 0.0, gpuMs_ = -1.0;
     DrawCostModel model_;

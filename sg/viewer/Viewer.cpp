@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -72,6 +73,10 @@ struct Viewer::Packet {
         bool finished = false;  // finished after its draw (timed)
         DrawList list;
         CullStats stats;
+        // The look-ahead cull, when View::prefetchSeconds asks for one and the camera moves.
+        std::optional<Camera> ahead;
+        CullSettings aheadSettings;
+        CullStats aheadStats;
         RenderStats render;
         double cullMs = 0.0, drawMs = 0.0, gpuMs = -1.0;
     };
@@ -347,6 +352,7 @@ void Viewer::cullSetup(Packet& p) {
         vf.viewport = v->viewport;
         vf.clear = v->clearColor;
         vf.finished = v->lod != LodPolicy::Static || settings_.finish;
+        lookAhead(p, p.viewCount - 1);
     }
     p.upload = std::move(uploadAsked_);
     uploadAsked_.clear();
@@ -359,6 +365,29 @@ void Viewer::cullSetup(Packet& p) {
     p.overlay = overlay ? statsText() : std::string();
 }
 
+// The view's camera observed, and carried ahead for the look-ahead cull when the view asks for one, the viewer has a
+// pager with room in its byte budget, and the camera moves. That cull draws nothing and tests only frustum and LOD:
+// no occlusion (an occluder may have moved out of the way by then), no PVS, no budget or hysteresis (the plain
+// ranges say what will be wanted there), no screen rectangles.
+void Viewer::lookAhead(Packet& p, size_t k) {
+    Packet::ViewFrame& vf = p.views[k];
+    View& v = *vf.view;
+    v.motion_.observe(vf.camera, p.info.time);
+    vf.ahead.reset();
+    if (!(v.prefetchSeconds > 0.0) || !pager_ || pager_->stats().overBudget) return;
+    vf.ahead = v.motion_.predict(vf.camera, v.prefetchSeconds);
+    if (!vf.ahead) return;
+    CullSettings& s = vf.aheadSettings;
+    s = vf.settings;
+    s.prefetchOnly = true;
+    s.sort = false;
+    s.occlusion.mode = OcclusionMode::Off;
+    s.pvs = nullptr;
+    s.lodBudget.enabled = false;
+    s.lodHysteresis = 0.0;
+    s.screenRect = false;
+}
+
 void Viewer::cullViews(Packet& p, bool parallel) {
     const auto start = Clock::now();
     std::atomic<bool> ok{true};
@@ -367,6 +396,9 @@ void Viewer::cullViews(Packet& p, bool parallel) {
         const auto at = Clock::now();
         try {
             vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
+            vf.aheadStats = CullStats{};
+            if (vf.ahead)
+                vf.view->prefetch_.cull(*scene_, *vf.ahead, vf.aheadSettings, vf.view->prefetchList_, vf.aheadStats);
         } catch (...) {
             fail("cull", p.info.frame);
             ok = false;
@@ -504,6 +536,7 @@ void Viewer::retire(std::unique_ptr<Packet> p) {
         View& v = *vf.view;
         std::swap(v.list_, vf.list);
         v.stats_ = vf.stats;
+        v.prefetchStats_ = vf.aheadStats;
         v.render_ = vf.render;
         v.cullMs_ = vf.cullMs;
         v.drawMs_ = vf.drawMs;

@@ -163,7 +163,8 @@ private:
     void updateStage(Packet& p);
     void cullSetup(Packet& p);
     void cullViews(Packet& p, bool parallel);
-    void drawPacket(Packet& p);  // on the thread that holds the context
+    void lookAhead(Packet& p, size_t k);  // view k's camera observed, and carried ahead
+    void drawPacket(Packet& p);           // on the thread that holds the context
     void startDraw(std::unique_ptr<Packet> p);
     void waitDraw();  // the draw in hand done and retired
     void waitCull();  // the cull in hand (AppCullDraw) done and handed to the draw

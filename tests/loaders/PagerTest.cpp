@@ -513,6 +513,49 @@ TEST(Pager, RequestsAreLoadedMostNeededFirstAndCommandsBeforeThem) {
     EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "command.glb", "near.glb", "mid.glb", "far.glb"}));
 }
 
+// A look-ahead cull (CullSettings::prefetchOnly) from an eye 40 m further on: it draws nothing, and asks for the
+// tile only it wants (80 m ahead of the view, wanted within 50 m) below the tile the view itself wants, even a
+// hardly needed one at its range's edge: the loader takes the view's first.
+TEST(Pager, ALookAheadCullDrawsNothingAndAsksBelowEveryRequestOfTheView) {
+    auto root = make<Group>();
+    auto ahead = addTile(*root, dvec3(0, 80, 0), "ahead.glb");
+    auto edge = addTile(*root, dvec3(0, 49, 0), "edge.glb");
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    root->addChild(block);
+    Scene scene(root);
+    Recorder rec;
+    Pager pager(
+        scene, [&](const std::string& f) { return rec(f); }, oneLoader());
+    Frames f(scene, pager);
+    pager.load(*block);
+    rec.started.wait();
+    CullTraversal lookAhead;
+    Camera further = f.cam;
+    further.setLookAt(dvec3(0, 40, 0), dvec3(0, 41, 0), dvec3(0, 0, 1));
+    CullSettings set;
+    set.prefetchOnly = true;
+    for (int k = 0; k < 2; ++k) {  // posted, then queued
+        f.run();
+        DrawList list;
+        CullStats stats;
+        lookAhead.cull(scene, further, set, list, stats);
+        EXPECT_TRUE(list.items.empty());
+        EXPECT_EQ(stats.pagedWanted, 2u);  // both, from 40 m on: the edge tile too, asked for by the view already
+        EXPECT_EQ(stats.pagedRequested, k == 0 ? 1u : 0u);
+    }
+    EXPECT_EQ(f.stats.pagedWanted, 1u);  // the view wants the edge tile only
+    EXPECT_LT(ahead->needPriority(), -kPrefetchPriorityDrop + 1.0f);
+    EXPECT_GT(edge->needPriority(), -1.0f);  // the view's, not lowered by the look-ahead's later mark
+    EXPECT_EQ(pager.stats().queued, 2u);
+    rec.gate.release();
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "edge.glb", "ahead.glb"}));
+    EXPECT_EQ(ahead->state(), PagedLOD::State::Loaded);  // attached, though the view does not want it yet
+}
+
 TEST(Pager, ARenewedRequestTakesItsNewPriority) {
     // Two tiles, one to the left and one to the right at the same distance: the one nearer the view's centre goes
     // first. The camera turns while both wait: the order follows it.

@@ -209,6 +209,60 @@ TEST(Viewer, ThePagerStageAttachesWhatItsThreadLoaded) {
     EXPECT_EQ(v.cullStats().pagedCoarse, 0u);
 }
 
+// A view flying along +y at 10 m/s toward a tile 60 m ahead whose detail is wanted within 20 m. With two seconds of
+// look-ahead the detail is asked for about two seconds early, and drawn at the first frame the view wants it;
+// without, that frame draws the coarse level (the pager is let finish its loads between frames, so that only the
+// time of asking differs).
+TEST(Viewer, AMovingViewsLookAheadLoadsTheDetailBeforeTheViewGetsThere) {
+    for (const double seconds : {2.0, 0.0}) {
+        SCOPED_TRACE(seconds);
+        Fixture f;
+        auto paged = make<PagedLOD>();
+        paged->addChild(box(vec4(0.1f, 0.1f, 0.9f, 1.0f), 0.2));
+        paged->setFile("detail");
+        paged->setRange(0.0f, 20.0f);
+        auto at = make<Transform>(glm::translate(dmat4(1.0), dvec3(0, 60, 0)));
+        at->addChild(paged);
+        f.root->addChild(at);
+        double time = 0.0;
+        ViewerSettings vs;
+        vs.clock = [&] { return time; };
+        Viewer viewer(f.scene, vs);
+        View& v = viewer.addView();
+        v.prefetchSeconds = seconds;
+        Pager& pager = viewer.enablePaging(
+            [](const std::string&) -> ref_ptr<Node> { return box(vec4(0.1f, 0.1f, 0.9f, 1.0f), 1.5); });
+        int firstWanted = -1, firstAsked = -1;
+        size_t coarseWhenWanted = 0, askedAhead = 0;
+        for (int k = 0; k < 60 && firstWanted < 0; ++k) {
+            time = 0.1 * k;
+            const dvec3 eye(0, 10.0 * time, 1.0);
+            v.camera = lookingAt(dvec3(0, -6, 0));
+            v.camera.setLookAt(eye, eye + dvec3(0, 1, 0), dvec3(0, 0, 1));
+            viewer.frame();
+            pager.waitIdle();
+            askedAhead += v.prefetchStats().pagedRequested;
+            if (firstAsked < 0 && paged->state() != PagedLOD::State::Unloaded) firstAsked = k;
+            if (v.cullStats().pagedWanted > 0) {
+                firstWanted = k;
+                coarseWhenWanted = v.cullStats().pagedCoarse;
+            }
+        }
+        ASSERT_GE(firstWanted, 40);  // 40 m on: 20 m from the tile
+        if (seconds > 0.0) {
+            ASSERT_GE(firstAsked, 0);
+            EXPECT_EQ(askedAhead, 1u);
+            EXPECT_LE(firstAsked, firstWanted - 18);  // about two seconds (20 frames) before, smoothing aside
+            EXPECT_EQ(coarseWhenWanted, 0u);
+            EXPECT_EQ(paged->state(), PagedLOD::State::Loaded);
+        } else {
+            EXPECT_EQ(askedAhead, 0u);
+            EXPECT_EQ(firstAsked, -1);  // its request reaches the pager at the next frame
+            EXPECT_EQ(coarseWhenWanted, 1u);
+        }
+    }
+}
+
 TEST(Viewer, ThePagerStageUploadsADetailThroughTheRendererBeforeAttachingIt) {
     Fixture f;
     auto paged = make<PagedLOD>();

@@ -375,6 +375,39 @@ TEST(ViewerThreads, ThePagersDetailsAreUploadedOnTheDrawThreadBeforeTheyAreAttac
     }
 }
 
+// Every model runs the look-ahead cull beside the view's (on the cull thread, or the view's own): a view flying at
+// 10 m/s toward a tile 60 m ahead, wanted within 20 m, has its detail attached while the view is still 30 m or more
+// from the tile, by the look-ahead's request alone.
+TEST(ViewerThreads, EveryModelLooksAheadForThePager) {
+    for (ThreadingModel m : kModels) {
+        Small s;
+        auto paged = make<PagedLOD>();
+        paged->addChild(box(vec4(0.1f, 0.1f, 0.9f, 1.0f)));
+        paged->setFile("detail");
+        paged->setRange(0.0f, 20.0f);
+        auto at = make<Transform>(glm::translate(dmat4(1.0), dvec3(0, 60, 0)));
+        at->addChild(paged);
+        s.root->addChild(at);
+        double time = 0.0;
+        ViewerSettings vs = settingsFor(m, s.ctx);
+        vs.clock = [&] { return time; };
+        Viewer viewer(s.scene, vs);
+        View& v = viewer.addView(lookingAt(dvec3(0, -6, 0), Small::kW, Small::kH));
+        v.prefetchSeconds = 2.0;
+        Pager& pager = viewer.enablePaging([](const std::string&) -> ref_ptr<Node> { return box(vec4(0.1f)); });
+        for (int k = 0; k <= 30; ++k) {  // 0 to 30 m
+            time = 0.1 * k;
+            const dvec3 eye(0, 10.0 * time, 1.0);
+            v.camera.setLookAt(eye, eye + dvec3(0, 1, 0), dvec3(0, 0, 1));
+            viewer.frame();
+            pager.waitIdle();
+        }
+        viewer.flush();
+        EXPECT_EQ(paged->state(), PagedLOD::State::Loaded) << threadingModelName(m);
+        EXPECT_EQ(v.cullStats().pagedWanted, 0u) << threadingModelName(m);
+    }
+}
+
 // --- ISECT ---
 
 TEST(ViewerThreads, IsectAnswersAFrameLaterWhatTheSynchronousQueryAnswers) {
