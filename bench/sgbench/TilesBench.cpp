@@ -146,7 +146,9 @@ int runTiles(const Args& a) {
     double maxRss = 0.0;
     long settled = 0, settledDiffering = 0, loadingFrames = 0, loadingDiffering = 0;
     double loadingPixels = 0.0;
-    long prefetchRequests = 0;
+    long prefetchRequests = 0, enrouteDiffering = 0;
+    double enroutePixels = 0.0;
+    bool reachedSettled = false;
     t0 = Clock::now();
     for (int f = 0; f < frames; ++f) {
         view.camera = flightCamera(path, n, double(f) / frames, w, h);
@@ -167,6 +169,11 @@ int runTiles(const Args& a) {
             refViewer->frame();
             base.push_back(refViewer->lastFrame().workMs);
             differing = long(sg::countDifferingPixels(got, refViewer->renderer().readColor()));
+            if (done) reachedSettled = true;
+            if (reachedSettled) {  // en route: after the first view settled (the start's load aside)
+                enrouteDiffering += differing > 0;
+                enroutePixels += double(differing);
+            }
             if (done) {
                 ++settled;
                 settledDiffering += differing > 0;
@@ -225,6 +232,7 @@ int runTiles(const Args& a) {
         j.addInt("settled_frames", settled).addInt("settled_frames_differing", settledDiffering);
         j.addInt("loading_frames", loadingFrames).addInt("loading_frames_differing", loadingDiffering);
         j.add("loading_differing_pixels_mean", loadingFrames ? loadingPixels / double(loadingFrames) : 0.0);
+        j.addInt("enroute_frames_differing", enrouteDiffering).add("enroute_differing_pixels", enroutePixels);
     }
     j.print(a);
     return reference && settledDiffering > 0 ? 1 : 0;

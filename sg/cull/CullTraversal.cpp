@@ -79,7 +79,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     clusters_.nextFrame();  // every frame: clusters of meshes no longer drawn (or of the option off) age out
     const LodBudgetSettings& lb = set.lodBudget;
     if (set.lodHysteresis > 0.0 || lb.enabled) lodHistory_.track(img, scene.structureVersion());
-    if (img.size()) {
+    if (img.size() && !(set.prefetchOnly && img.paged.empty())) {  // a look-ahead has nothing to ask for there
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
         c.originRel = img.origin - cam.eye();

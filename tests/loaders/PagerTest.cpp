@@ -556,6 +556,31 @@ TEST(Pager, ALookAheadCullDrawsNothingAndAsksBelowEveryRequestOfTheView) {
     EXPECT_EQ(ahead->state(), PagedLOD::State::Loaded);  // attached, though the view does not want it yet
 }
 
+// A look-ahead skips coarse levels and details with no paged node in them (a tile's content), but not one that
+// holds one: a tile nested in another's coarse level is asked for.
+TEST(Pager, ALookAheadFindsATileInAnotherTilesCoarseLevel) {
+    auto root = make<Group>();
+    auto outer = addTile(*root, dvec3(0, 80, 0), "outer.glb", 5.0f);  // not wanted from 40 m on
+    auto inner = addTile(*outer, dvec3(0), "inner.glb");              // in its coarse level, wanted within 50 m
+    auto plain = addTile(*root, dvec3(0, 300, 0), "plain.glb");       // out of reach
+    Scene scene(root);
+    scene.update();
+    CullTraversal lookAhead;
+    Camera further = testutil::lookingAlongY();
+    further.setLookAt(dvec3(0, 40, 0), dvec3(0, 41, 0), dvec3(0, 0, 1));
+    CullSettings set;
+    set.prefetchOnly = true;
+    DrawList list;
+    CullStats stats;
+    lookAhead.cull(scene, further, set, list, stats);
+    EXPECT_TRUE(list.items.empty());
+    EXPECT_EQ(stats.pagedRequested, 1u);
+    EXPECT_NE(inner->lastNeeded(), 0u);
+    EXPECT_EQ(outer->lastNeeded(), 0u);
+    EXPECT_EQ(plain->lastNeeded(), 0u);
+    EXPECT_EQ(scene.pageRequests().size(), 1u);
+}
+
 TEST(Pager, ARenewedRequestTakesItsNewPriority) {
     // Two tiles, one to the left and one to the right at the same distance: the one nearer the view's centre goes
     // first. The camera turns while both wait: the order follows it.
