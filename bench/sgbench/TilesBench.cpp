@@ -118,7 +118,7 @@ int runTiles(const Args& a) {
     vs.keepFreedMemory = a.num("keep-freed-memory", 1) != 0;
     sg::Viewer viewer(scene, vs);
     sg::View& view = viewer.addView();
-    view.prefetchSeconds = std::stod(a.str("prefetch", "0"));  // look-ahead, seconds (0: off)
+    if (a.flag("prefetch")) view.prefetchSeconds = std::stod(a.str("prefetch", "0"));  // look-ahead, s (0: off)
     sg::PagerSettings ps;
     ps.loaderThreads = size_t(a.num("loaders", long(ps.loaderThreads)));
     ps.loaderNice = int(a.num("loader-nice", ps.loaderNice));

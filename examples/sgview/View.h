@@ -50,13 +50,11 @@ public:
     const sg::Viewer& viewer() const { return viewer_; }
     // A tileset's tiles, loaded as the frames need them (sg::Viewer's pager stage).
     // Pages a tileset: its loads make graphs of their own (no node shared with the rest), so details are freed
-    // on a loader thread too. A second of look-ahead (sg::View::prefetchSeconds): flown through, the tiles ahead
-    // load before they show.
+    // on a loader thread too.
     void enablePaging(sg::PageLoadFunction load) {
         sg::PagerSettings ps;
         ps.freeOnLoaderThread = true;
         viewer_.enablePaging(std::move(load), ps);
-        view_.prefetchSeconds = 1.0;
     }
     sg::Pager* pager() const { return viewer_.pager(); }
     // The overlay's lines for the last frame (the viewer's stage times follow them).
