@@ -2,6 +2,7 @@
 // or region) and TILE_GEOMETRIC_ERROR from its subtree's tile metadata replace the implied volume and the error
 // halved per level; other metadata is ignored; bad metadata fails its subtree by file, JSON path and reason.
 #include "loaders/Tileset.h"
+#include "loaders/TilesetTable.h"
 #include "loaders/TilesetTestUtil.h"
 #include "nodes/PagedLOD.h"
 #include "sg/core/NodeVisitor.h"
@@ -222,4 +223,26 @@ TEST(TilesetMetadata, ABadChildSubtreeFailsItsLoadOnly) {
     EXPECT_NE(why.find("subtrees/1/1/0.subtree"), std::string::npos) << why;
     EXPECT_NE(why.find("propertyTables[0].properties.error"), std::string::npos) << why;
     EXPECT_NE(why.find("is negative"), std::string::npos) << why;
+}
+
+// The fuzz seeds of tile metadata (fuzz/tiles-corpus) are valid: the fuzzer starts from input that reads.
+TEST(TilesetMetadata, TheFuzzSeedsAreRead) {
+    const std::string dir = SGKIT_SOURCE_DIR "/fuzz/tiles-corpus/";
+    std::ifstream in(dir + "metadata.subtree", std::ios::binary);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), {});
+    tiles::ImplicitTiling t;  // as the fuzzer's
+    t.subtreeLevels = 3;
+    t.availableLevels = 6;
+    t.contents = {"c"};
+    t.schema["tile"].box = tiles::SemanticProperty{"boundingBox", true, 12};
+    t.schema["tile"].error = tiles::SemanticProperty{"geometricError", true, 1};
+    const tiles::Subtree s = tiles::parseSubtree("metadata.subtree", bytes, t,
+                                                 [](const std::string&) { return std::vector<unsigned char>(); });
+    EXPECT_EQ(s.errors.size(), 11u);  // a row per available tile
+    EXPECT_EQ(s.volume, tiles::Subtree::Volume::Box);
+    EXPECT_EQ(s.tiles.rank(20), 10u);  // the last slot: level 2's (3, 3), after the ten others
+    std::ifstream json(dir + "implicit-metadata.json", std::ios::binary);
+    const std::vector<unsigned char> text((std::istreambuf_iterator<char>(json)), {});
+    tiles::TilesetState state{TilesetOptions{}};  // the JSON only, as the fuzzer reads it: no subtree beside it
+    EXPECT_EQ(state.addTileset(dir + "implicit-metadata.json", text, -1, -1), 0u);
 }
