@@ -38,7 +38,8 @@ uint64_t power(bool octree, uint32_t levels) { return uint64_t(1) << ((octree ? 
 uint64_t count(const std::string& file, const json& j, const char* key, const std::string& path, uint64_t most) {
     const json v = j.is_object() ? j.value(key, json()) : json();
     if (!v.is_number_unsigned() || v.get<uint64_t>() > most)
-        fail(file, path + "." + key, "missing, or not an integer from 0 to " + std::to_string(most));
+        fail(file, (path.empty() ? "" : path + ".") + key,
+             "missing, or not an integer from 0 to " + std::to_string(most));
     return v.get<uint64_t>();
 }
 

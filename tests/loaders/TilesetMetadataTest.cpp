@@ -150,12 +150,15 @@ TEST(TilesetMetadata, SpheresAndFloat32AreRead) {
     EXPECT_NEAR(lods[0]->radius(), 12.5, 1e-9);
 }
 
-TEST(TilesetMetadata, AShortPropertyTableIsRefusedByName) {
+TEST(TilesetMetadata, AShortOrMissingPropertyTableIsRefusedByName) {
     TempDir d;
     const std::string file =
         metadataTileset(d, "0/0/0", [](json&, json& sub, Rows&) { sub["propertyTables"][0]["count"] = 0; });
     expectRefused(file, d / "subtrees/0/0/0.subtree", "propertyTables[0].count",
                   "0 rows, fewer than the subtree's 1 available tiles");
+    TempDir e;
+    const std::string table = metadataTileset(e, "0/0/0", [](json&, json& sub, Rows&) { sub["tileMetadata"] = 3; });
+    expectRefused(table, e / "subtrees/0/0/0.subtree", "tileMetadata", "not an integer from 0 to 0");
 }
 
 TEST(TilesetMetadata, BufferViewsOutOfRangeOrShortAreRefusedByName) {
