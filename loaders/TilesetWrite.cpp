@@ -1,5 +1,6 @@
 // writeTileset: the scene's units placed in a quadtree over its x/y extent, each tile's content built on this
-// thread and saved (saveGltf) by a pool of threads in batches, then tileset.json.
+// thread and saved (saveGltf) by a pool of threads in batches, then tileset.json (or, as implicit tiling, the
+// subtree files and a tileset.json of one tile: TilesetWriteImplicit.cpp).
 //
 // Why an exact inner tile draws what the graph draws. A tile's refinement distance D is the largest reach of the
 // finest child of the distance LODs below it; its content keeps, in every such LOD, the children that reach
