@@ -249,3 +249,32 @@ TEST(TilesetMetadata, TheFuzzSeedsAreRead) {
     tiles::TilesetState state{TilesetOptions{}};  // the JSON only, as the fuzzer reads it: no subtree beside it
     EXPECT_EQ(state.addTileset(dir + "implicit-metadata.json", text, -1, -1), 0u);
 }
+
+// A region (FLOAT64): the tile's volume is Earth-centred, as a region in tileset.json is; a bad one is refused.
+TEST(TilesetMetadata, RegionsAreReadEarthCentredAndBadOnesRefused) {
+    auto asRegion = [](const std::vector<double>& region) {
+        return [region](json& tileset, json& sub, Rows& rows) {
+            json& props = tileset["schema"]["classes"]["tile"]["properties"];
+            props.erase("box");
+            props["region"] = {{"type", "SCALAR"},
+                               {"componentType", "FLOAT64"},
+                               {"array", true},
+                               {"count", 6},
+                               {"semantic", "TILE_BOUNDING_REGION"}};
+            std::copy(region.begin(), region.end(), rows.boxes.begin());
+            sub["propertyTables"][0]["properties"] = {{"region", {{"values", 0}}}, {"error", {{"values", 1}}}};
+        };
+    };
+    TempDir d;
+    Tileset ts = loadTileset(metadataTileset(d, "0/0/0", asRegion({-0.001, -0.001, 0.001, 0.001, 0.0, 10.0})));
+    const std::vector<PagedLOD*> lods = pagedLods(*ts.root());
+    ASSERT_EQ(lods.size(), 1u);
+    EXPECT_NEAR(lods[0]->center().x, 6378137.0 + 5.0, 5.0);  // on the equator at longitude 0 (the surface curves)
+    EXPECT_NEAR(lods[0]->center().y, 0.0, 1e-6);
+    EXPECT_GT(lods[0]->radius(), 6378137.0 * 0.001 * std::sqrt(2.0));
+    EXPECT_LT(lods[0]->radius(), 6378137.0 * 0.001 * 2.0);
+    TempDir e;
+    expectRefused(metadataTileset(e, "0/0/0", asRegion({0.0, 0.002, 0.001, 0.001, 0.0, 10.0})),
+                  e / "subtrees/0/0/0.subtree", "propertyTables[0].properties.region",
+                  "row 0: south and north must be latitudes in radians");
+}
