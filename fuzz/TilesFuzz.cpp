@@ -1,20 +1,29 @@
 // libFuzzer target for what a 3D Tiles reader parses from outside: the binary formats (loaders/TileFormats.h),
 // tileset.json and subtree files (loaders/TilesetTable.h): any bytes either parse or throw sg::LoadError. Anything
 // else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding. The seed
-// corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and subtrees.
+// corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and subtrees (one with
+// tile metadata, as writeTileset writes implicit tiling).
 #include "loaders/TileFormats.h"
 #include "loaders/TilesetTable.h"
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 
 namespace {
 
 void subtree(const std::vector<unsigned char>& bytes) {
+    using sg::tiles::SemanticProperty;
     sg::tiles::ImplicitTiling t;
     t.subtreeLevels = 3;
     t.availableLevels = 6;
     t.contents = {"c"};
+    // Tile metadata classes as writeTileset's schema declares them ("tile"), and others the reader takes.
+    t.schema["tile"].box = SemanticProperty{"boundingBox", true, 12};
+    t.schema["tile"].error = SemanticProperty{"geometricError", true, 1};
+    t.schema["tile32"].sphere = SemanticProperty{"sphere", false, 4};
+    t.schema["tile32"].error = SemanticProperty{"error", false, 1};
+    t.schema["region"].region = SemanticProperty{"region", true, 6};
     try {
         sg::tiles::parseSubtree("fuzz.subtree", bytes, t, [](const std::string&) {
             return std::vector<unsigned char>(16, 0xff);  // an external buffer: no files read while fuzzing
@@ -35,7 +44,12 @@ void parse(const unsigned char* data, size_t size) {
                 for (const Bytes& tile : parseCmpt("fuzz.cmpt", data, size).tiles) parse(tile.data, tile.size);
                 break;
             case ContentKind::Json: {  // a tileset, or a JSON subtree of a quadtree of 3 levels
-                TilesetState state(sg::TilesetOptions{});
+                sg::TilesetOptions options;
+                // A schemaUri names a file or URL: refused unread.
+                static const std::atomic<bool> cancelled{true};
+                options.resource.maxBytes = 0;
+                options.resource.cancel = &cancelled;
+                TilesetState state(options);
                 const std::vector<unsigned char> bytes(data, data + size);
                 state.addTileset("fuzz.json", bytes, -1, -1);
                 subtree(bytes);

@@ -5,7 +5,10 @@
 #include "sg/core/Material.h"
 #include "sg/core/Math.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace sg::tiles {
@@ -65,5 +68,22 @@ void addFinest(Proxy& proxy, const Node& unit, const dmat4& world, size_t& skipp
 Proxy simplifyMerged(const std::vector<Proxy>& children, const dvec3& centre, uint64_t target);
 // A proxy as nodes (a Geometry per part).
 void addProxy(Group& content, const Proxy& proxy);
+
+// A tile as implicit tiling writes it (TilesetWriteImplicit.cpp): its quadtree position and what the explicit
+// tile would say of it.
+struct ImplicitTile {
+    uint32_t level = 0;
+    uint64_t x = 0, y = 0;
+    dvec3 centre{0.0}, half{0.0};  // its box, world
+    double error = 0.0;
+    bool content = false;
+};
+
+// Writes the subtree files of `tiles` (one of them the root, level 0) into dir/subtrees and returns the root
+// tile's JSON (its transform `rootCentre`, a box holding every tile's, implicitTiling, the content template
+// tiles/{level}/{x}/{y}.glb) and in `schema` the metadata schema its subtrees' tile metadata uses. Adds the
+// bytes written to `bytes`. Throws std::runtime_error naming a file it cannot write.
+nlohmann::json writeImplicitTiles(const std::vector<ImplicitTile>& tiles, const dvec3& rootCentre,
+                                  const std::string& dir, nlohmann::json& schema, size_t& bytes);
 
 }  // namespace sg::tiles

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 namespace sg::tiles {
 namespace {
@@ -37,7 +38,8 @@ uint64_t power(bool octree, uint32_t levels) { return uint64_t(1) << ((octree ? 
 uint64_t count(const std::string& file, const json& j, const char* key, const std::string& path, uint64_t most) {
     const json v = j.is_object() ? j.value(key, json()) : json();
     if (!v.is_number_unsigned() || v.get<uint64_t>() > most)
-        fail(file, path + "." + key, "missing, or not an integer from 0 to " + std::to_string(most));
+        fail(file, (path.empty() ? "" : path + ".") + key,
+             "missing, or not an integer from 0 to " + std::to_string(most));
     return v.get<uint64_t>();
 }
 
@@ -57,6 +59,17 @@ struct Reader {
             return out;
         }
         const char* key = a.contains("bitstream") ? "bitstream" : "bufferView";  // bufferView: the 1.0 extension's
+        const auto [p, len] = view(a, key, path);
+        if (len * 8 < bits)
+            fail(file, path,
+                 "the bitstream's " + std::to_string(len) + " bytes hold fewer than the " + std::to_string(bits) +
+                     " bits its levels need");
+        out.bits.assign(p, p + (bits + 7) / 8);
+        return out;
+    }
+
+    // The bytes of the buffer view that a[key] names, checked against its buffer.
+    std::pair<const unsigned char*, uint64_t> view(const json& a, const char* key, const std::string& path) const {
         const json views = doc.value("bufferViews", json::array());
         if (!views.is_array()) fail(file, "bufferViews", "must be an array");
         const uint64_t v = count(file, a, key, path, views.empty() ? 0 : views.size() - 1);
@@ -71,17 +84,110 @@ struct Reader {
             fail(file, vp,
                  "bytes " + std::to_string(off) + " to " + std::to_string(off + len) + " are past buffer " +
                      std::to_string(b) + "'s " + std::to_string(buffers[size_t(b)].size()));
-        if (len * 8 < bits)
-            fail(file, path,
-                 "the bitstream's " + std::to_string(len) + " bytes hold fewer than the " + std::to_string(bits) +
-                     " bits its levels need");
-        const unsigned char* p = buffers[size_t(b)].data() + off;
-        out.bits.assign(p, p + (bits + 7) / 8);
-        return out;
+        return {buffers[size_t(b)].data() + off, len};
+    }
+
+    // Tile metadata (3D Tiles 1.1): the rows of the semantics the reader applies, checked. `rows`: the subtree's
+    // available tiles, each with a row in availability order.
+    void tileMetadata(const ImplicitTiling& tiling, uint64_t rows, Subtree& s) const {
+        const json tables = doc.value("propertyTables", json::array());
+        if (!tables.is_array()) fail(file, "propertyTables", "must be an array");
+        if (tables.empty()) fail(file, "tileMetadata", "names a property table, but there are none");
+        const uint64_t t = count(file, doc, "tileMetadata", "", tables.size() - 1);
+        const std::string tp = "propertyTables[" + std::to_string(t) + "]";
+        const json& table = tables[size_t(t)];
+        const json cls = table.is_object() ? table.value("class", json()) : json();
+        if (!cls.is_string()) fail(file, tp + ".class", "missing, or not a string");
+        const auto it = tiling.schema.find(cls.get<std::string>());
+        if (it == tiling.schema.end())
+            fail(file, tp + ".class", "class " + cls.get<std::string>() + " is not in the tileset's schema");
+        const TileSemantics& sem = it->second;
+        if (sem.problem) {
+            const auto& [f, path, reason] = *sem.problem;
+            fail(f, path, reason + " (tile metadata of " + file + ")");
+        }
+        const uint64_t n = count(file, table, "count", tp, UINT32_MAX);
+        if (n < rows)
+            fail(file, tp + ".count",
+                 std::to_string(n) + " rows, fewer than the subtree's " + std::to_string(rows) + " available tiles");
+        const json props = table.value("properties", json::object());
+        if (!props.is_object()) fail(file, tp + ".properties", "must be an object");
+
+        // A property's values, rows x components, as doubles; empty if the table does not give it.
+        auto values = [&](const SemanticProperty& sp) {
+            std::vector<double> out;
+            if (!props.contains(sp.name)) return out;
+            const std::string pp = tp + ".properties." + sp.name;
+            const auto [p, len] = view(props[sp.name], "values", pp);
+            const uint64_t size = sp.float64 ? 8 : 4, need = rows * sp.components * size;
+            if (len < need)
+                fail(file, pp + ".values",
+                     "holds " + std::to_string(len) + " bytes, fewer than the " + std::to_string(need) + " of " +
+                         std::to_string(rows) + " rows of " + std::to_string(sp.components) + " " +
+                         (sp.float64 ? "FLOAT64" : "FLOAT32"));
+            out.resize(size_t(rows * sp.components));
+            for (size_t i = 0; i < out.size(); ++i) {
+                if (sp.float64) {
+                    std::memcpy(&out[i], p + 8 * i, 8);
+                } else {
+                    float f;
+                    std::memcpy(&f, p + 4 * i, 4);
+                    out[i] = f;
+                }
+                if (!std::isfinite(out[i]))
+                    fail(file, pp,
+                         "row " + std::to_string(i / sp.components) + ": value " + std::to_string(i % sp.components) +
+                             " is not finite");
+            }
+            return out;
+        };
+        const std::pair<const std::optional<SemanticProperty>*, Subtree::Volume> volumes[] = {
+            {&sem.box, Subtree::Volume::Box},
+            {&sem.region, Subtree::Volume::Region},
+            {&sem.sphere, Subtree::Volume::Sphere}};
+        for (const auto& [prop, kind] : volumes) {  // the first given, as a box is the tightest
+            if (!*prop || !props.contains((*prop)->name)) continue;
+            s.volumes = values(**prop);
+            s.volume = kind;
+            const std::string pp = tp + ".properties." + (*prop)->name;
+            const size_t c = (*prop)->components;
+            for (uint64_t r = 0; r < rows; ++r) {
+                const double* v = s.volumes.data() + r * c;
+                if (kind == Subtree::Volume::Sphere && v[3] < 0.0)
+                    fail(file, pp, "row " + std::to_string(r) + ": radius " + std::to_string(v[3]) + " is negative");
+                if (kind == Subtree::Volume::Region && !badRegion(v).empty())
+                    fail(file, pp, "row " + std::to_string(r) + ": " + badRegion(v));
+            }
+            break;
+        }
+        if (sem.error) {
+            s.errors = values(*sem.error);
+            for (uint64_t r = 0; r < s.errors.size(); ++r)
+                if (s.errors[r] < 0.0)
+                    fail(file, tp + ".properties." + sem.error->name,
+                         "row " + std::to_string(r) + ": geometric error " + std::to_string(s.errors[r]) +
+                             " is negative");
+        }
     }
 };
 
 }  // namespace
+
+uint64_t Availability::countBits(uint64_t n) {
+    if (constant) return value ? n : 0;
+    before.assign(bits.size() + 1, 0);
+    for (size_t i = 0; i < bits.size(); ++i) {
+        // The last byte's bits past n are not the subtree's.
+        const unsigned mask = (uint64_t(i + 1) * 8 <= n) ? 0xffu : (1u << (n - i * 8)) - 1u;
+        before[i + 1] = before[i] + uint64_t(__builtin_popcount(bits[i] & mask));
+    }
+    return before.back();
+}
+
+uint64_t Availability::rank(uint64_t i) const {
+    if (constant) return value ? i : 0;
+    return before[size_t(i >> 3)] + uint64_t(__builtin_popcount(bits[size_t(i >> 3)] & ((1u << (i & 7)) - 1u)));
+}
 
 uint64_t morton(uint32_t x, uint32_t y, uint32_t z, bool octree) {
     const int dims = octree ? 3 : 2;
@@ -158,7 +264,8 @@ Subtree parseSubtree(const std::string& file, const std::vector<unsigned char>& 
     for (size_t i = 0; i < tiling.contents.size(); ++i)
         s.contents.push_back(i < contents.size()
                                  ? r.availability(contents[i], "contentAvailability[" + std::to_string(i) + "]", tiles)
-                                 : Availability{true, false, {}});  // not given: none
+                                 : Availability{true, false, {}, {}});  // not given: none
+    if (doc.contains("tileMetadata")) r.tileMetadata(tiling, s.tiles.countBits(tiles), s);
     return s;
 }
 
@@ -185,6 +292,24 @@ TileDesc TilesetState::resolve(uint32_t i) {
     }
 
     const uint64_t at = levelOffset(r, t.octree) + morton(d.x - (sx << r), d.y - (sy << r), d.z - (sz << r), t.octree);
+    // The tile's own volume and error where its subtree's metadata gives them (over the implied ones).
+    std::optional<Sphere> sphere;
+    std::optional<double> error;
+    if ((sub->volume != Subtree::Volume::None || !sub->errors.empty()) && sub->tiles[at]) {
+        const uint64_t row = sub->tiles.rank(at);
+        const double* v = sub->volumes.data();
+        switch (sub->volume) {
+            case Subtree::Volume::None: break;
+            case Subtree::Volume::Box: sphere = boxSphere(v + 12 * row); break;
+            case Subtree::Volume::Region:
+                sphere = regionSphere(std::vector<double>(v + 6 * row, v + 6 * row + 6));
+                break;
+            case Subtree::Volume::Sphere:
+                sphere = Sphere{dvec3(v[4 * row], v[4 * row + 1], v[4 * row + 2]), v[4 * row + 3]};
+                break;
+        }
+        if (!sub->errors.empty()) error = sub->errors[size_t(row)];
+    }
     std::vector<std::string> contents;
     for (size_t c = 0; c < t.contents.size(); ++c)
         if (sub->contents[c][at]) contents.push_back(expandTemplate(t.contents[c], d.level, d.x, d.y, d.z));
@@ -218,6 +343,11 @@ TileDesc TilesetState::resolve(uint32_t i) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (tiles_[i].pending) {  // another load may have resolved it meanwhile
         tiles_[i].contents = std::move(contents);
+        if (sphere) {
+            tiles_[i].sphere = *sphere;
+            tiles_[i].region = sub->volume == Subtree::Volume::Region;
+        }
+        if (error) tiles_[i].geometricError = *error;
         for (TileDesc& k : kids) {
             tiles_[i].children.push_back(uint32_t(tiles_.size()));
             tiles_.push_back(std::move(k));

@@ -42,6 +42,8 @@ dvec3 wgs84(double lon, double lat, double h) {
             (n * (1.0 - e2) + h) * std::sin(lat)};
 }
 
+}  // namespace
+
 // A sphere holding a region: a 17 x 17 grid at both heights bounds it, grown by the most the surface can bulge
 // between grid points (the arc across a grid cell at the largest radius), so that it holds the whole region.
 Sphere regionSphere(const std::vector<double>& r) {
@@ -61,8 +63,7 @@ Sphere regionSphere(const std::vector<double>& r) {
     return s;
 }
 
-// The sphere through a box's corners (centre and three half axes).
-Sphere boxSphere(const std::vector<double>& b) {
+Sphere boxSphere(const double* b) {
     Sphere s{{b[0], b[1], b[2]}, 0.0};
     const dvec3 x(b[3], b[4], b[5]), y(b[6], b[7], b[8]), z(b[9], b[10], b[11]);
     for (double i : {-1.0, 1.0})
@@ -70,6 +71,87 @@ Sphere boxSphere(const std::vector<double>& b) {
             for (double k : {-1.0, 1.0}) s.radius = std::max(s.radius, glm::length(i * x + j * y + k * z));
     return s;
 }
+
+std::string badRegion(const double* r) {
+    if (r[0] < -M_PI || r[0] > M_PI || r[2] < -M_PI || r[2] > M_PI)
+        return "west and east must be longitudes in radians, in [-pi, pi]";
+    if (r[1] < -M_PI / 2 || r[3] > M_PI / 2 || r[1] > r[3])
+        return "south and north must be latitudes in radians, -pi/2 <= south <= north <= pi/2";
+    if (r[4] > r[5]) return "minimum height is above the maximum";
+    return "";
+}
+
+MetadataSchema readSchema(const std::string& file, const json& tileset, const ResourceOptions& options) {
+    std::string from = file, path = "schema";
+    json schema;
+    if (tileset.contains("schema")) {
+        schema = tileset["schema"];
+    } else if (tileset.contains("schemaUri")) {
+        if (!tileset["schemaUri"].is_string()) fail(file, "schemaUri", "must be a string");
+        from = resolveUri(file, tileset["schemaUri"].get<std::string>());
+        path = "";
+        const std::vector<unsigned char> bytes = readResource(from, options);
+        gltf::checkJsonDepth(from, bytes.data(), bytes.size());
+        try {
+            schema = json::parse(bytes.begin(), bytes.end());
+        } catch (const json::exception& e) {
+            fail(from, "", std::string("JSON: ") + e.what());
+        }
+    } else {
+        return {};
+    }
+    auto at = [&](const std::string& p) { return path.empty() ? p : path + "." + p; };
+    if (!schema.is_object()) fail(from, path, "a schema must be an object");
+    const json classes = schema.value("classes", json::object());
+    if (!classes.is_object()) fail(from, at("classes"), "must be an object");
+    // The semantics the reader applies, with their components; any other property is ignored.
+    const std::pair<const char*, uint32_t> known[] = {{"TILE_BOUNDING_BOX", 12},
+                                                      {"TILE_BOUNDING_REGION", 6},
+                                                      {"TILE_BOUNDING_SPHERE", 4},
+                                                      {"TILE_GEOMETRIC_ERROR", 1}};
+    MetadataSchema out;
+    for (const auto& [name, cls] : classes.items()) {
+        TileSemantics& sem = out[name];
+        const json props = cls.is_object() ? cls.value("properties", json::object()) : json::object();
+        if (!props.is_object()) continue;
+        for (const auto& [key, p] : props.items()) {
+            const json semantic = p.is_object() ? p.value("semantic", json()) : json();
+            if (!semantic.is_string()) continue;
+            const auto k =
+                std::find_if(std::begin(known), std::end(known), [&](const auto& e) { return semantic == e.first; });
+            if (k == std::end(known)) continue;
+            const std::string pp = at("classes." + name + ".properties." + key);
+            // A bad declaration fails the subtrees that use its class only.
+            auto problem = [&](const std::string& where, const std::string& why) {
+                if (!sem.problem) sem.problem = std::make_tuple(from, where, why);
+            };
+            const std::string what = k->first;
+            const json type = p.value("type", json()), component = p.value("componentType", json());
+            const bool array = p.value("array", json(false)) == true;
+            const json count = p.value("count", json());
+            if (type != "SCALAR") {
+                problem(pp + ".type", what + " must be SCALAR, not " + type.dump());
+            } else if (component != "FLOAT32" && component != "FLOAT64") {
+                problem(pp + ".componentType", what + " must be FLOAT32 or FLOAT64, not " + component.dump());
+            } else if (k->second == 1 && array) {
+                problem(pp + ".array", what + " is a single number, not an array");
+            } else if (k->second > 1 && (!array || count != k->second)) {
+                problem(pp + ".count", what + " must be an array of " + std::to_string(k->second) + " numbers");
+            } else if (p.contains("offset") || p.contains("scale") || p.value("normalized", json(false)) == true) {
+                problem(pp, what + ": offset, scale and normalized values are not supported");
+            } else {
+                SemanticProperty sp{key, component == "FLOAT64", k->second};
+                (k->second == 12  ? sem.box
+                 : k->second == 6 ? sem.region
+                 : k->second == 4 ? sem.sphere
+                                  : sem.error) = sp;
+            }
+        }
+    }
+    return out;
+}
+
+namespace {
 
 // A tile's bounding volume (or its viewerRequestVolume: `key`) as a sphere; `raw`: the box's or region's numbers
 // (implicit tiling divides them).
@@ -82,7 +164,7 @@ Sphere volume(const std::string& file, const json& tile, const std::string& tile
     region = false;
     if (v.contains("box")) {
         raw = numbers(file, v["box"], path + ".box", 12);
-        return boxSphere(raw);
+        return boxSphere(raw.data());
     }
     if (v.contains("sphere")) {
         const auto b = numbers(file, v["sphere"], path + ".sphere", 4);
@@ -92,12 +174,8 @@ Sphere volume(const std::string& file, const json& tile, const std::string& tile
     }
     if (v.contains("region")) {
         const auto r = raw = numbers(file, v["region"], path + ".region", 6);
-        if (r[0] < -M_PI || r[0] > M_PI || r[2] < -M_PI || r[2] > M_PI)
-            fail(file, path + ".region", "west and east must be longitudes in radians, in [-pi, pi]");
-        if (r[1] < -M_PI / 2 || r[3] > M_PI / 2 || r[1] > r[3])
-            fail(file, path + ".region",
-                 "south and north must be latitudes in radians, -pi/2 <= south <= north <= pi/2");
-        if (r[4] > r[5]) fail(file, path + ".region", "minimum height is above the maximum");
+        const std::string bad = badRegion(r.data());
+        if (!bad.empty()) fail(file, path + ".region", bad);
         region = true;
         return regionSphere(r);
     }
@@ -106,8 +184,9 @@ Sphere volume(const std::string& file, const json& tile, const std::string& tile
 
 class Reader {
 public:
-    Reader(const std::string& file, std::deque<TileDesc>& tiles, std::vector<std::string>& warnings, uint32_t source)
-        : file_(file), tiles_(tiles), warnings_(warnings), source_(source) {}
+    Reader(const std::string& file, std::deque<TileDesc>& tiles, std::vector<std::string>& warnings, uint32_t source,
+           const MetadataSchema& schema)
+        : file_(file), tiles_(tiles), warnings_(warnings), source_(source), schema_(schema) {}
 
     uint32_t tile(const json& j, const std::string& path, int64_t parent, bool inheritedAdd, uint32_t depth) {
         if (!j.is_object()) fail(file_, path, "a tile must be an object");
@@ -197,6 +276,7 @@ private:
         t->region = d.region;
         t->volume = raw;
         t->geometricError = d.geometricError;
+        t->schema = schema_;
         d.implicit = std::move(t);
         d.pending = true;
     }
@@ -213,6 +293,7 @@ private:
     std::deque<TileDesc>& tiles_;
     std::vector<std::string>& warnings_;
     uint32_t source_;
+    const MetadataSchema& schema_;
 };
 
 }  // namespace
@@ -245,6 +326,8 @@ uint32_t TilesetState::addTileset(const std::string& file, const std::vector<uns
         }
     }
 
+    const MetadataSchema schema = readSchema(file, j, options.resource);
+
     std::lock_guard<std::mutex> lock(mutex_);
     // An external tileset naming one of the files that lead to it would be read forever.
     std::string chain = file;
@@ -262,7 +345,7 @@ uint32_t TilesetState::addTileset(const std::string& file, const std::vector<uns
         depth = tiles_[size_t(parentTile)].depth + 1;
     }
     try {
-        Reader reader(file, tiles_, warnings, source);
+        Reader reader(file, tiles_, warnings, source, schema);
         const uint32_t root = reader.tile(j["root"], "root", -1, add, depth);
         counts_.tiles += tiles_.size() - before;
         if (parentTile >= 0) counts_.externalTilesets++;
@@ -303,7 +386,7 @@ Sphere implicitSphere(const ImplicitTiling& t, uint32_t level, uint32_t x, uint3
     v[0] = centre.x;
     v[1] = centre.y;
     v[2] = centre.z;
-    return boxSphere(v);
+    return boxSphere(v.data());
 }
 
 TileDesc TilesetState::tile(uint32_t i) const {

@@ -4,6 +4,8 @@
 #include "loaders/SharedMeshes.h"
 #include "loaders/Tileset.h"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <deque>
 #include <functional>
 #include <map>
@@ -20,6 +22,21 @@ struct Sphere {
     double radius = 0.0;
 };
 
+// A tile metadata property whose semantic the reader applies (3D Tiles 1.1 metadata semantics): its name in its
+// class and its FLOAT32 or FLOAT64 components (12 for a box, 6 a region, 4 a sphere, 1 a geometric error).
+struct SemanticProperty {
+    std::string name;
+    bool float64 = true;
+    uint32_t components = 1;
+};
+// A metadata class's properties that give a tile's volume and geometric error, and what is wrong with them if
+// anything (raised when a subtree uses the class: file, JSON path, reason).
+struct TileSemantics {
+    std::optional<SemanticProperty> box, region, sphere, error;
+    std::optional<std::tuple<std::string, std::string, std::string>> problem;
+};
+using MetadataSchema = std::map<std::string, TileSemantics>;  // by class name
+
 // Implicit tiling (3D Tiles 1.1): a tile subdivided as a quadtree or octree written as URI templates, with
 // which tiles and contents exist in availability bitstreams of subtree files (TilesetImplicit.cpp).
 struct ImplicitTiling {
@@ -30,6 +47,7 @@ struct ImplicitTiling {
     bool region = false;
     std::vector<double> volume;  // the root's box (12 numbers) or region (6)
     double geometricError = 0.0;
+    MetadataSchema schema;  // the tileset's, for the subtrees' tile metadata
 };
 
 // A subtree file's availability: of its tiles (levels 0 .. subtreeLevels - 1, Morton order per level), of each
@@ -38,13 +56,23 @@ struct Availability {
     bool constant = false, value = false;
     std::vector<uint8_t> bits;  // little-endian bit order, as the specification's bitstreams
     bool operator[](uint64_t i) const { return constant ? value : (bits[size_t(i >> 3)] >> (i & 7)) & 1; }
+    // Set bits before bit i: a tile's row in the subtree's metadata (after countBits()).
+    uint64_t rank(uint64_t i) const;
+    uint64_t countBits(uint64_t bits);  // the set bits of the first `bits`; prepares rank()
+    std::vector<uint64_t> before;       // set bits before each byte
 };
 struct Subtree {
     Availability tiles, children;
     std::vector<Availability> contents;
+    // Tile metadata with the semantics the reader applies, a row per available tile (in availability order):
+    // the tile's volume in the implicit root's frame (Earth-centred for a region) and its geometric error.
+    enum class Volume { None, Box, Region, Sphere } volume = Volume::None;
+    std::vector<double> volumes;  // 12, 6 or 4 numbers a row
+    std::vector<double> errors;   // empty without TILE_GEOMETRIC_ERROR
 };
 // Reads a subtree file (binary "subt" or JSON): `readBuffer` reads an external buffer by its resolved URI.
-// Throws LoadError naming the file, the JSON path and the reason (e.g. a bitstream shorter than its level count).
+// Throws LoadError naming the file, the JSON path and the reason (e.g. a bitstream shorter than its level count,
+// a tile metadata table shorter than the available tiles, a negative geometric error).
 Subtree parseSubtree(const std::string& file, const std::vector<unsigned char>& bytes, const ImplicitTiling& tiling,
                      const std::function<std::vector<unsigned char>(const std::string&)>& readBuffer);
 // Morton index of (x, y) or (x, y, z): bits interleaved, x lowest.
@@ -53,6 +81,13 @@ uint64_t morton(uint32_t x, uint32_t y, uint32_t z, bool octree);
 std::string expandTemplate(std::string t, uint32_t level, uint32_t x, uint32_t y, uint32_t z);
 // The sphere of implicit tile (level, x, y, z) and whether it is Earth-centred (a region).
 Sphere implicitSphere(const ImplicitTiling& t, uint32_t level, uint32_t x, uint32_t y, uint32_t z);
+// The sphere through a box's corners (12 numbers: centre and three half axes); the Earth-centred sphere holding a
+// region (6 numbers); what is wrong with a region's numbers, or nothing.
+Sphere boxSphere(const double* box);
+Sphere regionSphere(const std::vector<double>& region);
+std::string badRegion(const double* region);
+// The tile metadata classes of a tileset's `schema` (or the file its `schemaUri` names, read with `options`).
+MetadataSchema readSchema(const std::string& file, const nlohmann::json& tileset, const ResourceOptions& options);
 
 // One tile of a tileset.json, as read: its volume in its own frame (after its transform), or in the
 // Earth-centred frame for a region (which no transform moves, as the specification says).

@@ -1,5 +1,6 @@
 // writeTileset: the scene's units placed in a quadtree over its x/y extent, each tile's content built on this
-// thread and saved (saveGltf) by a pool of threads in batches, then tileset.json.
+// thread and saved (saveGltf) by a pool of threads in batches, then tileset.json (or, as implicit tiling, the
+// subtree files and a tileset.json of one tile: TilesetWriteImplicit.cpp).
 //
 // Why an exact inner tile draws what the graph draws. A tile's refinement distance D is the largest reach of the
 // finest child of the distance LODs below it; its content keeps, in every such LOD, the children that reach
@@ -82,7 +83,13 @@ public:
         tileset["asset"] = {{"version", "1.1"}, {"generator", "sgkit writeTileset"}};
         // The error if the tileset is not drawn at all: above the root's, as the specification requires.
         tileset["geometricError"] = std::max(root.error * 2.0, errorPerMetre_ * options_.farDistance);
-        tileset["root"] = std::move(root.tile);
+        if (options_.implicit) {
+            json schema;
+            tileset["root"] = tiles::writeImplicitTiles(implicitTiles_, rootCentre_, dir_, schema, report.bytes);
+            tileset["schema"] = std::move(schema);
+        } else {
+            tileset["root"] = std::move(root.tile);
+        }
         return tileset;
     }
 
@@ -112,6 +119,7 @@ private:
         }
         if (box.empty()) box = Box{dvec3(rect.min, 0.0), dvec3(rect.max, 0.0)};
         const dvec3 centre = box.center();
+        if (level == 0) rootCentre_ = centre;
         const bool leaf = triangles <= options_.maxTrianglesPerTile || e - b <= 1 || level >= kMaxDepth;
         if (leaf && triangles > options_.maxTrianglesPerTile && e - b > 1)
             report_->warnings.push_back("tile " + name(level, x, y) + " holds " + std::to_string(triangles) +
@@ -143,7 +151,7 @@ private:
                 if (options_.proxies == TileWriteOptions::Proxies::Simplified)
                     childProxies.push_back(std::move(c.proxy));
             }
-            out.tile["children"] = std::move(children);
+            if (!options_.implicit) out.tile["children"] = std::move(children);
         }
 
         // The content and the error.
@@ -186,18 +194,34 @@ private:
             out.error = std::max(childError, out.proxy.error);
         }
 
-        json& t = out.tile;
         const dvec3 half = box.halfExtent() + dvec3(pad_);
-        t["boundingVolume"]["box"] = {0, 0, 0, half.x, 0, 0, 0, half.y, 0, 0, 0, half.z};
-        const dvec3 shift = centre - parentCentre;  // 3D Tiles transforms are relative to the parent's frame
-        t["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, shift.x, shift.y, shift.z, 1};
-        t["geometricError"] = out.error;
-        t["refine"] = "REPLACE";
-        if (hasContent) {
-            if (options_.instancing) tiles::instanceRepeats(*content);
-            const std::string uri = "tiles/" + name(level, x, y) + ".glb";
-            t["content"]["uri"] = uri;
-            queue(Pending{content, dir_ + "/" + uri, contentTriangles});
+        if (hasContent && options_.instancing) tiles::instanceRepeats(*content);
+        if (options_.implicit) {
+            implicitTiles_.push_back({uint32_t(level), x, y, centre, half, out.error, hasContent});
+            if (hasContent) {
+                // No per-tile transforms in implicit tiling: the content's root node holds its offset from the
+                // root's centre (glTF's doubles), the rest of it stays small and relative to its own centre.
+                auto placed =
+                    make<Transform>(glm::translate(dmat4(1.0), dvec3(kZupToYup * dvec4(centre - rootCentre_, 0.0))));
+                placed->addChild(content);
+                const std::string folder = dir_ + "/tiles/" + std::to_string(level) + "/" + std::to_string(x);
+                std::error_code ec;
+                fs::create_directories(folder, ec);
+                if (ec) throw std::runtime_error("writeTileset(): " + folder + ": cannot be created: " + ec.message());
+                queue(Pending{placed, folder + "/" + std::to_string(y) + ".glb", contentTriangles});
+            }
+        } else {
+            json& t = out.tile;
+            t["boundingVolume"]["box"] = {0, 0, 0, half.x, 0, 0, 0, half.y, 0, 0, 0, half.z};
+            const dvec3 shift = centre - parentCentre;  // 3D Tiles transforms are relative to the parent's frame
+            t["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, shift.x, shift.y, shift.z, 1};
+            t["geometricError"] = out.error;
+            t["refine"] = "REPLACE";
+            if (hasContent) {
+                const std::string uri = "tiles/" + name(level, x, y) + ".glb";
+                t["content"]["uri"] = uri;
+                queue(Pending{content, dir_ + "/" + uri, contentTriangles});
+            }
         }
         ++report_->tiles;
         if (leaf) {
@@ -258,6 +282,8 @@ private:
     unsigned threads_ = 1;
     std::vector<Pending> batch_;
     uint64_t batchTriangles_ = 0;
+    dvec3 rootCentre_{0.0};
+    std::vector<tiles::ImplicitTile> implicitTiles_;
 
 public:
     size_t billboardsSkipped() const { return billboardsSkipped_; }

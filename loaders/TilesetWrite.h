@@ -30,12 +30,17 @@ struct TileWriteOptions {
     // Repeated leaves (a mesh, or an LOD of one mesh, placed again and again) written as instances
     // (EXT_mesh_gpu_instancing): a city's tile becomes kilobytes of JSON instead of megabytes, and reads as fast.
     bool instancing = true;
+    // The same tiles as 3D Tiles 1.1 implicit tiling: a tileset.json of one tile, the tree's availability and each
+    // tile's box and geometric error (TILE_BOUNDING_BOX and TILE_GEOMETRIC_ERROR tile metadata, in the root's
+    // frame) in subtree files dir/subtrees/{level}/{x}/{y}.subtree, contents in dir/tiles/{level}/{x}/{y}.glb
+    // holding their offset from the root's centre. Opening the tileset then reads the root's subtree only.
+    bool implicit = false;
     // Called as tiles are written: the fraction of the scene written, in [0, 1], and the stage.
     std::function<void(double fraction, const std::string& stage)> progress;
 };
 
 struct TileWriteReport {
-    size_t tiles = 0, contents = 0, bytes = 0;  // bytes: tileset.json and every .glb
+    size_t tiles = 0, contents = 0, bytes = 0;  // bytes: tileset.json, every .glb and subtree file
     double seconds = 0;
     std::vector<std::string> warnings;
 };
@@ -43,7 +48,8 @@ struct TileWriteReport {
 // Writes dir/tileset.json and dir/tiles/*.glb (creating dir), the scene below `root` (+Z up, metres) in its
 // world frame. Every tile has a box bounding volume, a geometric error (0 at leaves), refine REPLACE and a
 // transform holding its centre (its content and box are relative to it, so that coordinates far from the origin
-// keep their precision); contents are glTF +Y up, as the specification has them. A fully refined tileset draws
+// keep their precision; implicit tiling: the root's transform holds its centre, a content's root node its
+// offset from it); contents are glTF +Y up, as the specification has them. A fully refined tileset draws
 // exactly the scene: sgkit's node kinds travel in the contents' extras as saveGltf writes them. Throws
 // std::runtime_error naming the path when it cannot write, std::invalid_argument for impossible options.
 TileWriteReport writeTileset(const Node& root, const std::string& dir, const TileWriteOptions& options = {});

@@ -1,7 +1,9 @@
 // sgtile: writes a scene as an OGC 3D Tiles 1.1 tile pyramid (tileset.json and tiles/*.glb).
 //
-//   sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified]
+//   sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit]
 //   sgtile INPUT.glb|.gltf --out DIR [...]
+//
+// --implicit writes the same tiles as implicit tiling (subtree files; tileset.json is one tile).
 //
 // Prints what was written. Exit 2, naming the problem, on bad arguments or an unreadable input.
 #include "loaders/Gltf.h"
@@ -21,8 +23,9 @@ namespace {
 int usage(const std::string& problem) {
     std::fprintf(stderr,
                  "sgtile: %s\n"
-                 "usage: sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified]\n"
-                 "       sgtile INPUT.glb|.gltf --out DIR [--max-triangles T] [--proxies exact|simplified]\n",
+                 "usage: sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit]\n"
+                 "       sgtile INPUT.glb|.gltf --out DIR [--max-triangles T] [--proxies exact|simplified] "
+                 "[--implicit]\n",
                  problem.c_str());
     return 2;
 }
@@ -64,6 +67,8 @@ int main(int argc, char** argv) {
             } else {
                 return usage("--proxies wants exact or simplified, not " + std::string(v));
             }
+        } else if (a == "--implicit") {
+            options.implicit = true;
         } else if (!a.empty() && a[0] == '-') {
             return usage("unknown option " + a);
         } else if (input.empty()) {

@@ -1,6 +1,7 @@
 // The city written as tiles by writeTileset and read back by loadTileset, paged by the pager: every view, once
 // the pager has nothing left to load for it, equals the render of the city held in memory pixel for pixel (the
-// tiles reproduce the graph's LOD choices), whether the view shows leaves, exact proxies or both.
+// tiles reproduce the graph's LOD choices), whether the view shows leaves, exact proxies or both; written as
+// explicit tiles or as implicit tiling (whose tiles' boxes and errors are tile metadata).
 #include "loaders/SharedMeshes.h"
 #include "loaders/Tileset.h"
 #include "loaders/TilesetWrite.h"
@@ -31,17 +32,18 @@ Image draw(Renderer& r, Scene& scene, CullTraversal& cull, const Camera& cam, Cu
     return r.readColor();
 }
 
-}  // namespace
-
-TEST(TilesetCity, SettledViewsEqualTheCityInMemory) {
-    const int n = 24;
-    const std::string dir = ::testing::TempDir() + "sgkit_tiles_city";
+// The city of n x n cells written as tiles (`implicit`: as implicit tiling), each view settled, against the city
+// in memory; returns the settled views' pictures.
+std::vector<Image> settledViewsEqualTheCity(int n, bool implicit) {
+    const std::string dir = ::testing::TempDir() + (implicit ? "sgkit_tiles_city_implicit" : "sgkit_tiles_city");
     std::filesystem::remove_all(dir);
     TileWriteOptions wo;
     wo.maxTrianglesPerTile = 60000;  // a few levels for a small city
     wo.referenceHeightPixels = kH;   // the geometric errors for this view's pixels
+    wo.implicit = implicit;
     const TileWriteReport report = writeTileset(*scenes::buildCity({n, false}), dir, wo);
-    ASSERT_GT(report.tiles, 4u);
+    EXPECT_GT(report.tiles, 4u);
+    std::vector<Image> pictures;
 
     Tileset ts = loadTileset(dir + "/tileset.json");
     Scene tiles(ts.root());
@@ -74,7 +76,10 @@ TEST(TilesetCity, SettledViewsEqualTheCityInMemory) {
             draw(renderer, tiles, tileCull, cams[k], ts1);
             const bool busy = pager.stats().queued > 0 || pager.stats().loading;
             if (!busy && ts1.pagedRequested == 0 && ts1.pagedCoarse == 0) break;
-            ASSERT_LT(settle, 200) << "view " << k << " never settles";
+            if (settle >= 200) {
+                ADD_FAILURE() << "view " << k << " never settles";
+                return pictures;
+            }
             pager.waitIdle();
         }
         CullStats cs;
@@ -83,6 +88,7 @@ TEST(TilesetCity, SettledViewsEqualTheCityInMemory) {
         EXPECT_EQ(countDifferingPixels(got, want), 0u) << "view " << k;
         EXPECT_EQ(ts1.triangles, cs.triangles) << "view " << k;
         EXPECT_GT(cs.triangles, 0u) << "view " << k;
+        pictures.push_back(got);
         minWanted = std::min(minWanted, ts1.pagedWanted);
         maxWanted = std::max(maxWanted, ts1.pagedWanted);
     }
@@ -102,4 +108,19 @@ TEST(TilesetCity, SettledViewsEqualTheCityInMemory) {
         for (size_t i = 1; i < meshes.size(); ++i) EXPECT_FALSE(tiles::sameMesh(*meshes[0], *meshes[i]));
     }
     EXPECT_GT(held, 0u);
+    return pictures;
+}
+
+}  // namespace
+
+TEST(TilesetCity, SettledViewsEqualTheCityInMemory) { settledViewsEqualTheCity(24, false); }
+
+// Implicit tiling: the tiles' own boxes and errors come from the subtrees' tile metadata, so each view settles on
+// the same picture as the explicit tileset's (and the city's); with the implied boxes and halved errors it would not.
+TEST(TilesetCity, ImplicitTilingSettlesOnTheSamePictures) {
+    const std::vector<Image> implicit = settledViewsEqualTheCity(24, true);
+    const std::vector<Image> explicitTiles = settledViewsEqualTheCity(24, false);
+    ASSERT_EQ(implicit.size(), explicitTiles.size());
+    for (size_t k = 0; k < implicit.size(); ++k)
+        EXPECT_EQ(countDifferingPixels(implicit[k], explicitTiles[k]), 0u) << "view " << k;
 }

@@ -1,13 +1,16 @@
 // Tilesets in pixels: the same tiles placed millions of metres from the origin (Earth-centred data) draw as
-// they do at the origin, through the renderer's camera-relative path.
+// they do at the origin, through the renderer's camera-relative path; so do the tiles writeTileset writes of a
+// scene that far out, explicit or implicit.
 #include "RenderUtil.h"
 #include "loaders/Tileset.h"
+#include "loaders/TilesetWrite.h"
 #include "nodes/Geometry.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
+#include "testbed/City.h"
 
 #include <gtest/gtest.h>
 
@@ -91,4 +94,46 @@ TEST(TilesetImage, EarthCentredTilesDrawAsAtTheOrigin) {
         covered += countDifferingPixels(ia, clear, 0);
     }
     EXPECT_GT(covered, size_t(kW * kH / 4));  // the views see the tiles
+}
+
+// The city written 6 million metres from the origin: its tiles (their centres in each tile's transform, or for
+// implicit tiling in the root's transform and each content's root node, in double) draw, fully refined, what the
+// city at the origin draws, pixel for pixel. Float contents at that distance would be off by half a metre.
+TEST(TilesetImage, TilesWrittenFarFromTheOriginDrawAsAtTheOrigin) {
+    const dvec3 offset(4096000.0, 2048000.0, 4194304.0);  // exact in double, as the eyes below
+    const int n = 8;
+    auto far = make<Transform>(glm::translate(dmat4(1.0), offset));
+    far->addChild(scenes::buildCity({n, false}));
+    auto city = scenes::buildCity({n, false});
+    OsmesaContext context(kW, kH);
+    Renderer renderer;
+    for (bool implicit : {false, true}) {
+        const std::string dir = ::testing::TempDir() + (implicit ? "sgkit_tiles_far_implicit" : "sgkit_tiles_far");
+        fs::remove_all(dir);
+        TileWriteOptions options;
+        options.maxTrianglesPerTile = 10000;  // a few levels
+        options.implicit = implicit;
+        const TileWriteReport report = writeTileset(*far, dir, options);
+        EXPECT_GT(report.tiles, 4u);
+        Tileset tiles = loadTileset(dir + "/tileset.json");
+        size_t covered = 0;
+        for (const dvec3& e : {dvec3(-20.5, -30.25, 40.0), dvec3(80.0, 60.5, 6.0), dvec3(200.0, -50.0, 120.0)}) {
+            Camera a, b;
+            a.setViewport(kW, kH);
+            a.setPerspective(50.0, double(kW) / kH, 0.5, 3000.0);
+            b = a;
+            const dvec3 target(10.0 * n, 10.0 * n, 0.0);
+            a.setLookAt(e, target, dvec3(0, 0, 1));
+            b.setLookAt(e + offset, target + offset, dvec3(0, 0, 1));
+            const Image want = testutil::drawGraph(renderer, city, a);
+            const Image got = render(renderer, tiles, b);
+            EXPECT_EQ(countDifferingPixels(got, want, 0), 0u)
+                << (implicit ? "implicit" : "explicit") << ", eye " << e.x << ", " << e.y << ", " << e.z;
+            Image clear = want;
+            for (size_t i = 0; i < clear.rgba.size(); i += 4)
+                std::copy(want.rgba.begin(), want.rgba.begin() + 4, clear.rgba.begin() + long(i));
+            covered += countDifferingPixels(want, clear, 0);
+        }
+        EXPECT_GT(covered, size_t(kW * kH / 4));  // the views see the city
+    }
 }

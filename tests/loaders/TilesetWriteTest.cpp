@@ -1,10 +1,12 @@
 // writeTileset: the written tileset.json read back with nlohmann-json and every content with loadGltf, against
 // the scene: bounds, errors, counts, and what a reader draws from a set of eyes against what the graph draws.
 #include "loaders/Gltf.h"
+#include "loaders/Tileset.h"
 #include "loaders/TilesetWrite.h"
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "testbed/City.h"
 
@@ -12,11 +14,13 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
 
@@ -299,6 +303,62 @@ TEST(TilesetWrite, RepeatedLeavesAreWrittenAsInstancesAndDrawTheSame) {
     }
 }
 
+// A tileset as loadTileset reads it, refined in full: each tile with children as its PagedLOD's world centre,
+// radius and geometric error, sorted.
+std::vector<std::array<double, 5>> refinedTiles(const std::string& file) {
+    sg::Tileset ts = loadTileset(file);
+    refineAll(*ts.root(), ts.loadFunction());
+    std::vector<std::array<double, 5>> out;
+    std::function<void(const Node&, const dmat4&)> walk = [&](const Node& n, const dmat4& parent) {
+        const dmat4 world = frameBelow(n, parent);
+        if (n.kind() == NodeKind::PagedLOD) {
+            const auto& p = static_cast<const PagedLOD&>(n);
+            const dvec3 c(world * dvec4(p.center(), 1.0));
+            out.push_back({c.x, c.y, c.z, p.radius(), p.geometricError()});
+        }
+        for (size_t i = 0; i < n.numChildren(); ++i) walk(*n.child(i), world);
+    };
+    walk(*ts.root(), dmat4(1.0));
+    // Centres a metre apart at least: rounding to a centimetre orders both tilesets alike.
+    auto key = [](const std::array<double, 5>& t) {
+        return std::make_tuple(std::llround(t[0] * 100), std::llround(t[1] * 100), std::llround(t[2] * 100), t[4]);
+    };
+    std::sort(out.begin(), out.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    return out;
+}
+
+// Implicit tiling holds the same tree: a tileset.json of one tile, and read back, every tile with children
+// refines as the explicit tileset's does (from the same sphere, at the same error: the subtrees' metadata).
+TEST(TilesetWrite, ImplicitTilingReadsAsTheSameTree) {
+    auto city = scenes::buildCity({16, false});
+    TileWriteOptions options;
+    options.maxTrianglesPerTile = 20000;  // three levels: subtrees of two, the level-2 tiles each a subtree's root
+    const std::string dirExplicit = tempDir("city16explicit"), dirImplicit = tempDir("city16implicit");
+    const TileWriteReport e = writeTileset(*city, dirExplicit, options);
+    options.implicit = true;
+    const TileWriteReport i = writeTileset(*city, dirImplicit, options);
+    EXPECT_EQ(i.tiles, e.tiles);
+    EXPECT_EQ(i.contents, e.contents);
+    EXPECT_TRUE(fs::is_regular_file(dirImplicit + "/subtrees/0/0/0.subtree"));
+    EXPECT_TRUE(fs::is_regular_file(dirImplicit + "/subtrees/2/3/3.subtree"));
+    EXPECT_TRUE(fs::is_regular_file(dirImplicit + "/tiles/2/3/3.glb"));
+
+    std::ifstream in(dirImplicit + "/tileset.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    EXPECT_EQ(text.find("\"children\""), std::string::npos);
+    EXPECT_LT(text.size(), 2000u) << text;
+    EXPECT_GT(fs::file_size(dirExplicit + "/tileset.json"), 5 * text.size());
+    const json doc = json::parse(text);
+    EXPECT_EQ(doc["root"]["implicitTiling"]["availableLevels"], 3);
+    EXPECT_EQ(doc["schema"]["classes"]["tile"]["properties"]["boundingBox"]["semantic"], "TILE_BOUNDING_BOX");
+
+    const auto want = refinedTiles(dirExplicit + "/tileset.json"), got = refinedTiles(dirImplicit + "/tileset.json");
+    ASSERT_EQ(got.size(), want.size());
+    EXPECT_EQ(got.size(), 5u);  // the root and the four level-1 tiles
+    for (size_t k = 0; k < got.size(); ++k)
+        for (size_t c = 0; c < 5; ++c) EXPECT_NEAR(got[k][c], want[k][c], 1e-9) << "tile " << k << ", value " << c;
+}
+
 // A glTF scene: LODs without a centre of their own, whose coarse level is much lower than the fine one, so that
 // dropping the fine level would move the centre the cull switches by (by 9 m: the coarse level would vanish at
 // other distances).
@@ -388,21 +448,33 @@ TEST(TilesetWrite, ThirdPartyToolsReadItAndTheGltfValidatorFindsNoError) {
     if (!fs::exists(tool) || !fs::exists(modules / "gltf-validator"))
         GTEST_SKIP() << tool << " or gltf-validator absent: build the tiles-tools target";
     auto city = scenes::buildCity({16, false});
-    const std::string dir = tempDir("tools");
-    TileWriteOptions options;
-    options.maxTrianglesPerTile = 20000;
-    const TileWriteReport r = writeTileset(*city, dir, options);
-    const std::string out = dir + "_check.txt";
-    const std::string cmd = "node '" SGKIT_SOURCE_DIR "/tests/loaders/check_tileset.mjs' '" + modules.string() + "' '" +
-                            dir + "/tileset.json' > '" + out + "' 2>&1";
-    const int status = std::system(cmd.c_str());
-    std::ifstream in(out);
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    ASSERT_EQ(status, 0) << text;
-    const json summary = json::parse(text);
-    EXPECT_EQ(summary["tiles"], r.tiles);
-    EXPECT_EQ(summary["contents"], r.contents);
-    EXPECT_EQ(summary["errors"], 0);
+    // The explicit tileset, then the implicit one: the tools see the same tiles, with the same final geometric
+    // errors and box sizes (the implicit tiles' from their metadata semantics, as the tools apply them).
+    json explicitSummary;
+    for (bool implicit : {false, true}) {
+        const std::string dir = tempDir(implicit ? "tools_implicit" : "tools");
+        TileWriteOptions options;
+        options.maxTrianglesPerTile = 20000;
+        options.implicit = implicit;
+        const TileWriteReport r = writeTileset(*city, dir, options);
+        const std::string out = dir + "_check.txt";
+        const std::string cmd = "node '" SGKIT_SOURCE_DIR "/tests/loaders/check_tileset.mjs' '" + modules.string() +
+                                "' '" + dir + "/tileset.json' > '" + out + "' 2>&1";
+        const int status = std::system(cmd.c_str());
+        std::ifstream in(out);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        ASSERT_EQ(status, 0) << text;
+        const json summary = json::parse(text);
+        EXPECT_EQ(summary["tiles"], r.tiles);
+        EXPECT_EQ(summary["contents"], r.contents);
+        EXPECT_EQ(summary["errors"], 0);
+        if (!implicit) {
+            explicitSummary = summary;
+        } else {
+            EXPECT_EQ(summary["tiles"], explicitSummary["tiles"]);
+            EXPECT_EQ(summary["finals"], explicitSummary["finals"]);
+        }
+    }
 #endif
 }
 
