@@ -122,6 +122,16 @@ ref_ptr<PagedLOD> addTile(Group& parent, const dvec3& at, const std::string& fil
     return p;
 }
 
+// A Command node loading "block.glb", which Recorder holds at its gate: commanded first, it keeps the one loader
+// thread busy while the requests the test is about queue up behind it.
+ref_ptr<PagedLOD> addBlock(Group& parent) {
+    auto block = make<PagedLOD>();
+    block->setFile("block.glb");
+    block->setTrigger(PagedLOD::Trigger::Command);
+    parent.addChild(block);
+    return block;
+}
+
 // A load function that records the files in the order loaded and holds every load at a gate until it opens;
 // "block.glb" waits at `gate` alone, so that a queue can build up behind it.
 struct Recorder {
@@ -483,10 +493,7 @@ TEST(Pager, RequestsAreLoadedMostNeededFirstAndCommandsBeforeThem) {
     auto far = addTile(*root, dvec3(0, 40, 0), "far.glb");
     auto near = addTile(*root, dvec3(0, 10, 0), "near.glb");
     auto mid = addTile(*root, dvec3(0, 25, 0), "mid.glb");
-    auto block = make<PagedLOD>();
-    block->setFile("block.glb");
-    block->setTrigger(PagedLOD::Trigger::Command);
-    root->addChild(block);
+    auto block = addBlock(*root);
     Scene scene(root);
     Recorder rec;
     Pager pager(
@@ -520,10 +527,7 @@ TEST(Pager, ALookAheadCullDrawsNothingAndAsksBelowEveryRequestOfTheView) {
     auto root = make<Group>();
     auto ahead = addTile(*root, dvec3(0, 80, 0), "ahead.glb");
     auto edge = addTile(*root, dvec3(0, 49, 0), "edge.glb");
-    auto block = make<PagedLOD>();
-    block->setFile("block.glb");
-    block->setTrigger(PagedLOD::Trigger::Command);
-    root->addChild(block);
+    auto block = addBlock(*root);
     Scene scene(root);
     Recorder rec;
     Pager pager(
@@ -587,10 +591,7 @@ TEST(Pager, ARenewedRequestTakesItsNewPriority) {
     auto root = make<Group>();
     auto left = addTile(*root, dvec3(-8, 20, 0), "left.glb");
     auto right = addTile(*root, dvec3(8, 20, 0), "right.glb");
-    auto block = make<PagedLOD>();
-    block->setFile("block.glb");
-    block->setTrigger(PagedLOD::Trigger::Command);
-    root->addChild(block);
+    auto block = addBlock(*root);
     Scene scene(root);
     Recorder rec;
     Pager pager(
@@ -618,10 +619,7 @@ TEST(Pager, ParentsAreLoadedBeforeTheirChildren) {
     auto root = make<Group>();
     auto parent = addTile(*root, dvec3(0, 5, 0), "parent.glb");
     auto edge = addTile(*root, dvec3(0, 48, 0), "edge.glb");
-    auto block = make<PagedLOD>();
-    block->setFile("block.glb");
-    block->setTrigger(PagedLOD::Trigger::Command);
-    root->addChild(block);
+    auto block = addBlock(*root);
     Scene scene(root);
     ref_ptr<PagedLOD> child;
     Recorder rec;
