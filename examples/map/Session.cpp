@@ -61,6 +61,7 @@ Session::Session(Atlas& atlas, Display& display, int width, int height, Threadin
     View& v = viewer_.addView();
     v.cull.traversalMask = ~(kPickable | kCollidable);  // a level's pick-only regions are not drawn
     v.clearColor = kSeaColor;
+    v.prefetchSeconds = 0.0;  // the levels are entered by command: a look-ahead would walk the map for nothing
     // The atlas's pager is updated by the viewer; between it and the scene's update, the level entered or failed.
     viewer_.usePager(&atlas_.pager());
     viewer_.onUpdate([this](const FrameInfo& fi) {
