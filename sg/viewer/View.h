@@ -41,8 +41,8 @@ public:
     // want are asked for below everything the view itself needs (CullSettings::prefetchOnly), so that the detail
     // ahead of a moving camera is loading before it shows (a flight over the tiled city: 7-9 frames differing from
     // the city in memory on the way instead of 43-56, for a twentieth more cull; docs/benchmarks.md). Not while
-    // the pager is over its byte budget, nor for a camera at rest. 0: off (a pager of Command nodes only, as a
-    // map's levels entered by command, has nothing to look ahead for).
+    // the pager is over its byte budget, nor for a camera at rest. 0 (or a negative or NaN value): off (a pager of
+    // Command nodes only, as a map's levels entered by command, has nothing to look ahead for).
     double prefetchSeconds = 1.0;
 
     // Its last frame.
