@@ -12,6 +12,7 @@
 #include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/core/NodeVisitor.h"
+#include "sg/scene/GeneratedOccluders.h"
 
 #include <nlohmann/json.hpp>
 
@@ -202,6 +203,7 @@ PageLoadFunction Tileset::loadFunction() const {
         for (uint32_t c : d.children) g->addChild(tiles::buildTile(s, c, *d.world, drawn, budget));
         if (s->options.shareMeshes) s->meshes.share(*g);
         gltf::workOutSolids(*g);
+        if (s->options.generateOccluders) generateOccluders(*g, s->options.occluders);
         return g;
     };
 }
@@ -212,6 +214,7 @@ TilesetCounts Tileset::counts() const { return state_->counts(); }
 Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options) {
     if (!(options.maximumScreenSpaceError > 0.0) || !std::isfinite(options.maximumScreenSpaceError))
         throw std::invalid_argument("loadTileset(): maximumScreenSpaceError must be finite and > 0");
+    if (options.generateOccluders) options.occluders.validate("loadTileset()");
     Tileset ts;
     ts.file_ = pathOrUrl;
     ts.state_ = std::make_shared<tiles::TilesetState>(options);
@@ -220,6 +223,7 @@ Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options)
     ts.root_ = tiles::buildTile(ts.state_, root, dmat4(1.0), false, budget);
     if (options.shareMeshes) ts.state_->meshes.share(*ts.root_);
     gltf::workOutSolids(*ts.root_);
+    if (options.generateOccluders) generateOccluders(*ts.root_, options.occluders);
     return ts;
 }
 

@@ -4,6 +4,8 @@
 // cull and pass times, the whole frame drawn headless (1280x720), and with --pixels the pixels that differ from the
 // unculled render.
 #include "loaders/Gltf.h"
+#include "loaders/Tileset.h"
+#include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/KeepFreedMemory.h"
@@ -18,7 +20,10 @@
 #include "testbed/Office.h"
 
 #include <chrono>
+#include <functional>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <stdexcept>
 
 namespace bench {
@@ -26,6 +31,82 @@ namespace bench {
 namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// The city as tiles written by sgtile, paged in: occluders made from each load as it is read (on the loader threads,
+// as TilesetOptions::generateOccluders does; here with their figures summed), or the built city's authored ones placed
+// beside the tiles (the yardstick for the triangles drawn: a coarse tile is not surely inside them).
+struct TiledCity {
+    sg::Tileset ts;
+    sg::ref_ptr<sg::Group> root = sg::make<sg::Group>();
+    std::optional<sg::OccluderGenSettings> generate;
+    std::unique_ptr<sg::Pager> pager;
+    std::mutex m;
+    sg::OccluderGenStats made;  // the loads', summed
+    long loads = 0;
+    uint64_t frame = 0;
+
+    explicit TiledCity(const std::string& file) : ts(sg::loadTileset(file)) { root->addChild(ts.root()); }
+
+    size_t addAuthored(int n) {
+        size_t k = 0;
+        std::function<void(const sg::Node&, const sg::dmat4&)> walk = [&](const sg::Node& nd, const sg::dmat4& w) {
+            if (nd.kind() == sg::NodeKind::Occluder) {
+                const auto& o = static_cast<const sg::Occluder&>(nd);
+                auto c = sg::make<sg::Occluder>();
+                if (o.shape() == sg::Occluder::Shape::Box)
+                    c->setBox(o.box());
+                else
+                    c->setPolygon(o.polygon());
+                auto t = sg::make<sg::Transform>(w);
+                t->addChild(c);
+                root->addChild(t);
+                ++k;
+                return;
+            }
+            const sg::dmat4 cw =
+                nd.kind() == sg::NodeKind::Transform ? static_cast<const sg::Transform&>(nd).apply(w) : w;
+            for (size_t c = 0; c < nd.numChildren(); ++c) walk(*nd.child(c), cw);
+        };
+        walk(*scenes::buildCity({n, true}), sg::dmat4(1.0));
+        return k;
+    }
+
+    void startPaging(sg::Scene& scene) {
+        sg::PagerSettings ps;
+        ps.maxResidentBytes = size_t(8) << 30;  // the views' tiles stay: no view waits for an eviction
+        pager = std::make_unique<sg::Pager>(
+            scene,
+            [this, load = ts.loadFunction()](const std::string& file) {
+                sg::ref_ptr<sg::Node> d = load(file);
+                sg::OccluderGenStats st;
+                if (generate && d) st = sg::generateOccluders(*d, *generate);
+                std::lock_guard<std::mutex> lock(m);
+                made.geometries += st.geometries, made.meshes += st.meshes, made.meshTriangles += st.meshTriangles;
+                made.sceneTriangles += st.sceneTriangles, made.boxes += st.boxes, made.polygons += st.polygons;
+                made.lods += st.lods, made.minor += st.minor, made.skipped += st.skipped, made.ms += st.ms;
+                ++loads;
+                return d;
+            },
+            ps);
+    }
+
+    // Frames at the view, culled with culling off, until every tile it wants is attached.
+    void settle(sg::Scene& scene, const sg::Camera& cam, sg::CullTraversal& cull, const sg::CullSettings& none) {
+        sg::DrawList list;
+        sg::CullStats st;
+        for (int k = 0; k < 1000; ++k) {
+            ++frame;
+            const sg::FrameInfo fi{frame, double(frame)};
+            pager->update(fi);
+            scene.update(fi);
+            cull.cull(scene, cam, none, list, st);
+            const sg::PagerStats& ps = pager->stats();
+            if (ps.queued == 0 && ps.loading == 0 && st.pagedRequested == 0 && st.pagedCoarse == 0) return;
+            pager->waitIdle();
+        }
+        throw std::runtime_error("sgbench occlusion: a view of the tileset never settles");
+    }
+};
 }  // namespace
 
 int runOcclusion(const Args& a) {
@@ -48,6 +129,11 @@ int runOcclusion(const Args& a) {
     const std::string gltfFile = a.str("gltf", "");
     if (!gltfFile.empty() && !city)
         throw std::invalid_argument("sgbench occlusion: --gltf is a city saved by sgview --save: use --scene city");
+    // --tileset FILE: the city written as tiles by sgtile (its --n gives the path), each view drawn once every tile it
+    // wants is loaded (settled with culling off, so that every cull of the view sees the same tiles).
+    const std::string tilesetFile = a.str("tileset", "");
+    if (!tilesetFile.empty() && (!city || !gltfFile.empty()))
+        throw std::invalid_argument("sgbench occlusion: --tileset is a city written by sgtile: use --scene city");
     const bool draw = !a.flag("no-draw");
     const bool pixels = draw && a.flag("pixels");
     const int every = int(a.num("every", 1));  // every k-th frame of the path
@@ -94,6 +180,7 @@ int runOcclusion(const Args& a) {
     scenes::Factory site;
     scenes::WalkPath walk;
     sg::ref_ptr<sg::Node> root;
+    std::unique_ptr<TiledCity> tiles;
     if (factory) {
         site = scenes::buildFactory();
         root = site.root;
@@ -102,6 +189,9 @@ int runOcclusion(const Args& a) {
         auto up = sg::make<sg::Transform>(glm::rotate(sg::dmat4(1.0), glm::half_pi<double>(), sg::dvec3(1, 0, 0)));
         up->addChild(sg::loadGltf(gltfFile).root);
         root = up;
+    } else if (!tilesetFile.empty()) {
+        tiles = std::make_unique<TiledCity>(tilesetFile);
+        root = tiles->root;
     } else {
         root = city ? scenes::buildCity({n, true}) : scenes::buildOffice(n);
     }
@@ -113,16 +203,22 @@ int runOcclusion(const Args& a) {
                                     "')");
     sg::OccluderGenStats gen;
     size_t authored = 0;
-    if (occluders == "generated") {
+    sg::OccluderGenSettings gs;
+    gs.voxels = uint32_t(a.num("voxels", gs.voxels));
+    gs.maxBoxes = uint32_t(a.num("max-boxes", gs.maxBoxes));
+    gs.minMajorShare = double(a.num("major-percent", long(gs.minMajorShare * 100))) / 100.0;
+    if (tiles && occluders == "generated") {
+        tiles->generate = gs;  // each tile's, as it is read
+        gen = sg::generateOccluders(*root, gs);
+    } else if (tiles) {
+        authored = tiles->addAuthored(n);
+    } else if (occluders == "generated") {
         authored = sg::removeOccluders(*root);
-        sg::OccluderGenSettings gs;
-        gs.voxels = uint32_t(a.num("voxels", gs.voxels));
-        gs.maxBoxes = uint32_t(a.num("max-boxes", gs.maxBoxes));
-        gs.minMajorShare = double(a.num("major-percent", long(gs.minMajorShare * 100))) / 100.0;
         gen = sg::generateOccluders(*root, gs);
     }
     sg::Scene scene(root);
     scene.update();
+    if (tiles) tiles->startPaging(scene);
     if (factory) walk = scenes::buildWalkPath(site, scene, 240);
     std::vector<sg::Camera> cams;
     std::vector<int> workshops;  // the factory's Switch state per camera
@@ -138,8 +234,12 @@ int runOcclusion(const Args& a) {
                                 : scenes::officeWalkCamera(n, f));
         }
     }
-    int shown = -2;  // the workshop the factory's switches show
+    int shown = -2;                                     // the workshop the factory's switches show
+    sg::CullTraversal cullNone, cullFrustum, cullOccl;  // one per setting: Adaptive keeps state per view
+    sg::DrawList list;
+    sg::CullStats st;
     auto prepare = [&](size_t view) {
+        if (tiles) tiles->settle(scene, cams[view], cullNone, none);
         if (!factory || workshops[view] == shown) return;
         scenes::setFactoryEye(site, shown = workshops[view]);
         scene.update();
@@ -168,9 +268,6 @@ int runOcclusion(const Args& a) {
         renderer = std::make_unique<sg::Renderer>();
         if (renderer->softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
     }
-    sg::CullTraversal cullNone, cullFrustum, cullOccl;  // one per setting: Adaptive keeps state per view
-    sg::DrawList list;
-    sg::CullStats st;
     // One frame: cull (+ draw, finished); returns the whole frame's time.
     auto frame = [&](sg::CullTraversal& t, const sg::Camera& cam, const sg::CullSettings& s) {
         const auto t0 = Clock::now();
@@ -217,8 +314,8 @@ int runOcclusion(const Args& a) {
     double trisIdeal = 0;
 
     std::vector<double> cullF, cullO, passO, frameF, frameO, speedup;
-    double total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0, tests = 0,
-           ran = 0, differing = 0, viewsWithError = 0, culledObb = 0;
+    double candidates = 0, total = 0, trisF = 0, trisO = 0, used = 0, nodes = 0, psplits = 0, bsplits = 0, culled = 0,
+           tests = 0, ran = 0, differing = 0, viewsWithError = 0, culledObb = 0;
     for (size_t view = 0; view < cams.size(); ++view) {
         const sg::Camera& cam = cams[view];
         prepare(view);
@@ -232,6 +329,7 @@ int runOcclusion(const Args& a) {
         passO.push_back(st.occlusionMs);
         trisO += double(st.triangles);
         used += double(st.occludersUsed);
+        candidates += double(st.occluderCandidates);
         nodes += double(st.occlusionTreeNodes);
         psplits += double(st.occlusionPolygonSplits);
         bsplits += double(st.occlusionBoxSplits);
@@ -254,9 +352,16 @@ int runOcclusion(const Args& a) {
         speedup.push_back(fF / fO);
     }
     const double k = double(cams.size());
+    if (tiles) {  // the loads' occluders with the root tile's
+        std::lock_guard<std::mutex> lock(tiles->m);
+        const sg::OccluderGenStats& l = tiles->made;
+        gen.geometries += l.geometries, gen.meshes += l.meshes, gen.meshTriangles += l.meshTriangles;
+        gen.sceneTriangles += l.sceneTriangles, gen.boxes += l.boxes, gen.polygons += l.polygons, gen.ms += l.ms;
+    }
     Json j;
     j.add("command", "occlusion").add("scene", sceneName).add("path", path);
     if (!gltfFile.empty()) j.add("gltf", gltfFile);
+    if (tiles) j.add("tileset", tilesetFile).addInt("tiles_loaded", long(tiles->loads));
     if (!factory) j.addInt(city ? "n" : "r", n);
     j.add("occluders", occluders);
     if (occluders == "generated")
@@ -293,7 +398,10 @@ int runOcclusion(const Args& a) {
         j.add("frame_ms_median_frustum", median(frameF)).add("frame_ms_median_occlusion", median(frameO));
         j.add("frame_speedup_median", median(speedup));
     }
-    j.add("pass_ran_share", ran / k).add("occluders_used_mean", used / k).add("tree_nodes_mean", nodes / k);
+    j.add("pass_ran_share", ran / k)
+        .add("occluder_candidates_mean", candidates / k)
+        .add("occluders_used_mean", used / k)
+        .add("tree_nodes_mean", nodes / k);
     j.add("polygon_splits_mean", psplits / k).add("box_splits_mean", bsplits / k);
     j.add("occlusion_tests_mean", tests / k).add("culled_occlusion_mean", culled / k);
     j.print(a);

@@ -116,6 +116,7 @@ static void usage() {
         "                [--method tree|hom|hom-approx|pvs|pvs+tree|pvs+hom|pvs+hom-approx] [--hom-opacity PERCENT] "
         "[--hom-size N]\n"
         "                [--obb-levels L] [--cell-size M] [--pvs-occluders K] [--pixels]\n"
+        "                [--occluders authored|generated] [--gltf FILE.glb | --tileset DIR/tileset.json]\n"
         "       sgbench lod --scene city|factory [--n N] [--path orbit|street] --budget-ms B --method "
         "static|stress|budget "
         "[--no-drop] [--guess-accuracy] [--same-view] [--every K]\n"

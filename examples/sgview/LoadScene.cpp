@@ -12,8 +12,10 @@ namespace sgview {
 
 namespace {
 
-LoadedScene loadTilesetFile(const std::string& path, bool refineAll) {
-    auto ts = std::make_shared<sg::Tileset>(sg::loadTileset(path));
+LoadedScene loadTilesetFile(const std::string& path, bool refineAll, bool autoOccluders) {
+    sg::TilesetOptions to;
+    to.generateOccluders = autoOccluders;  // each tile's, as it is read
+    auto ts = std::make_shared<sg::Tileset>(sg::loadTileset(path, to));
     LoadedScene s;
     s.root = ts->root();
     s.pageLoad = ts->loadFunction();
@@ -32,8 +34,8 @@ LoadedScene loadTilesetFile(const std::string& path, bool refineAll) {
 
 }  // namespace
 
-LoadedScene loadSceneFile(const std::string& path, bool refineAll) {
-    if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, refineAll);
+LoadedScene loadSceneFile(const std::string& path, bool refineAll, bool autoOccluders) {
+    if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, refineAll, autoOccluders);
     if (refineAll) throw sg::LoadError(path, "", "--refine-all: not a 3D Tiles tileset");
     sg::GltfScene g = sg::loadGltf(path);
     LoadedScene s;

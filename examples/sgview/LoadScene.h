@@ -25,8 +25,9 @@ struct LoadedScene {
 };
 
 // One glTF file or 3D Tiles tileset (LoadScene.cpp; a path or, for a tileset, a URL), every tile loaded with
-// `refineAll`. Throws sg::LoadError naming the file, the JSON path and the reason.
-LoadedScene loadSceneFile(const std::string& path, bool refineAll = false);
+// `refineAll`; a tileset's tiles make their occluders as they are read with `autoOccluders`
+// (sg::TilesetOptions::generateOccluders). Throws sg::LoadError naming the file, the JSON path and the reason.
+LoadedScene loadSceneFile(const std::string& path, bool refineAll = false, bool autoOccluders = false);
 
 // Writes the scene as glTF (.glb or .gltf), turned to glTF's +Y up when its up axis is +Z.
 void saveSceneFile(const LoadedScene& scene, const std::string& path);

@@ -176,7 +176,7 @@ const char* usageText() {
            "                     an http(s) URL): its tiles load as the view needs them\n"
            "  --refine-all       a tileset: load every tile and show it fully refined (with --info or --headless too)\n"
            "  --auto-occluders   make occluders from the geometry (boxes inside closed meshes, large flat faces) for\n"
-           "                     the occlusion pass; authored ones stay where present (not inside a tileset's tiles)\n"
+           "                     the occlusion pass (a tileset: each tile as it is read); authored ones stay\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6);\n"
            "                     factory: the walkthrough site; materials: physical materials (--n not used)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"

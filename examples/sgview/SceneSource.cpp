@@ -16,7 +16,7 @@
 namespace sgview {
 
 #ifdef SGVIEW_NO_GLTF
-LoadedScene loadSceneFile(const std::string& path, bool) {
+LoadedScene loadSceneFile(const std::string& path, bool, bool) {
     throw UsageError(
         "'" + path +
         "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory|materials works");
@@ -43,18 +43,22 @@ namespace {
 LoadedScene loadSources(const Options& o);
 }  // namespace
 
-// --auto-occluders: occluders made from the geometry, what was made said among the warnings.
+// --auto-occluders: occluders made from the geometry, what was made said among the warnings (a tileset's tiles make
+// theirs as they are read: loadSceneFile).
 LoadedScene loadScene(const Options& o) {
     LoadedScene s = loadSources(o);
     if (!o.autoOccluders || !s.root) return s;
+    if (s.pageLoad) {
+        s.warnings.push_back("--auto-occluders: made in each tile as it is read");
+        return s;
+    }
     const sg::OccluderGenStats st = sg::generateOccluders(*s.root);
     char line[256];
     std::snprintf(line, sizeof line,
                   "--auto-occluders: %llu boxes and %llu polygons for %llu geometries (%llu meshes, %llu triangles) in "
-                  "%.1f ms%s",
+                  "%.1f ms",
                   (unsigned long long)st.boxes, (unsigned long long)st.polygons, (unsigned long long)st.geometries,
-                  (unsigned long long)st.meshes, (unsigned long long)st.meshTriangles, st.ms,
-                  s.pageLoad ? "; none inside the tileset's tiles" : "");
+                  (unsigned long long)st.meshes, (unsigned long long)st.meshTriangles, st.ms);
     s.warnings.push_back(line);
     return s;
 }
@@ -69,7 +73,7 @@ LoadedScene loadSources(const Options& o) {
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
     auto load = [&o](const std::string& f) {
         try {
-            return loadSceneFile(f, o.refineAll);
+            return loadSceneFile(f, o.refineAll, o.autoOccluders);
         } catch (const UsageError&) {
             throw;
         } catch (const std::exception& e) {  // sg::LoadError names the file, the JSON path and the reason

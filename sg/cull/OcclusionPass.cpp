@@ -1,6 +1,7 @@
 #include "sg/cull/OcclusionPass.h"
 
 #include "nodes/Occluder.h"
+#include "sg/scene/ImageFrame.h"
 #include "sg/scene/LodChooser.h"
 
 #include <algorithm>
@@ -19,17 +20,33 @@ bool outsideFrustum(const std::array<Plane, 6>& planes, const dvec3& lo, const d
     }
     return false;
 }
-// A generated occluder's conditions (Occluder::eyeOutside, oneSided, shownWith) this frame.
-bool conditionsHold(const FlatImage& img, const FlatImage::OccluderRef& o, const Camera& cam, const CullSettings& set) {
+// Whether the conditions listed for a path (FlatImage::OccluderRef::switchFirst, Paged::condFirst) hold this frame:
+// its Switch children on, its masked nodes seen, its PagedLODs showing their coarse children (the walk takes a
+// detail where it is wanted and attached, CullTraversal::pagedLod).
+bool pathHolds(const ImageFrame& f, uint32_t first, uint32_t count, const LodChooser& lods, uint32_t mask) {
+    const FlatImage& img = *f.img;
+    for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t c = img.occluderSwitchBits[first + k];
+        if (c & FlatImage::kMaskCondition) {
+            if (!(img.maskOf(c & ~FlatImage::kMaskCondition) & mask)) return false;
+        } else if (c & FlatImage::kPagedCondition) {
+            const uint32_t e = c & ~FlatImage::kPagedCondition;
+            if (img.paged[img.aux[e]].detail && lods.detailWanted(f, e)) return false;
+        } else if (!img.switchOn[c]) {
+            return false;
+        }
+    }
+    return true;
+}
+
+// An occluder's conditions this frame: its path's, and a generated one's (Occluder::eyeOutside, oneSided, shownWith).
+bool conditionsHold(const ImageFrame& f, const FlatImage::OccluderRef& o, const Camera& cam, const CullSettings& set,
+                    const LodChooser& lods) {
+    const FlatImage& img = *f.img;
     const auto* node = static_cast<const Occluder*>(o.node);
     const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
     const dvec3 eye = cam.eye();
-    for (uint32_t k = 0; k < o.switchCount; ++k) {
-        const uint32_t c = img.occluderSwitchBits[o.switchFirst + k];
-        if (c & FlatImage::kMaskCondition ? !(img.maskOf(c & ~FlatImage::kMaskCondition) & set.traversalMask)
-                                          : !img.switchOn[c])
-            return false;
-    }
+    if (!pathHolds(f, o.switchFirst, o.switchCount, lods, set.traversalMask)) return false;
     if (!node->eyeOutside().empty()) {
         // Outside the box's world bound is outside the box. And the surface a sight line crosses before the
         // occluder lies in that box: grown by the reach of the near plane's corners, no such crossing is clipped.
@@ -56,12 +73,8 @@ bool conditionsHold(const FlatImage& img, const FlatImage::OccluderRef& o, const
         // about the value, where a level may be dissolving to nothing) cover the value. The budget and hysteresis
         // choose levels by other rules: not used with them.
         if (o.lod == ~0u || set.lodBudget.enabled || set.lodHysteresis > 0.0) return false;
-        ImageFrame f;
-        f.img = &img;
-        f.eyeImg = eye - img.origin;
-        f.imgToEye = glm::translate(dmat4(1.0), img.origin - eye);
         const FlatImage::Lod& l = LodChooser::lod(img, o.lod);
-        const double v = LodChooser({&cam, set.lodScale}).value(f, l, o.lod);
+        const double v = lods.value(f, l, o.lod);
         const double h = set.lodFade ? 0.5 * double(l.fade) : 0.0;
         double lo = std::max(v - h, 0.0);
         const double hi = v + h;
@@ -92,10 +105,11 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     testMs_ = 0.0;
     hom_ = false;
     tree_.reset(cam.eye(), OcclusionTree::Options{});
-    // Nothing to do: no occluders in the scene, the reference render (no culling), the pass turned off,
-    // an orthographic camera (the tree's planes pass through an eye point).
-    if (img.occluders.empty() || os.mode == OcclusionMode::Off || set.strategy == CullStrategy::None ||
-        !cam.perspective() || (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0 ||
+    // Nothing to do: no occluders in the scene (nor paged details that may hold some), the reference render (no
+    // culling), the pass turned off, an orthographic camera (the tree's planes pass through an eye point).
+    if ((img.occluders.empty() && img.paged.empty()) || os.mode == OcclusionMode::Off ||
+        set.strategy == CullStrategy::None || !cam.perspective() ||
+        (os.method == OcclusionMethod::Hom ? os.homMaxOccluders : os.maxOccluders) == 0 ||
         (os.method == OcclusionMethod::Auto && os.homMaxOccluders == 0))
         return OcclusionTree::kVisible;
     // Adaptive's back-off holds while the view is much as it was when the pass last ran: the eye has moved less
@@ -127,27 +141,48 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
         }
         return false;
     };
-    // Candidates: active occluders in the frustum, large enough on screen, by distance.
+    // Candidates: active occluders in the frustum, large enough on screen, by distance; in the scene's image and in
+    // the images of the paged details drawn this frame (a tileset's tiles).
     cands_.clear();
-    const uint32_t chunk = FlatImage::kOccluderChunk;
-    for (size_t k = 0; k < img.occluderChunks.size(); ++k) {
-        const Box& b = img.occluderChunks[k];
-        if (b.empty() || outsideFrustum(planes, b.min - eye, b.max - eye)) continue;
-        const uint32_t end = uint32_t(std::min<size_t>(img.occluders.size(), (k + 1) * chunk));
-        for (uint32_t j = uint32_t(k * chunk); j < end; ++j) {
-            const FlatImage::OccluderRef& o = img.occluders[j];
-            if (!o.active) continue;
-            const uint32_t e = o.entry;
-            if (img.flags[e] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
-            const dvec3 c = img.origin + dvec3(img.cx[e], img.cy[e], img.cz[e]) - eye,
-                        h(img.ex[e], img.ey[e], img.ez[e]);
-            if (outsideFrustum(planes, c - h, c + h)) continue;
-            if (flatOnBound(c, h)) continue;
-            const dvec3 gap = glm::max(glm::abs(c) - h, dvec3(0.0));  // eye to the box
-            const double dist = glm::length(gap);
-            if (cam.pixelSize(2.0 * img.r[e], dist) < os.minOccluderPixels) continue;
-            if (o.conditional && !conditionsHold(img, o, cam, set)) continue;  // the dearest test last
-            cands_.push_back({dist, j, 0.0});
+    const LodChooser lods({&cam, set.lodScale});
+    auto gather = [&](const FlatImage& im, const ImageFrame& f) {
+        const uint32_t chunk = FlatImage::kOccluderChunk;
+        for (size_t k = 0; k < im.occluderChunks.size(); ++k) {
+            const Box& b = im.occluderChunks[k];
+            if (b.empty() || outsideFrustum(planes, b.min - eye, b.max - eye)) continue;
+            const uint32_t end = uint32_t(std::min<size_t>(im.occluders.size(), (k + 1) * chunk));
+            for (uint32_t j = uint32_t(k * chunk); j < end; ++j) {
+                const FlatImage::OccluderRef& o = im.occluders[j];
+                if (!o.active) continue;
+                const uint32_t e = o.entry;
+                if (im.flags[e] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
+                const dvec3 c = im.origin + dvec3(im.cx[e], im.cy[e], im.cz[e]) - eye, h(im.ex[e], im.ey[e], im.ez[e]);
+                if (outsideFrustum(planes, c - h, c + h)) continue;
+                if (flatOnBound(c, h)) continue;
+                const dvec3 gap = glm::max(glm::abs(c) - h, dvec3(0.0));  // eye to the box
+                const double dist = glm::length(gap);
+                if (cam.pixelSize(2.0 * im.r[e], dist) < os.minOccluderPixels) continue;
+                if (o.conditional && !conditionsHold(f, o, cam, set, lods)) continue;  // the dearest test last
+                cands_.push_back({dist, j, 0.0, &im});
+            }
+        }
+    };
+    images_.clear();
+    images_.push_back(&img);
+    for (size_t at = 0; at < images_.size(); ++at) {
+        const FlatImage& im = *images_[at];
+        const ImageFrame f = ImageFrame::make(im, glm::translate(dmat4(1.0), im.origin - eye));
+        gather(im, f);
+        // A detail's image is in world coordinates as the scene's is (CullTraversal::pagedLod places it by its
+        // origin alone). It is drawn where the walk reaches its PagedLOD and takes the detail: the same test here.
+        for (const FlatImage::Paged& p : im.paged) {
+            if (!p.detail || p.detail->size() == 0 || !p.plainPath) continue;
+            const uint32_t e = p.entry;
+            if (im.flags[e] & (FlatImage::kEmpty | FlatImage::kInvalid)) continue;
+            const Box db = p.detail->box(0);
+            if (db.empty() || outsideFrustum(planes, db.min - eye, db.max - eye)) continue;
+            if (lods.detailWanted(f, e) && pathHolds(f, p.condFirst, p.condCount, lods, set.traversalMask))
+                images_.push_back(p.detail.get());
         }
     }
     stats.occluderCandidates = cands_.size();
@@ -157,8 +192,8 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     uint64_t used = 0;
     hom_ = os.method == OcclusionMethod::Hom;
     if (!hom_) {
-        used = addToTree(img, cam, os);
-        hom_ = os.method == OcclusionMethod::Auto && treeLeavesOccludersVisible(img, eye, os.autoMapShare);
+        used = addToTree(cam, os);
+        hom_ = os.method == OcclusionMethod::Auto && treeLeavesOccludersVisible(eye, os.autoMapShare);
     }
     stats.occlusionMap = hom_;
     obbLevels_ = os.homObbLevels;
@@ -166,11 +201,11 @@ int32_t OcclusionPass::build(const FlatImage& img, const Camera& cam, const Cull
     if (hom_) {
         // Larger and nearer first: the solid angle (radius over distance, squared) over the distance.
         for (Candidate& c : cands_) {
-            const double d = std::max(c.dist, cam.nearDistance()), r = img.r[img.occluders[c.index].entry];
+            const double d = std::max(c.dist, cam.nearDistance()), r = c.img->r[c.img->occluders[c.index].entry];
             c.dist = -(r * r) / (d * d * d);
         }
         tree_.reset(eye, OcclusionTree::Options{});
-        used = addToMap(img, cam, os);
+        used = addToMap(cam, os);
     }
     stats.occlusionRan = true;
     stats.occludersUsed = used;
@@ -200,14 +235,14 @@ namespace {
 double sq(double x) { return x * x; }
 }  // namespace
 
-uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
+uint64_t OcclusionPass::addToTree(const Camera& cam, const OcclusionSettings& os) {
     // Near and large first: the distance over the squared radius (the size on screen times the size), so that nearer,
     // larger occluders hide farther ones, whose parts then add nothing to the tree, and a desk beside the eye does not
     // take a wall's place (docs/benchmarks.md, "Generated occluders": nearest first, and the size on screen alone, did
     // that with occluders made from every mesh).
     for (Candidate& c : cands_)
-        c.order =
-            std::max(c.dist, cam.nearDistance()) / std::max(sq(double(img.r[img.occluders[c.index].entry])), 1e-300);
+        c.order = std::max(c.dist, cam.nearDistance()) /
+                  std::max(sq(double(c.img->r[c.img->occluders[c.index].entry])), 1e-300);
     const size_t keep = std::min(cands_.size(), size_t(os.maxOccluders) * 4);
     std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByOrder());
     std::sort(cands_.begin(), cands_.begin() + ptrdiff_t(keep), ByOrder());
@@ -215,6 +250,7 @@ uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const
     uint64_t used = 0;
     size_t k = 0;
     for (; k < keep && used < os.maxOccluders; ++k) {
+        const FlatImage& img = *cands_[k].img;
         const FlatImage::OccluderRef& o = img.occluders[cands_[k].index];
         const auto* node = static_cast<const Occluder*>(o.node);
         const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
@@ -234,7 +270,7 @@ uint64_t OcclusionPass::addToTree(const FlatImage& img, const Camera& cam, const
     return used;
 }
 
-bool OcclusionPass::treeLeavesOccludersVisible(const FlatImage& img, const dvec3& eye, double share) {
+bool OcclusionPass::treeLeavesOccludersVisible(const dvec3& eye, double share) {
     // The next nearest candidates after those the tree took (sorted by distance up to treeKept_): the ones
     // the map would add. Fewer than 8: nothing much to add.
     const size_t n = treeKept_ > treeStop_ ? treeKept_ - treeStop_ : 0;
@@ -244,6 +280,7 @@ bool OcclusionPass::treeLeavesOccludersVisible(const FlatImage& img, const dvec3
                      ByDist());
     size_t visible = 0;
     for (size_t k = treeStop_; k < treeKept_; ++k) {
+        const FlatImage& img = *cands_[k].img;
         const uint32_t e = img.occluders[cands_[k].index].entry;
         const dvec3 c = img.origin + dvec3(img.cx[e], img.cy[e], img.cz[e]) - eye, h(img.ex[e], img.ey[e], img.ez[e]);
         int32_t resume = tree_.root();
@@ -252,13 +289,14 @@ bool OcclusionPass::treeLeavesOccludersVisible(const FlatImage& img, const dvec3
     return double(visible) > share * double(n);
 }
 
-uint64_t OcclusionPass::addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os) {
+uint64_t OcclusionPass::addToMap(const Camera& cam, const OcclusionSettings& os) {
     map_.reset(cam, OcclusionMap::optionsFor(cam, os));
     const size_t keep = std::min(cands_.size(), size_t(os.homMaxOccluders));
     std::nth_element(cands_.begin(), cands_.begin() + ptrdiff_t(keep), cands_.end(), ByDist());
     const dvec3 eye = cam.eye();
     uint64_t used = 0;
     for (size_t k = 0; k < keep; ++k) {
+        const FlatImage& img = *cands_[k].img;
         const FlatImage::OccluderRef& o = img.occluders[cands_[k].index];
         const auto* node = static_cast<const Occluder*>(o.node);
         const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];

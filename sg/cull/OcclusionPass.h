@@ -48,15 +48,16 @@ private:
     struct Candidate {
         double dist;  // the tree: eye to the box; the map: minus the solid angle over the distance
         uint32_t index;
-        double order;  // the tree: the distance over the bound's radius squared (smallest first)
+        double order;          // the tree: the distance over the bound's radius squared (smallest first)
+        const FlatImage* img;  // the image whose occluder `index` it is: the scene's or a paged detail's
     };
     // Adds the chosen occluders to the tree (nearest first) or the map (largest solid angle over
     // distance first); returns how many added something.
-    uint64_t addToTree(const FlatImage& img, const Camera& cam, const OcclusionSettings& os);
-    uint64_t addToMap(const FlatImage& img, const Camera& cam, const OcclusionSettings& os);
+    uint64_t addToTree(const Camera& cam, const OcclusionSettings& os);
+    uint64_t addToMap(const Camera& cam, const OcclusionSettings& os);
     // OcclusionMethod::Auto, after addToTree: whether more than `share` of the next nearest candidates (those
     // the tree could not take, the ones the map would add) are not hidden by the tree.
-    bool treeLeavesOccludersVisible(const FlatImage& img, const dvec3& eye, double share);
+    bool treeLeavesOccludersVisible(const dvec3& eye, double share);
 
     OcclusionTree tree_;
     OcclusionMap map_;
@@ -67,6 +68,7 @@ private:
     int obbLevels_ = 0;
     ObbTree::Cache obbs_;
     std::vector<Candidate> cands_;
+    std::vector<const FlatImage*> images_;  // build(): the scene's image and the details drawn, whose occluders count
     std::vector<dvec3> polyScratch_;
     size_t treeStop_ = 0, treeKept_ = 0;  // addToTree: where it stopped in cands_, how far they are sorted
     int skipLeft_ = 0;                    // frames left to skip the pass

@@ -94,7 +94,9 @@ class Build {
 public:
     Build(const Scene& s, const PvsBuilder::Options& o, PvsBuilder::Stats& st) : img_(s.image()), opt_(o), st_(st) {
         for (const FlatImage::OccluderRef& r : img_.occluders) {
-            if (!r.active || (img_.flags[r.entry] & (FlatImage::kEmpty | FlatImage::kInvalid))) continue;
+            // One held by a PagedLOD's coarse level goes when its detail comes: not an occluder for every frame.
+            if (!r.active || r.underPaged || (img_.flags[r.entry] & (FlatImage::kEmpty | FlatImage::kInvalid)))
+                continue;
             const auto* node = static_cast<const Occluder*>(r.node);
             const dmat4* m = r.matrix == ~0u ? nullptr : &img_.occluderMatrices[r.matrix];
             Occ oc;

@@ -100,6 +100,12 @@ struct FlatImage {
         Node* node;                         // a PagedLOD
         std::shared_ptr<FlatImage> detail;  // null when no detail is attached
         dmat4 frame{1.0};                   // the frame its detail's image is built in (posted with requests)
+        // For the occlusion pass, which takes the occluders of the details drawn: whether the walk reaches this entry
+        // whenever its path's conditions hold (no LOD, Billboard or Instance prototype above it, not masked itself),
+        // and those conditions, listed in occluderSwitchBits as an occluder's are.
+        bool plainPath = false;
+        uint32_t condFirst = 0, condCount = 0;
+        uint32_t entry = 0;  // its entry in this image
     };
     std::vector<Paged> paged;
     std::vector<Draw> draws;
@@ -122,8 +128,9 @@ struct FlatImage {
 
     // Occluder entries (their aux indexes `occluders`), for the occlusion pass. Its shape is read from the node
     // (Occluder::box(), polygon()): set when the graph is built, not per frame. Only occluders that are
-    // drawn whatever the frame, or while the Switch children and masked nodes on their path let them be drawn, are
-    // active: not below an LOD, PagedLOD or Billboard, not masked themselves, not inside an Instance's prototype.
+    // drawn whatever the frame, or while the Switch children, masked nodes and PagedLODs on their path let them be
+    // drawn, are active: not below an LOD or Billboard, not masked themselves, not inside an Instance's prototype.
+    // A paged detail's image lists its own (the pass takes them while the detail is drawn).
     struct OccluderRef {
         const Node* node;  // an Occluder
         uint32_t entry;
@@ -135,14 +142,16 @@ struct FlatImage {
         bool conditional = false;
         uint32_t lod = ~0u;
         // What its path needs to be drawn (listed in occluderSwitchBits from switchFirst): each Switch child's byte in
-        // switchOn on, each masked node's entry (kMaskCondition set) seen by the traversal mask.
+        // switchOn on, each masked node's entry (kMaskCondition set) seen by the traversal mask, each PagedLOD's
+        // entry (kPagedCondition set) showing its coarse children, not its detail.
         uint32_t switchFirst = 0, switchCount = 0;
+        bool underPaged = false;  // a PagedLOD's coarse children hold it: drawn only until its detail is
     };
     static constexpr uint32_t kOccluderChunk = 32;
     std::vector<OccluderRef> occluders;
     std::vector<dmat4> occluderMatrices;
     std::vector<uint32_t> occluderSwitchBits;
-    static constexpr uint32_t kMaskCondition = 0x80000000u;
+    static constexpr uint32_t kMaskCondition = 0x80000000u, kPagedCondition = 0x40000000u;
     std::vector<Box> occluderChunks;  // world box of each run of kOccluderChunk active occluders
 
     size_t size() const { return end.size(); }

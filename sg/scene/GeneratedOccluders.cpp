@@ -162,7 +162,7 @@ struct Generator {
 
     static bool hidesWholeSubtree(const Node& n) {
         const NodeKind k = n.kind();
-        return k == NodeKind::Billboard || k == NodeKind::Instance || k == NodeKind::PagedLOD;
+        return k == NodeKind::Billboard || k == NodeKind::Instance;
     }
 
     void visit(Node& n) {

@@ -60,7 +60,8 @@ struct OccluderGenStats {
 // its frame) its mesh's shapes; beside an LOD the boxes inside every one of its levels (an LOD whose levels are all
 // closed meshes), used only while the LOD shows a level (Occluder::setShownWith). Below a Switch or a masked node
 // they are used while the Switch shows them and the traversal mask sees the node (the image's copies of both); a
-// Switch's own Geometry children get none (an occluder among its children would shift them). Geometry masked
+// Switch's own Geometry children get none (an occluder among its children would shift them). Below a PagedLOD (its
+// coarse children, and its detail when attached) they are used while the cull draws them. Geometry masked
 // itself, under a Billboard or an Instance's prototype gets none (the pass would not use them); a parent that already
 // has an Occluder child keeps its authored ones and gets no generated ones; only major occluders are kept
 // (OccluderGenSettings::minMajorShare). Meshes shared by many Geometry nodes are analysed once. Running it again first

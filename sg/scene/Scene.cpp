@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_set>
 
 namespace sg {
@@ -37,27 +38,45 @@ struct Scene::Builder {
     // write(): the child written before the current one, and its entry (Occluder::shownWith).
     const Node* prevSibling = nullptr;
     uint32_t prevSiblingEntry = ~0u;
-    // What an occluder below the path being written needs to be drawn, for the pass to check per frame: the Switch
-    // children on it (their bytes in switchOn) on, and the masked nodes on it (their entries, kMaskCondition set)
-    // seen by the traversal mask. `described` counts the conditional nodes so described: an occluder below an LOD,
-    // PagedLOD or Billboard (`conditional` counts those too) is not used.
+    // What an occluder (or a PagedLOD) below the path being written needs to be drawn, for the pass to check per
+    // frame: the Switch children on it (their bytes in switchOn) on, the masked nodes on it (their entries,
+    // kMaskCondition set) seen by the traversal mask, the PagedLODs on it (their entries, kPagedCondition set) showing
+    // their coarse children. `described` counts the conditional nodes so described: an occluder below an LOD or
+    // Billboard (`conditional` counts those too) is not used.
     std::vector<uint32_t> pathConds;
     int described = 0;
     // Pushes the conditions of going from n (entry i) to its child k; returns how many it pushed.
     int enter(uint32_t i, const Node* n, size_t k) {
         const NodeKind kind = n->kind();
-        if (kind == NodeKind::LOD || kind == NodeKind::PagedLOD || kind == NodeKind::Billboard) return 0;
+        if (kind == NodeKind::LOD || kind == NodeKind::Billboard) return 0;
         int pushed = 0;
         if (kind == NodeKind::Switch) pathConds.push_back(img.aux[i] + uint32_t(k)), pushed++;
+        if (kind == NodeKind::PagedLOD) pathConds.push_back(FlatImage::kPagedCondition | i), pushed++;
         if (n->nodeMask() != 0xffffffffu) pathConds.push_back(FlatImage::kMaskCondition | i), pushed++;
         described += isConditional(n);
         return pushed;
     }
     void leave(const Node* n, int pushed) {
         const NodeKind kind = n->kind();
-        if (kind == NodeKind::LOD || kind == NodeKind::PagedLOD || kind == NodeKind::Billboard) return;
+        if (kind == NodeKind::LOD || kind == NodeKind::Billboard) return;
         pathConds.resize(pathConds.size() - size_t(pushed));
         described -= isConditional(n);
+    }
+    // pathConds stored for an entry that listed `count` of them from `first` before (a full build: none): kept where
+    // they are when the same, else appended (a node masked since makes them differ: the old list is left until the
+    // next full build).
+    std::pair<uint32_t, uint32_t> storeConds(uint32_t first, uint32_t count, bool had) {
+        if (had && count == pathConds.size() &&
+            std::equal(pathConds.begin(), pathConds.end(), img.occluderSwitchBits.begin() + first))
+            return {first, count};
+        const auto at = uint32_t(img.occluderSwitchBits.size());
+        img.occluderSwitchBits.insert(img.occluderSwitchBits.end(), pathConds.begin(), pathConds.end());
+        return {at, uint32_t(pathConds.size())};
+    }
+    bool underPaged() const {
+        return std::any_of(pathConds.begin(), pathConds.end(), [](uint32_t c) {
+            return (c & (FlatImage::kPagedCondition | FlatImage::kMaskCondition)) == FlatImage::kPagedCondition;
+        });
     }
 
     static bool isConditional(const Node* n) {
@@ -263,14 +282,14 @@ struct Scene::Builder {
             if (!pg.detail) pg.detail = std::make_shared<FlatImage>();
             std::unordered_set<const Node*> built;  // for the detail's own table of prototypes' images
             Builder b{scene, *pg.detail, built};
-            b.prototype = true;  // its occluders are not used, as an Instance prototype's
-            b.detail = true;
+            b.detail = true;  // its occluders are used while it is drawn (OcclusionPass)
             if (refitOnly) {
                 b.refit(0, d, m);
                 b.updateExtent();
             } else {
                 b.full(d, m);
             }
+            if (b.occludersWritten) b.occluderChunks();
         }
         const FlatImage& di = *pg.detail;
         if (di.size() == 0 || (di.flags[0] & FlatImage::kEmpty)) return;
@@ -427,10 +446,14 @@ struct Scene::Builder {
                                  : p->geometricError() > 0.0 ? float(p->maxScreenPixels() / p->geometricError())
                                                              : std::numeric_limits<float>::infinity();
                 const uint8_t mode = sse ? FlatImage::kScreenError : uint8_t(p->mode());
-                img.aux[i] = slot(
-                    img.paged, i,
-                    FlatImage::Paged{FlatImage::Lod{0.0f, 0.0f, 0.0f, 0, 0.0f, mode, false, 0.0f}, mn,
-                                     sse ? std::numeric_limits<float>::infinity() : p->rangeMax(), n, std::move(keep)});
+                FlatImage::Paged pg{FlatImage::Lod{0.0f, 0.0f, 0.0f, 0, 0.0f, mode, false, 0.0f}, mn,
+                                    sse ? std::numeric_limits<float>::infinity() : p->rangeMax(), n, std::move(keep)};
+                pg.plainPath = !prototype && conditional == described && n->nodeMask() == 0xffffffffu;
+                pg.entry = i;
+                const FlatImage::Paged* had = fresh ? nullptr : &img.paged[img.aux[i]];
+                std::tie(pg.condFirst, pg.condCount) =
+                    storeConds(had ? had->condFirst : 0, had ? had->condCount : 0, had != nullptr);
+                img.aux[i] = slot(img.paged, i, std::move(pg));
                 break;
             }
             case NodeKind::Instance: {  // the prototype's image is filled in by write(), once built
@@ -528,18 +551,10 @@ struct Scene::Builder {
         FlatImage::OccluderRef ref{n, i, ~0u, dvec3(m[3]),
                                    !prototype && conditional == described && n->nodeMask() == 0xffffffffu};
         const auto* oc = static_cast<const Occluder*>(n);
-        // A refit keeps the list it had when the path's conditions are the same (a node masked since makes them
-        // differ: the new list is appended, and the old one left until the next full build).
         const FlatImage::OccluderRef* had = fresh ? nullptr : &img.occluders[img.aux[i]];
-        if (had && had->switchCount == pathConds.size() &&
-            std::equal(pathConds.begin(), pathConds.end(), img.occluderSwitchBits.begin() + had->switchFirst)) {
-            ref.switchFirst = had->switchFirst;
-            ref.switchCount = had->switchCount;
-        } else {
-            ref.switchFirst = uint32_t(img.occluderSwitchBits.size());
-            ref.switchCount = uint32_t(pathConds.size());
-            img.occluderSwitchBits.insert(img.occluderSwitchBits.end(), pathConds.begin(), pathConds.end());
-        }
+        std::tie(ref.switchFirst, ref.switchCount) =
+            storeConds(had ? had->switchFirst : 0, had ? had->switchCount : 0, had != nullptr);
+        ref.underPaged = underPaged();
         ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith() || ref.switchCount;
         if (oc->shownWith()) {
             // Written by its parent's walk, the LOD just before it is known; a refit of the occluder alone keeps
@@ -711,9 +726,9 @@ std::shared_ptr<FlatImage> Scene::buildDetailImage(Node& detail, const dmat4& fr
     auto img = std::make_shared<FlatImage>();
     std::unordered_set<const Node*> built;
     Builder b{alone, *img, built};
-    b.prototype = true;
     b.detail = true;  // its prototypes' images are its own: built here too
     b.full(&detail, frame);
+    if (b.occludersWritten) b.occluderChunks();
     return img;
 }
 
