@@ -2,8 +2,8 @@
 // tiles, paged in view by view, draws exactly the pixels of the unculled render of the same tiles with the occlusion
 // pass on, with the tree and with the map, and culls most of the street's triangles as the city's authored boxes do.
 #include "Scaled.h"
+#include "TiledCity.h"
 #include "loaders/Tileset.h"
-#include "loaders/TilesetWrite.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
@@ -12,48 +12,16 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
 #include <stdexcept>
 
 using namespace sg;
 
 namespace {
 constexpr int kW = 320, kH = 180, kN = 24;
-
-// Each test its own directory: ctest runs them side by side.
-std::string writeCity(const std::string& name) {
-    const std::string dir = ::testing::TempDir() + "sgkit_tiles_occluders_" + name;
-    std::filesystem::remove_all(dir);
-    TileWriteOptions wo;
-    wo.maxTrianglesPerTile = 60000;  // a few levels for a small city: coarse tiles and leaves in one view
-    wo.referenceHeightPixels = kH;
-    writeTileset(*scenes::buildCity({kN, false}), dir, wo);
-    return dir + "/tileset.json";
-}
-
-// Frames at the view, culled with culling off, until every tile it wants is attached: each cull of the view then
-// sees the same tiles.
-void settle(Pager& pager, Scene& scene, const Camera& cam, uint64_t& frame) {
-    CullTraversal cull;
-    CullSettings none;
-    none.strategy = CullStrategy::None;
-    DrawList list;
-    CullStats st;
-    for (int k = 0; k < 200; ++k) {
-        ++frame;
-        pager.update(FrameInfo{frame, double(frame)});
-        scene.update(FrameInfo{frame, double(frame)});
-        cull.cull(scene, cam, none, list, st);
-        if (pager.stats().queued == 0 && !pager.stats().loading && st.pagedRequested == 0 && st.pagedCoarse == 0)
-            return;
-        pager.waitIdle();
-    }
-    ADD_FAILURE() << "the view never settles";
-}
 }  // namespace
 
 TEST(TilesetOccluders, TilesOccludersAreExactAndCullTheStreet) {
-    const std::string file = writeCity("made");
+    const std::string file = testutil::writeTiledCity(kN, kH, "occluders");
     TilesetOptions to;
     to.generateOccluders = true;
     Tileset ts = loadTileset(file, to);
@@ -78,7 +46,7 @@ TEST(TilesetOccluders, TilesOccludersAreExactAndCullTheStreet) {
         CullTraversal cullNone, cullFrustum, cullOccl;
         uint64_t trisFrustum = 0, trisOccl = 0, culled = 0, used = 0;
         for (size_t v = 0; v < cams.size(); ++v) {
-            settle(pager, scene, cams[v], frame);
+            testutil::settleView(pager, scene, cams[v], frame);
             DrawList list;
             CullStats st;
             cullNone.cull(scene, cams[v], none, list, st);
@@ -98,35 +66,5 @@ TEST(TilesetOccluders, TilesOccludersAreExactAndCullTheStreet) {
         EXPECT_GT(culled, 0u);
         // The city's authored boxes leave about a seventh of the street's frustum triangles (docs/benchmarks.md).
         EXPECT_LT(double(trisOccl), 0.5 * double(trisFrustum)) << "method " << int(method);
-    }
-}
-
-TEST(TilesetOccluders, WithoutTheOptionATilesetHasNoOccluders) {
-    Tileset ts = loadTileset(writeCity("none"));
-    Scene scene(ts.root());
-    Pager pager(scene, ts.loadFunction());
-    uint64_t frame = 0;
-    const Camera cam = scenes::cityStreetCamera(kN, 0, kW, kH);
-    settle(pager, scene, cam, frame);
-    CullTraversal cull;
-    CullSettings occl;
-    occl.occlusion.mode = OcclusionMode::EveryFrame;
-    DrawList list;
-    CullStats st;
-    cull.cull(scene, cam, occl, list, st);
-    EXPECT_EQ(st.occluderCandidates, 0u);
-    EXPECT_EQ(st.culledOcclusion, 0u);
-}
-
-TEST(TilesetOccluders, BadSettingsAreRefusedNamingTheFunction) {
-    TilesetOptions to;
-    to.generateOccluders = true;
-    to.occluders.voxels = 0;
-    try {
-        loadTileset("/nonexistent/tileset.json", to);
-        FAIL() << "no error";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("loadTileset()"), std::string::npos) << e.what();
-        EXPECT_NE(std::string(e.what()).find("voxels"), std::string::npos) << e.what();
     }
 }
