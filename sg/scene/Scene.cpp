@@ -540,7 +540,8 @@ struct Scene::Builder {
             ref.switchCount = uint32_t(pathConds.size());
             img.occluderSwitchBits.insert(img.occluderSwitchBits.end(), pathConds.begin(), pathConds.end());
         }
-        ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith() || ref.switchCount;
+        ref.conditional =
+            oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith() || oc->belowSurface() || ref.switchCount;
         if (oc->shownWith()) {
             // Written by its parent's walk, the LOD just before it is known; a refit of the occluder alone keeps
             // the entry it had (entries do not move in a refit).
