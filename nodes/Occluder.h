@@ -57,10 +57,9 @@ public:
     // A box below a height field's surface (sg::buildTerrain's occluders): used only while the eye, in the occluder's
     // frame, is over the surface's rectangle and higher than every point of the surface within the near plane's reach
     // by more than that reach (the argument is at conditionsHold in sg/cull/OcclusionPass.cpp). Null: anywhere.
-    void setBelowSurface(std::shared_ptr<const OccluderSurface> s) {
-        belowSurface_ = std::move(s);
-        markDirty(kDirtyBound);  // the image notes which occluders carry conditions
-    }
+    // Throws std::invalid_argument for a surface with no cells, a `highest` of another size, a NaN among them, or a
+    // rectangle that is empty or not finite.
+    void setBelowSurface(std::shared_ptr<const OccluderSurface> s);
     const OccluderSurface* belowSurface() const { return belowSurface_.get(); }
 
     void accept(NodeVisitor& v) override;

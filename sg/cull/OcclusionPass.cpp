@@ -59,8 +59,9 @@ bool conditionsHold(const FlatImage& img, const FlatImage::OccluderRef& o, const
         // by some other occluder: whatever the box hides is behind drawn pixels. That needs every tile drawn:
         // small-feature culling may drop one, the budget may leave its LOD out, hysteresis picks levels by last
         // frame's choice (the builder's ranges cover [0, FLT_MAX) from the finest level up, so the plain ranges
-        // always show one; the pass checks the tile's own LOD by Occluder::shownWith, fade band included); the
-        // builder puts no Switch or node mask over a tile (an application that hides tiles removes these).
+        // always show one, and it sets no fade bands, so no tile dissolves; the pass also checks the tile's own LOD by
+        // Occluder::shownWith, fade band included); the builder puts no Switch or node mask over a tile (an
+        // application that hides tiles, or gives them transitions, removes these).
         if (set.smallFeaturePixels > 0.0 || set.lodBudget.enabled || set.lodHysteresis > 0.0) return false;
         dvec3 le = eye - o.shift;
         double reach = nearReach();

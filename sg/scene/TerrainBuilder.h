@@ -87,7 +87,8 @@ struct Terrain {
 // Builds the terrain of a height field: `heights` row-major (heights[j * n + i] at origin + (i, j, 0) *
 // spacing, +Z up), n = samplesPerSide = 2^k + 1 (with params.flat, any n with n - 1 a multiple of
 // tileSamples - 1). The quadtree's boxes are the tiles' prisms (x, y of the
-// tile, z from its lowest to its highest sample) and their unions; spheres are the boxes' half diagonals.
+// tile, z from its lowest to its highest sample) and their unions (with params.occluders, the Groups' also hold the
+// occluder boxes below); spheres are the boxes' half diagonals.
 // Throws std::invalid_argument naming the function and the value: n not 2^k + 1 (k >= 1), a height count
 // other than n * n, a NaN or infinite height, a spacing that is not positive and finite, a non-finite
 // origin, tileSamples not 2^m + 1 in [3, n], levels < 1, a pixel error not positive and finite, a field of

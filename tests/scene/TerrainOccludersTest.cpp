@@ -308,3 +308,34 @@ TEST(TerrainOccluders, TheSurfaceConditionAloneMakesAnOccluderConditional) {
     EXPECT_EQ(candidates(sc, lookFrom(dvec3(0.0, 0.0, 10.0), dvec3(0.0, 50.0, -10.0)), everyFrame()), 1u);
     EXPECT_EQ(candidates(sc, lookFrom(dvec3(0.0, 0.0, 1.5), dvec3(0.0, 50.0, -10.0)), everyFrame()), 0u);
 }
+
+TEST(TerrainOccluders, ABadSurfaceIsRefusedNamingTheFunction) {
+    auto o = make<Occluder>();
+    auto message = [&](OccluderSurface s) {
+        try {
+            o->setBelowSurface(std::make_shared<OccluderSurface>(s));
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    OccluderSurface good;
+    good.min = dvec2(0.0), good.max = dvec2(10.0);
+    good.cellsX = 2, good.cellsY = 1;
+    good.highest = {1.0, 2.0};
+    EXPECT_EQ(message(good), "");
+    OccluderSurface s = good;
+    s.cellsY = 0;
+    EXPECT_EQ(message(s).rfind("Occluder::setBelowSurface(): ", 0), 0u) << message(s);
+    s = good;
+    s.highest.pop_back();
+    EXPECT_NE(message(s).find("1 heights for 2 x 1 cells"), std::string::npos) << message(s);
+    s = good;
+    s.highest[1] = std::nan("");
+    EXPECT_NE(message(s).find("NaN"), std::string::npos) << message(s);
+    s = good;
+    s.max.y = 0.0;
+    EXPECT_NE(message(s).find("empty or not finite"), std::string::npos) << message(s);
+    o->setBelowSurface(nullptr);
+    EXPECT_EQ(o->belowSurface(), nullptr);
+}
