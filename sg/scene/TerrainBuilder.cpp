@@ -379,9 +379,9 @@ struct Builder {
 
     // A tile's occluders: one box per block, from a quarter of a tile's width below the terrain's lowest vertex (boxes
     // over hills are taller, so the pass, which takes near and large occluders first, prefers them to those of the
-    // plain), up to one float under the block's lowest vertex,
-    // its xy the block's as drawn (inside the tile's float vertices: over the tile's own triangles), inside the
-    // surface's rectangle. None where rounding leaves no room.
+    // plain) up to one float under the block's lowest vertex (Parts), its xy the block's as drawn (inside the tile's
+    // float vertices: over the tile's own triangles) and inside the surface's rectangle. None where rounding leaves
+    // no room.
     void tileOccluders(const TileData& t, int ti, int tj, const LOD* lod, std::vector<ref_ptr<Node>>& add) const {
         const int k = blocks.count();
         const double ox = prm.originInVertices ? origin.x : 0.0, oy = prm.originInVertices ? origin.y : 0.0;
@@ -393,7 +393,7 @@ struct Builder {
                 double bottom = std::min(lowest, top) - 0.25 * double(per) * spacing;
                 if (!(bottom < top)) bottom = top - 1e-6 * std::abs(top);  // a tile's width lost in rounding
                 // The block's edges where the tile's vertices are drawn (as tileMesh computes and rounds them).
-                auto drawn = [&](double o, int k) { return double(float(o + k * spacing)); };
+                auto drawn = [&](double o, int g) { return double(float(o + g * spacing)); };
                 const dvec2 lo(std::max(surface->min.x, drawn(ox, ti * per + blocks.edge[size_t(bx)])),
                                std::max(surface->min.y, drawn(oy, tj * per + blocks.edge[size_t(by)])));
                 const dvec2 hi(std::min(surface->max.x, drawn(ox, ti * per + blocks.edge[size_t(bx) + 1])),
