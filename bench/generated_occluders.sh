@@ -40,7 +40,7 @@ print("| scene | occluders | made (boxes, polygons) | ms to make (per million di
 print("|---|---|---|---|---|---|---|---|---|---|")
 for scene in ("city", "office", "factory"):
     for kind in ("authored", "generated", "gltf", "tiles-authored", "tiles-generated"):
-        # The tiles against the built city's authored boxes placed beside the same tiles.
+        # The tiles against the authored boxes of the built city, placed beside the same tiles.
         a = groups.get((scene, "tiles-authored" if kind.startswith("tiles") else "authored"))
         rs = groups.get((scene, kind))
         if not rs: continue

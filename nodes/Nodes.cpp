@@ -12,6 +12,7 @@
 #include "sg/core/NodeVisitor.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace sg {
@@ -204,6 +205,25 @@ void Occluder::setEyeOutside(const Box& b) {
     if (!b.empty() && (!isFinite(b.min) || !isFinite(b.max)))
         throw std::invalid_argument("Occluder::setEyeOutside(): " + describe() + ": box is not finite");
     eyeOutside_ = b;
+    markDirty(kDirtyBound);  // the image notes which occluders carry conditions
+}
+
+void Occluder::setBelowSurface(std::shared_ptr<const OccluderSurface> s) {
+    if (s) {
+        const std::string fn = "Occluder::setBelowSurface(): " + describe() + ": ";
+        if (s->cellsX < 1 || s->cellsY < 1)
+            throw std::invalid_argument(fn + "cells " + std::to_string(s->cellsX) + " x " + std::to_string(s->cellsY) +
+                                        " are not at least 1 x 1");
+        if (s->highest.size() != size_t(s->cellsX) * size_t(s->cellsY))
+            throw std::invalid_argument(fn + std::to_string(s->highest.size()) + " heights for " +
+                                        std::to_string(s->cellsX) + " x " + std::to_string(s->cellsY) + " cells");
+        for (double h : s->highest)
+            if (std::isnan(h)) throw std::invalid_argument(fn + "a cell's highest is NaN");
+        if (!(isFinite(dvec3(s->min, 0.0)) && isFinite(dvec3(s->max, 0.0)) && s->min.x < s->max.x &&
+              s->min.y < s->max.y))
+            throw std::invalid_argument(fn + "the rectangle is empty or not finite");
+    }
+    belowSurface_ = std::move(s);
     markDirty(kDirtyBound);  // the image notes which occluders carry conditions
 }
 

@@ -4,9 +4,19 @@
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 
+#include <memory>
 #include <vector>
 
 namespace sg {
+
+// The height field a terrain's occluders lie below (Occluder::setBelowSurface), in their frame: its xy rectangle,
+// split into a grid of cells (the terrain's tiles), and over each cell the highest the drawn surface reaches at any
+// of its levels. Plain data, shared by every occluder of one terrain.
+struct OccluderSurface {
+    dvec2 min{0.0}, max{0.0};  // the rectangle the surface covers with no gap (inside its drawn edges)
+    int cellsX = 0, cellsY = 0;
+    std::vector<double> highest;  // row-major, cellsX * cellsY: above every drawn vertex over the cell
+};
 
 class Occluder : public Node {
 public:
@@ -44,6 +54,13 @@ public:
         markDirty(kDirtyBound);  // the image notes which occluders carry conditions
     }
     bool oneSided() const { return oneSided_; }
+    // A box below a height field's surface (sg::buildTerrain's occluders): used only while the eye, in the occluder's
+    // frame, is over the surface's rectangle and higher than every point of the surface within the near plane's reach
+    // by more than that reach (the argument is at conditionsHold in sg/cull/OcclusionPass.cpp). Null: anywhere.
+    // Throws std::invalid_argument for a surface with no cells, a `highest` of another size, a NaN among them, or a
+    // rectangle that is empty or not finite.
+    void setBelowSurface(std::shared_ptr<const OccluderSurface> s);
+    const OccluderSurface* belowSurface() const { return belowSurface_.get(); }
 
     void accept(NodeVisitor& v) override;
 
@@ -53,6 +70,7 @@ private:
     Shape shape_ = Shape::Box;
     Box eyeOutside_;
     const Node* shownWith_ = nullptr;
+    std::shared_ptr<const OccluderSurface> belowSurface_;
     bool generated_ = false, oneSided_ = false;
 };
 

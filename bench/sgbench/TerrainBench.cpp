@@ -137,9 +137,112 @@ std::vector<Refinement> refinements() {
     return r;
 }
 
+// The views of one path: the paper's eye turned round the centre (as sgbench pareto's terrain), or low: the eye
+// `height` metres above the ground beneath it on a circle of 0.3 times the terrain's width, looking along the circle
+// and slightly down.
+std::vector<sg::Camera> terrainPath(const scenes::TerrainScene& ts, bool low, int views, int w, int h, double height) {
+    std::vector<sg::Camera> out;
+    const int n = ts.samplesPerSide;
+    const double width = double(n - 1) * ts.spacing;
+    for (int v = 0; v < views; ++v) {
+        const double a = 2.0 * glm::pi<double>() * v / views;
+        sg::Camera cam = scenes::terrainCamera(ts, 60.0, w, h);
+        if (!low) {
+            cam.setView(cam.view() * glm::rotate(sg::dmat4(1.0), a, sg::dvec3(0, 0, 1)));
+        } else {
+            const double r = 0.3 * width, x = r * std::cos(a), y = r * std::sin(a);
+            const int i = std::clamp(int(std::lround((x - ts.origin.x) / ts.spacing)), 0, n - 1);
+            const int j = std::clamp(int(std::lround((y - ts.origin.y) / ts.spacing)), 0, n - 1);
+            const sg::dvec3 eye(x, y, double(ts.heights[size_t(j) * size_t(n) + size_t(i)]) + height);
+            cam.setPerspective(60.0, double(w) / h, 1.0, 1.0e6);
+            cam.setLookAt(eye, eye + sg::dvec3(-std::sin(a), std::cos(a), -0.05), sg::dvec3(0, 0, 1));
+        }
+        out.push_back(cam);
+    }
+    return out;
+}
+
+// sgbench terrain --occluders: triangles drawn on each path with and without the terrain's occluders
+// (TerrainParams::occluders), and what the occlusion pass cost.
+int runTerrainOccluders(const Args& a) {
+    const int n = int(a.num("sizes", 1025));
+    const int views = int(a.num("views", 24));
+    const int reps = int(a.num("reps", 5));
+    const int blocks = int(a.num("blocks", 2));
+    const double height = double(a.num("height", 20));
+    const uint32_t seed = uint32_t(a.num("seed", 2002));
+    if (views < 1 || reps < 1) throw std::invalid_argument("sgbench terrain: --views and --reps must be at least 1");
+    constexpr int kW = 1024, kH = 768;
+    scenes::TerrainSceneParams prm;
+    prm.terrain.tileSamples = int(a.num("tile", 33));
+    prm.spacing = double(a.num("spacing", 10));
+    const scenes::TerrainScene plain = scenes::buildTerrainScene(n, seed, prm);
+    prm.terrain.occluders = true;
+    prm.terrain.occluderBlocks = blocks;
+    const auto t0 = Clock::now();
+    const scenes::TerrainScene withOcc = scenes::buildTerrainScene(n, seed, prm);
+    const double buildS = msSince(t0) / 1000.0;
+    sg::Scene sPlain(plain.terrain.root), sOcc(withOcc.terrain.root);
+    sPlain.update();
+    sOcc.update();
+    std::printf(
+        "terrain %d^2, tiles of %d^2 samples, %d x %d occluder blocks per tile: built with them in %.2f s; "
+        "the low path's eye %.0f m above the ground, 0.3 of the width from the centre\n",
+        n, prm.terrain.tileSamples, blocks, blocks, buildS, height);
+    std::printf(
+        "| path | views | tris (no culling) | tris (frustum, no occluders) | tris (with occluders) | views "
+        "using them | occluders used | bounds culled by occlusion | pass ms (median view) | cull ms without "
+        "| cull ms with |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (bool low : {false, true}) {
+        const std::vector<sg::Camera> cams = terrainPath(withOcc, low, views, kW, kH, height);
+        sg::CullSettings none, set;
+        none.strategy = sg::CullStrategy::None;
+        set.occlusion.mode = sg::OcclusionMode::EveryFrame;
+        set.sort = false;
+        sg::CullTraversal cull;
+        sg::DrawList list;
+        uint64_t trisNone = 0, trisPlain = 0, trisOcc = 0, used = 0, culled = 0;
+        int using_ = 0;
+        std::vector<double> passMs, msPlain, msOcc;
+        for (const sg::Camera& cam : cams) {
+            sg::CullStats st;
+            cull.cull(sPlain, cam, none, list, st);
+            trisNone += st.triangles;
+            cull.cull(sPlain, cam, set, list, st);
+            trisPlain += st.triangles;
+            cull.cull(sOcc, cam, set, list, st);
+            trisOcc += st.triangles;
+            used += st.occludersUsed;
+            using_ += st.occludersUsed > 0;
+            culled += st.culledOcclusion;
+            std::vector<double> p, mp, mo;
+            for (int r = 0; r < reps; ++r) {
+                double c0 = cpuMs();
+                cull.cull(sPlain, cam, set, list, st);
+                mp.push_back(cpuMs() - c0);
+                c0 = cpuMs();
+                cull.cull(sOcc, cam, set, list, st);
+                mo.push_back(cpuMs() - c0);
+                p.push_back(st.occlusionMs);
+            }
+            passMs.push_back(median(p));
+            msPlain.push_back(median(mp));
+            msOcc.push_back(median(mo));
+        }
+        double sumPlain = 0.0, sumOcc = 0.0;
+        for (size_t k = 0; k < cams.size(); ++k) sumPlain += msPlain[k], sumOcc += msOcc[k];
+        std::printf("| %s | %d | %llu | %llu | %llu | %d | %llu | %llu | %.3f | %.3f | %.3f |\n",
+                    low ? "low" : "paper's eye turned round", views, (unsigned long long)trisNone,
+                    (unsigned long long)trisPlain, (unsigned long long)trisOcc, using_, (unsigned long long)used,
+                    (unsigned long long)culled, median(passMs), sumPlain / double(views), sumOcc / double(views));
+    }
+    return 0;
+}
+
 }  // namespace
 
 int runTerrain(const Args& a) {
+    if (a.flag("occluders")) return runTerrainOccluders(a);
     const std::vector<int> sizes = intList(a.str("sizes", "1025,2049,4097"), "sizes");
     const std::vector<int> fovs = intList(a.str("fov", "60,90,120"), "fov");
     const int frames = int(a.num("frames", 5));

@@ -127,6 +127,8 @@ static void usage() {
         "                [--max-occluders K] [--resolution P] [--json]\n"
         "       sgbench terrain [--sizes 1025,2049,4097] [--fov 60,90,120] [--frames 5] [--reps 100] [--tile 33]\n"
         "                [--spacing 10] [--seed 2002] [--no-draw] [--json]\n"
+        "       sgbench terrain --occluders [--sizes 1025] [--views 24] [--reps 5] [--blocks 2] [--height 20]\n"
+        "                [--tile 33] [--spacing 10] [--seed 2002]\n"
         "       sgbench pcvr [--frames N] [--clusters K1,K2,...] [--seed S] [--no-pixels] [--json]\n"
         "       sgbench pareto [--quick] [--scenes city-orbit,city-street,office,factory,terrain,pcvr-city] [--out "
         "DIR] [--views K]\n"

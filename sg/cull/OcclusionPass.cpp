@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <limits>
 
 namespace sg {
 
@@ -39,7 +41,8 @@ bool pathHolds(const ImageFrame& f, uint32_t first, uint32_t count, const LodCho
     return true;
 }
 
-// An occluder's conditions this frame: its path's, and a generated one's (Occluder::eyeOutside, oneSided, shownWith).
+// An occluder's conditions this frame: its path's, and a generated one's (Occluder::eyeOutside, oneSided, shownWith,
+// belowSurface).
 bool conditionsHold(const ImageFrame& f, const FlatImage::OccluderRef& o, const Camera& cam, const CullSettings& set,
                     const LodChooser& lods) {
     const FlatImage& img = *f.img;
@@ -47,16 +50,62 @@ bool conditionsHold(const ImageFrame& f, const FlatImage::OccluderRef& o, const 
     const dmat4* m = o.matrix == ~0u ? nullptr : &img.occluderMatrices[o.matrix];
     const dvec3 eye = cam.eye();
     if (!pathHolds(f, o.switchFirst, o.switchCount, lods, set.traversalMask)) return false;
+    // How far from the eye the near plane's corners reach: a surface farther than this is not clipped by it.
+    auto nearReach = [&] {
+        const dmat4& p = cam.projection();
+        const double sx = (1.0 + std::abs(p[2][0])) / p[0][0], sy = (1.0 + std::abs(p[2][1])) / p[1][1];
+        return 1.001 * cam.nearDistance() * std::sqrt(1.0 + sx * sx + sy * sy);
+    };
     if (!node->eyeOutside().empty()) {
         // Outside the box's world bound is outside the box. And the surface a sight line crosses before the
         // occluder lies in that box: grown by the reach of the near plane's corners, no such crossing is clipped.
         const Box& lb = node->eyeOutside();
         Box wb = m ? transformBox(*m, lb) : Box{lb.min + o.shift, lb.max + o.shift};
-        const dmat4& p = cam.projection();
-        const double sx = (1.0 + std::abs(p[2][0])) / p[0][0], sy = (1.0 + std::abs(p[2][1])) / p[1][1];
-        const double reach = 1.001 * cam.nearDistance() * std::sqrt(1.0 + sx * sx + sy * sy);
+        const double reach = nearReach();
         wb.min -= dvec3(reach), wb.max += dvec3(reach);
         if (wb.contains(eye)) return false;
+    }
+    if (const OccluderSurface* s = node->belowSurface()) {
+        // A box below a height field z = h(x, y) that is drawn whole and without cracks over its rectangle (the
+        // column over it is convex), the eye in that column and higher than every surface point within `reach` of
+        // it by more than `reach`: the segment from the eye to any point of the box stays in the column, starts
+        // above the surface and ends below it, so it crosses the surface; the first crossing is farther than
+        // `reach` from the eye (its xy is, or it lies lower than eye.z - reach), so the near plane does not clip
+        // it, and it is nearer than anything the box hides, so neither does the far plane, nor the frustum's
+        // sides (the segment runs inside the view's cone). No terrain occluder stands in front of that first
+        // crossing (the segment is above the surface before it, the boxes below), so its tile is drawn, or hidden
+        // by some other occluder: whatever the box hides is behind drawn pixels. That needs every tile drawn:
+        // small-feature culling may drop one, the budget may leave its LOD out, hysteresis picks levels by last
+        // frame's choice (the builder's ranges cover [0, FLT_MAX) from the finest level up, so the plain ranges
+        // always show one, and it sets no fade bands, so no tile dissolves; the pass also checks the tile's own LOD by
+        // Occluder::shownWith, fade band included); the builder puts no Switch or node mask over a tile (an
+        // application that hides tiles, or gives them transitions, removes these).
+        if (set.smallFeaturePixels > 0.0 || set.lodBudget.enabled || set.lodHysteresis > 0.0) return false;
+        dvec3 le = eye - o.shift;
+        double reach = nearReach();
+        if (m) {
+            // The eye in the frame, and a reach there that covers the world's: |M v| >= |v| / |M^-1|_2, and the
+            // Frobenius norm bounds the 2-norm from above.
+            const dmat4 inv = glm::inverse(*m);
+            le = dvec3(inv * dvec4(eye, 1.0));
+            const glm::dmat3 l(inv);
+            reach *= std::sqrt(glm::dot(l[0], l[0]) + glm::dot(l[1], l[1]) + glm::dot(l[2], l[2]));
+        }
+        if (!(le.x >= s->min.x && le.x <= s->max.x && le.y >= s->min.y && le.y <= s->max.y)) return false;
+        // The highest sample of every cell whose rectangle comes within reach of the eye's xy (a square about it,
+        // padded past the float rounding of the cells' drawn edges).
+        const double cw = (s->max.x - s->min.x) / s->cellsX, ch = (s->max.y - s->min.y) / s->cellsY;
+        const double pad =
+            reach + 1e-6 * (std::abs(s->min.x) + std::abs(s->max.x) + std::abs(s->min.y) + std::abs(s->max.y));
+        auto cell = [](double v, int count) { return int(std::clamp(std::floor(v), 0.0, double(count - 1))); };
+        const int i0 = cell((le.x - pad - s->min.x) / cw, s->cellsX),
+                  i1 = cell((le.x + pad - s->min.x) / cw, s->cellsX);
+        const int j0 = cell((le.y - pad - s->min.y) / ch, s->cellsY),
+                  j1 = cell((le.y + pad - s->min.y) / ch, s->cellsY);
+        double top = -std::numeric_limits<double>::infinity();
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) top = std::max(top, s->highest[size_t(j) * size_t(s->cellsX) + size_t(i)]);
+        if (!(le.z - reach > top)) return false;
     }
     if (node->oneSided()) {
         const auto& p = node->polygon();

@@ -1,6 +1,7 @@
 #include "sg/scene/TerrainBuilder.h"
 
 #include "nodes/Geometry.h"
+#include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/core/Mesh.h"
 
@@ -8,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <string>
@@ -192,6 +194,53 @@ struct Builder {
     dvec3 origin{0.0};
 
     double at(int i, int j) const { return double(h[size_t(j) * size_t(n) + size_t(i)]); }
+    // A vertex's height as drawn (rounded once to float, as tileMesh rounds it).
+    double drawnZ(int i, int j) const { return double(float(prm.originInVertices ? origin.z + at(i, j) : at(i, j))); }
+
+    // Occluders (TerrainParams::occluders). A tile split into k x k parts: their edges in tile-local grid
+    // coordinates, and for each part (row-major) the grid points of every triangle of every level whose bounding
+    // rectangle meets the part's (closed): every point of a level's surface over the part lies in one of those
+    // triangles, where the surface is linear between its corners, so no lower than the lowest of those points and no
+    // higher than the highest. The vertices' xy rounding to float moves them far less than the cell that separates a
+    // triangle that misses the part from it.
+    struct Parts {
+        std::vector<int> edge;
+        std::vector<std::vector<glm::ivec2>> points;
+        int count() const { return int(edge.size()) - 1; }
+        // The parts whose closed interval [edge[b], edge[b + 1]] meets [lo, hi].
+        std::pair<int, int> span(int lo, int hi) const {
+            const int first = int(std::lower_bound(edge.begin() + 1, edge.end(), lo) - edge.begin()) - 1;
+            const int last = int(std::upper_bound(edge.begin(), edge.end() - 1, hi) - edge.begin()) - 1;
+            return {first, last};
+        }
+    };
+
+    Parts parts(int k) const {
+        Parts p;
+        for (int e = 0; e <= k; ++e) p.edge.push_back(int(std::lround(double(e) * per / k)));
+        p.points.assign(size_t(k) * size_t(k), {});
+        for (const TerrainTileGrid& g : grids)
+            for (size_t t = 0; t + 2 < g.indices.size(); t += 3) {
+                const glm::ivec2 c[3] = {g.points[g.indices[t]], g.points[g.indices[t + 1]],
+                                         g.points[g.indices[t + 2]]};
+                const glm::ivec2 mn = glm::min(c[0], glm::min(c[1], c[2])), mx = glm::max(c[0], glm::max(c[1], c[2]));
+                const auto sx = p.span(mn.x, mx.x), sy = p.span(mn.y, mx.y);
+                for (int by = sy.first; by <= sy.second; ++by)
+                    for (int bx = sx.first; bx <= sx.second; ++bx)
+                        for (const glm::ivec2& q : c) p.points[size_t(by) * size_t(k) + size_t(bx)].push_back(q);
+            }
+        for (std::vector<glm::ivec2>& v : p.points) {
+            std::sort(v.begin(), v.end(),
+                      [](glm::ivec2 a, glm::ivec2 b) { return a.y < b.y || (a.y == b.y && a.x < b.x); });
+            v.erase(std::unique(v.begin(), v.end()), v.end());
+        }
+        return p;
+    }
+
+    void prepareParts() {
+        blocks = parts(prm.occluderBlocks);
+        cells = per % 4 == 0 && per > 4 ? parts(per / 4) : blocks;
+    }
 
     void tileMesh(const TerrainTileGrid& g, int i0, int j0, Mesh& mesh) const {
         std::vector<vec3> pos, nrm;
@@ -224,8 +273,16 @@ struct Builder {
         std::vector<double> errors;
         std::vector<float> from;
         dvec3 center{0.0};
+        // Occluders: each block's lowest drawn vertex, each height cell's highest, and the tile's lowest.
+        std::vector<double> blockLow, cellHigh;
+        double low = 0.0;
     };
     std::vector<TileData> tiles;  // by tj * tilesPerSide + ti
+    // Occluders (Parts above).
+    Parts blocks{};  // the boxes'
+    Parts cells{};   // the surface's height cells: 4 grid cells a side when that divides the tile, else the blocks
+    std::shared_ptr<OccluderSurface> surface{};
+    double lowest = 0.0;  // the lowest drawn vertex (prepareSurface)
 
     void tileData(int ti, int tj, TileData& t) const {
         const int i0 = ti * per, j0 = tj * per;
@@ -234,6 +291,21 @@ struct Builder {
             tileMesh(grids[l], i0, j0, *t.levels[l]);
             // Never more accurate than a finer level: distances stay in order.
             t.errors.push_back(l == 0 ? 0.0 : std::max(t.errors.back(), levelError(grids[l], height)));
+        }
+        if (prm.occluders) {
+            t.low = std::numeric_limits<double>::infinity();
+            for (int lj = 0; lj <= per; ++lj)
+                for (int li = 0; li <= per; ++li) t.low = std::min(t.low, drawnZ(i0 + li, j0 + lj));
+            for (const std::vector<glm::ivec2>& pts : blocks.points) {
+                double low = std::numeric_limits<double>::infinity();
+                for (const glm::ivec2& q : pts) low = std::min(low, drawnZ(i0 + q.x, j0 + q.y));
+                t.blockLow.push_back(low);
+            }
+            for (const std::vector<glm::ivec2>& pts : cells.points) {
+                double high = -std::numeric_limits<double>::infinity();
+                for (const glm::ivec2& q : pts) high = std::max(high, drawnZ(i0 + q.x, j0 + q.y));
+                t.cellHigh.push_back(high);
+            }
         }
         const Box box = t.levels[0]->box();
         t.center = box.center();
@@ -274,6 +346,72 @@ struct Builder {
         if (error) std::rethrow_exception(error);
     }
 
+    // What the occluders share: the terrain's rectangle as drawn (its corners rounded to float, then one float
+    // inward) and the highest vertex over each height cell (Parts: no level's surface over it rises higher), one
+    // float up. The cells divide the tiles evenly, so they make an even grid over the terrain.
+    void prepareSurface() {
+        auto s = std::make_shared<OccluderSurface>();
+        const double ox = prm.originInVertices ? origin.x : 0.0, oy = prm.originInVertices ? origin.y : 0.0;
+        const double side = double(n - 1) * spacing;
+        const float inf = std::numeric_limits<float>::infinity();
+        s->min = dvec2(std::nextafter(float(ox), inf), std::nextafter(float(oy), inf));
+        s->max = dvec2(std::nextafter(float(ox + side), -inf), std::nextafter(float(oy + side), -inf));
+        const int sub = per % cells.count() == 0 ? cells.count() : 1, tps = out.tilesPerSide;
+        s->cellsX = s->cellsY = tps * sub;
+        s->highest.assign(size_t(s->cellsX) * size_t(s->cellsY), -std::numeric_limits<double>::infinity());
+        lowest = std::numeric_limits<double>::infinity();
+        for (int tj = 0; tj < tps; ++tj)
+            for (int ti = 0; ti < tps; ++ti) {
+                const TileData& t = tiles[size_t(tj) * size_t(tps) + size_t(ti)];
+                lowest = std::min(lowest, t.low);
+                for (int cy = 0; cy < cells.count(); ++cy)
+                    for (int cx = 0; cx < cells.count(); ++cx) {
+                        // Uneven blocks (sub 1): the tile's cell takes the highest of them all.
+                        double& h = sub == 1
+                                        ? s->highest[size_t(tj) * size_t(s->cellsX) + size_t(ti)]
+                                        : s->highest[size_t(tj * sub + cy) * size_t(s->cellsX) + size_t(ti * sub + cx)];
+                        h = std::max(h, double(std::nextafter(
+                                            float(t.cellHigh[size_t(cy) * size_t(cells.count()) + size_t(cx)]), inf)));
+                    }
+            }
+        surface = s;
+    }
+
+    // A tile's occluders: one box per block, from a quarter of a tile's width below the terrain's lowest vertex (boxes
+    // over hills are taller, so the pass, which takes near and large occluders first, prefers them to those of the
+    // plain) up to one float under the block's lowest vertex (Parts), its xy the block's as drawn (inside the tile's
+    // float vertices: over the tile's own triangles) and inside the surface's rectangle. None where rounding leaves
+    // no room.
+    void tileOccluders(const TileData& t, int ti, int tj, const LOD* lod, std::vector<ref_ptr<Node>>& add) const {
+        const int k = blocks.count();
+        const double ox = prm.originInVertices ? origin.x : 0.0, oy = prm.originInVertices ? origin.y : 0.0;
+        const float inf = std::numeric_limits<float>::infinity();
+        for (int by = 0; by < k; ++by)
+            for (int bx = 0; bx < k; ++bx) {
+                const double low = t.blockLow[size_t(by) * size_t(k) + size_t(bx)];
+                const double top = double(std::nextafter(float(low), -inf));
+                double bottom = std::min(lowest, top) - 0.25 * double(per) * spacing;
+                if (!(bottom < top)) bottom = top - 1e-6 * std::abs(top);  // a tile's width lost in rounding
+                // The block's edges where the tile's vertices are drawn (as tileMesh computes and rounds them).
+                auto drawn = [&](double o, int g) { return double(float(o + g * spacing)); };
+                const dvec2 lo(std::max(surface->min.x, drawn(ox, ti * per + blocks.edge[size_t(bx)])),
+                               std::max(surface->min.y, drawn(oy, tj * per + blocks.edge[size_t(by)])));
+                const dvec2 hi(std::min(surface->max.x, drawn(ox, ti * per + blocks.edge[size_t(bx) + 1])),
+                               std::min(surface->max.y, drawn(oy, tj * per + blocks.edge[size_t(by) + 1])));
+                if (!(std::isfinite(top) && std::isfinite(bottom) && bottom < top && lo.x < hi.x && lo.y < hi.y))
+                    continue;
+                auto o = make<Occluder>();
+                o->setBox(Box{dvec3(lo, bottom), dvec3(hi, top)});
+                o->setGenerated(true);
+                o->setShownWith(lod);
+                o->setBelowSurface(surface);
+                add.push_back(o);
+            }
+    }
+
+    // The tile's occluders, by tile, for its parent to add after it.
+    std::vector<std::vector<ref_ptr<Node>>> occluders{};
+
     ref_ptr<Group> tile(int ti, int tj) {
         TileData& t = tiles[size_t(tj) * size_t(out.tilesPerSide) + size_t(ti)];
         auto lod = make<LOD>();
@@ -287,6 +425,8 @@ struct Builder {
         }
         out.finestTriangles += t.levels.front()->triangleCount();
         out.coarsestTriangles += t.levels.back()->triangleCount();
+        if (prm.occluders)
+            tileOccluders(t, ti, tj, lod.get(), occluders[size_t(tj) * size_t(out.tilesPerSide) + size_t(ti)]);
         t = TileData{};
         return lod;
     }
@@ -301,7 +441,11 @@ struct Builder {
         } else {
             g = make<Group>();
             const int s = size / 2;
-            for (int k = 0; k < 4; ++k) g->addChild(node(ti + (k & 1) * s, tj + (k >> 1) * s, s, self, depth + 1));
+            for (int k = 0; k < 4; ++k) {
+                const int ci = ti + (k & 1) * s, cj = tj + (k >> 1) * s;
+                g->addChild(node(ci, cj, s, self, depth + 1));
+                if (s == 1) addOccluders(*g, ci, cj);
+            }
         }
         out.quad[size_t(self)].node = g;
         return g;
@@ -316,8 +460,16 @@ struct Builder {
                 out.quad.push_back({nullptr, 0, 1, true});
                 out.quad.back().node = tile(ti, tj);
                 g->addChild(out.quad.back().node);
+                addOccluders(*g, ti, tj);
             }
         return g;
+    }
+
+    void addOccluders(Group& parent, int ti, int tj) {
+        if (!prm.occluders) return;
+        std::vector<ref_ptr<Node>>& add = occluders[size_t(tj) * size_t(out.tilesPerSide) + size_t(ti)];
+        for (ref_ptr<Node>& o : add) parent.addChild(o);
+        add.clear();
     }
 };
 
@@ -347,6 +499,9 @@ Terrain build(const std::vector<T>& heights, int samplesPerSide, double spacing,
         fail("tileSamples " + std::to_string(prm.tileSamples) + " is not 2^m + 1 in 3.." + std::to_string(n));
     }
     if (prm.levels < 1) fail("levels " + std::to_string(prm.levels) + " is below 1");
+    if (prm.occluders && !(prm.occluderBlocks >= 1 && prm.occluderBlocks <= prm.tileSamples - 1))
+        fail("occluderBlocks " + std::to_string(prm.occluderBlocks) + " is not in 1.." +
+             std::to_string(prm.tileSamples - 1));
     if (!(prm.pixelError > 0.0 && std::isfinite(prm.pixelError)))
         fail("pixelError " + std::to_string(prm.pixelError) + " is not positive and finite");
     if (!(prm.fovyDegrees > 0.0 && prm.fovyDegrees < 180.0))
@@ -364,8 +519,20 @@ Terrain build(const std::vector<T>& heights, int samplesPerSide, double spacing,
                             : prm.viewportHeight / (2.0 * std::tan(glm::radians(prm.fovyDegrees) / 2.0));
     if (!b.material) b.material = make<Material>(vec4(0.55f, 0.50f, 0.38f, 1.0f));
     for (int cells : terrainLevelCells(per, prm.levels)) b.grids.push_back(terrainTileGrid(per, cells));
+    if (prm.occluders) {
+        b.prepareParts();
+        b.occluders.resize(size_t(t.tilesPerSide) * size_t(t.tilesPerSide));
+    }
     b.buildTiles(t.tilesPerSide);
+    if (prm.occluders) b.prepareSurface();
     ref_ptr<Group> top = prm.flat ? b.flatNode(t.tilesPerSide) : b.node(0, 0, t.tilesPerSide, -1, 0);
+    if (prm.occluders && !prm.flat && t.tilesPerSide == 1) {
+        // The tile's occluders are its siblings: one tile gets a parent to hold them.
+        auto g = make<Group>();
+        g->addChild(top);
+        b.addOccluders(*g, 0, 0);
+        top = g;
+    }
     if (prm.originInVertices) {
         top->setName("terrain");
         t.root = top;

@@ -56,6 +56,13 @@ struct TerrainParams {
     // such attribute when empty. Called from worker threads, so they must be safe to call concurrently.
     std::function<vec2(const dvec3&)> uv;
     std::function<vec4(const dvec3&)> color;
+    // Occluder boxes below the surface, beside each tile's LOD (its siblings, after it, in its frame): the tile split
+    // into occluderBlocks x occluderBlocks blocks, each a box from below the terrain up to just under the lowest vertex
+    // of any level's triangles over the block. Used by the occlusion pass while the eye is over the terrain and
+    // higher than the surface near it (Occluder::setBelowSurface): a town behind a hill is culled. With one tile,
+    // the tile's LOD and its occluders are put under a Group.
+    bool occluders = false;
+    int occluderBlocks = 2;  // 1..tileSamples - 1
 };
 
 // What buildTerrain made: the graph and its quadtree, for applications that want to find a tile again.
@@ -63,7 +70,8 @@ struct Terrain {
     ref_ptr<Group> root;
     // Quadtree nodes in pre-order (the root first, a parent before its children). A leaf is a tile: an LOD
     // whose children are its levels (Geometries), finest first. Interior nodes are Groups of four children
-    // (with params.flat, one Group of every tile). quad[0] is `root` with originInVertices, else its child.
+    // (with params.flat, one Group of every tile). quad[0] is `root` with originInVertices, else its child (with
+    // params.occluders and one tile, the tile is the child of a Group that is `root` or its child).
     struct QuadNode {
         ref_ptr<Group> node;
         int parent = -1;  // index into quad, -1 for the root
@@ -79,11 +87,13 @@ struct Terrain {
 // Builds the terrain of a height field: `heights` row-major (heights[j * n + i] at origin + (i, j, 0) *
 // spacing, +Z up), n = samplesPerSide = 2^k + 1 (with params.flat, any n with n - 1 a multiple of
 // tileSamples - 1). The quadtree's boxes are the tiles' prisms (x, y of the
-// tile, z from its lowest to its highest sample) and their unions; spheres are the boxes' half diagonals.
+// tile, z from its lowest to its highest sample) and their unions (with params.occluders, the Groups' also hold the
+// occluder boxes below); spheres are the boxes' half diagonals.
 // Throws std::invalid_argument naming the function and the value: n not 2^k + 1 (k >= 1), a height count
 // other than n * n, a NaN or infinite height, a spacing that is not positive and finite, a non-finite
 // origin, tileSamples not 2^m + 1 in [3, n], levels < 1, a pixel error not positive and finite, a field of
-// view outside (0, 180), a viewport height < 1, a pixelsPerRadian that is negative or not finite.
+// view outside (0, 180), a viewport height < 1, a pixelsPerRadian that is negative or not finite, occluderBlocks
+// outside 1..tileSamples - 1 (with occluders).
 Terrain buildTerrain(const std::vector<float>& heights, int samplesPerSide, double spacing, const dvec3& origin,
                      const TerrainParams& params = {});
 // The same from heights in double: levels, errors and normals computed from them unrounded.
