@@ -389,8 +389,8 @@ TEST(SgviewRun, HeadlessLightsPhysicalMaterialsWithTheFilesLights) {
 #ifdef SGVIEW_TEST_GLTF
 // A 3D Tiles tileset: a root tile whose content is the city saved as .glb (glTF's +Y up, turned back to +Z up)
 // refined into a child holding the same file again, moved 200 m east: headless draws it settled (the child
-// loaded by the pager) as the library draws the tileset loaded whole; --info counts its tiles; a JSON file that
-// is neither glTF nor a tileset is refused.
+// loaded by the pager) as the library draws the tileset loaded whole, with its tiles' occluders made or not; --info
+// counts its tiles; a JSON file that is neither glTF nor a tileset is refused.
 TEST(SgviewRun, TilesetsAreShownAndCounted) {
     ASSERT_EQ(runSgview("--scene city --n 8 --save city8.glb").code, 0);
     std::ofstream(scratch() / "tileset.json") << R"({"asset": {"version": "1.1"}, "geometricError": 1000,
@@ -420,6 +420,18 @@ TEST(SgviewRun, TilesetsAreShownAndCounted) {
     const Image want = libraryRender(scene, cam);
     EXPECT_GT(nonBackground(want), size_t(400 * 300 / 10));
     EXPECT_EQ(countDifferingPixels(loadPng((scratch() / "t.png").string()), want), 0u);
+
+    // --auto-occluders: each tile's made as it is read (the child's too, loaded by --refine-all); the same picture.
+    const Result made = runSgview("--info --refine-all --auto-occluders tileset.json");
+    ASSERT_EQ(made.code, 0) << made.err;
+    EXPECT_NE(made.out.find("--auto-occluders: made in each tile as it is read"), std::string::npos) << made.out;
+    EXPECT_NE(made.out.find("  Occluder "), std::string::npos) << made.out;
+    ASSERT_EQ(
+        runSgview(
+            "--headless --auto-occluders tileset.json --out ta.png --size 400x300 --camera 80,-150,150,200,80,0,0,0,1")
+            .code,
+        0);
+    EXPECT_EQ(countDifferingPixels(loadPng((scratch() / "ta.png").string()), want), 0u);
 
     std::ofstream(scratch() / "other.json") << R"({"type": "FeatureCollection", "features": []})";
     const Result bad = runSgview("--info other.json");
