@@ -2,7 +2,8 @@
 // crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding.
 // The seed corpus in fuzz/corpus/ holds small valid files written by sg::saveGltf (.glb and .gltf), one packed by
 // gltfpack (quantized, meshopt-compressed) and hand-made ones with sparse accessors, quantized attributes and an
-// unused buffer without a URI.
+// unused buffer without a URI. Every load also makes the file's occluders (GltfLoadOptions::generateOccluders), so
+// that what the loader accepts is what the occluder generator meets.
 #include "loaders/Gltf.h"
 
 #include <cstddef>
@@ -10,7 +11,9 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     try {
-        sg::loadGltfFromMemory(size >= 4 && data[0] == 'g' ? "fuzz.glb" : "fuzz.gltf", data, size);
+        sg::GltfLoadOptions options;
+        options.generateOccluders = true;
+        sg::loadGltfFromMemory(size >= 4 && data[0] == 'g' ? "fuzz.glb" : "fuzz.gltf", data, size, options);
     } catch (const sg::LoadError&) {
     }
     return 0;
