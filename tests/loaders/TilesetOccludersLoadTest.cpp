@@ -1,4 +1,4 @@
-// TilesetOptions::generateOccluders without a renderer (in the loader tests, which CI also runs under ThreadSanitizer):
+// TilesetOptions::generateOccluders without a renderer (in the loader tests, not built under ThreadSanitizer in CI):
 // loads on two loader threads make their tiles' occluders, sharing meshes between tiles, and the pass takes them; a
 // tileset loaded without the option has none; bad settings are refused.
 #include "TiledCity.h"
