@@ -1,4 +1,5 @@
-// A mesh's occluders (GeneratedOccluders.h, meshOccluders): boxes inside a closed mesh, polygons on an open one.
+// A mesh's occluders (GeneratedOccluders.h, meshOccluders): boxes inside a closed mesh, boxes inside an open one with
+// its openings capped, or else polygons on it.
 //
 // Boxes inside a closed mesh, and why each is inside its solid. A closed mesh (Mesh::closed()) runs every edge once
 // each way, so its winding number w(p) is defined off the surface, is constant on each connected set the surface does
@@ -12,8 +13,12 @@
 // up-facing -1). A triangle is counted only when the ray's point is surely inside its footprint (each edge function
 // larger than its rounding bound) and skipped only when surely outside; any other case (the ray through an edge, a
 // vertex, or in the plane of a vertical triangle) makes the column fail, retried once at another point, and a column
-// that fails twice, or whose count goes below 0 or does not end at 0, has no inside cells. A box is a union of inside
-// cells: every point of it is within kClear of an inside cell, so w > 0 there too.
+// that fails twice, or whose count does not end at 0, has no inside cells. (A count below 0 on the way is no error: a
+// piece wound inside out, as simplification leaves some, has w < 0 in it; only cells with w > 0 are taken, and the
+// crossing that raises w from 0 is at a face seen from its front.) A box is a union of inside cells: every point of it
+// is within kClear of an inside cell, so w > 0 there too.
+//
+// Boxes inside an open mesh whose openings are capped: cappedBoxes, below.
 //
 // Polygons on an open mesh: adjacent triangles (sharing a welded edge) whose planes agree are merged while the union
 // stays convex; the union is checked to have exactly the area of its triangles (no overlap, no turn twice), so the
@@ -36,6 +41,9 @@ void OccluderGenSettings::validate(const char* fn) const {
     if (voxels < 1 || voxels > 256) fail("voxels " + std::to_string(voxels) + " is not in 1..256");
     if (maxBoxes > 64) fail("maxBoxes " + std::to_string(maxBoxes) + " is above 64");
     if (maxPolygons > 64) fail("maxPolygons " + std::to_string(maxPolygons) + " is above 64");
+    if (maxOpenings > 64) fail("maxOpenings " + std::to_string(maxOpenings) + " is above 64");
+    if (!(openingDepth >= 0.0 && openingDepth <= 1.0))
+        fail("openingDepth " + std::to_string(openingDepth) + " is not in [0, 1]");
     if (!(minBoxShare >= 0.0 && minBoxShare <= 1.0))
         fail("minBoxShare " + std::to_string(minBoxShare) + " is not in [0, 1]");
     if (!(minPolygonShare >= 0.0 && minPolygonShare <= 1.0))
@@ -178,7 +186,7 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
             std::sort(h.begin(), h.end());
             int w = 0;
             bool ok = true;
-            for (const auto& x : h) ok = ok && (w += x.second) >= 0;
+            for (const auto& x : h) w += x.second;
             if (!ok || w != 0) continue;
             const int i = int(col % size_t(g.n[0])), j = int(col / size_t(g.n[0]));
             size_t next = 0;
@@ -296,11 +304,15 @@ std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g
     return out;
 }
 
-void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    const Box& b = mesh.box();
+// Boxes inside the solid `tris` bound (a closed surface within `b`), largest first; made of cells wholly on the
+// positive side of every plane in `beyond`, so on that side themselves.
+std::vector<Box> boxesInside(const std::vector<Tri>& tris, const Box& b, size_t meshTriangles,
+                             const OccluderGenSettings& s, uint64_t& voxelsInside,
+                             const std::vector<Plane>& beyond = {}) {
+    std::vector<Box> boxes;
     const dvec3 ext = b.max - b.min;
     const double size = std::max({ext.x, ext.y, ext.z});
-    if (!(size > 0.0) || s.maxBoxes == 0) return;
+    if (!(size > 0.0) || s.maxBoxes == 0) return boxes;
     // The grid spans the bound shrunk by a margin far above kClear, so that faces on the bound (a box mesh's) leave
     // every cell clear; cells are about cubic, the longest axis cut in `voxels`.
     const double clear = 1e-9 * size;
@@ -308,25 +320,40 @@ void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& 
     // any size), so the grid grows with the cube root of its triangles, up to `voxels`: the cost then follows the
     // triangles, not the grid.
     const uint32_t cells =
-        std::min(s.voxels, std::max<uint32_t>(8, uint32_t(std::lround(4.0 * std::cbrt(double(mesh.triangleCount()))))));
+        std::min(s.voxels, std::max<uint32_t>(8, uint32_t(std::lround(4.0 * std::cbrt(double(meshTriangles))))));
     Grid g;
     for (int a = 0; a < 3; ++a) {
         const double margin = std::max(1e-4 * ext[a], 1e-6 * size);
-        if (ext[a] <= 4.0 * margin) return;  // flat: no volume inside
+        if (ext[a] <= 4.0 * margin) return boxes;  // flat: no volume inside
         g.n[a] = std::clamp(int(std::ceil(double(cells) * ext[a] / size - 1e-9)), 1, int(cells));
         g.lo[a] = b.min[a] + margin;
         g.cell[a] = (ext[a] - 2.0 * margin) / double(g.n[a]);
     }
-    const std::vector<Tri> tris = triangles(mesh);
-    const std::vector<uint8_t> inside = insideCells(tris, g, clear);
-    for (uint8_t v : inside) out.voxelsInside += v;
+    std::vector<uint8_t> inside = insideCells(tris, g, clear);
+    if (!beyond.empty())
+        for (int k = 0; k < g.n[2]; ++k)
+            for (int j = 0; j < g.n[1]; ++j)
+                for (int i = 0; i < g.n[0]; ++i) {
+                    uint8_t& in = inside[g.at(i, j, k)];
+                    for (int c = 0; c < 8 && in; ++c) {
+                        const dvec3 p(g.corner(0, i + (c & 1)), g.corner(1, j + (c >> 1 & 1)),
+                                      g.corner(2, k + (c >> 2)));
+                        for (const Plane& pl : beyond) in = in && pl.distance(p) > 0.0;
+                    }
+                }
+    for (uint8_t v : inside) voxelsInside += v;
     const double cellVolume = g.cell.x * g.cell.y * g.cell.z, boundVolume = ext.x * ext.y * ext.z;
     const size_t minCells = size_t(std::ceil(s.minBoxShare * boundVolume / cellVolume - 1e-9));
     for (const CellBox& c : growBoxes(inside, g, s.maxBoxes, std::max<size_t>(minCells, 1)))
-        out.boxes.push_back(Box{dvec3(g.corner(0, c.lo[0]), g.corner(1, c.lo[1]), g.corner(2, c.lo[2])),
-                                dvec3(g.corner(0, c.hi[0]), g.corner(1, c.hi[1]), g.corner(2, c.hi[2]))});
-    std::stable_sort(out.boxes.begin(), out.boxes.end(),
+        boxes.push_back(Box{dvec3(g.corner(0, c.lo[0]), g.corner(1, c.lo[1]), g.corner(2, c.lo[2])),
+                            dvec3(g.corner(0, c.hi[0]), g.corner(1, c.hi[1]), g.corner(2, c.hi[2]))});
+    std::stable_sort(boxes.begin(), boxes.end(),
                      [](const Box& p, const Box& q) { return occluders::volume(p) > occluders::volume(q); });
+    return boxes;
+}
+
+void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
+    out.boxes = boxesInside(triangles(mesh), mesh.box(), mesh.triangleCount(), s, out.voxelsInside);
 }
 
 // --- polygons on open meshes ---
@@ -343,20 +370,25 @@ struct KeyHash {
     }
 };
 
-void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    if (s.maxPolygons == 0) return;
+// Welded corners: positions equal bit for bit share an id (vid, per vertex); vp: each id's position.
+void weld(const Mesh& mesh, std::vector<uint32_t>& vid, std::vector<dvec3>& vp) {
     const auto& pos = mesh.positions();
-    const size_t nt = mesh.triangleCount();
-    // Welded corners: positions equal bit for bit.
-    std::unordered_map<Key, uint32_t, KeyHash> weld;
-    std::vector<uint32_t> vid(pos.size());
-    std::vector<dvec3> vp;
+    std::unordered_map<Key, uint32_t, KeyHash> ids;
+    vid.resize(pos.size());
     for (size_t i = 0; i < pos.size(); ++i) {
         const Key k{pos[i].x + 0.0f, pos[i].y + 0.0f, pos[i].z + 0.0f};  // + 0: -0 welds with 0
-        auto it = weld.emplace(k, uint32_t(vp.size()));
+        auto it = ids.emplace(k, uint32_t(vp.size()));
         if (it.second) vp.push_back(dvec3(pos[i]));
         vid[i] = it.first->second;
     }
+}
+
+void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
+    if (s.maxPolygons == 0) return;
+    const size_t nt = mesh.triangleCount();
+    std::vector<uint32_t> vid;
+    std::vector<dvec3> vp;
+    weld(mesh, vid, vp);
     struct T {
         uint32_t v[3];
         dvec3 n;  // unit normal
@@ -454,6 +486,155 @@ void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders&
     }
 }
 
+// --- boxes inside open meshes, their openings closed ---
+
+uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+// The parts of an open mesh (triangles joined by welded edges) that bound a solid once their openings are capped: a
+// closed part as it is, a part whose boundary runs in loops that each lie within `openingDepth` of a plane with a fan
+// of triangles over each loop (the cap); a flat part (a quad on a wall) and any other part are left out. The boxes
+// found inside are kept where they lie on the positive side of every loop's plane (each shifted past its cap's slab,
+// facing the solid), and those planes are the boxes' condition (Occluder::setOpenings). Why each box is then behind
+// drawn triangles: the kept parts with their caps form a closed surface (each boundary edge is run back by a cap),
+// so the argument at the top holds for it: a segment from an eye outside the bound (w = 0) to a box (w > 0) crosses
+// that surface. With the eye on the positive side of every plane, the segment lies in the intersection of those open
+// half-spaces (convex, holding both ends), which no cap meets: what it crosses is a drawn triangle of the mesh.
+// Leaving parts out is safe for the same reason: the surface is then a subset of the drawn triangles, still closed.
+void cappedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
+    if (!s.capOpenings || s.maxBoxes == 0) return;
+    std::vector<uint32_t> vid;
+    std::vector<dvec3> vp;
+    weld(mesh, vid, vp);
+    const Box& bb = mesh.box();
+    const double diag = glm::length(bb.max - bb.min);
+    std::vector<std::array<uint32_t, 3>> tris;
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const std::array<uint32_t, 3> v{vid[mesh.index(3 * t)], vid[mesh.index(3 * t + 1)], vid[mesh.index(3 * t + 2)]};
+        if (v[0] != v[1] && v[1] != v[2] && v[2] != v[0]) tris.push_back(v);  // a repeated corner bounds nothing
+    }
+    // Parts, and each undirected edge's runs: +1 from its lower id to its higher, -1 back.
+    std::vector<uint32_t> part(tris.size());
+    for (uint32_t t = 0; t < part.size(); ++t) part[t] = t;
+    std::unordered_map<uint64_t, std::pair<int, uint32_t>> edges;  // (lower, higher) -> (net runs, a triangle)
+    for (uint32_t t = 0; t < tris.size(); ++t)
+        for (int c = 0; c < 3; ++c) {
+            const uint32_t a = tris[t][size_t(c)], b = tris[t][size_t(c + 1) % 3];
+            auto it = edges.emplace(uint64_t(std::min(a, b)) << 32 | std::max(a, b), std::make_pair(0, t)).first;
+            it->second.first += a < b ? 1 : -1;
+            part[findRoot(part, t)] = findRoot(part, it->second.second);
+        }
+    const size_t nt = tris.size();
+    std::vector<uint8_t> bad(nt, 0);  // by part root
+    // Cap edges (the boundary run back), per part: (part, from) -> to; a part whose boundary meets itself at a corner,
+    // or runs an edge twice one way, is left out.
+    std::unordered_map<uint64_t, uint32_t> capNext;
+    std::vector<uint64_t> starts;
+    for (const auto& e : edges) {
+        const int net = e.second.first;
+        if (net == 0) continue;
+        const uint32_t root = findRoot(part, e.second.second);
+        const uint32_t lo = uint32_t(e.first >> 32), hi = uint32_t(e.first & 0xffffffffu);
+        if (std::abs(net) > 1) {
+            bad[root] = 1;
+            continue;
+        }
+        const uint32_t from = net > 0 ? hi : lo, to = net > 0 ? lo : hi;
+        const uint64_t key = uint64_t(root) << 32 | from;
+        if (!capNext.emplace(key, to).second) bad[root] = 1;
+        starts.push_back(key);
+    }
+    std::sort(starts.begin(), starts.end());  // a fixed order: the same mesh gives the same shapes
+    // Flat parts: every corner within the tolerance of the plane of the part's summed normal (zero for a closed part).
+    std::vector<dvec3> normalSum(nt, dvec3(0.0));
+    for (uint32_t t = 0; t < nt; ++t)
+        normalSum[findRoot(part, t)] += glm::cross(vp[tris[t][1]] - vp[tris[t][0]], vp[tris[t][2]] - vp[tris[t][0]]);
+    const double tol = occluders::flatTolerance(bb);
+    std::vector<uint8_t> flat(nt, 1);
+    for (uint32_t t = 0; t < nt; ++t) {
+        const uint32_t r = findRoot(part, t);
+        const double len = glm::length(normalSum[r]);
+        if (!(len > 1e-12 * diag * diag)) {
+            flat[r] = 0;
+            continue;
+        }
+        const dvec3 n = normalSum[r] / len, o = vp[tris[r][0]];
+        for (uint32_t v : tris[t])
+            if (std::abs(glm::dot(vp[v] - o, n)) > tol) flat[r] = 0;
+    }
+    // Small parts with openings (a prism on a roof, a vent) are left out: too small to hold a box of their own, their
+    // caps' planes would only narrow where the eye may be for the part that does.
+    std::vector<Box> partBound(nt);
+    for (uint32_t t = 0; t < nt; ++t)
+        for (uint32_t v : tris[t]) partBound[findRoot(part, t)].expand(vp[v]);
+    for (uint64_t key : starts) {
+        const uint32_t root = uint32_t(key >> 32);
+        if (occluders::volume(partBound[root]) < s.minBoxShare * occluders::volume(bb)) bad[root] = 1;
+    }
+    // The loops, each part's in turn; their planes (Newell's normal points out of the solid through the cap).
+    struct Loop {
+        uint32_t root;
+        std::vector<uint32_t> v;
+        Plane plane;
+    };
+    std::vector<Loop> loops;
+    std::unordered_map<uint64_t, uint8_t> walked;
+    for (uint64_t key : starts) {
+        const uint32_t root = uint32_t(key >> 32);
+        if (bad[root] || flat[root] || walked.count(key)) continue;
+        Loop l{root, {}, {}};
+        for (uint64_t k = key; !walked.count(k);) {
+            walked[k] = 1;
+            l.v.push_back(uint32_t(k & 0xffffffffu));
+            auto it = capNext.find(k);
+            if (it == capNext.end()) break;  // cannot happen: a boundary enters each corner as often as it leaves
+            k = uint64_t(root) << 32 | it->second;
+        }
+        dvec3 c(0.0), n(0.0);
+        for (uint32_t v : l.v) c += vp[v] / double(l.v.size());
+        for (size_t i = 0; i < l.v.size(); ++i) n += glm::cross(vp[l.v[i]] - c, vp[l.v[(i + 1) % l.v.size()]] - c);
+        const double len = glm::length(n);
+        double depth = 0.0;
+        if (len > 0.0) {
+            n /= len;
+            for (uint32_t v : l.v) depth = std::max(depth, std::abs(glm::dot(vp[v] - c, n)));
+        }
+        if (!(len > 1e-12 * diag * diag) || depth > s.openingDepth * diag) {
+            bad[root] = 1;  // not closed by a plane
+            continue;
+        }
+        // Positive towards the solid, past the cap's slab by a margin over the rounding of the test.
+        const double shift = depth + 1e-9 * (diag + glm::length(c));
+        l.plane = Plane{-n, glm::dot(n, c) - shift};
+        loops.push_back(std::move(l));
+    }
+    std::vector<Tri> closedTris;
+    std::vector<Plane> planes;
+    for (const Loop& l : loops) {
+        if (bad[l.root]) continue;
+        planes.push_back(l.plane);
+        for (size_t i = 1; i + 1 < l.v.size(); ++i) closedTris.push_back(Tri{vp[l.v[0]], vp[l.v[i]], vp[l.v[i + 1]]});
+    }
+    if (planes.size() > s.maxOpenings) return;
+    for (uint32_t t = 0; t < nt; ++t) {
+        const uint32_t r = findRoot(part, t);
+        if (!bad[r] && !flat[r]) closedTris.push_back(Tri{vp[tris[t][0]], vp[tris[t][1]], vp[tris[t][2]]});
+    }
+    if (closedTris.empty()) return;
+    uint64_t voxels = 0;
+    for (const Box& b : boxesInside(closedTris, bb, mesh.triangleCount(), s, voxels, planes)) {
+        bool beyond = true;
+        for (const Plane& p : planes)
+            for (int k = 0; k < 8 && beyond; ++k)
+                beyond = p.distance(dvec3(k & 1 ? b.max.x : b.min.x, k & 2 ? b.max.y : b.min.y,
+                                          k & 4 ? b.max.z : b.min.z)) > 0.0;
+        if (beyond) out.cappedBoxes.push_back(b);
+    }
+    if (!out.cappedBoxes.empty()) out.openings = std::move(planes);
+}
+
 }  // namespace
 
 MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s) {
@@ -461,10 +642,12 @@ MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s) {
     MeshOccluders out;
     if (mesh.triangleCount() == 0 || !mesh.validBound() || mesh.box().empty()) return out;
     out.closed = mesh.closed();
-    if (out.closed)
+    if (out.closed) {
         closedBoxes(mesh, s, out);
-    else
-        openPolygons(mesh, s, out);
+        return out;
+    }
+    cappedBoxes(mesh, s, out);
+    if (out.cappedBoxes.empty()) openPolygons(mesh, s, out);
     return out;
 }
 
