@@ -205,8 +205,37 @@ struct Generator {
                 visit(*ch);
             for (auto& o : add) inserts.push_back({c + 1, std::move(o)});
         }
+        dropEnclosed(inserts);
         for (auto& in : inserts)
             pending.push_back({static_cast<Group*>(&n), in.first, std::move(in.second), n.child(in.first - 1)});
+    }
+
+    // A polygon within the bound of a mesh beside it that got boxes (a roof over a building's walls, a floor inside
+    // them) is left out: seen from outside that bound the boxes stand for the whole, and the polygon would add only
+    // the rim between a box and the bound, at the cost of a candidate the pass must weigh every frame.
+    void dropEnclosed(std::vector<std::pair<size_t, ref_ptr<Occluder>>>& inserts) {
+        std::vector<Box> bounds;
+        for (const auto& in : inserts)
+            if (in.second->shape() == Occluder::Shape::Box && !in.second->eyeOutside().empty())
+                bounds.push_back(in.second->eyeOutside());
+        if (bounds.empty()) return;
+        auto enclosed = [&](const Occluder& o) {
+            if (o.shape() != Occluder::Shape::Polygon) return false;
+            for (const Box& b : bounds) {
+                const double tol = occluders::flatTolerance(b);
+                const bool in = std::all_of(o.polygon().begin(), o.polygon().end(), [&](const dvec3& v) {
+                    return glm::all(glm::greaterThanEqual(v, b.min - tol)) &&
+                           glm::all(glm::lessThanEqual(v, b.max + tol));
+                });
+                if (in) return true;
+            }
+            return false;
+        };
+        const size_t before = inserts.size();
+        inserts.erase(
+            std::remove_if(inserts.begin(), inserts.end(), [&](const auto& in) { return enclosed(*in.second); }),
+            inserts.end());
+        st.enclosed += before - inserts.size();
     }
 
     struct Pending {

@@ -64,6 +64,7 @@ struct OccluderGenStats {
     uint64_t boxes = 0, polygons = 0;  // Occluder nodes added
     uint64_t lods = 0;                 // of those, standing for an LOD (used while it shows a level)
     uint64_t minor = 0;                // left out as minor (OccluderGenSettings::minMajorShare)
+    uint64_t enclosed = 0;             // polygons left out within the bound of a mesh beside them that got boxes
     uint64_t skipped = 0;              // Geometry nodes left without: blended or alpha-masked, masked themselves,
                                        // under a Billboard or Instance prototype, a Switch's own child, or beside an
                                        // authored occluder

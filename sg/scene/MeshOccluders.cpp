@@ -18,21 +18,15 @@
 // crossing that raises w from 0 is at a face seen from its front.) A box is a union of inside cells: every point of it
 // is within kClear of an inside cell, so w > 0 there too.
 //
-// Boxes inside an open mesh whose openings are capped: cappedBoxes, below.
-//
-// Polygons on an open mesh: adjacent triangles (sharing a welded edge) whose planes agree are merged while the union
-// stays convex; the union is checked to have exactly the area of its triangles (no overlap, no turn twice), so the
-// polygon is the union of drawn triangles.
-#include "sg/scene/GeneratedOccluders.h"
+// Open meshes, boxes inside them with their openings capped and polygons on them: OpenMeshOccluders.cpp.
+#include "sg/scene/MeshOccludersParts.h"
 #include "sg/scene/OccluderShapes.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 namespace sg {
 
@@ -54,9 +48,7 @@ void OccluderGenSettings::validate(const char* fn) const {
 
 namespace {
 
-struct Tri {
-    dvec3 a, b, c;
-};
+using meshocc::Tri;
 
 std::vector<Tri> triangles(const Mesh& m) {
     std::vector<Tri> t(m.triangleCount());
@@ -73,7 +65,8 @@ bool separated(const Tri& t, const dvec3& c, const dvec3& h, double gap) {
     auto apart = [&](const dvec3& ax) {
         const double p0 = glm::dot(v0, ax), p1 = glm::dot(v1, ax), p2 = glm::dot(v2, ax);
         const double r = h.x * std::abs(ax.x) + h.y * std::abs(ax.y) + h.z * std::abs(ax.z);
-        const double len = glm::length(ax);
+        // The 1-norm bounds the length from above: a gap asked of it is at least the gap asked (no square root).
+        const double len = std::abs(ax.x) + std::abs(ax.y) + std::abs(ax.z);
         return std::min({p0, p1, p2}) > r + gap * len || std::max({p0, p1, p2}) < -r - gap * len;
     };
     for (int a = 0; a < 3; ++a) {
@@ -164,6 +157,8 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
                     const size_t col = size_t(j) * size_t(g.n[0]) + size_t(i);
                     if (done[col] || unsure[col]) continue;
                     const double px = g.corner(0, i) + ox * g.cell.x, py = g.corner(1, j) + oy * g.cell.y;
+                    // Off the triangle's xy bound (compared exactly): surely outside it.
+                    if (px < mnx || px > mxx || py < mny || py > mxy) continue;
                     const int f = footprint(t, px, py);
                     if (f == 0) continue;
                     if (f == 2) {
@@ -304,11 +299,11 @@ std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g
     return out;
 }
 
-// Boxes inside the solid `tris` bound (a closed surface within `b`), largest first; made of cells wholly on the
-// positive side of every plane in `beyond`, so on that side themselves.
-std::vector<Box> boxesInside(const std::vector<Tri>& tris, const Box& b, size_t meshTriangles,
-                             const OccluderGenSettings& s, uint64_t& voxelsInside,
-                             const std::vector<Plane>& beyond = {}) {
+}  // namespace
+
+std::vector<Box> meshocc::boxesInside(const std::vector<Tri>& tris, const Box& b, size_t meshTriangles,
+                                      const OccluderGenSettings& s, uint64_t& voxelsInside,
+                                      const std::vector<Plane>& beyond) {
     std::vector<Box> boxes;
     const dvec3 ext = b.max - b.min;
     const double size = std::max({ext.x, ext.y, ext.z});
@@ -352,290 +347,9 @@ std::vector<Box> boxesInside(const std::vector<Tri>& tris, const Box& b, size_t 
     return boxes;
 }
 
-void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    out.boxes = boxesInside(triangles(mesh), mesh.box(), mesh.triangleCount(), s, out.voxelsInside);
+static void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
+    out.boxes = meshocc::boxesInside(triangles(mesh), mesh.box(), mesh.triangleCount(), s, out.voxelsInside);
 }
-
-// --- polygons on open meshes ---
-
-struct Key {
-    float x, y, z;
-    bool operator==(const Key& o) const { return std::memcmp(this, &o, sizeof(Key)) == 0; }
-};
-struct KeyHash {
-    size_t operator()(const Key& k) const {
-        uint32_t u[3];
-        std::memcpy(u, &k, sizeof(u));
-        return size_t(u[0]) * 73856093u ^ size_t(u[1]) * 19349663u ^ size_t(u[2]) * 83492791u;
-    }
-};
-
-// Welded corners: positions equal bit for bit share an id (vid, per vertex); vp: each id's position.
-void weld(const Mesh& mesh, std::vector<uint32_t>& vid, std::vector<dvec3>& vp) {
-    const auto& pos = mesh.positions();
-    std::unordered_map<Key, uint32_t, KeyHash> ids;
-    vid.resize(pos.size());
-    for (size_t i = 0; i < pos.size(); ++i) {
-        const Key k{pos[i].x + 0.0f, pos[i].y + 0.0f, pos[i].z + 0.0f};  // + 0: -0 welds with 0
-        auto it = ids.emplace(k, uint32_t(vp.size()));
-        if (it.second) vp.push_back(dvec3(pos[i]));
-        vid[i] = it.first->second;
-    }
-}
-
-void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    if (s.maxPolygons == 0) return;
-    const size_t nt = mesh.triangleCount();
-    std::vector<uint32_t> vid;
-    std::vector<dvec3> vp;
-    weld(mesh, vid, vp);
-    struct T {
-        uint32_t v[3];
-        dvec3 n;  // unit normal
-        double area;
-    };
-    std::vector<T> tris(nt);
-    std::unordered_map<uint64_t, uint32_t> byEdge;  // directed edge (from, to) -> triangle
-    auto edgeKey = [](uint32_t a, uint32_t b) { return uint64_t(a) << 32 | b; };
-    const Box& bb = mesh.box();
-    const double size = glm::length(bb.max - bb.min);
-    for (size_t t = 0; t < nt; ++t) {
-        T& x = tris[t];
-        for (int c = 0; c < 3; ++c) x.v[c] = vid[mesh.index(3 * t + size_t(c))];
-        const dvec3 cr = glm::cross(vp[x.v[1]] - vp[x.v[0]], vp[x.v[2]] - vp[x.v[0]]);
-        x.area = 0.5 * glm::length(cr);
-        x.n = x.area > 0.0 ? cr / (2.0 * x.area) : dvec3(0.0);
-        if (x.area > 1e-12 * size * size)
-            for (int c = 0; c < 3; ++c) byEdge[edgeKey(x.v[c], x.v[(c + 1) % 3])] = uint32_t(t);
-    }
-    const dvec3 ext = bb.max - bb.min;
-    std::array<double, 3> e{ext.x, ext.y, ext.z};
-    std::sort(e.begin(), e.end());
-    const double minArea = s.minPolygonShare * e[1] * e[2];
-    const double coplanar = occluders::flatTolerance(bb);
-    std::vector<uint8_t> used(nt, 0);
-    std::vector<uint32_t> order(nt);
-    for (uint32_t t = 0; t < nt; ++t) order[t] = t;
-    std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) { return tris[p].area > tris[q].area; });
-    struct Poly {
-        std::vector<uint32_t> loop;
-        dvec3 n;
-        double area;
-    };
-    std::vector<Poly> polys;
-    for (uint32_t seed : order) {
-        const T& st = tris[seed];
-        if (used[seed] || !(st.area > 1e-12 * size * size)) continue;
-        used[seed] = 1;
-        Poly p{{st.v[0], st.v[1], st.v[2]}, st.n, st.area};
-        const dvec3 o = vp[st.v[0]];
-        auto convex = [&](const std::vector<uint32_t>& loop) {
-            for (size_t i = 0; i < loop.size(); ++i) {
-                const dvec3 a = vp[loop[i]], b = vp[loop[(i + 1) % loop.size()]], c = vp[loop[(i + 2) % loop.size()]];
-                if (glm::dot(glm::cross(b - a, c - b), p.n) < -eps::kRounding * size * size) return false;
-            }
-            return true;
-        };
-        auto area = [&](const std::vector<uint32_t>& loop) {
-            dvec3 nn(0.0);
-            for (size_t i = 0; i < loop.size(); ++i)
-                nn += glm::cross(vp[loop[i]] - o, vp[loop[(i + 1) % loop.size()]] - o);
-            return 0.5 * glm::dot(nn, p.n);
-        };
-        for (bool grew = true; grew;) {
-            grew = false;
-            for (size_t i = 0; i < p.loop.size(); ++i) {
-                const uint32_t u = p.loop[i], v = p.loop[(i + 1) % p.loop.size()];
-                auto it = byEdge.find(edgeKey(v, u));
-                if (it == byEdge.end() || used[it->second]) continue;
-                const T& nb = tris[it->second];
-                if (glm::dot(nb.n, p.n) < 1.0 - 1e-9) continue;
-                uint32_t w = nb.v[0] + nb.v[1] + nb.v[2] - u - v;
-                if (std::abs(glm::dot(vp[w] - o, p.n)) > coplanar) continue;
-                if (std::find(p.loop.begin(), p.loop.end(), w) != p.loop.end()) continue;
-                std::vector<uint32_t> next = p.loop;
-                next.insert(next.begin() + ptrdiff_t(i + 1), w);
-                const double a = p.area + nb.area;
-                if (!convex(next) || std::abs(area(next) - a) > 1e-9 * a) continue;
-                p.loop = std::move(next);
-                p.area = a;
-                used[it->second] = 1;
-                grew = true;
-            }
-        }
-        if (p.area >= minArea && p.area > 0.0) polys.push_back(std::move(p));
-    }
-    std::stable_sort(polys.begin(), polys.end(), [](const Poly& a, const Poly& b) { return a.area > b.area; });
-    for (size_t k = 0; k < polys.size() && out.polygons.size() < s.maxPolygons; ++k) {
-        // Collinear corners (two triangles along one side) are dropped: the polygon keeps its shape.
-        std::vector<dvec3> v;
-        const auto& l = polys[k].loop;
-        for (size_t i = 0; i < l.size(); ++i) {
-            const dvec3 a = vp[l[(i + l.size() - 1) % l.size()]], b = vp[l[i]], c = vp[l[(i + 1) % l.size()]];
-            if (glm::length(glm::cross(b - a, c - b)) > 1e-12 * size * size) v.push_back(b);
-        }
-        // Onto the plane through their centre: the corners are off it by the positions' rounding only, and an
-        // Occluder's polygon must be planar to double's precision.
-        if (v.size() < 3) continue;
-        dvec3 c(0.0), n(0.0);
-        for (const dvec3& x : v) c += x / double(v.size());
-        for (size_t i = 0; i < v.size(); ++i) n += glm::cross(v[i] - c, v[(i + 1) % v.size()] - c);
-        n = glm::normalize(n);
-        for (dvec3& x : v) x -= n * glm::dot(x - c, n);
-        out.polygons.push_back(std::move(v));
-    }
-}
-
-// --- boxes inside open meshes, their openings closed ---
-
-uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-}
-
-// The parts of an open mesh (triangles joined by welded edges) that bound a solid once their openings are capped: a
-// closed part as it is, a part whose boundary runs in loops that each lie within `openingDepth` of a plane with a fan
-// of triangles over each loop (the cap); a flat part (a quad on a wall) and any other part are left out. The boxes
-// found inside are kept where they lie on the positive side of every loop's plane (each shifted past its cap's slab,
-// facing the solid), and those planes are the boxes' condition (Occluder::setOpenings). Why each box is then behind
-// drawn triangles: the kept parts with their caps form a closed surface (each boundary edge is run back by a cap),
-// so the argument at the top holds for it: a segment from an eye outside the bound (w = 0) to a box (w > 0) crosses
-// that surface. With the eye on the positive side of every plane, the segment lies in the intersection of those open
-// half-spaces (convex, holding both ends), which no cap meets: what it crosses is a drawn triangle of the mesh.
-// Leaving parts out is safe for the same reason: the surface is then a subset of the drawn triangles, still closed.
-void cappedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    if (!s.capOpenings || s.maxBoxes == 0) return;
-    std::vector<uint32_t> vid;
-    std::vector<dvec3> vp;
-    weld(mesh, vid, vp);
-    const Box& bb = mesh.box();
-    const double diag = glm::length(bb.max - bb.min);
-    std::vector<std::array<uint32_t, 3>> tris;
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const std::array<uint32_t, 3> v{vid[mesh.index(3 * t)], vid[mesh.index(3 * t + 1)], vid[mesh.index(3 * t + 2)]};
-        if (v[0] != v[1] && v[1] != v[2] && v[2] != v[0]) tris.push_back(v);  // a repeated corner bounds nothing
-    }
-    // Parts, and each undirected edge's runs: +1 from its lower id to its higher, -1 back.
-    std::vector<uint32_t> part(tris.size());
-    for (uint32_t t = 0; t < part.size(); ++t) part[t] = t;
-    std::unordered_map<uint64_t, std::pair<int, uint32_t>> edges;  // (lower, higher) -> (net runs, a triangle)
-    for (uint32_t t = 0; t < tris.size(); ++t)
-        for (int c = 0; c < 3; ++c) {
-            const uint32_t a = tris[t][size_t(c)], b = tris[t][size_t(c + 1) % 3];
-            auto it = edges.emplace(uint64_t(std::min(a, b)) << 32 | std::max(a, b), std::make_pair(0, t)).first;
-            it->second.first += a < b ? 1 : -1;
-            part[findRoot(part, t)] = findRoot(part, it->second.second);
-        }
-    const size_t nt = tris.size();
-    std::vector<uint8_t> bad(nt, 0);  // by part root
-    // Cap edges (the boundary run back), per part: (part, from) -> to; a part whose boundary meets itself at a corner,
-    // or runs an edge twice one way, is left out.
-    std::unordered_map<uint64_t, uint32_t> capNext;
-    std::vector<uint64_t> starts;
-    for (const auto& e : edges) {
-        const int net = e.second.first;
-        if (net == 0) continue;
-        const uint32_t root = findRoot(part, e.second.second);
-        const uint32_t lo = uint32_t(e.first >> 32), hi = uint32_t(e.first & 0xffffffffu);
-        if (std::abs(net) > 1) {
-            bad[root] = 1;
-            continue;
-        }
-        const uint32_t from = net > 0 ? hi : lo, to = net > 0 ? lo : hi;
-        const uint64_t key = uint64_t(root) << 32 | from;
-        if (!capNext.emplace(key, to).second) bad[root] = 1;
-        starts.push_back(key);
-    }
-    std::sort(starts.begin(), starts.end());  // a fixed order: the same mesh gives the same shapes
-    // Flat parts: every corner within the tolerance of the plane of the part's summed normal (zero for a closed part).
-    std::vector<dvec3> normalSum(nt, dvec3(0.0));
-    for (uint32_t t = 0; t < nt; ++t)
-        normalSum[findRoot(part, t)] += glm::cross(vp[tris[t][1]] - vp[tris[t][0]], vp[tris[t][2]] - vp[tris[t][0]]);
-    const double tol = occluders::flatTolerance(bb);
-    std::vector<uint8_t> flat(nt, 1);
-    for (uint32_t t = 0; t < nt; ++t) {
-        const uint32_t r = findRoot(part, t);
-        const double len = glm::length(normalSum[r]);
-        if (!(len > 1e-12 * diag * diag)) {
-            flat[r] = 0;
-            continue;
-        }
-        const dvec3 n = normalSum[r] / len, o = vp[tris[r][0]];
-        for (uint32_t v : tris[t])
-            if (std::abs(glm::dot(vp[v] - o, n)) > tol) flat[r] = 0;
-    }
-    // Small parts with openings (a prism on a roof, a vent) are left out: too small to hold a box of their own, their
-    // caps' planes would only narrow where the eye may be for the part that does.
-    std::vector<Box> partBound(nt);
-    for (uint32_t t = 0; t < nt; ++t)
-        for (uint32_t v : tris[t]) partBound[findRoot(part, t)].expand(vp[v]);
-    for (uint64_t key : starts) {
-        const uint32_t root = uint32_t(key >> 32);
-        if (occluders::volume(partBound[root]) < s.minBoxShare * occluders::volume(bb)) bad[root] = 1;
-    }
-    // The loops, each part's in turn; their planes (Newell's normal points out of the solid through the cap).
-    struct Loop {
-        uint32_t root;
-        std::vector<uint32_t> v;
-        Plane plane;
-    };
-    std::vector<Loop> loops;
-    std::unordered_map<uint64_t, uint8_t> walked;
-    for (uint64_t key : starts) {
-        const uint32_t root = uint32_t(key >> 32);
-        if (bad[root] || flat[root] || walked.count(key)) continue;
-        Loop l{root, {}, {}};
-        for (uint64_t k = key; !walked.count(k);) {
-            walked[k] = 1;
-            l.v.push_back(uint32_t(k & 0xffffffffu));
-            auto it = capNext.find(k);
-            if (it == capNext.end()) break;  // cannot happen: a boundary enters each corner as often as it leaves
-            k = uint64_t(root) << 32 | it->second;
-        }
-        dvec3 c(0.0), n(0.0);
-        for (uint32_t v : l.v) c += vp[v] / double(l.v.size());
-        for (size_t i = 0; i < l.v.size(); ++i) n += glm::cross(vp[l.v[i]] - c, vp[l.v[(i + 1) % l.v.size()]] - c);
-        const double len = glm::length(n);
-        double depth = 0.0;
-        if (len > 0.0) {
-            n /= len;
-            for (uint32_t v : l.v) depth = std::max(depth, std::abs(glm::dot(vp[v] - c, n)));
-        }
-        if (!(len > 1e-12 * diag * diag) || depth > s.openingDepth * diag) {
-            bad[root] = 1;  // not closed by a plane
-            continue;
-        }
-        // Positive towards the solid, past the cap's slab by a margin over the rounding of the test.
-        const double shift = depth + 1e-9 * (diag + glm::length(c));
-        l.plane = Plane{-n, glm::dot(n, c) - shift};
-        loops.push_back(std::move(l));
-    }
-    std::vector<Tri> closedTris;
-    std::vector<Plane> planes;
-    for (const Loop& l : loops) {
-        if (bad[l.root]) continue;
-        planes.push_back(l.plane);
-        for (size_t i = 1; i + 1 < l.v.size(); ++i) closedTris.push_back(Tri{vp[l.v[0]], vp[l.v[i]], vp[l.v[i + 1]]});
-    }
-    if (planes.size() > s.maxOpenings) return;
-    for (uint32_t t = 0; t < nt; ++t) {
-        const uint32_t r = findRoot(part, t);
-        if (!bad[r] && !flat[r]) closedTris.push_back(Tri{vp[tris[t][0]], vp[tris[t][1]], vp[tris[t][2]]});
-    }
-    if (closedTris.empty()) return;
-    uint64_t voxels = 0;
-    for (const Box& b : boxesInside(closedTris, bb, mesh.triangleCount(), s, voxels, planes)) {
-        bool beyond = true;
-        for (const Plane& p : planes)
-            for (int k = 0; k < 8 && beyond; ++k)
-                beyond = p.distance(dvec3(k & 1 ? b.max.x : b.min.x, k & 2 ? b.max.y : b.min.y,
-                                          k & 4 ? b.max.z : b.min.z)) > 0.0;
-        if (beyond) out.cappedBoxes.push_back(b);
-    }
-    if (!out.cappedBoxes.empty()) out.openings = std::move(planes);
-}
-
-}  // namespace
 
 MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s) {
     s.validate("sg::meshOccluders()");
@@ -646,8 +360,9 @@ MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s) {
         closedBoxes(mesh, s, out);
         return out;
     }
-    cappedBoxes(mesh, s, out);
-    if (out.cappedBoxes.empty()) openPolygons(mesh, s, out);
+    const meshocc::Welded welded(mesh);
+    meshocc::cappedBoxes(mesh, welded, s, out);
+    if (out.cappedBoxes.empty()) meshocc::openPolygons(mesh, welded, s, out);
     return out;
 }
 
