@@ -40,7 +40,8 @@ endforeach()
 # which use the library as an application would. (The kernel benchmarks in bench/kernels measure them directly.)
 set(SGKIT_INTERNAL_HEADERS sg/viewer/StageThread.h sg/cull/FrustumKernel.h sg/cull/CullContext.h sg/scene/BspBuilder.h sg/scene/LodChooser.h
   sg/scene/ImageWalk.h sg/intersect/IntersectPrimitives.h sg/gl/GlProgram.h sg/gl/Shaders.h sg/gl/GpuCache.h
-  sg/gl/DepthTarget.h sg/core/MeshClosed.h sg/gl/BackFaces.h sg/scene/DistinctGeometries.h sg/scene/OccluderShapes.h)
+  sg/gl/DepthTarget.h sg/core/MeshClosed.h sg/gl/BackFaces.h sg/scene/DistinctGeometries.h sg/scene/OccluderShapes.h
+  sg/scene/MeshOccludersParts.h)
 
 # The testbed and the examples use the library as an application would: none of them includes an internal header.
 file(GLOB_RECURSE _apps RELATIVE ${CMAKE_CURRENT_SOURCE_DIR} CONFIGURE_DEPENDS testbed/*.h testbed/*.cpp

@@ -208,6 +208,18 @@ void Occluder::setEyeOutside(const Box& b) {
     markDirty(kDirtyBound);  // the image notes which occluders carry conditions
 }
 
+void Occluder::setOpenings(std::vector<Plane> planes) {
+    for (size_t k = 0; k < planes.size(); ++k) {
+        const Plane& p = planes[k];
+        if (!isFinite(p.n) || !std::isfinite(p.d) || std::abs(glm::length(p.n) - 1.0) > 1e-9)
+            throw std::invalid_argument(
+                "Occluder::setOpenings(): " + describe() + ": plane " + std::to_string(k) +
+                (isFinite(p.n) && std::isfinite(p.d) ? " has a normal not of unit length" : " is not finite"));
+    }
+    openings_ = std::move(planes);
+    markDirty(kDirtyBound);  // the image notes which occluders carry conditions
+}
+
 void Occluder::setBelowSurface(std::shared_ptr<const OccluderSurface> s) {
     if (s) {
         const std::string fn = "Occluder::setBelowSurface(): " + describe() + ": ";

@@ -39,6 +39,12 @@ public:
     // Throws std::invalid_argument for a non-finite box.
     void setEyeOutside(const Box& b);
     const Box& eyeOutside() const { return eyeOutside_; }
+    // A box inside an open mesh's solid as closed by caps over its openings (MeshOccluders::cappedBoxes): used only
+    // while the eye, in the occluder's frame, is on the positive side of every plane, each of which has the box on
+    // that side and its cap on the other (a sight line from there to the box meets no cap). Empty: anywhere.
+    // Throws std::invalid_argument for a plane that is not finite or whose normal is not of unit length.
+    void setOpenings(std::vector<Plane> planes);
+    const std::vector<Plane>& openings() const { return openings_; }
     // Used only while `lod`, the sibling before it under the same parent (other occluders between them), shows one of
     // its levels with no fade to nothing (the shape lies inside every level); null: always. Not owned: the pass finds
     // the LOD by its place, and an occluder placed otherwise is not used.
@@ -69,6 +75,7 @@ private:
     std::vector<dvec3> polygon_;
     Shape shape_ = Shape::Box;
     Box eyeOutside_;
+    std::vector<Plane> openings_;
     const Node* shownWith_ = nullptr;
     std::shared_ptr<const OccluderSurface> belowSurface_;
     bool generated_ = false, oneSided_ = false;

@@ -83,7 +83,8 @@ struct TiledCity {
                 std::lock_guard<std::mutex> lock(m);
                 made.geometries += st.geometries, made.meshes += st.meshes, made.meshTriangles += st.meshTriangles;
                 made.sceneTriangles += st.sceneTriangles, made.boxes += st.boxes, made.polygons += st.polygons;
-                made.lods += st.lods, made.minor += st.minor, made.skipped += st.skipped, made.ms += st.ms;
+                made.lods += st.lods, made.minor += st.minor, made.enclosed += st.enclosed, made.skipped += st.skipped;
+                made.ms += st.ms;
                 ++loads;
                 return d;
             },
@@ -206,6 +207,7 @@ int runOcclusion(const Args& a) {
     sg::OccluderGenSettings gs;
     gs.voxels = uint32_t(a.num("voxels", gs.voxels));
     gs.maxBoxes = uint32_t(a.num("max-boxes", gs.maxBoxes));
+    gs.maxPolygons = uint32_t(a.num("max-polygons", gs.maxPolygons));
     gs.minMajorShare = double(a.num("major-percent", long(gs.minMajorShare * 100))) / 100.0;
     if (tiles && occluders == "generated") {
         tiles->generate = gs;  // each tile's, as it is read
@@ -369,6 +371,7 @@ int runOcclusion(const Args& a) {
             .add("generate_ms", gen.ms)
             .addInt("generated_boxes", long(gen.boxes))
             .addInt("generated_polygons", long(gen.polygons))
+            .addInt("generated_polygons_enclosed", long(gen.enclosed))
             .addInt("generated_lods", long(gen.lods))
             .addInt("meshes_analysed", long(gen.meshes))
             .addInt("mesh_triangles", long(gen.meshTriangles))

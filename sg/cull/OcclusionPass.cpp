@@ -41,8 +41,8 @@ bool pathHolds(const ImageFrame& f, uint32_t first, uint32_t count, const LodCho
     return true;
 }
 
-// An occluder's conditions this frame: its path's, and a generated one's (Occluder::eyeOutside, oneSided, shownWith,
-// belowSurface).
+// An occluder's conditions this frame: its path's, and a generated one's (Occluder::eyeOutside, openings, oneSided,
+// shownWith, belowSurface).
 bool conditionsHold(const ImageFrame& f, const FlatImage::OccluderRef& o, const Camera& cam, const CullSettings& set,
                     const LodChooser& lods) {
     const FlatImage& img = *f.img;
@@ -64,6 +64,22 @@ bool conditionsHold(const ImageFrame& f, const FlatImage::OccluderRef& o, const 
         const double reach = nearReach();
         wb.min -= dvec3(reach), wb.max += dvec3(reach);
         if (wb.contains(eye)) return false;
+    }
+    if (!node->openings().empty()) {
+        // Every plane has the box on its positive side and its opening's cap on the other (MeshOccluders.cpp): a
+        // segment from an eye on the positive side to the box stays there and meets no cap, so what it crosses of
+        // the closed solid's surface is drawn. The margin covers the eye's rounding into the frame.
+        // (The terms the inverse sums are up to its scale times the eye's magnitude, whatever the sum's.)
+        dvec3 le = eye - o.shift;
+        double terms = std::abs(eye.x) + std::abs(eye.y) + std::abs(eye.z);
+        if (m) {
+            const dmat4 inv = glm::inverse(*m);
+            le = dvec3(inv * dvec4(eye, 1.0));
+            terms *= maxScale(inv);
+        }
+        const double margin = 1e-12 * terms + 1e-9 * (std::abs(le.x) + std::abs(le.y) + std::abs(le.z)) + 1e-300;
+        for (const Plane& p : node->openings())
+            if (!(p.distance(le) > margin)) return false;
     }
     if (const OccluderSurface* s = node->belowSurface()) {
         // A box below a height field z = h(x, y) that is drawn whole and without cracks over its rectangle (the

@@ -94,8 +94,11 @@ class Build {
 public:
     Build(const Scene& s, const PvsBuilder::Options& o, PvsBuilder::Stats& st) : img_(s.image()), opt_(o), st_(st) {
         for (const FlatImage::OccluderRef& r : img_.occluders) {
-            // One held by a PagedLOD's coarse level goes when its detail comes: not an occluder for every frame.
-            if (!r.active || r.underPaged || (img_.flags[r.entry] & (FlatImage::kEmpty | FlatImage::kInvalid)))
+            // One held by a PagedLOD's coarse level goes when its detail comes, one under a Switch or a mask goes
+            // with them, and a generated one holds only for some eyes and frames (FlatImage::OccluderRef::
+            // conditional): none is an occluder for every eye of a cell in every frame.
+            if (!r.active || r.underPaged || r.conditional ||
+                (img_.flags[r.entry] & (FlatImage::kEmpty | FlatImage::kInvalid)))
                 continue;
             const auto* node = static_cast<const Occluder*>(r.node);
             const dmat4* m = r.matrix == ~0u ? nullptr : &img_.occluderMatrices[r.matrix];

@@ -137,8 +137,9 @@ struct FlatImage {
         uint32_t matrix;  // ~0u: the frame is the translation `shift`; else its index in occluderMatrices
         dvec3 shift;
         bool active;
-        // A generated occluder's conditions (Occluder::eyeOutside, oneSided, shownWith): the pass checks them per
-        // frame. `lod`: the entry of the LOD it is shown with (kNone: none; with shownWith set, it is not used).
+        // A generated occluder's conditions (Occluder::eyeOutside, openings, oneSided, shownWith, belowSurface): the
+        // pass checks them per frame. `lod`: the entry of the LOD it is shown with (kNone: none; with shownWith set, it
+        // is not used).
         bool conditional = false;
         uint32_t lod = ~0u;
         // What its path needs to be drawn (listed in occluderSwitchBits from switchFirst): each Switch child's byte in

@@ -37,15 +37,17 @@ struct Generator {
         return cache.emplace(&m, meshOccluders(m, s)).first->second;
     }
 
-    static ref_ptr<Occluder> box(const Box& b, const Box& eyeOutside) {
+    static ref_ptr<Occluder> box(const Box& b, const Box& eyeOutside, const std::vector<Plane>& openings) {
         auto o = make<Occluder>();
         o->setBox(b);
         o->setEyeOutside(eyeOutside);
+        o->setOpenings(openings);
         o->setGenerated(true);
         return o;
     }
 
-    // Occluders for a Geometry child: its mesh's boxes (eye outside its bound) or polygons.
+    // Occluders for a Geometry child: its mesh's boxes (eye outside its bound, and beyond its openings' planes) or
+    // polygons.
     void geometry(const Geometry& g, std::vector<ref_ptr<Occluder>>& add) {
         const Mesh* m = g.mesh();
         if (!m) return;
@@ -55,7 +57,8 @@ struct Generator {
             return;
         }
         const MeshOccluders& sh = shapes(*m);
-        for (const Box& b : sh.boxes) add.push_back(box(b, m->box()));
+        for (const Box& b : sh.boxes) add.push_back(box(b, m->box(), {}));
+        for (const Box& b : sh.cappedBoxes) add.push_back(box(b, m->box(), sh.openings));
         for (const auto& p : sh.polygons) {
             auto o = make<Occluder>();
             try {
@@ -69,10 +72,9 @@ struct Generator {
         }
     }
 
-    // The part of convex polygon p inside convex polygon q, both on one plane facing one way (normal n); empty when
-    // they are not.
-    // Occluders inside every level of an LOD whose levels are all opaque Geometry: boxes inside every closed level
-    // (when all are closed), or the parts of the first level's polygons that every open level's polygons cover too.
+    // Occluders inside every level of an LOD whose levels are all opaque Geometry: boxes inside every level (when all
+    // have boxes, closed or capped), or else the parts of the first level's polygons that every open level's polygons
+    // cover too.
     void lod(LOD& l, std::vector<ref_ptr<Occluder>>& add) {
         std::vector<Box> common;
         std::vector<std::vector<dvec3>> polys;
@@ -95,22 +97,29 @@ struct Generator {
             bound.expand(g.mesh()->box());
         }
         if (shapesOf.empty()) return;
-        const bool closed =
-            std::all_of(shapesOf.begin(), shapesOf.end(), [](const MeshOccluders* m) { return m->closed; });
+        // Boxes when every level has some (inside its solid, or inside it with its openings capped: then used beyond
+        // every level's openings' planes).
+        auto boxesOf = [](const MeshOccluders* m) { return m->closed ? &m->boxes : &m->cappedBoxes; };
+        const bool solid =
+            std::all_of(shapesOf.begin(), shapesOf.end(), [&](const MeshOccluders* m) { return !boxesOf(m)->empty(); });
         const bool open =
             std::none_of(shapesOf.begin(), shapesOf.end(), [](const MeshOccluders* m) { return m->closed; });
-        if (closed) {
-            common = shapesOf[0]->boxes;
+        std::vector<Plane> openings;
+        if (solid) {
+            common = *boxesOf(shapesOf[0]);
+            for (const MeshOccluders* m : shapesOf)
+                openings.insert(openings.end(), m->openings.begin(), m->openings.end());
             for (size_t c = 1; c < levels; ++c) {
                 std::vector<Box> next;
                 for (const Box& a : common)
-                    for (const Box& b : shapesOf[c]->boxes) {
+                    for (const Box& b : *boxesOf(shapesOf[c])) {
                         const Box x{glm::max(a.min, b.min), glm::min(a.max, b.max)};
                         if (x.min.x < x.max.x && x.min.y < x.max.y && x.min.z < x.max.z) next.push_back(x);
                     }
                 common = std::move(next);
             }
-        } else if (open) {
+        }
+        if (common.empty() && open) {
             const double tol = occluders::flatTolerance(bound);
             for (const auto& p0 : shapesOf[0]->polygons) {
                 std::vector<dvec3> p = p0;
@@ -133,7 +142,7 @@ struct Generator {
                          [](const Box& p, const Box& q) { return volume(p) > volume(q); });
         const double minVol = s.minBoxShare * volume(bound);
         for (size_t k = 0; k < common.size() && k < s.maxBoxes && volume(common[k]) >= minVol; ++k) {
-            auto o = box(common[k], bound);
+            auto o = box(common[k], bound, openings);
             o->setShownWith(&l);
             add.push_back(o);
         }
@@ -196,8 +205,37 @@ struct Generator {
                 visit(*ch);
             for (auto& o : add) inserts.push_back({c + 1, std::move(o)});
         }
+        dropEnclosed(inserts);
         for (auto& in : inserts)
             pending.push_back({static_cast<Group*>(&n), in.first, std::move(in.second), n.child(in.first - 1)});
+    }
+
+    // A polygon within the bound of a mesh beside it that got boxes (a roof over a building's walls, a floor inside
+    // them) is left out: seen from outside that bound the boxes stand for the whole, and the polygon would add only
+    // the rim between a box and the bound, at the cost of a candidate the pass must weigh every frame.
+    void dropEnclosed(std::vector<std::pair<size_t, ref_ptr<Occluder>>>& inserts) {
+        std::vector<Box> bounds;
+        for (const auto& in : inserts)
+            if (in.second->shape() == Occluder::Shape::Box && !in.second->eyeOutside().empty())
+                bounds.push_back(in.second->eyeOutside());
+        if (bounds.empty()) return;
+        auto enclosed = [&](const Occluder& o) {
+            if (o.shape() != Occluder::Shape::Polygon) return false;
+            for (const Box& b : bounds) {
+                const double tol = occluders::flatTolerance(b);
+                const bool in = std::all_of(o.polygon().begin(), o.polygon().end(), [&](const dvec3& v) {
+                    return glm::all(glm::greaterThanEqual(v, b.min - tol)) &&
+                           glm::all(glm::lessThanEqual(v, b.max + tol));
+                });
+                if (in) return true;
+            }
+            return false;
+        };
+        const size_t before = inserts.size();
+        inserts.erase(
+            std::remove_if(inserts.begin(), inserts.end(), [&](const auto& in) { return enclosed(*in.second); }),
+            inserts.end());
+        st.enclosed += before - inserts.size();
     }
 
     struct Pending {

@@ -1,4 +1,5 @@
-// A mesh's occluders (GeneratedOccluders.h, meshOccluders): boxes inside a closed mesh, polygons on an open one.
+// A mesh's occluders (GeneratedOccluders.h, meshOccluders): boxes inside a closed mesh, boxes inside an open one with
+// its openings capped, or else polygons on it.
 //
 // Boxes inside a closed mesh, and why each is inside its solid. A closed mesh (Mesh::closed()) runs every edge once
 // each way, so its winding number w(p) is defined off the surface, is constant on each connected set the surface does
@@ -12,22 +13,20 @@
 // up-facing -1). A triangle is counted only when the ray's point is surely inside its footprint (each edge function
 // larger than its rounding bound) and skipped only when surely outside; any other case (the ray through an edge, a
 // vertex, or in the plane of a vertical triangle) makes the column fail, retried once at another point, and a column
-// that fails twice, or whose count goes below 0 or does not end at 0, has no inside cells. A box is a union of inside
-// cells: every point of it is within kClear of an inside cell, so w > 0 there too.
+// that fails twice, or whose count does not end at 0, has no inside cells. (A count below 0 on the way is no error: a
+// piece wound inside out, as simplification leaves some, has w < 0 in it; only cells with w > 0 are taken, and the
+// crossing that raises w from 0 is at a face seen from its front.) A box is a union of inside cells: every point of it
+// is within kClear of an inside cell, so w > 0 there too.
 //
-// Polygons on an open mesh: adjacent triangles (sharing a welded edge) whose planes agree are merged while the union
-// stays convex; the union is checked to have exactly the area of its triangles (no overlap, no turn twice), so the
-// polygon is the union of drawn triangles.
-#include "sg/scene/GeneratedOccluders.h"
+// Open meshes, boxes inside them with their openings capped and polygons on them: OpenMeshOccluders.cpp.
+#include "sg/scene/MeshOccludersParts.h"
 #include "sg/scene/OccluderShapes.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 namespace sg {
 
@@ -36,6 +35,9 @@ void OccluderGenSettings::validate(const char* fn) const {
     if (voxels < 1 || voxels > 256) fail("voxels " + std::to_string(voxels) + " is not in 1..256");
     if (maxBoxes > 64) fail("maxBoxes " + std::to_string(maxBoxes) + " is above 64");
     if (maxPolygons > 64) fail("maxPolygons " + std::to_string(maxPolygons) + " is above 64");
+    if (maxOpenings > 64) fail("maxOpenings " + std::to_string(maxOpenings) + " is above 64");
+    if (!(openingDepth >= 0.0 && openingDepth <= 1.0))
+        fail("openingDepth " + std::to_string(openingDepth) + " is not in [0, 1]");
     if (!(minBoxShare >= 0.0 && minBoxShare <= 1.0))
         fail("minBoxShare " + std::to_string(minBoxShare) + " is not in [0, 1]");
     if (!(minPolygonShare >= 0.0 && minPolygonShare <= 1.0))
@@ -46,9 +48,7 @@ void OccluderGenSettings::validate(const char* fn) const {
 
 namespace {
 
-struct Tri {
-    dvec3 a, b, c;
-};
+using meshocc::Tri;
 
 std::vector<Tri> triangles(const Mesh& m) {
     std::vector<Tri> t(m.triangleCount());
@@ -65,7 +65,8 @@ bool separated(const Tri& t, const dvec3& c, const dvec3& h, double gap) {
     auto apart = [&](const dvec3& ax) {
         const double p0 = glm::dot(v0, ax), p1 = glm::dot(v1, ax), p2 = glm::dot(v2, ax);
         const double r = h.x * std::abs(ax.x) + h.y * std::abs(ax.y) + h.z * std::abs(ax.z);
-        const double len = glm::length(ax);
+        // The 1-norm bounds the length from above: a gap asked of it is at least the gap asked (no square root).
+        const double len = std::abs(ax.x) + std::abs(ax.y) + std::abs(ax.z);
         return std::min({p0, p1, p2}) > r + gap * len || std::max({p0, p1, p2}) < -r - gap * len;
     };
     for (int a = 0; a < 3; ++a) {
@@ -156,6 +157,8 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
                     const size_t col = size_t(j) * size_t(g.n[0]) + size_t(i);
                     if (done[col] || unsure[col]) continue;
                     const double px = g.corner(0, i) + ox * g.cell.x, py = g.corner(1, j) + oy * g.cell.y;
+                    // Off the triangle's xy bound (compared exactly): surely outside it.
+                    if (px < mnx || px > mxx || py < mny || py > mxy) continue;
                     const int f = footprint(t, px, py);
                     if (f == 0) continue;
                     if (f == 2) {
@@ -178,7 +181,7 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
             std::sort(h.begin(), h.end());
             int w = 0;
             bool ok = true;
-            for (const auto& x : h) ok = ok && (w += x.second) >= 0;
+            for (const auto& x : h) w += x.second;
             if (!ok || w != 0) continue;
             const int i = int(col % size_t(g.n[0])), j = int(col / size_t(g.n[0]));
             size_t next = 0;
@@ -296,11 +299,15 @@ std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g
     return out;
 }
 
-void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    const Box& b = mesh.box();
+}  // namespace
+
+std::vector<Box> meshocc::boxesInside(const std::vector<Tri>& tris, const Box& b, size_t meshTriangles,
+                                      const OccluderGenSettings& s, uint64_t& voxelsInside,
+                                      const std::vector<Plane>& beyond) {
+    std::vector<Box> boxes;
     const dvec3 ext = b.max - b.min;
     const double size = std::max({ext.x, ext.y, ext.z});
-    if (!(size > 0.0) || s.maxBoxes == 0) return;
+    if (!(size > 0.0) || s.maxBoxes == 0) return boxes;
     // The grid spans the bound shrunk by a margin far above kClear, so that faces on the bound (a box mesh's) leave
     // every cell clear; cells are about cubic, the longest axis cut in `voxels`.
     const double clear = 1e-9 * size;
@@ -308,163 +315,54 @@ void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& 
     // any size), so the grid grows with the cube root of its triangles, up to `voxels`: the cost then follows the
     // triangles, not the grid.
     const uint32_t cells =
-        std::min(s.voxels, std::max<uint32_t>(8, uint32_t(std::lround(4.0 * std::cbrt(double(mesh.triangleCount()))))));
+        std::min(s.voxels, std::max<uint32_t>(8, uint32_t(std::lround(4.0 * std::cbrt(double(meshTriangles))))));
     Grid g;
     for (int a = 0; a < 3; ++a) {
         const double margin = std::max(1e-4 * ext[a], 1e-6 * size);
-        if (ext[a] <= 4.0 * margin) return;  // flat: no volume inside
+        if (ext[a] <= 4.0 * margin) return boxes;  // flat: no volume inside
         g.n[a] = std::clamp(int(std::ceil(double(cells) * ext[a] / size - 1e-9)), 1, int(cells));
         g.lo[a] = b.min[a] + margin;
         g.cell[a] = (ext[a] - 2.0 * margin) / double(g.n[a]);
     }
-    const std::vector<Tri> tris = triangles(mesh);
-    const std::vector<uint8_t> inside = insideCells(tris, g, clear);
-    for (uint8_t v : inside) out.voxelsInside += v;
+    std::vector<uint8_t> inside = insideCells(tris, g, clear);
+    if (!beyond.empty())
+        for (int k = 0; k < g.n[2]; ++k)
+            for (int j = 0; j < g.n[1]; ++j)
+                for (int i = 0; i < g.n[0]; ++i) {
+                    uint8_t& in = inside[g.at(i, j, k)];
+                    for (int c = 0; c < 8 && in; ++c) {
+                        const dvec3 p(g.corner(0, i + (c & 1)), g.corner(1, j + (c >> 1 & 1)),
+                                      g.corner(2, k + (c >> 2)));
+                        for (const Plane& pl : beyond) in = in && pl.distance(p) > 0.0;
+                    }
+                }
+    for (uint8_t v : inside) voxelsInside += v;
     const double cellVolume = g.cell.x * g.cell.y * g.cell.z, boundVolume = ext.x * ext.y * ext.z;
     const size_t minCells = size_t(std::ceil(s.minBoxShare * boundVolume / cellVolume - 1e-9));
     for (const CellBox& c : growBoxes(inside, g, s.maxBoxes, std::max<size_t>(minCells, 1)))
-        out.boxes.push_back(Box{dvec3(g.corner(0, c.lo[0]), g.corner(1, c.lo[1]), g.corner(2, c.lo[2])),
-                                dvec3(g.corner(0, c.hi[0]), g.corner(1, c.hi[1]), g.corner(2, c.hi[2]))});
-    std::stable_sort(out.boxes.begin(), out.boxes.end(),
+        boxes.push_back(Box{dvec3(g.corner(0, c.lo[0]), g.corner(1, c.lo[1]), g.corner(2, c.lo[2])),
+                            dvec3(g.corner(0, c.hi[0]), g.corner(1, c.hi[1]), g.corner(2, c.hi[2]))});
+    std::stable_sort(boxes.begin(), boxes.end(),
                      [](const Box& p, const Box& q) { return occluders::volume(p) > occluders::volume(q); });
+    return boxes;
 }
 
-// --- polygons on open meshes ---
-
-struct Key {
-    float x, y, z;
-    bool operator==(const Key& o) const { return std::memcmp(this, &o, sizeof(Key)) == 0; }
-};
-struct KeyHash {
-    size_t operator()(const Key& k) const {
-        uint32_t u[3];
-        std::memcpy(u, &k, sizeof(u));
-        return size_t(u[0]) * 73856093u ^ size_t(u[1]) * 19349663u ^ size_t(u[2]) * 83492791u;
-    }
-};
-
-void openPolygons(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
-    if (s.maxPolygons == 0) return;
-    const auto& pos = mesh.positions();
-    const size_t nt = mesh.triangleCount();
-    // Welded corners: positions equal bit for bit.
-    std::unordered_map<Key, uint32_t, KeyHash> weld;
-    std::vector<uint32_t> vid(pos.size());
-    std::vector<dvec3> vp;
-    for (size_t i = 0; i < pos.size(); ++i) {
-        const Key k{pos[i].x + 0.0f, pos[i].y + 0.0f, pos[i].z + 0.0f};  // + 0: -0 welds with 0
-        auto it = weld.emplace(k, uint32_t(vp.size()));
-        if (it.second) vp.push_back(dvec3(pos[i]));
-        vid[i] = it.first->second;
-    }
-    struct T {
-        uint32_t v[3];
-        dvec3 n;  // unit normal
-        double area;
-    };
-    std::vector<T> tris(nt);
-    std::unordered_map<uint64_t, uint32_t> byEdge;  // directed edge (from, to) -> triangle
-    auto edgeKey = [](uint32_t a, uint32_t b) { return uint64_t(a) << 32 | b; };
-    const Box& bb = mesh.box();
-    const double size = glm::length(bb.max - bb.min);
-    for (size_t t = 0; t < nt; ++t) {
-        T& x = tris[t];
-        for (int c = 0; c < 3; ++c) x.v[c] = vid[mesh.index(3 * t + size_t(c))];
-        const dvec3 cr = glm::cross(vp[x.v[1]] - vp[x.v[0]], vp[x.v[2]] - vp[x.v[0]]);
-        x.area = 0.5 * glm::length(cr);
-        x.n = x.area > 0.0 ? cr / (2.0 * x.area) : dvec3(0.0);
-        if (x.area > 1e-12 * size * size)
-            for (int c = 0; c < 3; ++c) byEdge[edgeKey(x.v[c], x.v[(c + 1) % 3])] = uint32_t(t);
-    }
-    const dvec3 ext = bb.max - bb.min;
-    std::array<double, 3> e{ext.x, ext.y, ext.z};
-    std::sort(e.begin(), e.end());
-    const double minArea = s.minPolygonShare * e[1] * e[2];
-    const double coplanar = occluders::flatTolerance(bb);
-    std::vector<uint8_t> used(nt, 0);
-    std::vector<uint32_t> order(nt);
-    for (uint32_t t = 0; t < nt; ++t) order[t] = t;
-    std::sort(order.begin(), order.end(), [&](uint32_t p, uint32_t q) { return tris[p].area > tris[q].area; });
-    struct Poly {
-        std::vector<uint32_t> loop;
-        dvec3 n;
-        double area;
-    };
-    std::vector<Poly> polys;
-    for (uint32_t seed : order) {
-        const T& st = tris[seed];
-        if (used[seed] || !(st.area > 1e-12 * size * size)) continue;
-        used[seed] = 1;
-        Poly p{{st.v[0], st.v[1], st.v[2]}, st.n, st.area};
-        const dvec3 o = vp[st.v[0]];
-        auto convex = [&](const std::vector<uint32_t>& loop) {
-            for (size_t i = 0; i < loop.size(); ++i) {
-                const dvec3 a = vp[loop[i]], b = vp[loop[(i + 1) % loop.size()]], c = vp[loop[(i + 2) % loop.size()]];
-                if (glm::dot(glm::cross(b - a, c - b), p.n) < -eps::kRounding * size * size) return false;
-            }
-            return true;
-        };
-        auto area = [&](const std::vector<uint32_t>& loop) {
-            dvec3 nn(0.0);
-            for (size_t i = 0; i < loop.size(); ++i)
-                nn += glm::cross(vp[loop[i]] - o, vp[loop[(i + 1) % loop.size()]] - o);
-            return 0.5 * glm::dot(nn, p.n);
-        };
-        for (bool grew = true; grew;) {
-            grew = false;
-            for (size_t i = 0; i < p.loop.size(); ++i) {
-                const uint32_t u = p.loop[i], v = p.loop[(i + 1) % p.loop.size()];
-                auto it = byEdge.find(edgeKey(v, u));
-                if (it == byEdge.end() || used[it->second]) continue;
-                const T& nb = tris[it->second];
-                if (glm::dot(nb.n, p.n) < 1.0 - 1e-9) continue;
-                uint32_t w = nb.v[0] + nb.v[1] + nb.v[2] - u - v;
-                if (std::abs(glm::dot(vp[w] - o, p.n)) > coplanar) continue;
-                if (std::find(p.loop.begin(), p.loop.end(), w) != p.loop.end()) continue;
-                std::vector<uint32_t> next = p.loop;
-                next.insert(next.begin() + ptrdiff_t(i + 1), w);
-                const double a = p.area + nb.area;
-                if (!convex(next) || std::abs(area(next) - a) > 1e-9 * a) continue;
-                p.loop = std::move(next);
-                p.area = a;
-                used[it->second] = 1;
-                grew = true;
-            }
-        }
-        if (p.area >= minArea && p.area > 0.0) polys.push_back(std::move(p));
-    }
-    std::stable_sort(polys.begin(), polys.end(), [](const Poly& a, const Poly& b) { return a.area > b.area; });
-    for (size_t k = 0; k < polys.size() && out.polygons.size() < s.maxPolygons; ++k) {
-        // Collinear corners (two triangles along one side) are dropped: the polygon keeps its shape.
-        std::vector<dvec3> v;
-        const auto& l = polys[k].loop;
-        for (size_t i = 0; i < l.size(); ++i) {
-            const dvec3 a = vp[l[(i + l.size() - 1) % l.size()]], b = vp[l[i]], c = vp[l[(i + 1) % l.size()]];
-            if (glm::length(glm::cross(b - a, c - b)) > 1e-12 * size * size) v.push_back(b);
-        }
-        // Onto the plane through their centre: the corners are off it by the positions' rounding only, and an
-        // Occluder's polygon must be planar to double's precision.
-        if (v.size() < 3) continue;
-        dvec3 c(0.0), n(0.0);
-        for (const dvec3& x : v) c += x / double(v.size());
-        for (size_t i = 0; i < v.size(); ++i) n += glm::cross(v[i] - c, v[(i + 1) % v.size()] - c);
-        n = glm::normalize(n);
-        for (dvec3& x : v) x -= n * glm::dot(x - c, n);
-        out.polygons.push_back(std::move(v));
-    }
+static void closedBoxes(const Mesh& mesh, const OccluderGenSettings& s, MeshOccluders& out) {
+    out.boxes = meshocc::boxesInside(triangles(mesh), mesh.box(), mesh.triangleCount(), s, out.voxelsInside);
 }
-
-}  // namespace
 
 MeshOccluders meshOccluders(const Mesh& mesh, const OccluderGenSettings& s) {
     s.validate("sg::meshOccluders()");
     MeshOccluders out;
     if (mesh.triangleCount() == 0 || !mesh.validBound() || mesh.box().empty()) return out;
     out.closed = mesh.closed();
-    if (out.closed)
+    if (out.closed) {
         closedBoxes(mesh, s, out);
-    else
-        openPolygons(mesh, s, out);
+        return out;
+    }
+    const meshocc::Welded welded(mesh);
+    meshocc::cappedBoxes(mesh, welded, s, out);
+    if (out.cappedBoxes.empty()) meshocc::openPolygons(mesh, welded, s, out);
     return out;
 }
 

@@ -555,8 +555,8 @@ struct Scene::Builder {
         std::tie(ref.switchFirst, ref.switchCount) =
             storeConds(had ? had->switchFirst : 0, had ? had->switchCount : 0, had != nullptr);
         ref.underPaged = underPaged();
-        ref.conditional =
-            oc->oneSided() || !oc->eyeOutside().empty() || oc->shownWith() || oc->belowSurface() || ref.switchCount;
+        ref.conditional = oc->oneSided() || !oc->eyeOutside().empty() || !oc->openings().empty() || oc->shownWith() ||
+                          oc->belowSurface() || ref.switchCount;
         if (oc->shownWith()) {
             // Written by its parent's walk, the LOD just before it is known; a refit of the occluder alone keeps
             // the entry it had (entries do not move in a refit).

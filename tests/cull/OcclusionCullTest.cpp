@@ -10,6 +10,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <stdexcept>
+#include <string>
+
 using namespace sg;
 
 namespace {
@@ -313,6 +317,62 @@ TEST(OcclusionCull, AnEyeInsideTheOccludersEyeOutsideBoxIsNotServed) {
     o->setEyeOutside(Box{dvec3(-10, 15, -10), dvec3(10, 30, 10)});
     s.update();
     EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+}
+
+TEST(OcclusionCull, AnOccluderWithOpeningsIsUsedOnlyWithTheEyeBeyondTheirPlanes) {
+    // In a turned and moved frame, as the generator leaves them: the wall at y = 10..11 in its frame, turned about the
+    // view axis and moved 10 along it (y = 20..21 in the world, still across the view); the eye at (0, -10, 0) there.
+    auto root = make<Group>();
+    auto place = make<Transform>();
+    place->setMatrix(glm::translate(dmat4(1.0), dvec3(0, 10, 0)) * glm::rotate(dmat4(1.0), 0.7, dvec3(0, 1, 0)));
+    root->addChild(place);
+    const Box wall{kWall.min - dvec3(0, 10, 0), kWall.max - dvec3(0, 10, 0)};
+    place->addChild(make<Geometry>(makeBoxMesh(wall.min, wall.max), make<Material>()));
+    auto o = boxOccluder(wall);
+    place->addChild(o);
+    auto behind = boxGeom(dvec3(-1, 40, -1), dvec3(1, 42, 1));
+    root->addChild(behind);
+    Scene s(root);
+    s.update();
+    ASSERT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // The eye on the positive side of y < 8: used.
+    o->setOpenings({Plane{dvec3(0, -1, 0), 8.0}});
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // And of a second plane, z > 1, on its negative side: not used.
+    o->setOpenings({Plane{dvec3(0, -1, 0), 8.0}, Plane{dvec3(0, 0, 1), -1.0}});
+    s.update();
+    Culled r = cull(s, testutil::lookingAlongY());
+    EXPECT_TRUE(r.drew(behind->mesh()));
+    EXPECT_EQ(r.stats.occluderCandidates, 0u);
+    // On the plane z = 0, up to the rounding of its way into the frame: not beyond it, not used; 1 mm beyond: used.
+    o->setOpenings({Plane{dvec3(0, 0, 1), 0.0}});
+    s.update();
+    EXPECT_TRUE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    o->setOpenings({Plane{dvec3(0, 0, 1), 1e-3}});
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+    // Cleared: used anywhere.
+    o->setOpenings({});
+    s.update();
+    EXPECT_FALSE(cull(s, testutil::lookingAlongY()).drew(behind->mesh()));
+}
+
+TEST(OcclusionCull, OpeningsThatAreNotPlanesAreRefusedByName) {
+    auto o = boxOccluder(kWall);
+    o->setName("lidless");
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const Plane& p : {Plane{dvec3(0, 0, 2), 0.0}, Plane{dvec3(nan, 0, 1), 0.0}, Plane{dvec3(0, 0, 1), kInf}}) {
+        try {
+            o->setOpenings({Plane{dvec3(1, 0, 0), 0.0}, p});
+            ADD_FAILURE() << "accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("Occluder::setOpenings()"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("lidless"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("plane 1"), std::string::npos) << e.what();
+        }
+        EXPECT_TRUE(o->openings().empty()) << "kept a refused plane";
+    }
 }
 
 TEST(OcclusionCull, AnOccluderShownWithAnLodIsUsedWhileTheLodShowsALevel) {
