@@ -1,4 +1,4 @@
-// TilesetOptions::generateOccluders without a renderer (in the loader tests, not built under ThreadSanitizer in CI):
+// TilesetOptions::generateOccluders without a renderer (in sg_thread_tests, which CI also runs under ThreadSanitizer):
 // loads on two loader threads make their tiles' occluders, sharing meshes between tiles, and the pass takes them; a
 // tileset loaded without the option has none; bad settings are refused.
 #include "TiledCity.h"
