@@ -333,6 +333,46 @@ TEST(MeshOccluders, SameMeshSameBoxes) {
     EXPECT_EQ(a.voxelsInside, b.voxelsInside);
 }
 
+TEST(MeshOccluders, TinyAndHugeMeshesGetTheBoxesAndPolygonsScaled) {
+    // From 1e-6 to 1e6 the same shape gives the same occluders, scaled: nothing in the analysis is an absolute length.
+    scenes::Rng rng(17);
+    OccluderGenSettings s;
+    s.maxBoxes = 8;
+    s.minBoxShare = 0.005;  // as for the torus above
+    const std::pair<const char*, ref_ptr<Mesh>> shapes[] = {{"notched box", notchedBox()},
+                                                            {"torus", torus(3.0, 1.2, 48, 24)}};
+    for (const auto& [name, plain] : shapes) {
+        const MeshOccluders ref = meshOccluders(*plain, s);
+        const double size = glm::length(plain->box().max - plain->box().min);
+        ASSERT_FALSE(ref.boxes.empty()) << name;
+        for (double scale : {1e-6, 1e-3, 1e3, 1e6}) {
+            const std::string what = std::string(name) + " at scale " + std::to_string(scale);
+            const ref_ptr<Mesh> m = transformed(*plain, glm::scale(dmat4(1.0), dvec3(scale)));
+            ASSERT_TRUE(m->closed()) << what;
+            const MeshOccluders occ = boxesOf(*m, s, what);
+            expectInsideSolid(*m, occ.boxes, rng, what, 15, 20);
+            ASSERT_EQ(occ.boxes.size(), ref.boxes.size()) << what;
+            // Boxes of equal size (the torus' four) may come in another order: each scaled box is found among them.
+            for (const Box& r : ref.boxes) {
+                const auto same = [&](const Box& b) {
+                    const double tol = 1e-5 * size * scale;
+                    return glm::all(glm::lessThanEqual(glm::abs(b.min - r.min * scale), dvec3(tol))) &&
+                           glm::all(glm::lessThanEqual(glm::abs(b.max - r.max * scale), dvec3(tol)));
+                };
+                EXPECT_TRUE(std::any_of(occ.boxes.begin(), occ.boxes.end(), same)) << what << ": " << str(r);
+            }
+        }
+    }
+    for (double scale : {1e-6, 1e6}) {
+        SCOPED_TRACE("a quad at scale " + std::to_string(scale));
+        const ref_ptr<Mesh> quad = transformed(*quadMesh(), glm::scale(dmat4(1.0), dvec3(scale)));
+        const MeshOccluders occ = meshOccluders(*quad, s);
+        expectPolygonRules(*quad, occ, s, rng);
+        ASSERT_EQ(occ.polygons.size(), 1u);
+        EXPECT_NEAR(area(occ.polygons[0]), 4.0 * scale * scale, 1e-5 * scale * scale);
+    }
+}
+
 TEST(MeshOccluders, OpenMeshesGetNoBoxes) {
     const ref_ptr<Mesh> box = makeBoxMesh(dvec3(-1), dvec3(1), 2);
     const ref_ptr<Mesh> lidless = withoutTriangles(*box, 8, 8);  // the +z face: triangles 8..15 with div 2
