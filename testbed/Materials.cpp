@@ -80,13 +80,13 @@ float brickHeight(float u, float v) {
 }
 
 ref_ptr<Material> brickMaterial() {
-    const int n = 256;
+    constexpr int n = 256;
     auto m = physical(vec4(1.0f), 1.0f, 1.0f);
     m->texture = texture(n, [](float u, float v) {
         const float h = brickHeight(u, v), tint = 0.85f + 0.15f * std::sin(37.0f * std::floor(v * 8) + 11.0f * u);
         return h > 0.5f ? vec4(0.62f * tint, 0.27f * tint, 0.18f, 1) : vec4(0.75f, 0.74f, 0.7f, 1);
     });
-    m->pbr.normal.texture = texture(n, [n](float u, float v) {
+    m->pbr.normal.texture = texture(n, [](float u, float v) {
         const float e = 1.0f / float(n);
         const float dx = (brickHeight(u + e, v) - brickHeight(u - e, v)) * 0.5f;
         const float dy = (brickHeight(u, v + e) - brickHeight(u, v - e)) * 0.5f;

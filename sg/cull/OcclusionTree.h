@@ -117,7 +117,6 @@ private:
     dvec3 eye_{0.0};
     double worldErr_ = 0.0;  // rounding of world coordinates near the eye, in metres
     int32_t root_ = kVisible;
-    int32_t occluderRoot_ = kVisible;  // below the screen splits
     std::vector<Node> nodes_;
     std::vector<Vertex> pool_;
     uint64_t polySplits_ = 0, boxSplits_ = 0;
