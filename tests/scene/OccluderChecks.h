@@ -59,10 +59,4 @@ inline dvec3 newellNormal(const std::vector<dvec3>& poly) {  // length: twice th
 }
 inline double area(const std::vector<dvec3>& poly) { return 0.5 * glm::length(newellNormal(poly)); }
 
-// A box mesh of side 2 about the origin.
-inline ref_ptr<Mesh> unitBoxMesh() { return makeBoxMesh(dvec3(-1), dvec3(1)); }
-
-// A quad of side 2 in the plane z = 0, facing +z.
-inline ref_ptr<Mesh> quadMesh() { return meshOf({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {0, 1, 2, 0, 2, 3}); }
-
 }  // namespace occtest

@@ -124,6 +124,12 @@ inline ref_ptr<Mesh> twoBoxes() {
     return cellsWhere(8, 3, 3, [](int x, int, int) { return x < 3 || x >= 5; });
 }
 
+// A box mesh of side 2 about the origin.
+inline ref_ptr<Mesh> unitBoxMesh() { return makeBoxMesh(dvec3(-1), dvec3(1)); }
+
+// A quad of side 2 in the plane z = 0, facing +z.
+inline ref_ptr<Mesh> quadMesh() { return meshOf({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}, {0, 1, 2, 0, 2, 3}); }
+
 // Torus about z: ring radius R, tube radius r, nu segments around the ring and nv around the tube.
 inline ref_ptr<Mesh> torus(double R, double r, int nu, int nv) {
     std::vector<dvec3> pos;
