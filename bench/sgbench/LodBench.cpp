@@ -67,7 +67,7 @@ int runLod(const Args& a) {
         const int view = a.flag("same-view") ? 0 : f;
         cams.push_back(factory           ? scenes::factoryOrbitCamera(view)
                        : path == "orbit" ? scenes::cityOrbitCamera(n, view)
-                                         : scenes::cityStreetCamera(n, f));
+                                         : scenes::cityStreetCamera(n, view));
     }
 
     sg::OsmesaContext ctx(1280, 720);
@@ -99,7 +99,10 @@ int runLod(const Args& a) {
     for (double t : same) sameDev.push_back(std::abs(t - sameMedian));
 
     std::vector<double> total, dev, select, predErr, draw, gpu;
-    double mae = 0, pct = 0, tris = 0, dropped = 0, levels[4] = {};
+    double mae = 0, pct = 0, tris = 0, dropped = 0, changed = 0, flicker = 0, levels[4] = {};
+    const bool sameView = a.flag("same-view");
+    sg::Image previous;
+    int flickerFrames = 0;
     const int count = int(cams.size());
     // Warm-up: one pass over the path, so that stress and the model settle on it.
     run.run(
@@ -110,10 +113,10 @@ int runLod(const Args& a) {
             if (a.flag("trace"))
                 std::fprintf(stderr,
                              "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu "
-                             "dropped %5llu\n",
+                             "dropped %5llu changed %5llu\n",
                              t, f.cullMs, f.drawMs, st.lodPredictedMs, (unsigned long long)st.triangles,
                              (unsigned long long)st.geometries, (unsigned long long)st.lodObjects,
-                             (unsigned long long)st.lodDropped);
+                             (unsigned long long)st.lodDropped, (unsigned long long)st.lodChanged);
             total.push_back(t);
             draw.push_back(f.drawMs);
             if (f.gpuMs >= 0.0) gpu.push_back(f.gpuMs);
@@ -122,6 +125,7 @@ int runLod(const Args& a) {
             if (method == "budget") predErr.push_back(std::abs(f.drawMs - st.lodPredictedMs));  // before drawing
             tris += double(st.triangles);
             dropped += double(st.lodDropped);
+            changed += double(st.lodChanged);
             for (int l = 0; l < 4; ++l) levels[l] += double(st.lodLevels[l]);
             const sg::Image got = renderer.readColor();
             const sg::Camera& cam = cams[size_t(i)];
@@ -131,6 +135,12 @@ int runLod(const Args& a) {
             const sg::Image ref = renderer.readColor();
             mae += sg::meanAbsoluteError(got, ref);
             pct += 100.0 * double(sg::countDifferingPixels(got, ref)) / double(got.width * got.height);
+            // On a still view every pixel that differs from the frame before is flicker.
+            if (sameView && !previous.rgba.empty()) {
+                flicker += 100.0 * double(sg::countDifferingPixels(got, previous)) / double(got.width * got.height);
+                ++flickerFrames;
+            }
+            if (sameView) previous = got;
         });
     const double k = double(cams.size());
     double mean = 0;
@@ -152,6 +162,7 @@ int runLod(const Args& a) {
     j.add("draw_ms_median", median(draw));                  // the CPU's, until finished
     if (!gpu.empty()) j.add("gpu_ms_median", median(gpu));  // the GL's own (GL_TIME_ELAPSED)
     j.add("image_mae", mae / k).add("image_pct_differing", pct / k);
+    if (flickerFrames > 0) j.add("flicker_pct_differing", flicker / flickerFrames);  // from the frame before
     if (load.kind() != scenes::BackgroundLoad::Kind::None)
         j.add("background_load", scenes::BackgroundLoad::name(load.kind()));
     if (!same.empty())
@@ -161,6 +172,8 @@ int runLod(const Args& a) {
     j.add("select_ms_median", median(select)).add("triangles_mean", tris / k).add("dropped_mean", dropped / k);
     if (!predErr.empty()) {
         j.add("model_abs_error_ms_median", median(predErr));
+        // Levels shown otherwise than last frame (the budget keeps each LOD's history): with --same-view, flicker.
+        j.add("level_changes_per_frame", changed / k);
         for (int l = 0; l < 2; ++l)
             j.add("level" + std::to_string(l) + "_mean", levels[l] / k);  // the city and the factory have two
     }

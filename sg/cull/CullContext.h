@@ -53,7 +53,7 @@ void CullTraversal::lod(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const dm
     }
     LodChooser::Known k;
     k.last = lodHistory_.last(i);
-    lodHistory_.show(i, chooser_->choose(c, i, k, show));
+    stats_->lodChanged += lodHistory_.show(i, chooser_->choose(c, i, k, show));
 }
 
 }  // namespace sg

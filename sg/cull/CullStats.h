@@ -39,6 +39,10 @@ struct CullStats {
     double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
     double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
     double lodSelectMs = 0.0;
+    // LODs whose history is kept (hysteresis or the budget on) showing another child than last frame, none where
+    // they showed one or one where they showed none (not at first sight): the level changes a viewer sees pop. On a
+    // still view, flicker.
+    uint64_t lodChanged = 0;
     // Paged nodes (PagedLOD)
     uint64_t pagedWanted = 0;     // seen with their detail in range
     uint64_t pagedRequested = 0;  // posted for loading (once per update each)

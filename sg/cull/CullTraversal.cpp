@@ -144,13 +144,13 @@ void CullTraversal::defer(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const 
         places_.push_back(c);
         placeKey_.push_back(c.key);
     }
-    uint8_t last = LodHistory::kNone;
+    uint8_t record = LodHistory::kUnseen;
     if (c.img == &scene_->image()) {
-        last = lodHistory_.last(i);
+        record = lodHistory_.record(i);
     } else if (const auto it = protoLast_.find(c.key ^ (uint64_t(i) << 40)); it != protoLast_.end()) {
-        last = it->second;
+        record = it->second;
     }
-    planner_.defer({i, mask, occ, m, uint32_t(c.place), last});
+    planner_.defer({i, mask, occ, m, uint32_t(c.place), record});
 }
 
 // The budget's choice for every visible LOD at once; then their chosen children are walked, each in its image's
@@ -177,10 +177,12 @@ void CullTraversal::replayBudget(Ctx& sceneCtx, const LodBudgetSettings& lb) {
             shown = chooser_->choose(*at, d.entry, known,
                                      [&](const LodChooser::Shown& s) { visit(*at, s.entry, d.mask, d.m, d.occ); });
         }
-        if (inScene)
-            lodHistory_.show(d.entry, shown);
-        else
-            protoShown_[placeKey_[d.place] ^ (uint64_t(d.entry) << 40)] = shown;
+        if (inScene) {
+            stats_->lodChanged += lodHistory_.show(d.entry, shown);
+        } else {
+            stats_->lodChanged += LodHistory::changes(d.record, shown);
+            protoShown_[placeKey_[d.place] ^ (uint64_t(d.entry) << 40)] = LodHistory::next(d.record, shown);
+        }
     }
     protoLast_.swap(protoShown_);
 }

@@ -96,7 +96,7 @@ private:
     LodHistory lodHistory_;                // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;
     // The budget's images this frame (the scene's, prototypes' at each placement) and each one's placement
-    // key; a prototype's LODs' last children by placement and entry (last frame's, this frame's).
+    // key; a prototype's LODs' LodHistory records by placement and entry (last frame's, this frame's).
     std::vector<ImageFrame> places_;
     std::vector<uint64_t> placeKey_;
     std::unordered_map<uint64_t, uint8_t> protoLast_, protoShown_;

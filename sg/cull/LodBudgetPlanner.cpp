@@ -70,7 +70,7 @@ void LodBudgetPlanner::plan(const FlatImage& img, uint64_t version, const Camera
     one_.assign(1, f);
     for (Deferred& d : deferred_) {
         d.place = 0;
-        d.last = history.last(d.entry);
+        d.record = history.record(d.entry);
     }
     plan(one_, version, cam, b, fixedWork, stats);
     for (size_t k = 0; k < deferred_.size(); ++k) history.show(deferred_[k].entry, LodHistory::child(chosen_[k]));
@@ -157,7 +157,9 @@ void LodBudgetPlanner::plan(const std::vector<ImageFrame>& places, uint64_t vers
         first_[k] = first;
         op += work->count;
         area_[k] = area;
-        const int last = deferred_[k].last == LodHistory::kNone ? -1 : int(deferred_[k].last);
+        // The child it showed when it last showed one: a frame that left it out does not make it start again.
+        const uint8_t drawn = LodHistory::drawn(deferred_[k].record);
+        const int last = drawn == LodHistory::kNone ? -1 : int(drawn);
         obj.last = last >= first && last < limit ? last - first : -1;
     }
     // What the rest of the frame already costs comes off the budget.

@@ -20,13 +20,13 @@ public:
     // A visible LOD entry met by the walk, with the walk's state there (its planes still in play, its
     // occlusion node, its matrix) so that the chosen child is walked as it would have been. `place`: the
     // image it is an entry of and where that image is (an index into plan()'s places, ImageFrames: the scene's
-    // image, or an Instance's prototype at one placement); `last`: the child it showed last frame (LodHistory::kNone).
+    // image, or an Instance's prototype at one placement); `record`: what it showed before (LodHistory's record).
     struct Deferred {
         uint32_t entry, mask;
         int32_t occ;
         dmat4 m;
         uint32_t place = 0;
-        uint8_t last = LodHistory::kNone;
+        uint8_t record = LodHistory::kUnseen;
     };
     // What the budget needs of one LOD child, from the image: the work below it (triangles and draw items
     // of its geometries, nested LODs and switches counted whole: an upper bound) and its detail, a guess at

@@ -3,8 +3,8 @@
 namespace sg {
 
 void LodHistory::track(const FlatImage& img, uint64_t structureVersion) {
-    if (image_ == &img && version_ == structureVersion && last_.size() == img.size()) return;
-    last_.assign(img.size(), kNone);
+    if (image_ == &img && version_ == structureVersion && record_.size() == img.size()) return;
+    record_.assign(img.size(), kUnseen);
     image_ = &img;
     version_ = structureVersion;
 }

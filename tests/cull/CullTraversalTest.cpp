@@ -307,6 +307,40 @@ struct TwoLevels {
 };
 }  // namespace
 
+TEST(Cull, LodChangesCountTheLevelsShownAtAnotherChildThanLastSeen) {
+    // The boundary test's LOD: hovering at 100 m +- 1%, with a hysteresis too small to hold it (1e-6, yet the
+    // history kept) every frame after the first is one change; with 2% none; past the widened boundary, one.
+    TwoLevels two;
+    Scene s(two.root);
+    s.update();
+    auto changes = [&](CullTraversal& t, double x, double h) {
+        Camera cam;
+        cam.setViewport(200, 200);
+        cam.setPerspective(60.0, 1.0, 1.0, 2000.0);
+        cam.setLookAt(dvec3(x, 0, 0), dvec3(0, 0, 0), dvec3(0, 0, 1));
+        CullSettings set;
+        set.lodHysteresis = h;
+        DrawList l;
+        CullStats st;
+        t.cull(s, cam, set, l, st);
+        return st.lodChanged;
+    };
+    CullTraversal loose, held, untracked;
+    EXPECT_EQ(changes(loose, 99.0, 1e-6), 0u);  // first sight
+    EXPECT_EQ(changes(held, 99.0, 0.02), 0u);
+    for (int f = 1; f < 10; ++f) {
+        const double x = f % 2 ? 101.0 : 99.0;
+        EXPECT_EQ(changes(loose, x, 1e-6), 1u) << f;
+        EXPECT_EQ(changes(held, x, 0.02), 0u) << f;
+        EXPECT_EQ(changes(untracked, x, 0.0), 0u) << f;  // no history kept: nothing to compare with
+    }
+    EXPECT_EQ(changes(held, 103.0, 0.02), 1u);
+    EXPECT_EQ(changes(held, 103.0, 0.02), 0u);
+    // Out of range (past 1000 m: nothing shown) is a change from what was shown.
+    EXPECT_EQ(changes(held, 1500.0, 0.02), 1u);
+    EXPECT_EQ(changes(held, 1500.0, 0.02), 0u);
+}
+
 TEST(Cull, LodHysteresisHoldsTheLevelAtABoundary) {
     // Detailed below 100 m, coarse from 100 m; the eye hovers at 100 m +- 1% along x.
     TwoLevels two;

@@ -281,3 +281,40 @@ TEST(LodBudgetPlanner, TheFinestLevelAllowedIncludesTheFadeBand) {
     EXPECT_EQ(planner.chosen(0), 0);  // in the band: the fine child, still drawn by the ranges
     EXPECT_EQ(planner.chosen(1), 1);  // past it: no finer than the ranges show
 }
+
+// An LOD the budget left out for a frame keeps the favour of the child it showed before: when the budget grows back
+// it is put back before a nearer one that was never shown (within the hysteresis), as if it had stayed; else a
+// budget that dips for a frame puts back other LODs than it left out, and a still view twinkles.
+TEST(LodBudgetPlanner, AnLodLeftOutForAFrameKeepsTheFavourOfWhatItShowed) {
+    RowPlan p;
+    p.b.mayDrop = true;    // the budget below the cheapest levels: LODs left out, the most worth first kept
+    p.b.hysteresis = 0.5;  // more than the ratio of 160 m to 170 m's value per ms
+    auto planWith = [&](double budgetMs, const std::vector<uint8_t>& shown) {
+        p.history = LodHistory();
+        p.history.track(p.s.image(), p.s.structureVersion());
+        for (uint8_t child : shown) p.history.show(p.lods[15], child);  // LOD 15 (170 m): these frames before
+        p.b.budgetMs = budgetMs;
+        return p.plan();
+    };
+    // The least budget that keeps 15 LODs, none of them ever shown before: the nearest 15.
+    double lo = 0.0, hi = 100.0;
+    for (int k = 0; k < 60; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (20u - planWith(mid, {}).lodDropped >= 15u ? hi : lo) = mid;
+    }
+    const double budget = hi;
+    ASSERT_EQ(planWith(budget, {}).lodDropped, 5u);
+    for (size_t k = 0; k < 20; ++k) ASSERT_EQ(p.planner.chosen(k) >= 0, k < 15) << "LOD " << k;
+    // Shown last frame (at its coarse child): it stays, and the farthest of the 15 that were not shown goes.
+    EXPECT_EQ(planWith(budget, {1}).lodDropped, 5u);
+    EXPECT_EQ(p.planner.chosen(15), 1);
+    EXPECT_EQ(p.planner.chosen(14), -1);
+    // Shown, then left out for a frame: the same.
+    EXPECT_EQ(planWith(budget, {1, LodHistory::kNone}).lodDropped, 5u);
+    EXPECT_EQ(p.planner.chosen(15), 1);
+    EXPECT_EQ(p.planner.chosen(14), -1);
+    // Seen but never shown: no favour.
+    planWith(budget, {LodHistory::kNone, LodHistory::kNone});
+    EXPECT_EQ(p.planner.chosen(15), -1);
+    EXPECT_EQ(p.planner.chosen(14), 1);
+}

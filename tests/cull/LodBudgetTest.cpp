@@ -105,6 +105,35 @@ TEST(LodBudget, PlansEveryVisibleLodWithinTheBudget) {
     EXPECT_THROW(cull(s, row, set), std::invalid_argument);
 }
 
+TEST(LodBudget, LevelChangesCountWhatTheBudgetShowsOtherwiseThanLastFrame) {
+    Row row(false);
+    Scene s(row.root);
+    s.update();
+    const DrawCostModel model = testutil::trainedCostModel();
+    CullTraversal t;  // one traversal: its history carries from frame to frame
+    auto frame = [&](double ms, bool mayDrop, int& coarse) {
+        CullSettings set = budgeted(model, ms);
+        set.lodBudget.mayDrop = mayDrop;
+        DrawList l;
+        CullStats st;
+        t.cull(s, testutil::lookingAlongY(), set, l, st);
+        coarse = 0;
+        for (auto& it : l.items) coarse += it.mesh == row.coarse.get();
+        return st.lodChanged;
+    };
+    int coarse = 0;
+    EXPECT_EQ(frame(100.0, false, coarse), 0u);  // first sight: all fine
+    EXPECT_EQ(coarse, 0);
+    const uint64_t changed = frame(1.5, false, coarse);
+    EXPECT_EQ(changed, uint64_t(coarse));  // the ones the short budget made coarse
+    EXPECT_GE(coarse, 15);
+    EXPECT_EQ(frame(1.5, false, coarse), 0u);  // the same view and budget: nothing flickers
+    EXPECT_EQ(frame(0.5, true, coarse), 20u);  // all left out
+    EXPECT_EQ(frame(0.5, true, coarse), 0u);
+    EXPECT_EQ(frame(1.5, false, coarse), 20u);  // all back
+    EXPECT_GE(coarse, 15);
+}
+
 TEST(LodBudget, LevelErrorsTellWhereDetailPays) {
     // With errors on the LODs (the coarse level 0.2 m off), a mid budget buys detail where the coarse
     // error would show most: near. Without, it buys it where the objects are largest: also near. Both

@@ -55,7 +55,44 @@ TEST(LodHistory, ForgetsForAnotherImageOrAResizedOne) {
 TEST(LodHistory, ChildNumbersAreCappedAndNoneIsNegative) {
     EXPECT_EQ(LodHistory::child(-1), LodHistory::kNone);
     EXPECT_EQ(LodHistory::child(0), 0);
-    EXPECT_EQ(LodHistory::child(253), 253);
-    EXPECT_EQ(LodHistory::child(254), 254);
-    EXPECT_EQ(LodHistory::child(1000), 254);  // never mistaken for kNone
+    EXPECT_EQ(LodHistory::child(124), 124);
+    EXPECT_EQ(LodHistory::child(125), LodHistory::kMaxChild);
+    EXPECT_EQ(LodHistory::child(1000), LodHistory::kMaxChild);  // never mistaken for kNone
+    FlatImage img;
+    img.resize(1);
+    LodHistory h;
+    h.track(img, 1);
+    h.show(0, 254);  // what the chooser returns for children past 253
+    EXPECT_EQ(h.last(0), LodHistory::kMaxChild);
+}
+
+// Last frame's child, and the child shown before frames that showed none; changes() as a viewer sees them.
+TEST(LodHistory, RemembersTheChildShownThroughFramesThatShowedNone) {
+    FlatImage img;
+    img.resize(3);
+    LodHistory h;
+    h.track(img, 1);
+    EXPECT_FALSE(h.show(0, 2));  // first sight: no change
+    EXPECT_FALSE(h.show(1, LodHistory::kNone));
+    EXPECT_EQ(LodHistory::drawn(h.record(2)), LodHistory::kNone);  // not seen
+    EXPECT_TRUE(h.show(0, LodHistory::kNone));                     // gone
+    EXPECT_EQ(h.last(0), LodHistory::kNone);
+    EXPECT_EQ(LodHistory::drawn(h.record(0)), 2);
+    EXPECT_FALSE(h.show(0, LodHistory::kNone));  // still gone
+    EXPECT_EQ(LodHistory::drawn(h.record(0)), 2);
+    EXPECT_TRUE(h.show(0, 1));  // back, at another child
+    EXPECT_EQ(h.last(0), 1);
+    EXPECT_EQ(LodHistory::drawn(h.record(0)), 1);
+    EXPECT_FALSE(h.show(0, 1));
+    // Seen, never shown: no child to remember; showing one is a change.
+    EXPECT_FALSE(h.show(1, LodHistory::kNone));
+    EXPECT_EQ(LodHistory::drawn(h.record(1)), LodHistory::kNone);
+    EXPECT_TRUE(h.show(1, 0));
+    // Every child survives a frame that showed none.
+    for (int c = 0; c <= LodHistory::kMaxChild; ++c) {
+        const uint8_t gone = LodHistory::next(uint8_t(c), LodHistory::kNone);
+        EXPECT_EQ(LodHistory::shown(gone), LodHistory::kNone) << c;
+        EXPECT_EQ(LodHistory::drawn(gone), c);
+        EXPECT_NE(gone, LodHistory::kUnseen);
+    }
 }
