@@ -181,7 +181,7 @@ void CullTraversal::replayBudget(Ctx& sceneCtx, const LodBudgetSettings& lb) {
             stats_->lodChanged += lodHistory_.show(d.entry, shown);
         } else {
             stats_->lodChanged += LodHistory::changes(d.record, shown);
-            protoShown_[placeKey_[d.place] ^ (uint64_t(d.entry) << 40)] = LodHistory::next(d.record, shown);
+            protoShown_[placeKey_[d.place] ^ (uint64_t(d.entry) << 40)] = LodHistory::next(shown);
         }
     }
     protoLast_.swap(protoShown_);

@@ -157,9 +157,8 @@ void LodBudgetPlanner::plan(const std::vector<ImageFrame>& places, uint64_t vers
         first_[k] = first;
         op += work->count;
         area_[k] = area;
-        // The child it showed when it last showed one: a frame that left it out does not make it start again.
-        const uint8_t drawn = LodHistory::drawn(deferred_[k].record);
-        const int last = drawn == LodHistory::kNone ? -1 : int(drawn);
+        const uint8_t shown = LodHistory::shown(deferred_[k].record);
+        const int last = shown == LodHistory::kNone ? -1 : int(shown);
         obj.last = last >= first && last < limit ? last - first : -1;
     }
     // What the rest of the frame already costs comes off the budget.
