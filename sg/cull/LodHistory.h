@@ -14,8 +14,8 @@ class LodHistory {
 public:
     static constexpr uint8_t kNone = 0xff;  // no child
     // A child index as recorded: children past kMaxChild as kMaxChild (an LOD of so many levels keeps its
-    // hysteresis approximately).
-    static constexpr uint8_t kMaxChild = 125;
+    // hysteresis approximately); the two values above it mean none shown and not seen.
+    static constexpr uint8_t kMaxChild = 253;
     static uint8_t child(int k) { return k < 0 ? kNone : uint8_t(std::min(k, int(kMaxChild))); }
 
     // An entry's record is one byte, kept by LodHistory for its image's entries and by its users for others
