@@ -1,14 +1,17 @@
 // libFuzzer target for what a 3D Tiles reader parses from outside: the binary formats (loaders/TileFormats.h),
-// tileset.json and subtree files (loaders/TilesetTable.h): any bytes either parse or throw sg::LoadError. Anything
+// tileset.json and subtree files (loaders/TilesetTable.h), read as local and as remote documents (the origin rule),
+// and data: URIs (loaders/Resource.h): any bytes either parse or throw sg::LoadError. Anything
 // else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding. The seed
 // corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and subtrees (one with
 // tile metadata, as writeTileset writes implicit tiling).
+#include "loaders/Resource.h"
 #include "loaders/TileFormats.h"
 #include "loaders/TilesetTable.h"
 
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 namespace {
 
@@ -49,14 +52,20 @@ void parse(const unsigned char* data, size_t size) {
                 static const std::atomic<bool> cancelled{true};
                 options.resource.maxBytes = 0;
                 options.resource.cancel = &cancelled;
-                TilesetState state(options);
                 const std::vector<unsigned char> bytes(data, data + size);
-                state.addTileset("fuzz.json", bytes, -1, -1);
+                for (const char* name : {"fuzz.json", "https://fuzz.test/a/fuzz.json"}) {
+                    try {
+                        TilesetState(options).addTileset(name, bytes, -1, -1);
+                    } catch (const sg::LoadError&) {
+                    }
+                }
                 subtree(bytes);
                 break;
             }
             default:
                 if (size >= 4 && data[0] == 's') subtree(std::vector<unsigned char>(data, data + size));
+                if (size >= 5 && std::memcmp(data, "data:", 5) == 0)
+                    sg::readResource(std::string(reinterpret_cast<const char*>(data), size));
                 break;
         }
     } catch (const sg::LoadError&) {

@@ -1,9 +1,11 @@
-// readResource: files through open/read, URLs through libcurl's easy interface, one handle per loader thread.
-// resolveUri: RFC 3986's reference resolution for URLs, plain directory joining for paths.
+// readResource: files through open/read, data: URIs decoded, URLs through libcurl's easy interface, one handle per
+// loader thread. resolveUri: RFC 3986's reference resolution for URLs, plain directory joining for paths;
+// resolveReference adds the origin rule.
 #include "loaders/Resource.h"
 
 #include <curl/curl.h>
 #include <fcntl.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <algorithm>
@@ -73,22 +75,67 @@ int hexDigit(char c) {
     return -1;
 }
 
+// "%20" and the like decoded; a "%" not followed by two hex digits kept as it is.
+std::string percentDecoded(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && hexDigit(s[i + 1]) >= 0 && hexDigit(s[i + 2]) >= 0) {
+            out += char(hexDigit(s[i + 1]) * 16 + hexDigit(s[i + 2]));
+            i += 2;
+        } else {
+            out += s[i];
+        }
+    }
+    return out;
+}
+
 // The path of a file:// URL: "file:///a%20b" is "/a b"; "file://localhost/x" is "/x"; other hosts are refused
 // (they would need a network file system we do not know of).
 std::string filePath(const std::string& url) {
     std::string rest = url.substr(7);
     if (startsWithNoCase(rest, "localhost/")) rest = rest.substr(9);
     if (rest.empty() || rest[0] != '/') fail(url, "a file URL names a host other than localhost");
-    rest = rest.substr(0, rest.find_first_of("?#"));
-    std::string out;
-    for (size_t i = 0; i < rest.size(); ++i) {
-        if (rest[i] == '%' && i + 2 < rest.size() && hexDigit(rest[i + 1]) >= 0 && hexDigit(rest[i + 2]) >= 0) {
-            out += char(hexDigit(rest[i + 1]) * 16 + hexDigit(rest[i + 2]));
-            i += 2;
-        } else {
-            out += rest[i];
+    return percentDecoded(rest.substr(0, rest.find_first_of("?#")));
+}
+
+int base64Digit(char c) {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+' || c == '-') return 62;  // '-' and '_': the URL-safe alphabet
+    if (c == '/' || c == '_') return 63;
+    return -1;
+}
+
+// The bytes of "data:[<media type>][;base64],<data>" (RFC 2397): percent-decoded, then base64-decoded when marked
+// so ("=" padding optional). The name in errors is the URI's first 64 characters: a data URI can be megabytes.
+std::vector<unsigned char> readData(const std::string& uri, const ResourceOptions& o) {
+    const std::string name = uri.size() > 64 ? uri.substr(0, 64) + "..." : uri;
+    const size_t comma = uri.find(',');
+    if (comma == std::string::npos) fail(name, "a data: URI without ',' before its data");
+    const std::string header = uri.substr(5, comma - 5);
+    const bool base64 = header.size() >= 7 && startsWithNoCase(header.substr(header.size() - 7), ";base64");
+    const std::string text = percentDecoded(uri.substr(comma + 1));
+    if ((base64 ? text.size() / 4 * 3 : text.size()) > o.maxBytes) fail(name, "larger than the limit");
+    if (!base64) return std::vector<unsigned char>(text.begin(), text.end());
+    std::vector<unsigned char> out;
+    out.reserve(text.size() / 4 * 3 + 2);
+    uint32_t bits = 0;
+    int held = 0;
+    size_t end = text.size();
+    while (end > 0 && text[end - 1] == '=' && text.size() - end < 2) --end;
+    for (size_t i = 0; i < end; ++i) {
+        const int d = base64Digit(text[i]);
+        if (d < 0) fail(name, "a data: URI's base64 has '" + text.substr(i, 1) + "' at " + std::to_string(i));
+        bits = ((bits << 6) | uint32_t(d)) & 0xffffu;  // the bits not yet out, at most 14
+        held += 6;
+        if (held >= 8) {
+            held -= 8;
+            out.push_back(static_cast<unsigned char>(bits >> held));
         }
     }
+    if (held >= 6) fail(name, "a data: URI's base64 ends in the middle of a byte");
     return out;
 }
 
@@ -128,8 +175,9 @@ struct Transfer {
     CURL* curl = nullptr;
     const ResourceOptions* options = nullptr;
     std::vector<unsigned char> bytes;
-    std::string failure;  // why a callback stopped the transfer
-    std::string phrase;   // the reason phrase of the last status line ("Not Found"; HTTP/2 has none)
+    std::string failure;   // why a callback stopped the transfer
+    std::string phrase;    // the reason phrase of the last status line ("Not Found"; HTTP/2 has none)
+    std::string location;  // the Location of the last redirect
     // The stall clock: since the request went out, or since the body last grew.
     bool sent = false;
     curl_off_t lastBytes = 0;
@@ -144,6 +192,15 @@ size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
     auto& t = *static_cast<Transfer*>(user);
     const size_t n = size * count;
     // Each response of a redirect chain starts with its status line, "HTTP/1.1 404 Not Found".
+    if (n > 9 && ::strncasecmp(data, "location:", 9) == 0) {
+        try {
+            std::string value(data + 9, n - 9);
+            const size_t b = value.find_first_not_of(" \t"), e = value.find_last_not_of(" \t\r\n");
+            t.location = b == std::string::npos ? "" : value.substr(b, e - b + 1);
+        } catch (...) {
+            t.location.clear();
+        }
+    }
     if (n > 5 && std::memcmp(data, "HTTP/", 5) == 0) {
         try {
             std::string line(data, n);
@@ -270,14 +327,18 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
     curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // no SIGALRM for timeouts: other threads run
     curl_easy_setopt(curl, CURLOPT_FOLLOWLOCATION, 1L);
     curl_easy_setopt(curl, CURLOPT_MAXREDIRS, 5L);
-    // Only the web: a remote tileset must not redirect a read to file:// (or anything else libcurl speaks).
+    // Only the web: a remote tileset must not redirect a read to file:// (or anything else libcurl speaks), and
+    // what was asked for over TLS is not handed over in the clear.
+    const bool secure = startsWithNoCase(url, "https://");
 #if LIBCURL_VERSION_NUM >= 0x075500
     curl_easy_setopt(curl, CURLOPT_PROTOCOLS_STR, "http,https");
-    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS_STR, "http,https");
+    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS_STR, secure ? "https" : "http,https");
 #else
     curl_easy_setopt(curl, CURLOPT_PROTOCOLS, long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
-    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS, long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
+    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS,
+                     secure ? long(CURLPROTO_HTTPS) : long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
 #endif
+    if (!o.caFile.empty()) curl_easy_setopt(curl, CURLOPT_CAINFO, o.caFile.c_str());
     curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, "");  // gzip and the like: tileset.json compresses well
     curl_easy_setopt(curl, CURLOPT_USERAGENT, "sgkit");
     curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, long(std::max(1.0, o.connectTimeoutSeconds * 1000.0)));
@@ -323,6 +384,13 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
         case CURLE_GOT_NOTHING: fail(url, "connection closed without a response");
         case CURLE_RECV_ERROR: fail(url, closedAfter(curl, osErrno == ECONNRESET ? "reset" : "failed"));
         case CURLE_TOO_MANY_REDIRECTS: fail(url, "more than 5 redirects");
+        case CURLE_UNSUPPORTED_PROTOCOL: {  // only a redirect can get here: the URL itself is http or https
+            const std::string where = t.location.empty() ? std::string() : " '" + t.location + "'";
+            fail(url,
+                 "redirected to" + where + ", refused: " +
+                     (secure ? "an https resource is redirected to https only" : "redirects go to http or https only") +
+                     " (origin rule)");
+        }
         default: fail(url, detail);
     }
     if (status < 200 || status >= 300) fail(url, statusReason(status, t.phrase));
@@ -368,8 +436,23 @@ std::string resolveUri(const std::string& base, const std::string& relative) {
     return base.substr(0, pathStart) + removeDotSegments(merged) + relative.substr(relEnd);
 }
 
+bool isDataUri(const std::string& s) { return startsWithNoCase(s, "data:"); }
+
+std::string resolveReference(const std::string& referrer, const std::string& relative, const std::string& jsonPath) {
+    std::string uri = resolveUri(referrer, relative);
+    if (isUrl(referrer) && !isUrl(uri) && !isDataUri(uri)) {
+        const std::string shown = relative.size() > 200 ? relative.substr(0, 200) + "..." : relative;
+        throw LoadError(referrer, jsonPath,
+                        "'" + shown +
+                            "' refused: a resource read over the network may name only http, https and data: URIs, "
+                            "not local files (origin rule)");
+    }
+    return uri;
+}
+
 std::vector<unsigned char> readResource(const std::string& uriOrPath, const ResourceOptions& options) {
     if (isUrl(uriOrPath)) return readUrl(uriOrPath, options);
+    if (isDataUri(uriOrPath)) return readData(uriOrPath, options);
     if (startsWithNoCase(uriOrPath, "file://")) return readFile(uriOrPath, filePath(uriOrPath), options);
     return readFile(uriOrPath, uriOrPath, options);
 }

@@ -25,10 +25,11 @@ namespace sg {
 namespace tiles {
 namespace {
 
-// A glTF (binary, or JSON from a file so that its external buffers are found) turned +Z up.
+// A glTF (binary, or JSON from a file so that its external buffers are found) turned +Z up. One read over the
+// network or from a data: URI is parsed from memory, where no external file is read.
 ref_ptr<Node> gltfContent(const std::shared_ptr<TilesetState>& s, const std::string& uri, const unsigned char* data,
                           size_t size, bool binary, const dmat4& place) {
-    GltfScene g = binary || isUrl(uri) ? loadGltfFromMemory(uri, data, size) : loadGltf(uri);
+    GltfScene g = binary || isUrl(uri) || isDataUri(uri) ? loadGltfFromMemory(uri, data, size) : loadGltf(uri);
     for (const std::string& w : g.warnings) s->warn(uri + ": " + w);
     auto t = make<Transform>(place * yUpToZUp());
     t->addChild(g.root);
@@ -50,7 +51,7 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
             if (in.glbUri.empty()) {
                 proto = gltfContent(s, uri, in.glb.data, in.glb.size, true, dmat4(1.0));
             } else {
-                const std::string model = resolveUri(uri, in.glbUri);
+                const std::string model = resolveReference(uri, in.glbUri);
                 const std::vector<unsigned char> bytes = readResource(model, s->options.resource);
                 proto = gltfContent(s, model, bytes.data(), bytes.size(),
                                     sniffContent(bytes.data(), bytes.size()) == ContentKind::Glb, dmat4(1.0));

@@ -244,7 +244,7 @@ Subtree parseSubtree(const std::string& file, const std::vector<unsigned char>& 
         std::vector<unsigned char> data;
         if (buffers[i].contains("uri")) {
             if (!buffers[i]["uri"].is_string()) fail(file, path + ".uri", "must be a string");
-            data = readBuffer(resolveUri(file, buffers[i]["uri"].get<std::string>()));
+            data = readBuffer(resolveReference(file, buffers[i]["uri"].get<std::string>(), path + ".uri"));
         } else {
             data = chunk;  // the binary chunk
         }

@@ -88,7 +88,7 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
         schema = tileset["schema"];
     } else if (tileset.contains("schemaUri")) {
         if (!tileset["schemaUri"].is_string()) fail(file, "schemaUri", "must be a string");
-        from = resolveUri(file, tileset["schemaUri"].get<std::string>());
+        from = resolveReference(file, tileset["schemaUri"].get<std::string>(), "schemaUri");
         path = "";
         const std::vector<unsigned char> bytes = readResource(from, options);
         gltf::checkJsonDepth(from, bytes.data(), bytes.size());
@@ -270,7 +270,7 @@ private:
         const json sub = it.value("subtrees", json());
         if (!sub.is_object() || !sub.contains("uri") || !sub["uri"].is_string())
             fail(file_, at + ".subtrees.uri", "missing or not a string");
-        t->subtrees = resolveUri(file_, sub["uri"].get<std::string>());
+        t->subtrees = resolveReference(file_, sub["uri"].get<std::string>(), at + ".subtrees.uri");
         t->contents = std::move(d.contents);
         d.contents.clear();
         t->region = d.region;
@@ -286,7 +286,7 @@ private:
         const char* key = c.contains("uri") ? "uri" : "url";  // "url": 3D Tiles 1.0 before its release
         if (!c.contains(key) || !c[key].is_string() || c[key].get<std::string>().empty())
             fail(file_, path + ".uri", "missing or not a non-empty string");
-        d.contents.push_back(resolveUri(file_, c[key].get<std::string>()));
+        d.contents.push_back(resolveReference(file_, c[key].get<std::string>(), path + "." + key));
     }
 
     const std::string& file_;

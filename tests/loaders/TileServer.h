@@ -12,16 +12,19 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 extern char** environ;
 
 namespace testutil {
 
 // tile_server.py serving `dir`, as a child process: its stdout read through a pipe (the port, then "arrived"
-// lines), its stdin a pipe whose closing (this process gone, however) ends it.
+// lines), its stdin a pipe whose closing (this process gone, however) ends it. With a certificate and its key (PEM
+// files), over HTTPS.
 class TileServer {
 public:
-    explicit TileServer(const std::string& dir) {
+    explicit TileServer(const std::string& dir, const std::string& tlsCert = "", const std::string& tlsKey = "")
+        : scheme_(tlsCert.empty() ? "http" : "https") {
         int out[2], in[2];
         if (::pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe");
         if (::pipe2(in, O_CLOEXEC) != 0) {
@@ -32,8 +35,11 @@ public:
         posix_spawn_file_actions_init(&actions);
         posix_spawn_file_actions_adddup2(&actions, in[0], 0);
         posix_spawn_file_actions_adddup2(&actions, out[1], 1);
-        const char* argv[] = {"python3", SGKIT_TILE_SERVER, dir.c_str(), nullptr};
-        const int rc = posix_spawnp(&pid_, "python3", &actions, nullptr, const_cast<char* const*>(argv), environ);
+        std::vector<const char*> argv = {"python3", SGKIT_TILE_SERVER, dir.c_str()};
+        if (!tlsCert.empty()) argv.insert(argv.end(), {"--tls", tlsCert.c_str(), tlsKey.c_str()});
+        argv.push_back(nullptr);
+        const int rc =
+            posix_spawnp(&pid_, "python3", &actions, nullptr, const_cast<char* const*>(argv.data()), environ);
         posix_spawn_file_actions_destroy(&actions);
         ::close(in[0]);
         ::close(out[1]);
@@ -60,7 +66,7 @@ public:
     TileServer(const TileServer&) = delete;
     TileServer& operator=(const TileServer&) = delete;
 
-    std::string url(const std::string& path) const { return "http://127.0.0.1:" + std::to_string(port_) + path; }
+    std::string url(const std::string& path) const { return scheme_ + "://127.0.0.1:" + std::to_string(port_) + path; }
 
     // The next line of the server's stdout; "" when it closes or says nothing for a minute (a broken server must
     // fail a test, not hang it).
@@ -82,6 +88,7 @@ public:
     }
 
 private:
+    std::string scheme_;
     pid_t pid_ = -1;
     int out_ = -1, in_ = -1, port_ = 0;
     std::string buffered_;

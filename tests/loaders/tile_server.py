@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """A local HTTP server for tests/loaders/ResourceTest.cpp: serves a directory, well or badly by path prefix.
 
-    python3 tile_server.py DIR
+    python3 tile_server.py DIR [--tls CERT KEY]
 
-Binds 127.0.0.1 on a free port and prints the port as its first line of stdout. Paths:
+Binds 127.0.0.1 on a free port and prints the port as its first line of stdout; with --tls it speaks HTTPS with
+that certificate and key (PEM). Paths:
     /FILE                  the file under DIR
     /status/CODE/FILE      that status and a short error page
     /stall/FILE            headers and part of the body, then nothing until the client goes away
@@ -12,6 +13,7 @@ Binds 127.0.0.1 on a free port and prints the port as its first line of stdout. 
     /nolength/FILE         the file without Content-Length, the end marked by closing the connection
     /redirect/N/FILE       N redirects (302) before the file
     /count/FILE            the file, the request counted; GET /requests returns the counts by path as JSON
+    /goto?to=URL           a redirect (302) to URL, whatever its scheme
 A request for /stall/ prints "arrived PATH" on stdout once its partial body is sent, so that a test can act while
 the read is known to be waiting. The server exits when its stdin closes: a test process that dies leaves no server.
 """
@@ -20,7 +22,9 @@ import json
 import os
 import select
 import socket
+import ssl
 import sys
+import urllib.parse
 import threading
 import time
 
@@ -81,6 +85,9 @@ class Handler(http.server.BaseHTTPRequestHandler):
             rest = "/".join(parts[2:])
             location = "/" + rest if n <= 1 else "/redirect/%d/%s" % (n - 1, rest)
             return self.head(302, 0, [("Location", location)])
+        if path == "/goto":
+            to = urllib.parse.parse_qs(urllib.parse.urlsplit(self.path).query).get("to", [""])[0]
+            return self.head(302, 0, [("Location", to)])
         if kind == "count":
             with counts_lock:
                 counts[path] = counts.get(path, 0) + 1
@@ -138,6 +145,10 @@ class Server(http.server.ThreadingHTTPServer):
 
 
 server = Server(("127.0.0.1", 0), Handler)
+if len(sys.argv) == 5 and sys.argv[2] == "--tls":
+    context = ssl.SSLContext(ssl.PROTOCOL_TLS_SERVER)
+    context.load_cert_chain(sys.argv[3], sys.argv[4])
+    server.socket = context.wrap_socket(server.socket, server_side=True)
 threading.Thread(target=exit_when_stdin_closes, daemon=True).start()
 say(str(server.server_address[1]))
 server.serve_forever()
