@@ -60,11 +60,19 @@ void oneTile(const std::string& path, const std::string& uri, const std::string&
                         uri + R"("}}})");
 }
 
-// Two folders: `served` is on the server, `local` is not; local/secret.glb loads as a tile.
+// A folder of the test's.
+struct Dir {
+    std::string path;
+    std::string operator/(const std::string& f) const { return path + "/" + f; }
+};
+
+// Two folders apart: `served` is on the server, `local` is not; local/secret.glb loads as a tile.
 struct Origin : ::testing::Test {
-    TempDir served, local;
+    TempDir root;
+    Dir served{root / "served"}, local{root / "local"};
     std::unique_ptr<testutil::TileServer> server;
     void SetUp() override {
+        fs::create_directories(served.path);
         fs::create_directories(local / "x");
         writeBoxGlb(local / "secret.glb", dvec3(0), dvec3(1));
         server = std::make_unique<testutil::TileServer>(served.path);
