@@ -1,10 +1,10 @@
 // glTF 2.0 in and out (.gltf with external or embedded buffers, .glb), through tinygltf, with the
 // validation tinygltf does not do. sgkit's own node kinds travel in glTF `extras`.
 #pragma once
+#include "sg/build/GeneratedOccluders.h"
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
-#include "sg/scene/GeneratedOccluders.h"
 
 #include <functional>
 #include <map>
@@ -41,7 +41,7 @@ struct GltfLoadOptions {
     std::function<void(double fraction, const std::string& stage)> progress;
     // How long a load runs before `progress` is first called (tests set 0 to see every report).
     double progressAfterSeconds = 1.0;
-    // Occluders made from the file's geometry (sg::generateOccluders, sg/scene/GeneratedOccluders.h) for the
+    // Occluders made from the file's geometry (sg::generateOccluders, sg/build/GeneratedOccluders.h) for the
     // occlusion pass: a file with sgkit's own authored occluders keeps them where they are.
     bool generateOccluders = false;
     OccluderGenSettings occluders;

@@ -2,7 +2,7 @@
 #include "loaders/GltfDetail.h"
 #include "loaders/GltfDraco.h"
 #include "nodes/Geometry.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 
 #include <fcntl.h>
 #include <sys/mman.h>

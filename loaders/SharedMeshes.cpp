@@ -1,7 +1,7 @@
 #include "loaders/SharedMeshes.h"
 
 #include "nodes/Geometry.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 
 #include <cstring>
 #include <unordered_map>

@@ -26,7 +26,7 @@ struct TilesetOptions {
     // city's building kinds repeated in every tile's file. The pager's byte budget still counts a shared mesh in
     // each detail that holds it.
     bool shareMeshes = true;
-    // Occluders made from each load's geometry as it is read (sg::generateOccluders, sg/scene/GeneratedOccluders.h),
+    // Occluders made from each load's geometry as it is read (sg::generateOccluders, sg/build/GeneratedOccluders.h),
     // on the loader's thread: the occlusion pass uses a tile's while its content is drawn. Tiles that carry sgkit's
     // own authored occluders keep them.
     bool generateOccluders = false;

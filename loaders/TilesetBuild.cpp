@@ -11,8 +11,8 @@
 #include "nodes/LOD.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
+#include "sg/build/GeneratedOccluders.h"
 #include "sg/core/NodeVisitor.h"
-#include "sg/scene/GeneratedOccluders.h"
 
 #include <nlohmann/json.hpp>
 

@@ -9,7 +9,7 @@
 #include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
-#include "sg/lod/LodGenerator.h"
+#include "sg/build/LodGenerator.h"
 
 #include <algorithm>
 #include <cmath>

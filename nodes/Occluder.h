@@ -1,5 +1,5 @@
 // Occluder: marks a box or a convex polygon as a major occluder (designated at modelling time, or generated from the
-// geometry: sg/scene/GeneratedOccluders.h).
+// geometry: sg/build/GeneratedOccluders.h).
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"

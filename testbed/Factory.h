@@ -7,9 +7,9 @@
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
+#include "sg/build/LevelReshade.h"
 #include "sg/core/Camera.h"
 #include "sg/core/Mesh.h"
-#include "sg/lod/LevelReshade.h"
 
 #include <cstdint>
 #include <functional>

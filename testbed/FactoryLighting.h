@@ -2,8 +2,8 @@
 // the vertex colours of the terrain tiles and of the building models (each one's finest level, shared with its
 // coarse ones) and the roofs, and the run-time light (diffuse and highlights per fragment) that goes with them.
 #pragma once
+#include "sg/build/VertexLightBaker.h"
 #include "sg/core/DirectionalLight.h"
-#include "sg/intersect/VertexLightBaker.h"
 #include "testbed/Factory.h"
 
 #include <string>

@@ -4,8 +4,8 @@
 
 #include "nodes/Geometry.h"
 #include "nodes/LOD.h"
-#include "sg/lod/LodGenerator.h"
-#include "sg/scene/TerrainBuilder.h"
+#include "sg/build/LodGenerator.h"
+#include "sg/build/TerrainBuilder.h"
 
 #include <algorithm>
 #include <cmath>

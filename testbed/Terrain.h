@@ -1,8 +1,8 @@
 // The `terrain` scene: a fixed-seed fractal height field as sg::buildTerrain's quadtree of LOD tiles, seen
 // from the terrain culling paper's eye (docs/scenes.md).
 #pragma once
+#include "sg/build/TerrainBuilder.h"
 #include "sg/core/Camera.h"
-#include "sg/scene/TerrainBuilder.h"
 
 #include <cstdint>
 #include <vector>

@@ -1,7 +1,7 @@
 // The frustum kernel beside its naive twin and beside a plain flat scan written the obvious way, on
 // the same random spheres against the same six planes (items per second).
 #include "sg/core/Camera.h"
-#include "sg/cull/FrustumKernel.h"
+#include "sg/cull/internal/FrustumKernel.h"
 
 #include <benchmark/benchmark.h>
 

@@ -1,7 +1,7 @@
 // What Mesh::closed() costs the first draw of a mesh (or the pager's thread): welding the positions and pairing
 // the edges, per triangle, for boxes of 1,200 to 1.9 million triangles, closed and with one quad missing.
 #include "sg/core/Mesh.h"
-#include "sg/core/MeshClosed.h"
+#include "sg/core/internal/MeshClosed.h"
 
 #include <benchmark/benchmark.h>
 

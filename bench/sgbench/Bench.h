@@ -1,8 +1,8 @@
 // sgbench's shared pieces: argument parsing, JSON output, timing and memory readings.
 #pragma once
+#include "sg/build/PvsBuilder.h"
 #include "sg/core/Camera.h"
 #include "sg/core/Node.h"
-#include "sg/cull/PvsBuilder.h"
 
 #include <cstdint>
 #include <map>

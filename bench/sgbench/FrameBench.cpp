@@ -9,8 +9,8 @@
 // environment gives llvmpipe one rasterizer thread (the other core runs the cull).
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
-#include "sg/viewer/StageThread.h"
 #include "sg/viewer/Viewer.h"
+#include "sg/viewer/internal/StageThread.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"

@@ -7,12 +7,12 @@
 #include "loaders/Tileset.h"
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
+#include "sg/build/GeneratedOccluders.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
-#include "sg/scene/GeneratedOccluders.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
@@ -197,7 +197,7 @@ int runOcclusion(const Args& a) {
         root = city ? scenes::buildCity({n, true}) : scenes::buildOffice(n);
     }
     // --occluders generated: the authored occluders removed and occluders made from the geometry instead
-    // (sg/scene/GeneratedOccluders.h), the time to make them reported.
+    // (sg/build/GeneratedOccluders.h), the time to make them reported.
     const std::string occluders = a.str("occluders", "authored");
     if (occluders != "authored" && occluders != "generated")
         throw std::invalid_argument("sgbench occlusion: --occluders must be authored or generated (got '" + occluders +

@@ -2,10 +2,10 @@
 // city's orbit and street paths, office's walk, the factory's walkthrough. Writes pareto.csv, pareto.md and
 // pareto.gp (drawn into pareto.png when gnuplot is installed), and says whether the default settings lie on
 // each scene's Pareto front.
+#include "sg/build/GeneratedOccluders.h"
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
-#include "sg/scene/GeneratedOccluders.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
@@ -84,7 +84,7 @@ int runPareto(const Args& a) {
                                         "' (valid: city-orbit, city-street, office, factory, terrain, pcvr-city)");
 
     // --occluders generated: every scene's authored occluders removed and occluders made from its geometry instead
-    // (sg/scene/GeneratedOccluders.h), so that the occlusion rows use those, beside the GPU's queries (gpu-query).
+    // (sg/build/GeneratedOccluders.h), so that the occlusion rows use those, beside the GPU's queries (gpu-query).
     const std::string occluders = a.str("occluders", "authored");
     if (occluders != "authored" && occluders != "generated")
         throw std::invalid_argument("sgbench pareto: --occluders must be authored or generated (got '" + occluders +

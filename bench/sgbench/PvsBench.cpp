@@ -1,7 +1,7 @@
-// sgbench pvs: from-region visibility tables (sg/cull/PvsBuilder.h) on city's street path and office's walk
+// sgbench pvs: from-region visibility tables (sg/build/PvsBuilder.h) on city's street path and office's walk
 // (docs/scenes.md): per cell size and per number of occluders per cell, the share of the scene hidden from
 // the path's frames (mean over the frames inside a cell) and the time to build the table.
-#include "sg/cull/PvsBuilder.h"
+#include "sg/build/PvsBuilder.h"
 #include "sg/scene/Scene.h"
 #include "sgbench/Bench.h"
 #include "testbed/City.h"

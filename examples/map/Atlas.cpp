@@ -4,7 +4,7 @@
 #include "loaders/MapProjection.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
-#include "sg/lod/LodGenerator.h"
+#include "sg/build/LodGenerator.h"
 
 #include <algorithm>
 #include <complex>

@@ -1,7 +1,7 @@
 // Built-in scenes, and the checks every file passes before the loader sees it.
 #include "nodes/Group.h"
+#include "sg/build/GeneratedOccluders.h"
 #include "sg/gl/Renderer.h"
-#include "sg/scene/GeneratedOccluders.h"
 #include "sgview/LoadScene.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"

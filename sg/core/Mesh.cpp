@@ -1,6 +1,6 @@
 #include "sg/core/Mesh.h"
 
-#include "sg/core/MeshClosed.h"
+#include "sg/core/internal/MeshClosed.h"
 
 #include <atomic>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "sg/core/MeshClosed.h"
+#include "sg/core/internal/MeshClosed.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // The cull's bound tests: one entry against the planes (and the strategies' pre-tests), a straddling subtree
 // classified by one flat kernel pass, a wide Group's children classified side by side.
-#include "sg/cull/CullContext.h"
+#include "sg/cull/internal/CullContext.h"
 
 #include <cmath>
 

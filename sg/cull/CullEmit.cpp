@@ -1,7 +1,7 @@
 // The cull's fast path over entries known inside the frustum, and the draw items it and the walk emit.
-#include "sg/cull/CullContext.h"
 #include "sg/cull/TriangleClusters.h"
-#include "sg/scene/ImageWalk.h"
+#include "sg/cull/internal/CullContext.h"
+#include "sg/scene/internal/ImageWalk.h"
 
 namespace sg {
 

@@ -6,79 +6,33 @@
 
 namespace sg {
 
-SettingError::SettingError(const std::string& caller, std::string setting, const std::string& value,
-                           const std::string& allowed)
-    : std::invalid_argument(caller + ": " + setting + " " + value + " is not " + allowed),
-      setting_(std::move(setting)) {}
-
 namespace {
-std::string str(double v) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", v);
-    return b;
-}
-std::string str(long long v) { return std::to_string(v); }
-
-// Each check throws SettingError(caller, name, value, allowed) unless the value is allowed.
-struct Check {
-    const char* caller;
-    void atLeast(const char* name, double v, double lo) const {
-        if (!(v >= lo && std::isfinite(v))) fail(name, str(v), "a finite number >= " + str(lo));
-    }
-    void positive(const char* name, double v) const {
-        if (!(v > 0.0 && std::isfinite(v))) fail(name, str(v), "a finite number > 0");
-    }
-    void share(const char* name, double v) const {
-        if (!(v >= 0.0 && v <= 1.0)) fail(name, str(v), "in [0, 1]");
-    }
-    void range(const char* name, long long v, long long lo, long long hi) const {
-        if (v < lo || v > hi) fail(name, str(v), "in " + str(lo) + ".." + str(hi));
-    }
-    template <class E>
-    void member(const char* name, E v, E last) const {
-        if (uint32_t(v) > uint32_t(last)) fail(name, str((long long)v), "one of the enumeration's values");
-    }
-    [[noreturn]] void fail(const char* name, const std::string& v, const std::string& allowed) const {
-        throw SettingError(caller, name, v, allowed);
-    }
-};
-
 bool powerOfTwoMapSize(int v) { return v >= 8 && v <= 1024 && (v & (v - 1)) == 0; }
 }  // namespace
 
 void OcclusionSettings::validate(const char* caller) const {
-    const Check c{caller};
+    const SettingCheck c{caller};
     c.member("occlusion.mode", mode, OcclusionMode::Adaptive);
     c.member("occlusion.method", method, OcclusionMethod::Auto);
     c.share("occlusion.autoMapShare", autoMapShare);
     c.atLeast("occlusion.minOccluderPixels", minOccluderPixels, 0.0);
     c.share("occlusion.adaptiveMinGain", adaptiveMinGain);
     if (!powerOfTwoMapSize(homWidth))
-        c.fail("occlusion.homWidth", str((long long)homWidth), "a power of two in 8..1024");
+        c.fail("occlusion.homWidth", settingValue((long long)homWidth), "a power of two in 8..1024");
     if (!powerOfTwoMapSize(homHeight))
-        c.fail("occlusion.homHeight", str((long long)homHeight), "a power of two in 8..1024");
-    if (!(homOpacity > 0.0 && homOpacity <= 1.0)) c.fail("occlusion.homOpacity", str(homOpacity), "in (0, 1]");
+        c.fail("occlusion.homHeight", settingValue((long long)homHeight), "a power of two in 8..1024");
+    if (!(homOpacity > 0.0 && homOpacity <= 1.0)) c.fail("occlusion.homOpacity", settingValue(homOpacity), "in (0, 1]");
     c.range("occlusion.homObbLevels", homObbLevels, 0, 16);
     c.member("occlusion.measureOnly.cap", measureOnly.cap, OccluderCap::CenterPlane);
     c.range("occlusion.measureOnly.screenSplits", measureOnly.screenSplits, 0, 8);
 }
 
-void LodBudgetSettings::validate(const char* caller) const {
-    const Check c{caller};
-    if (!model) c.fail("lodBudget.model", "null", "a cost model (DrawCostModel) when the budget is enabled");
-    c.positive("lodBudget.budgetMs", budgetMs);
-    c.atLeast("lodBudget.hysteresis", hysteresis, 0.0);
-    c.atLeast("lodBudget.coarsestScale", coarsestScale, 0.0);
-    c.atLeast("lodBudget.finestScale", finestScale, 0.0);
-    c.atLeast("lodBudget.overrunShare", overrunShare, 0.0);
-    c.atLeast("lodBudget.overrunWorth", overrunWorth, 0.0);
-}
-
 void CullSettings::validate(const char* caller) const {
-    const Check c{caller};
+    const SettingCheck c{caller};
     c.member("strategy", strategy, CullStrategy::CenterBox);
     c.atLeast("smallFeaturePixels", smallFeaturePixels, 0.0);
-    if (!(lodHysteresis >= 0.0 && lodHysteresis < 1.0)) c.fail("lodHysteresis", str(lodHysteresis), "in [0, 1)");
+    if (!(lodHysteresis >= 0.0 && lodHysteresis < 1.0))
+        c.fail("lodHysteresis", settingValue(lodHysteresis), "in [0, 1)");
     c.positive("lodScale", lodScale);
     c.range("screenRectTriangles", screenRectTriangles, 1, 65536);
     c.range("measureOnly.frustumPlanes", measureOnly.frustumPlanes, 0, 0x3f);

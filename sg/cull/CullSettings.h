@@ -1,20 +1,13 @@
 // What the cull does (strategy, small-feature threshold, traversal mask) and what it counted.
 #pragma once
+#include "sg/core/Settings.h"
+#include "sg/lod/LodBudgetSettings.h"
+
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 
 namespace sg {
-
-// A setting out of its range: the message names the entry point, the setting, its value and what is allowed.
-class SettingError : public std::invalid_argument {
-public:
-    SettingError(const std::string& caller, std::string setting, const std::string& value, const std::string& allowed);
-    const std::string& setting() const { return setting_; }
-
-private:
-    std::string setting_;
-};
 
 enum class CullStrategy : uint8_t {
     None,          // no culling of any kind, occlusion included (the accuracy reference)
@@ -94,49 +87,7 @@ struct OcclusionSettings {
     void validate(const char* caller) const;
 };
 
-class DrawCostModel;
 class PvsTable;
-
-// Time-budgeted LOD selection (Funkhouser and Sequin's adaptive display): every visible LOD of the scene
-// (those of Instance prototypes at each placement too) offers its children as options, priced by the draw-cost model
-// and valued by projected size times accuracy; sg/lod/LodSelector.h picks one per LOD, or none, to fit the budget.
-// The defaults are those that work (sgbench lod and the factory walkthrough measure them, docs/benchmarks.md): a
-// budget no worse than stress at its coarsest, never finer than the ranges show, a late frame buying what it
-// needs most.
-struct LodBudgetSettings {
-    bool enabled = false;
-    double budgetMs = 33.3;                // predicted draw time the frame must fit; > 0
-    double hysteresis = 0.1;               // last frame's choice ranks (1 + this) times higher; >= 0
-    const DrawCostModel* model = nullptr;  // required when enabled; feed it measured frames
-    // Whether a visible LOD may be left out to fit: off, every one is drawn at least at its cheapest level
-    // (a coarse object reads better than a hole), and the budget buys the upgrades. On, LODs are left out
-    // only when their cheapest levels alone overrun the budget, those showing least per millisecond first,
-    // and then no LOD is drawn finer than its cheapest (LodSelector::Floor::CheapestFirst). With a
-    // coarsestScale, only LODs its ranges leave out may be left out: the others are drawn at their cheapest.
-    bool mayDrop = true;
-    // Above 0: no LOD drawn coarser than its ranges show it at this LOD scale (CullSettings::lodScale); the
-    // default is stress's largest (LodStress::Params::maxScale's default), so that when the budget cannot be met the
-    // picture is no worse than stress's at its coarsest and the frame runs over as stress's does. An LOD these ranges
-    // leave out is not limited. An LOD with known level errors (LOD::setError) is also drawn at no level
-    // whose error projects to more than coarsestScale pixels at its bound's nearest point. 0: any level.
-    double coarsestScale = 16.0;
-    // Above 0: no LOD drawn finer than its ranges show it at this LOD scale; the default 1: where the ranges switch
-    // where a level's error projects to a pixel: a finer level is not seen, and the triangles it would take
-    // show more elsewhere (priced by projected area, the finest level of a hill beside the eye outbid the
-    // buildings). An LOD these ranges leave out is not limited. A child fading out (LOD::setTransition) is
-    // still shown: the ranges draw it to the end of its band. 0: any level.
-    double finestScale = 1.0;
-    // Above 0: upgrades past the budget (LodSelector::Overrun), up to this share of it, when they are worth
-    // overrunWorth times what a millisecond bought at the budget's edge in recent frames that fit. A frame
-    // whose cheapest levels already overrun is late anyway: with the wall in front of the eye drawn at its
-    // coarse level, it saves a millisecond or two and shows every pixel of the wall wrong. 0: the budget is a
-    // hard limit. Both finite and >= 0.
-    double overrunShare = 0.15;
-    double overrunWorth = 4.0;
-
-    // Throws SettingError naming `caller` (CullSettings::validate() calls it when the budget is enabled).
-    void validate(const char* caller) const;
-};
 
 // How far a look-ahead cull's requests rank below a drawing cull's (CullSettings::prefetchOnly): a drawing cull's
 // priorities lie in (-depth, 1] (CullTraversal::pagedPriority), depth below this.

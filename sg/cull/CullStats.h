@@ -1,11 +1,14 @@
 // CullStats: what one cull counted (tests by kind, what each culled, the occlusion pass, the LOD budget, paged
 // nodes, the screen-rectangle rejection) and how long it took.
 #pragma once
+#include "sg/lod/LodPlanStats.h"
+
 #include <cstdint>
 
 namespace sg {
 
-struct CullStats {
+// The LOD budget's figures (lodObjects ... lodSelectMs) are LodPlanStats', which the planner fills in.
+struct CullStats : LodPlanStats {
     uint64_t nodesVisited = 0;
     uint64_t boundsTested = 0;
     uint64_t kernelEntries = 0;       // bounds classified by the flat kernel (straddling subtrees)
@@ -31,14 +34,6 @@ struct CullStats {
     uint64_t culledObb = 0;  // of them, geometries culled by their oriented boxes (OcclusionSettings::homObbLevels)
     uint64_t occludedEntries = 0;  // image entries below them (work the walk skipped)
     double occlusionMs = 0.0;      // growing the tree plus the tests
-    // LOD budget
-    uint64_t lodObjects = 0;      // visible LODs planned
-    uint64_t lodDropped = 0;      // left out to fit the budget
-    uint64_t lodLevels[4] = {};   // LODs shown at child 0, 1, 2, and 3 or more
-    double lodBudgetMs = 0.0;     // the budget planned for (LodBudgetSettings::budgetMs)
-    double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
-    double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
-    double lodSelectMs = 0.0;
     // LODs whose history is kept (hysteresis or the budget on) showing another child than last frame, none where
     // they showed one or one where they showed none (not at first sight): the level changes a viewer sees pop. On a
     // still view, flicker.

@@ -1,8 +1,8 @@
 // The frame of the cull: the settings checked, each image's context set up, the walk started at the scene's
 // root, the budget's plan walked, the draw list sorted.
-#include "sg/cull/CullContext.h"
 #include "sg/cull/PvsTable.h"
-#include "sg/scene/ImageWalk.h"
+#include "sg/cull/internal/CullContext.h"
+#include "sg/scene/internal/ImageWalk.h"
 
 #include <chrono>
 #include <cmath>

@@ -5,10 +5,10 @@
 #include "sg/cull/CullSettings.h"
 #include "sg/cull/CullStats.h"
 #include "sg/cull/DrawList.h"
-#include "sg/cull/LodBudgetPlanner.h"
-#include "sg/cull/LodHistory.h"
 #include "sg/cull/OcclusionPass.h"
 #include "sg/cull/TriangleClusters.h"
+#include "sg/lod/LodBudgetPlanner.h"
+#include "sg/lod/LodHistory.h"
 #include "sg/scene/ImageFrame.h"
 #include "sg/scene/Scene.h"
 
@@ -91,7 +91,7 @@ private:
     OcclusionPass occlusion_;
     const Scene* occlusionScene_ = nullptr;  // the scene and version the occlusion pass's back-off saw
     uint64_t occlusionVersion_ = 0;
-    const LodChooser* chooser_ = nullptr;  // this frame's LOD rules (sg/scene/LodChooser.h)
+    const LodChooser* chooser_ = nullptr;  // this frame's LOD rules (sg/lod/internal/LodChooser.h)
     bool lodTracked_ = false;              // the scene's LODs remember what they showed (hysteresis)
     LodHistory lodHistory_;                // the main image's LODs (hysteresis, budget)
     LodBudgetPlanner planner_;

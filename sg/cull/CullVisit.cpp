@@ -4,8 +4,8 @@
 #include "nodes/Instance.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
-#include "sg/cull/CullContext.h"
-#include "sg/scene/ImageWalk.h"
+#include "sg/cull/internal/CullContext.h"
+#include "sg/scene/internal/ImageWalk.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "sg/cull/FrustumKernel.h"
+#include "sg/cull/internal/FrustumKernel.h"
 
 namespace sg::kernel {
 

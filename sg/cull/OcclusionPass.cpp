@@ -1,8 +1,8 @@
 #include "sg/cull/OcclusionPass.h"
 
 #include "nodes/Occluder.h"
+#include "sg/lod/internal/LodChooser.h"
 #include "sg/scene/ImageFrame.h"
-#include "sg/scene/LodChooser.h"
 
 #include <algorithm>
 #include <chrono>

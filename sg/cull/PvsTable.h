@@ -5,7 +5,7 @@
 // set for an entry hidden from everywhere in the cell (its whole subtree is then hidden; bits below it are
 // not read). The table is bound to one image: its entry count and a hash of the entries' kinds, subtree
 // ends and bounds; any change to those makes it stale. It holds for perspective cameras whose near plane
-// lies within [minNear, maxNear] (sg/cull/PvsBuilder.h says why).
+// lies within [minNear, maxNear] (sg/build/PvsBuilder.h says why).
 #pragma once
 #include "sg/core/Math.h"
 

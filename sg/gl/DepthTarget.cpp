@@ -1,4 +1,4 @@
-#include "sg/gl/DepthTarget.h"
+#include "sg/gl/internal/DepthTarget.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

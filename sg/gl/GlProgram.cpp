@@ -1,4 +1,4 @@
-#include "sg/gl/GlProgram.h"
+#include "sg/gl/internal/GlProgram.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

@@ -1,6 +1,6 @@
-#include "sg/gl/GpuCache.h"
+#include "sg/gl/internal/GpuCache.h"
 
-#include "sg/gl/Shaders.h"
+#include "sg/gl/internal/Shaders.h"
 #include "sg/io/ImageOps.h"
 
 #include <GL/gl.h>

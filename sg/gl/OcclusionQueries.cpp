@@ -1,6 +1,6 @@
 #include "sg/gl/OcclusionQueries.h"
 
-#include "sg/gl/GlProgram.h"
+#include "sg/gl/internal/GlProgram.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

@@ -2,12 +2,12 @@
 
 #include "nodes/Geometry.h"
 
-#include "sg/gl/BackFaces.h"
-#include "sg/gl/DepthTarget.h"
-#include "sg/gl/GlProgram.h"
-#include "sg/gl/GpuCache.h"
-#include "sg/gl/Shaders.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/gl/internal/BackFaces.h"
+#include "sg/gl/internal/DepthTarget.h"
+#include "sg/gl/internal/GlProgram.h"
+#include "sg/gl/internal/GpuCache.h"
+#include "sg/gl/internal/Shaders.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

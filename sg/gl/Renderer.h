@@ -19,11 +19,11 @@
 
 namespace sg {
 
-class DepthTarget;           // sg/gl/DepthTarget.h, internal
-class DistinctGeometryWalk;  // sg/scene/DistinctGeometries.h, internal
-class GpuCache;              // sg/gl/GpuCache.h, internal
+class DepthTarget;           // sg/gl/internal/DepthTarget.h, internal
+class DistinctGeometryWalk;  // sg/scene/internal/DistinctGeometries.h, internal
+class GpuCache;              // sg/gl/internal/GpuCache.h, internal
 struct GpuMesh;
-struct ItemAttributes;  // sg/gl/Shaders.h, internal
+struct ItemAttributes;  // sg/gl/internal/Shaders.h, internal
 
 struct RenderStats {
     // Draw calls: a glDrawElementsInstanced per run of equal mesh and material, a glMultiDrawElements per item
@@ -71,7 +71,7 @@ public:
 
     // Back faces that cannot show are not drawn (on by default): those of items whose mesh is closed (Mesh::closed()),
     // drawn opaque, with a matrix that keeps the winding, the eye outside the item's bound and the near
-    // plane clear of it (sg/gl/BackFaces.h). Such an item's back faces all lie behind its front faces, so the
+    // plane clear of it (sg/gl/internal/BackFaces.h). Such an item's back faces all lie behind its front faces, so the
     // pixels are those drawn with it off (tested), but where a back face meets its front face at a silhouette edge
     // at one depth, and the rounding of the rasterizer picked the back face: a few pixels a view. A software
     // rasterizer is spared half the triangles of a solid.
@@ -205,9 +205,9 @@ private:
         uint32_t first, count;  // range in items_
         float fade;             // DrawList::fades
         uint32_t part;          // index into DrawList::parts for an item drawn in part (a run of one), else kWhole
-        bool cullBack;          // its items' back faces are skipped (sg/gl/BackFaces.h, or a single-sided material)
-        bool mirrored;          // a single-sided material's items whose matrix turns the winding: clockwise is front
-        bool blend;             // Material::blend: drawn blended, after the opaque runs
+        bool cullBack;  // its items' back faces are skipped (sg/gl/internal/BackFaces.h, or a single-sided material)
+        bool mirrored;  // a single-sided material's items whose matrix turns the winding: clockwise is front
+        bool blend;     // Material::blend: drawn blended, after the opaque runs
         const GpuMesh* gpu = nullptr;  // set before the first draw, when the frame's meshes are uploaded
         unsigned texture = 0;          // GL name, 0 without a texture
         unsigned pbrTextures[4] = {};  // a physical material's others, by unit from kMetallicRoughnessUnit

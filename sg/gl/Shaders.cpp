@@ -1,4 +1,4 @@
-#include "sg/gl/Shaders.h"
+#include "sg/gl/internal/Shaders.h"
 
 #include <GL/gl.h>
 #include <GL/glext.h>

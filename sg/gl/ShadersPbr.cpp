@@ -2,7 +2,7 @@
 // distribution, the separable Smith visibility, Schlick's Fresnel), in linear space, written out as sRGB. The
 // features are preprocessor constants, as for the classic variants (Shaders.cpp): a draw pays only for what its
 // material uses.
-#include "sg/gl/Shaders.h"
+#include "sg/gl/internal/Shaders.h"
 
 namespace sg {
 

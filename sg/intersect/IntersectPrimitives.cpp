@@ -1,4 +1,4 @@
-#include "sg/intersect/IntersectPrimitives.h"
+#include "sg/intersect/internal/IntersectPrimitives.h"
 
 namespace sg {
 namespace isect {

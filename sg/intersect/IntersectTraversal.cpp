@@ -8,9 +8,9 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/core/Camera.h"
-#include "sg/intersect/IntersectPrimitives.h"
-#include "sg/scene/ImageWalk.h"
-#include "sg/scene/LodChooser.h"
+#include "sg/intersect/internal/IntersectPrimitives.h"
+#include "sg/lod/internal/LodChooser.h"
+#include "sg/scene/internal/ImageWalk.h"
 
 #include <algorithm>
 #include <stdexcept>

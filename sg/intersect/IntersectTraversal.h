@@ -60,7 +60,7 @@ private:
     Mode mode_ = Mode::Nearest;
     const Scene* scene_ = nullptr;
     const QueryOptions* opt_ = nullptr;
-    const LodChooser* chooser_ = nullptr;  // the query's LOD rules (sg/scene/LodChooser.h)
+    const LodChooser* chooser_ = nullptr;  // the query's LOD rules (sg/lod/internal/LodChooser.h)
     dvec3 q_{0.0};
     dvec3 o_{0.0}, d_{0.0};  // ray, or sphere centre and motion
     double tMax_ = 0.0, radius_ = 0.0;

@@ -1,6 +1,6 @@
 #include "sg/intersect/MeshBvh.h"
 
-#include "sg/intersect/IntersectPrimitives.h"
+#include "sg/intersect/internal/IntersectPrimitives.h"
 
 #include <algorithm>
 #include <numeric>

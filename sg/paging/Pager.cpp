@@ -1,7 +1,7 @@
 #include "sg/paging/Pager.h"
 
 #include "nodes/Geometry.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 
 #include <algorithm>
 #ifdef __GLIBC__

@@ -1,4 +1,4 @@
-#include "sg/scene/BspBuilder.h"
+#include "sg/scene/internal/BspBuilder.h"
 
 #include <algorithm>
 

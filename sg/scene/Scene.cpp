@@ -9,7 +9,7 @@
 #include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
-#include "sg/scene/BspBuilder.h"
+#include "sg/scene/internal/BspBuilder.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,6 +1,6 @@
 #include "sg/viewer/IsectStage.h"
 
-#include "sg/viewer/StageThread.h"
+#include "sg/viewer/internal/StageThread.h"
 
 #include <chrono>
 #include <exception>

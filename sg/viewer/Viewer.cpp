@@ -1,7 +1,7 @@
 #include "sg/viewer/Viewer.h"
 
 #include "sg/gl/KeepFreedMemory.h"
-#include "sg/viewer/StageThread.h"
+#include "sg/viewer/internal/StageThread.h"
 
 #include <algorithm>
 #include <atomic>

@@ -4,9 +4,9 @@
 #include <loaders/Resource.h>
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
+#include <sg/build/LodGenerator.h>
 #include <sg/cull/CullTraversal.h>
 #include <sg/gl/OsmesaContext.h>
-#include <sg/lod/LodGenerator.h>
 #include <sg/viewer/Viewer.h>
 
 #include <cstdio>

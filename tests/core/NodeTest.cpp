@@ -5,7 +5,7 @@
 #include "nodes/Occluder.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
-#include "sg/scene/BspBuilder.h"
+#include "sg/scene/internal/BspBuilder.h"
 
 #include <gtest/gtest.h>
 

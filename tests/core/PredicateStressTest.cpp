@@ -6,9 +6,9 @@
 // keep what the reference rejects, never reject what it keeps; each property also counts the rejections, so
 // that it is not satisfied by rejecting nothing.
 #include "sg/core/Camera.h"
-#include "sg/cull/FrustumKernel.h"
 #include "sg/cull/OcclusionMap.h"
 #include "sg/cull/OcclusionTree.h"
+#include "sg/cull/internal/FrustumKernel.h"
 #include "testbed/Rng.h"
 
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #include "sg/core/Camera.h"
-#include "sg/cull/FrustumKernel.h"
+#include "sg/cull/internal/FrustumKernel.h"
 
 #include <gtest/gtest.h>
 

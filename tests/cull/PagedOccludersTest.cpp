@@ -5,8 +5,8 @@
 #include "nodes/Occluder.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
+#include "sg/build/PvsBuilder.h"
 #include "sg/cull/CullTraversal.h"
-#include "sg/cull/PvsBuilder.h"
 #include "sg/scene/Scene.h"
 
 #include <gtest/gtest.h>

@@ -2,8 +2,8 @@
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Occluder.h"
+#include "sg/build/PvsBuilder.h"
 #include "sg/cull/CullTraversal.h"
-#include "sg/cull/PvsBuilder.h"
 
 #include <gtest/gtest.h>
 

@@ -7,7 +7,7 @@
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
-#include "sg/gl/Shaders.h"
+#include "sg/gl/internal/Shaders.h"
 #include "sg/io/ImageIO.h"
 
 #include <gtest/gtest.h>

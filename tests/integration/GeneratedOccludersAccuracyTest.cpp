@@ -1,4 +1,4 @@
-// Occluders made from the geometry (sg/scene/GeneratedOccluders.h) keep the occlusion pass conservative: the city,
+// Occluders made from the geometry (sg/build/GeneratedOccluders.h) keep the occlusion pass conservative: the city,
 // the office, the factory and a city read back from glTF, with their authored occluders removed and occluders generated
 // instead, draw exactly the pixels of the unculled render on every view, with the tree and with the map, and cull
 // about as much as the authored ones do on the same views; open meshes boxed with their openings capped are exact from
@@ -8,7 +8,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Transform.h"
-#include "sg/scene/GeneratedOccluders.h"
+#include "sg/build/GeneratedOccluders.h"
 #include "testbed/Accuracy.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"

@@ -7,7 +7,7 @@
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 #include "testbed/Factory.h"
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
 // city's streets and office's rooms, the eye anywhere in a cell (random points, cell corners and faces);
 // and it is not vacuous: it culled entries on most views.
 #include "Scaled.h"
-#include "sg/cull/PvsBuilder.h"
+#include "sg/build/PvsBuilder.h"
 #include "testbed/Accuracy.h"
 #include "testbed/City.h"
 #include "testbed/Office.h"

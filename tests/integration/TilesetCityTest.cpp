@@ -9,7 +9,7 @@
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 #include "testbed/City.h"
 
 #include <gtest/gtest.h>

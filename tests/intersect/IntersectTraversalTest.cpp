@@ -7,9 +7,9 @@
 #include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
-#include "sg/intersect/IntersectPrimitives.h"
 #include "sg/intersect/IntersectTraversal.h"
 #include "sg/intersect/PickSet.h"
+#include "sg/intersect/internal/IntersectPrimitives.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // primitive's extension.
 #include "GltfTestUtil.h"
 #include "loaders/Gltf.h"
-#include "sg/scene/DistinctGeometries.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>

@@ -1,8 +1,8 @@
 #include "TestUtil.h"
 #include "nodes/PagedLOD.h"
 #include "sg/cull/CullTraversal.h"
-#include "sg/scene/DistinctGeometries.h"
 #include "sg/scene/Scene.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 #include "testbed/City.h"
 #include "testbed/RandomScene.h"
 

@@ -3,9 +3,9 @@
 // application uses it.
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
+#include "sg/build/LodGenerator.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/intersect/IntersectTraversal.h"
-#include "sg/lod/LodGenerator.h"
 #include "sg/scene/Scene.h"
 #include "testbed/Factory.h"
 
