@@ -14,12 +14,13 @@ set(_below_gl core nodes scene lod cull io gl)
 set(_below_viewer core nodes scene lod cull intersect io gl paging viewer)
 set(_below_build core nodes scene lod cull intersect io paging build)
 
-# Internal headers sit in an internal/ folder of their layer (sg/cull/internal/FrustumKernel.h): kernels and helpers
+# Internal headers sit in an internal/ folder of their layer (sg/cull/internal/FrustumKernel.h) or loader
+# (loaders/tiles/internal/TileFormats.h): kernels and helpers
 # of the traversals, whose shape may change with any release. Not installed (CMakeLists.txt); no public header
 # includes one, and neither do the testbed and the examples, which use the library as an application would. (The
 # kernel benchmarks in bench/kernels measure them directly.)
-function(_sgkit_includes file out)
-  file(STRINGS ${file} _lines REGEX "^#include \"(sg|nodes)/")
+function(_sgkit_includes file out)  # the project's includes of sg/, nodes/ and loaders/
+  file(STRINGS ${file} _lines REGEX "^#include \"(sg|nodes|loaders)/")
   set(_found)
   foreach(inc IN LISTS _lines)
     string(REGEX REPLACE "^#include \"([^\"]+)\".*" "\\1" inc "${inc}")
@@ -41,7 +42,9 @@ foreach(f IN LISTS _layered)
   endif()
   _sgkit_includes(${f} _includes)
   foreach(inc IN LISTS _includes)
-    if(inc MATCHES "^nodes/")
+    if(inc MATCHES "^loaders/")
+      message(FATAL_ERROR "${f} (sg layer ${layer}) includes ${inc}: file formats reach sg/ as load functions")
+    elseif(inc MATCHES "^nodes/")
       set(to nodes)
     else()
       string(REGEX REPLACE "^sg/([^/]+)/.*" "\\1" to "${inc}")

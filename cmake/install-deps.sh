@@ -7,7 +7,7 @@ pkgs=(build-essential cmake ninja-build pkg-config libglm-dev libtinygltf-dev li
       libcurl4-openssl-dev  # sg::readResource: tiles and tilesets by URL
       libdraco-dev  # glTF's KHR_draco_mesh_compression
       assimp-testmodels  # glTF files written elsewhere: the loader's conformance test
-      python3 openssl  # the tests' local HTTP and HTTPS server (tests/loaders/tile_server.py), its certificate
+      python3 openssl  # the tests' local HTTP and HTTPS server (tests/loaders/net/tile_server.py), its certificate
       clang-14 libclang-rt-14-dev  # clang: the glTF loader's libFuzzer target
       clang-format  # the format check of .ci/run
       gnuplot-nox)  # sgbench pareto's plot (pngcairo)

@@ -4,7 +4,7 @@
 // gltfpack (quantized, meshopt-compressed) and hand-made ones with sparse accessors, quantized attributes and an
 // unused buffer without a URI. Every load also makes the file's occluders (GltfLoadOptions::generateOccluders), so
 // that what the loader accepts is what the occluder generator meets.
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,12 +1,12 @@
-// libFuzzer target for what a 3D Tiles reader parses from outside: the binary formats (loaders/TileFormats.h),
-// tileset.json and subtree files (loaders/TilesetTable.h), read as local and as remote documents (the origin rule),
-// and data: URIs (loaders/Resource.h): any bytes either parse or throw sg::LoadError. Anything
-// else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding. The seed
-// corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and subtrees (one with
-// tile metadata, as writeTileset writes implicit tiling).
-#include "loaders/Resource.h"
-#include "loaders/TileFormats.h"
-#include "loaders/TilesetTable.h"
+// libFuzzer target for what a 3D Tiles reader parses from outside: the binary formats
+// (loaders/tiles/internal/TileFormats.h), tileset.json and subtree files (loaders/tiles/internal/TilesetTable.h), read
+// as local and as remote documents (the origin rule), and data: URIs (loaders/net/Resource.h): any bytes either parse
+// or throw sg::LoadError. Anything else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak)
+// is a finding. The seed corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and
+// subtrees (one with tile metadata, as writeTileset writes implicit tiling).
+#include "loaders/net/Resource.h"
+#include "loaders/tiles/internal/TileFormats.h"
+#include "loaders/tiles/internal/TilesetTable.h"
 
 #include <atomic>
 #include <cstddef>

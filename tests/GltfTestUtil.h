@@ -1,7 +1,7 @@
 // glTF test helpers: a scene with every node kind, a graph comparison, and small glTF documents written
 // from a JSON fragment plus vertex data (as .gltf text with an embedded buffer, or as .glb).
 #pragma once
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "nodes/Billboard.h"
 #include "nodes/BspGroup.h"
 #include "nodes/Geometry.h"

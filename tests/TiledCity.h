@@ -1,6 +1,6 @@
 // The benchmark city written as tiles (writeTileset) and views of it settled by a pager, for the tests of tilesets.
 #pragma once
-#include "loaders/TilesetWrite.h"
+#include "loaders/tiles/TilesetWrite.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/paging/Pager.h"
 #include "testbed/City.h"

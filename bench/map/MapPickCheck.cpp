@@ -2,8 +2,8 @@
 // its edge), the point projected by the same one, the even-odd rule; the nearest border by segment distance.
 #include "MapPickCheck.h"
 
-#include "loaders/MapProjection.h"
-#include "loaders/TopoJson.h"
+#include "map/data/MapProjection.h"
+#include "map/data/TopoJson.h"
 
 #include <algorithm>
 #include <chrono>

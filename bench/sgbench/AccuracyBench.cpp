@@ -1,5 +1,5 @@
 // sgbench accuracy: differing pixels between the unculled and the culled render over K random views.
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "sgbench/Bench.h"
 #include "testbed/Accuracy.h"
 #include "testbed/City.h"

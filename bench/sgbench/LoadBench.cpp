@@ -1,7 +1,7 @@
 // sgbench load: the glTF loader against tinygltf's own parse of the same .glb. The file (boxes split into
 // fine grids, distinct meshes, about --size-mb of vertex and index data) is written once into /tmp; then
 // tinygltf's LoadBinaryFromFile and sg::loadGltf run alternately in one process, medians compared.
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Transform.h"
 #include "sgbench/Bench.h"

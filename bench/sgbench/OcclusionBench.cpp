@@ -3,8 +3,8 @@
 // and alternating: no culling (the scene's total), frustum culling alone, frustum + occlusion; triangles drawn by each,
 // cull and pass times, the whole frame drawn headless (1280x720), and with --pixels the pixels that differ from the
 // unculled render.
-#include "loaders/Gltf.h"
-#include "loaders/Tileset.h"
+#include "loaders/gltf/Gltf.h"
+#include "loaders/tiles/Tileset.h"
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/build/GeneratedOccluders.h"

@@ -3,7 +3,7 @@
 // --baseline the same city held in memory is flown by a second viewer in the same process, frame for frame
 // (interleaved): the ratio of their frame times, and the pixels where the tiles' frame differs from it (0 once
 // settled: nothing queued, loading or waiting, and nothing asked for). One line per frame to --csv for the plot.
-#include "loaders/Tileset.h"
+#include "loaders/tiles/Tileset.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"

@@ -1,7 +1,7 @@
 #include "map/Atlas.h"
 
-#include "loaders/Gltf.h"
-#include "loaders/MapProjection.h"
+#include "loaders/gltf/Gltf.h"
+#include "map/data/MapProjection.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
 #include "sg/build/LodGenerator.h"

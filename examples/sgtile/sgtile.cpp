@@ -6,8 +6,8 @@
 // --implicit writes the same tiles as implicit tiling (subtree files; tileset.json is one tile).
 //
 // Prints what was written. Exit 2, naming the problem, on bad arguments or an unreadable input.
-#include "loaders/Gltf.h"
-#include "loaders/TilesetWrite.h"
+#include "loaders/gltf/Gltf.h"
+#include "loaders/tiles/TilesetWrite.h"
 #include "nodes/Transform.h"
 #include "testbed/City.h"
 

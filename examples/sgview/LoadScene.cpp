@@ -1,8 +1,8 @@
 // The only place sgview meets the glTF loader; compiled when the sgkit::loaders target exists.
 #include "sgview/LoadScene.h"
 
-#include "loaders/Gltf.h"
-#include "loaders/Tileset.h"
+#include "loaders/gltf/Gltf.h"
+#include "loaders/tiles/Tileset.h"
 #include "nodes/Transform.h"
 #include "sg/gl/Renderer.h"
 

@@ -1,4 +1,4 @@
-// Loading what sgview shows: glTF files (LoadScene.cpp, through loaders/Gltf.h) or a built-in scene.
+// Loading what sgview shows: glTF files (LoadScene.cpp, through loaders/gltf/Gltf.h) or a built-in scene.
 #pragma once
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"

@@ -61,7 +61,8 @@ private:
     void release() const;
 
     // Atomic because a mesh or material may be shared by details that different threads build, attach and free
-    // (a tileset's loads share equal meshes: loaders/SharedMeshes.h); the graph's edits stay single-threaded.
+    // (a tileset's loads share equal meshes: loaders/tiles/internal/SharedMeshes.h); the graph's edits stay
+    // single-threaded.
     mutable std::atomic<uint32_t> refs_{0};
 };
 

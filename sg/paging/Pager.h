@@ -1,7 +1,7 @@
 // Pager: loads the details of a Scene's PagedLOD nodes from files on loader threads, the most needed first,
 // attaches them at the next update and unloads those not needed for a while (Performer's DBASE process,
 // OpenSceneGraph's DatabasePager). The threads, queue and policy live here, below the viewer; file formats reach it as
-// a load function (sg::loadGltfPage in loaders/Gltf.h reads glTF), so that the kernel does not depend on a parser.
+// a load function (sg::loadGltfPage in loaders/gltf/Gltf.h reads glTF), so that the kernel does not depend on a parser.
 #pragma once
 #include "nodes/PagedLOD.h"
 #include "sg/core/PrepareBudget.h"

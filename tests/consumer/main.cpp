@@ -1,7 +1,7 @@
 // Builds a graph with the installed library, culls it and draws it through sg::Viewer (OSMesa): exits 0 when one
 // of two boxes is drawn, in the middle of the picture, and an LOD, a glTF round trip and a resource read work.
-#include <loaders/Gltf.h>
-#include <loaders/Resource.h>
+#include <loaders/gltf/Gltf.h>
+#include <loaders/net/Resource.h>
 #include <nodes/Geometry.h>
 #include <nodes/Transform.h>
 #include <sg/build/LodGenerator.h>

@@ -4,7 +4,7 @@
 // into the triangles the renderer draws, the normal interpolated as the rasterizer does, the result written as
 // sRGB and rounded to 8 bits.
 #include "RenderUtil.h"
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Transform.h"

@@ -4,7 +4,7 @@
 // about as much as the authored ones do on the same views; open meshes boxed with their openings capped are exact from
 // every side, seen through their openings too.
 #include "Scaled.h"
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Transform.h"

@@ -2,7 +2,7 @@
 #include "GltfTestUtil.h"
 #include "RenderUtil.h"
 
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "sg/cull/CullTraversal.h"

@@ -3,7 +3,7 @@
 #include "GltfTestUtil.h"
 #include "RenderUtil.h"
 
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/Transform.h"

@@ -2,7 +2,7 @@
 // and with compression alone (-cc -noq), loaded, and drawn from the same views as the scene in memory. Packing
 // moves vertices by its quantization step and rewrites normals, so pixels are compared with a tolerance.
 #include "RenderUtil.h"
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"

@@ -2,9 +2,9 @@
 // the pager has nothing left to load for it, equals the render of the city held in memory pixel for pixel (the
 // tiles reproduce the graph's LOD choices), whether the view shows leaves, exact proxies or both; written as
 // explicit tiles or as implicit tiling (whose tiles' boxes and errors are tile metadata).
-#include "loaders/SharedMeshes.h"
-#include "loaders/Tileset.h"
-#include "loaders/TilesetWrite.h"
+#include "loaders/tiles/Tileset.h"
+#include "loaders/tiles/TilesetWrite.h"
+#include "loaders/tiles/internal/SharedMeshes.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"

@@ -2,8 +2,8 @@
 // they do at the origin, through the renderer's camera-relative path; so do the tiles writeTileset writes of a
 // scene that far out, explicit or implicit.
 #include "RenderUtil.h"
-#include "loaders/Tileset.h"
-#include "loaders/TilesetWrite.h"
+#include "loaders/tiles/Tileset.h"
+#include "loaders/tiles/TilesetWrite.h"
 #include "nodes/Geometry.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"

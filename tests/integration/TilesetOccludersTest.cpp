@@ -3,7 +3,7 @@
 // pass on, with the tree and with the map, and culls most of the street's triangles as the city's authored boxes do.
 #include "Scaled.h"
 #include "TiledCity.h"
-#include "loaders/Tileset.h"
+#include "loaders/tiles/Tileset.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"

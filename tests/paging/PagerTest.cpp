@@ -2,7 +2,7 @@
 // named on the node, a frame loop that never waits on a load, requests dropped, renewed and ordered (most needed
 // first, commands before them, parents before children), and the look-ahead cull's requests.
 #include "TestUtil.h"
-#include "loaders/Gltf.h"
+#include "loaders/gltf/Gltf.h"
 #include "paging/PagerTestUtil.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/paging/Pager.h"

@@ -2,7 +2,7 @@
 // threads loading at once, enter and leave cycles while loads are in flight, nested tiles under a byte budget, a
 // detail of instances built on the loader thread.
 #include "TestUtil.h"
-#include "loaders/SharedMeshes.h"
+#include "loaders/tiles/internal/SharedMeshes.h"
 #include "paging/PagerTestUtil.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/paging/Pager.h"

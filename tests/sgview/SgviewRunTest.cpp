@@ -4,8 +4,8 @@
 #include "integration/ProgramRun.h"
 #include "testbed/City.h"
 #ifdef SGVIEW_TEST_GLTF
-#include "loaders/Gltf.h"
-#include "loaders/Tileset.h"
+#include "loaders/gltf/Gltf.h"
+#include "loaders/tiles/Tileset.h"
 #endif
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"

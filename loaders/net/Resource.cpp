@@ -1,0 +1,460 @@
+// readResource: files through open/read, data: URIs decoded, URLs through libcurl's easy interface, one handle per
+// loader thread. resolveUri: RFC 3986's reference resolution for URLs, plain directory joining for paths;
+// resolveReference adds the origin rule.
+#include "loaders/net/Resource.h"
+
+#include <curl/curl.h>
+#include <fcntl.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+
+namespace sg {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& name, const std::string& reason) { throw LoadError(name, "", reason); }
+
+bool startsWithNoCase(const std::string& s, const char* prefix) {
+    const size_t n = std::strlen(prefix);
+    if (s.size() < n) return false;
+    for (size_t i = 0; i < n; ++i)
+        if (std::tolower(static_cast<unsigned char>(s[i])) != prefix[i]) return false;
+    return true;
+}
+
+// The length of a leading "scheme:" (RFC 3986: a letter, then letters, digits, "+", "-", "."), 0 when none. Two
+// characters at least, so that a drive letter ("C:") reads as a path.
+size_t schemeLength(const std::string& s) {
+    size_t i = 0;
+    while (i < s.size() &&
+           (std::isalnum(static_cast<unsigned char>(s[i])) || s[i] == '+' || s[i] == '-' || s[i] == '.'))
+        ++i;
+    if (i < 2 || i >= s.size() || s[i] != ':' || !std::isalpha(static_cast<unsigned char>(s[0]))) return 0;
+    return i + 1;
+}
+
+// RFC 3986 5.2.4 on a path that starts with "/": "." dropped, ".." takes the segment before it (none above the root).
+std::string removeDotSegments(const std::string& path) {
+    std::vector<std::string> kept;
+    bool trailingSlash = false;
+    for (size_t b = 1;;) {
+        size_t e = path.find('/', b);
+        const bool last = e == std::string::npos;
+        if (last) e = path.size();
+        const std::string seg = path.substr(b, e - b);
+        if (seg == "." || seg == "..") {
+            if (seg == ".." && !kept.empty()) kept.pop_back();
+            trailingSlash = last;  // "a/.." names the directory a was in
+        } else {
+            kept.push_back(seg);
+            trailingSlash = false;
+        }
+        if (last) break;
+        b = e + 1;
+    }
+    std::string out;
+    for (const std::string& s : kept) out += "/" + s;
+    if (trailingSlash || out.empty()) out += "/";
+    return out;
+}
+
+int hexDigit(char c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+// "%20" and the like decoded; a "%" not followed by two hex digits kept as it is.
+std::string percentDecoded(const std::string& s) {
+    std::string out;
+    out.reserve(s.size());
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] == '%' && i + 2 < s.size() && hexDigit(s[i + 1]) >= 0 && hexDigit(s[i + 2]) >= 0) {
+            out += char(hexDigit(s[i + 1]) * 16 + hexDigit(s[i + 2]));
+            i += 2;
+        } else {
+            out += s[i];
+        }
+    }
+    return out;
+}
+
+// The path of a file:// URL: "file:///a%20b" is "/a b"; "file://localhost/x" is "/x"; other hosts are refused
+// (they would need a network file system we do not know of).
+std::string filePath(const std::string& url) {
+    std::string rest = url.substr(7);
+    if (startsWithNoCase(rest, "localhost/")) rest = rest.substr(9);
+    if (rest.empty() || rest[0] != '/') fail(url, "a file URL names a host other than localhost");
+    return percentDecoded(rest.substr(0, rest.find_first_of("?#")));
+}
+
+int base64Digit(char c) {
+    if (c >= 'A' && c <= 'Z') return c - 'A';
+    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
+    if (c >= '0' && c <= '9') return c - '0' + 52;
+    if (c == '+' || c == '-') return 62;  // '-' and '_': the URL-safe alphabet
+    if (c == '/' || c == '_') return 63;
+    return -1;
+}
+
+// The bytes of "data:[<media type>][;base64],<data>" (RFC 2397): percent-decoded, then base64-decoded when marked
+// so ("=" padding optional). The name in errors is the URI's first 64 characters: a data URI can be megabytes.
+std::vector<unsigned char> readData(const std::string& uri, const ResourceOptions& o) {
+    const std::string name = uri.size() > 64 ? uri.substr(0, 64) + "..." : uri;
+    const size_t comma = uri.find(',');
+    if (comma == std::string::npos) fail(name, "a data: URI without ',' before its data");
+    const std::string header = uri.substr(5, comma - 5);
+    const bool base64 = header.size() >= 7 && startsWithNoCase(header.substr(header.size() - 7), ";base64");
+    const std::string text = percentDecoded(uri.substr(comma + 1));
+    if ((base64 ? text.size() / 4 * 3 : text.size()) > o.maxBytes) fail(name, "larger than the limit");
+    if (!base64) return std::vector<unsigned char>(text.begin(), text.end());
+    std::vector<unsigned char> out;
+    out.reserve(text.size() / 4 * 3 + 2);
+    uint32_t bits = 0;
+    int held = 0;
+    size_t end = text.size();
+    while (end > 0 && text[end - 1] == '=' && text.size() - end < 2) --end;
+    for (size_t i = 0; i < end; ++i) {
+        const int d = base64Digit(text[i]);
+        if (d < 0) fail(name, "a data: URI's base64 has '" + text.substr(i, 1) + "' at " + std::to_string(i));
+        bits = ((bits << 6) | uint32_t(d)) & 0xffffu;  // the bits not yet out, at most 14
+        held += 6;
+        if (held >= 8) {
+            held -= 8;
+            out.push_back(static_cast<unsigned char>(bits >> held));
+        }
+    }
+    if (held >= 6) fail(name, "a data: URI's base64 ends in the middle of a byte");
+    return out;
+}
+
+bool cancelled(const ResourceOptions& o) { return o.cancel && o.cancel->load(std::memory_order_relaxed); }
+
+std::vector<unsigned char> readFile(const std::string& name, const std::string& path, const ResourceOptions& o) {
+    // Non-blocking: opening a FIFO must not wait for a writer (it is then refused as not regular).
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+    if (fd < 0) fail(name, errno == ENOENT ? "no such file" : std::string("cannot open: ") + std::strerror(errno));
+    struct Closer {
+        int fd;
+        ~Closer() { ::close(fd); }
+    } closer{fd};
+    struct stat st {};
+    if (::fstat(fd, &st) != 0) fail(name, std::string("cannot stat: ") + std::strerror(errno));
+    if (!S_ISREG(st.st_mode)) fail(name, "not a regular file");
+    if (uint64_t(st.st_size) > o.maxBytes) fail(name, "larger than the limit");
+    std::vector<unsigned char> bytes(size_t(st.st_size));
+    // In pieces, so that a cancel is seen during a large file on a slow disk or network file system.
+    const size_t piece = size_t(4) << 20;
+    size_t n = 0;
+    while (n < bytes.size()) {
+        if (cancelled(o)) fail(name, "cancelled");
+        const ssize_t r = ::read(fd, bytes.data() + n, std::min(piece, bytes.size() - n));
+        if (r < 0 && errno == EINTR) continue;
+        if (r < 0) fail(name, std::string("cannot read: ") + std::strerror(errno));
+        if (r == 0) break;  // shrank since fstat: what is there is the file
+        n += size_t(r);
+    }
+    bytes.resize(n);
+    return bytes;
+}
+
+// What the callbacks of one transfer share. Callbacks are C: they never throw, they stop the transfer and leave
+// the reason here.
+struct Transfer {
+    CURL* curl = nullptr;
+    const ResourceOptions* options = nullptr;
+    std::vector<unsigned char> bytes;
+    std::string failure;   // why a callback stopped the transfer
+    std::string phrase;    // the reason phrase of the last status line ("Not Found"; HTTP/2 has none)
+    std::string location;  // the Location of the last redirect
+    // The stall clock: since the request went out, or since the body last grew.
+    bool sent = false;
+    curl_off_t lastBytes = 0;
+    std::chrono::steady_clock::time_point lastChange;
+};
+
+std::string statusReason(long status, const std::string& phrase) {
+    return "HTTP " + std::to_string(status) + (phrase.empty() ? "" : " " + phrase);
+}
+
+size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
+    auto& t = *static_cast<Transfer*>(user);
+    const size_t n = size * count;
+    // Each response of a redirect chain starts with its status line, "HTTP/1.1 404 Not Found".
+    if (n > 9 && ::strncasecmp(data, "location:", 9) == 0) {
+        try {
+            std::string value(data + 9, n - 9);
+            const size_t b = value.find_first_not_of(" \t"), e = value.find_last_not_of(" \t\r\n");
+            t.location = b == std::string::npos ? "" : value.substr(b, e - b + 1);
+        } catch (...) {
+            t.location.clear();
+        }
+    }
+    if (n > 5 && std::memcmp(data, "HTTP/", 5) == 0) {
+        try {
+            std::string line(data, n);
+            while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
+            const size_t code = line.find(' ');
+            const size_t text = code == std::string::npos ? code : line.find(' ', code + 1);
+            t.phrase = text == std::string::npos ? "" : line.substr(text + 1);
+        } catch (...) {
+            t.phrase.clear();
+        }
+    }
+    return n;
+}
+
+size_t onData(char* data, size_t size, size_t count, void* user) noexcept {
+    auto& t = *static_cast<Transfer*>(user);
+    const size_t n = size * count;
+    long status = 0;
+    curl_easy_getinfo(t.curl, CURLINFO_RESPONSE_CODE, &status);
+    if (status >= 400) {  // an error page is not the resource: stop rather than read it
+        t.failure = statusReason(status, t.phrase);
+        return 0;
+    }
+    if (n > t.options->maxBytes - t.bytes.size()) {  // a length not announced (or compressed) grew past the limit
+        t.failure = "larger than the limit";
+        return 0;
+    }
+    try {
+        if (t.bytes.empty()) {
+            curl_off_t length = -1;
+            curl_easy_getinfo(t.curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+            if (length > 0 && uint64_t(length) <= t.options->maxBytes) t.bytes.reserve(size_t(length));
+        }
+        t.bytes.insert(t.bytes.end(), data, data + n);
+    } catch (...) {
+        t.failure = "out of memory";
+        return 0;
+    }
+    return n;
+}
+
+std::string seconds(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g s", s);
+    return buf;
+}
+
+// Called at least once a second, even while nothing arrives: a cancel or a stall is seen within about a second.
+int onProgress(void* user, curl_off_t downloadTotal, curl_off_t downloadNow, curl_off_t, curl_off_t) noexcept {
+    auto& t = *static_cast<Transfer*>(user);
+    const ResourceOptions& o = *t.options;
+    if (cancelled(o)) {
+        t.failure = "cancelled";
+        return 1;
+    }
+    if (downloadTotal > 0 && uint64_t(downloadTotal) > o.maxBytes) {
+        t.failure = "larger than the limit";
+        return 1;
+    }
+    // libcurl's low-speed check averages over its last few seconds, so that a burst before a stall keeps a
+    // transfer alive for about 5 s more than asked: a body that does not grow is timed here. The clock starts once
+    // the request is sent (connecting has its own timeout).
+    const auto now = std::chrono::steady_clock::now();
+    if (!t.sent) {
+        curl_off_t pretransfer = 0;
+        curl_easy_getinfo(t.curl, CURLINFO_PRETRANSFER_TIME_T, &pretransfer);
+        t.sent = pretransfer > 0;
+        t.lastChange = now;
+    } else if (downloadNow != t.lastBytes) {
+        t.lastBytes = downloadNow;
+        t.lastChange = now;
+    } else if (o.stallSeconds > 0 && std::chrono::duration<double>(now - t.lastChange).count() >= o.stallSeconds) {
+        t.failure = "no data for " + seconds(o.stallSeconds);
+        return 1;
+    }
+    return 0;
+}
+
+// One handle per thread, kept between reads: its connections stay open for the next tile from the same server (a
+// TLS handshake can cost more than a small tile). curl_easy_reset clears the options, not the connections.
+CURL* threadHandle() {
+    static std::once_flag once;
+    static CURLcode init = CURLE_FAILED_INIT;
+    std::call_once(once, [] { init = curl_global_init(CURL_GLOBAL_DEFAULT); });
+    if (init != CURLE_OK) return nullptr;
+    struct Handle {
+        CURL* curl = nullptr;
+        ~Handle() {
+            if (curl) curl_easy_cleanup(curl);
+        }
+    };
+    thread_local Handle handle;
+    if (handle.curl)
+        curl_easy_reset(handle.curl);
+    else
+        handle.curl = curl_easy_init();
+    return handle.curl;
+}
+
+// "connection closed after 1024 of 4096 bytes": what came of the body (before any decoding) and what was announced.
+std::string closedAfter(CURL* curl, const char* what) {
+    curl_off_t got = 0, length = -1;
+    curl_easy_getinfo(curl, CURLINFO_SIZE_DOWNLOAD_T, &got);
+    curl_easy_getinfo(curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+    std::string s = std::string("connection ") + what + " after " + std::to_string(got);
+    return s + (length >= 0 ? " of " + std::to_string(length) : std::string()) + " bytes";
+}
+
+std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
+    if (cancelled(o)) fail(url, "cancelled");
+    CURL* curl = threadHandle();
+    if (!curl) fail(url, "libcurl could not be initialised");
+    // The handle outlives this call: the pointers to this frame (error buffer, callbacks' data) must go with it.
+    struct Forget {
+        CURL* curl;
+        ~Forget() { curl_easy_reset(curl); }
+    } forget{curl};
+    Transfer t;
+    t.curl = curl;
+    t.options = &o;
+    char error[CURL_ERROR_SIZE] = "";
+    curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
+    curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, error);
+    curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // no SIGALRM for timeouts: other threads run
+    curl_easy_setopt(curl, CURLOPT_FOLLOWLOCATION, 1L);
+    curl_easy_setopt(curl, CURLOPT_MAXREDIRS, 5L);
+    // Only the web: a remote tileset must not redirect a read to file:// (or anything else libcurl speaks), and
+    // what was asked for over TLS is not handed over in the clear.
+    const bool secure = startsWithNoCase(url, "https://");
+#if LIBCURL_VERSION_NUM >= 0x075500
+    curl_easy_setopt(curl, CURLOPT_PROTOCOLS_STR, "http,https");
+    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS_STR, secure ? "https" : "http,https");
+#else
+    curl_easy_setopt(curl, CURLOPT_PROTOCOLS, long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
+    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS,
+                     secure ? long(CURLPROTO_HTTPS) : long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
+#endif
+    if (!o.caFile.empty()) curl_easy_setopt(curl, CURLOPT_CAINFO, o.caFile.c_str());
+    curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, "");  // gzip and the like: tileset.json compresses well
+    curl_easy_setopt(curl, CURLOPT_USERAGENT, "sgkit");
+    curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, long(std::max(1.0, o.connectTimeoutSeconds * 1000.0)));
+    // A trickle is less than 1 byte/s for LOW_SPEED_TIME (whole seconds; a body that stops growing is timed by
+    // onProgress); no total timeout, so that a large tile on a slow but moving link completes.
+    const long stall = o.stallSeconds > 0 ? std::max(1L, long(std::ceil(o.stallSeconds))) : 0L;
+    if (stall > 0) {
+        curl_easy_setopt(curl, CURLOPT_LOW_SPEED_LIMIT, 1L);
+        curl_easy_setopt(curl, CURLOPT_LOW_SPEED_TIME, stall);
+    }
+    // An announced length over the limit is refused before the body is read.
+    const uint64_t maxOff = uint64_t(INT64_MAX);
+    curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, curl_off_t(std::min<uint64_t>(o.maxBytes, maxOff)));
+    curl_easy_setopt(curl, CURLOPT_HEADERFUNCTION, &onHeader);
+    curl_easy_setopt(curl, CURLOPT_HEADERDATA, &t);
+    curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, &onData);
+    curl_easy_setopt(curl, CURLOPT_WRITEDATA, &t);
+    curl_easy_setopt(curl, CURLOPT_XFERINFOFUNCTION, &onProgress);
+    curl_easy_setopt(curl, CURLOPT_XFERINFODATA, &t);
+    curl_easy_setopt(curl, CURLOPT_NOPROGRESS, 0L);
+
+    const CURLcode rc = curl_easy_perform(curl);
+    long status = 0, osErrno = 0;
+    curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &status);
+    curl_easy_getinfo(curl, CURLINFO_OS_ERRNO, &osErrno);
+    const std::string detail = error[0] ? error : curl_easy_strerror(rc);
+    switch (rc) {
+        case CURLE_OK: break;
+        case CURLE_WRITE_ERROR:
+        case CURLE_ABORTED_BY_CALLBACK: fail(url, t.failure.empty() ? detail : t.failure);
+        case CURLE_FILESIZE_EXCEEDED: fail(url, "larger than the limit");
+        case CURLE_COULDNT_CONNECT:
+            fail(url, osErrno == ECONNREFUSED ? std::string("connection refused") : "cannot connect: " + detail);
+        case CURLE_COULDNT_RESOLVE_HOST: fail(url, "cannot resolve the host: " + detail);
+        case CURLE_OPERATION_TIMEDOUT: {
+            // The same code for both timeouts: a request sent (pre-transfer time set) means the connection was made.
+            curl_off_t sent = 0;
+            curl_easy_getinfo(curl, CURLINFO_PRETRANSFER_TIME_T, &sent);
+            if (sent > 0) fail(url, "less than 1 byte/s for " + seconds(double(stall)));
+            fail(url, "connection timed out after " + seconds(o.connectTimeoutSeconds));
+        }
+        case CURLE_PARTIAL_FILE: fail(url, closedAfter(curl, "closed"));
+        case CURLE_GOT_NOTHING: fail(url, "connection closed without a response");
+        case CURLE_RECV_ERROR: fail(url, closedAfter(curl, osErrno == ECONNRESET ? "reset" : "failed"));
+        case CURLE_TOO_MANY_REDIRECTS: fail(url, "more than 5 redirects");
+        case CURLE_UNSUPPORTED_PROTOCOL: {  // only a redirect can get here: the URL itself is http or https
+            const std::string where = t.location.empty() ? std::string() : " '" + t.location + "'";
+            fail(url,
+                 "redirected to" + where + ", refused: " +
+                     (secure ? "an https resource is redirected to https only" : "redirects go to http or https only") +
+                     " (origin rule)");
+        }
+        default: fail(url, detail);
+    }
+    if (status < 200 || status >= 300) fail(url, statusReason(status, t.phrase));
+    // libcurl reports a short body as CURLE_PARTIAL_FILE; checked again here, since a truncated tile parses badly.
+    curl_off_t got = 0, length = -1;
+    curl_easy_getinfo(curl, CURLINFO_SIZE_DOWNLOAD_T, &got);
+    curl_easy_getinfo(curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+    if (length >= 0 && got != length) fail(url, closedAfter(curl, "closed"));
+    return std::move(t.bytes);
+}
+
+}  // namespace
+
+bool isUrl(const std::string& s) { return startsWithNoCase(s, "http://") || startsWithNoCase(s, "https://"); }
+
+std::string resolveUri(const std::string& base, const std::string& relative) {
+    if (relative.empty()) return base;
+    if (schemeLength(relative)) return relative;  // an absolute URL (http:, https:, file:, data:)
+    const size_t scheme = schemeLength(base);
+    if (!scheme || base.compare(scheme, 2, "//") != 0) {
+        if (relative[0] == '/') return relative;
+        // Paths are joined, not folded: "a/../b" is not "b" when a is a symbolic link to another directory.
+        const size_t slash = base.rfind('/');
+        return slash == std::string::npos ? relative : base.substr(0, slash + 1) + relative;
+    }
+    if (relative.compare(0, 2, "//") == 0) return base.substr(0, scheme) + relative;  // another host, same scheme
+    size_t pathStart = base.find_first_of("/?#", scheme + 2);
+    if (pathStart == std::string::npos) pathStart = base.size();
+    size_t pathEnd = base.find_first_of("?#", pathStart);
+    if (pathEnd == std::string::npos) pathEnd = base.size();
+    std::string basePath = base.substr(pathStart, pathEnd - pathStart);
+    if (basePath.empty()) basePath = "/";
+    // The reference's own query and fragment follow the folded path untouched.
+    const size_t relEnd = std::min(relative.find_first_of("?#"), relative.size());
+    const std::string relPath = relative.substr(0, relEnd);
+    std::string merged;
+    if (relPath.empty())
+        merged = basePath;
+    else if (relPath[0] == '/')
+        merged = relPath;
+    else
+        merged = basePath.substr(0, basePath.rfind('/') + 1) + relPath;
+    return base.substr(0, pathStart) + removeDotSegments(merged) + relative.substr(relEnd);
+}
+
+bool isDataUri(const std::string& s) { return startsWithNoCase(s, "data:"); }
+
+std::string resolveReference(const std::string& referrer, const std::string& relative, const std::string& jsonPath) {
+    std::string uri = resolveUri(referrer, relative);
+    if (isUrl(referrer) && !isUrl(uri) && !isDataUri(uri)) {
+        const std::string shown = relative.size() > 200 ? relative.substr(0, 200) + "..." : relative;
+        throw LoadError(referrer, jsonPath,
+                        "'" + shown +
+                            "' refused: a resource read over the network may name only http, https and data: URIs, "
+                            "not local files (origin rule)");
+    }
+    return uri;
+}
+
+std::vector<unsigned char> readResource(const std::string& uriOrPath, const ResourceOptions& options) {
+    if (isUrl(uriOrPath)) return readUrl(uriOrPath, options);
+    if (isDataUri(uriOrPath)) return readData(uriOrPath, options);
+    if (startsWithNoCase(uriOrPath, "file://")) return readFile(uriOrPath, filePath(uriOrPath), options);
+    return readFile(uriOrPath, uriOrPath, options);
+}
+
+}  // namespace sg

@@ -1,0 +1,451 @@
+// The 3D Tiles 1.0 binary formats: header, feature table (JSON and binary body) and the payload after the
+// batch table. Every length and offset read from the file is checked against the bytes before use; the
+// batch table is only bounded (its properties are not read).
+#include "loaders/tiles/internal/TileFormats.h"
+
+#include "loaders/gltf/internal/GltfDetail.h"  // kMaxJsonDepth, at(), fail()
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <optional>
+
+namespace sg::tiles {
+namespace {
+
+using glm::dmat3;
+using gltf::at;
+using gltf::fail;
+using nlohmann::json;
+
+// A composite inside a composite inside ... may go this deep (recursion and memory stay bounded).
+constexpr int kMaxCmptDepth = 8;
+// Legacy b3dm headers put a JSON string ('"', 0x22) or the glTF magic ('g', 0x67) where the current header has
+// a batch table length; a first byte of 0x22 or more makes the length at least this (as CesiumJS tests it).
+constexpr uint32_t kLegacyLength = 0x22000000;
+// WGS84 (the ellipsoid EAST_NORTH_UP refers to).
+constexpr double kWgs84A = 6378137.0, kWgs84B = 6356752.3142451793;
+
+uint32_t le32(const unsigned char* p) {
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+uint16_t le16(const unsigned char* p) { return uint16_t(p[0] | p[1] << 8); }
+float f32(const unsigned char* p) {
+    const uint32_t u = le32(p);
+    float f;
+    std::memcpy(&f, &u, 4);
+    return f;
+}
+
+template <class T>
+std::string str(T v) {
+    return std::to_string(v);
+}
+
+// The magic as text when printable, else in hex (it goes into a message).
+std::string magicText(const unsigned char* p) {
+    std::string s = "'";
+    for (int i = 0; i < 4; ++i) s += (p[i] >= 0x20 && p[i] < 0x7f) ? char(p[i]) : '?';
+    return s + "' (0x" + [p] {
+        char hex[9];
+        std::snprintf(hex, sizeof hex, "%02x%02x%02x%02x", p[0], p[1], p[2], p[3]);
+        return std::string(hex);
+    }() + ")";
+}
+
+// The 12 bytes every format starts with: magic, version 1, byteLength equal to the bytes given.
+void checkHeader(const std::string& file, const std::string& prefix, const unsigned char* data, size_t size,
+                 const char* magic, size_t headerSize) {
+    if (size < headerSize)
+        fail(file, prefix + "header",
+             str(size) + " bytes, shorter than the " + str(headerSize) + "-byte " + magic + " header");
+    if (std::memcmp(data, magic, 4) != 0)
+        fail(file, prefix + "header.magic", "is " + magicText(data) + ", not '" + magic + "'");
+    if (le32(data + 4) != 1) fail(file, prefix + "header.version", "version " + str(le32(data + 4)) + " (only 1)");
+    if (le32(data + 8) != size)
+        fail(file, prefix + "header.byteLength",
+             "byteLength " + str(le32(data + 8)) + " disagrees with the " + str(size) + " bytes of the tile");
+}
+
+// Feature table JSON: an object (empty when the section is), parsed with its nesting depth bounded.
+json parseFeatureJson(const std::string& file, const unsigned char* p, size_t n) {
+    while (n > 0 && (p[n - 1] == ' ' || p[n - 1] == '\0')) --n;  // padding (spaces per the spec; some pad NULs)
+    if (n == 0) return json::object();
+    json j;
+    try {
+        j = json::parse(p, p + n, [&](int depth, json::parse_event_t event, json&) {
+            if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
+                depth >= gltf::kMaxJsonDepth)
+                fail(file, "featureTable", "JSON nested deeper than " + str(gltf::kMaxJsonDepth) + " levels");
+            return true;
+        });
+    } catch (const json::exception& e) {
+        fail(file, "featureTable", std::string("JSON: ") + e.what());
+    }
+    if (!j.is_object()) fail(file, "featureTable", "the feature table JSON is not an object");
+    return j;
+}
+
+// A feature table and the reads its semantics share; `count` is the number of features (instances).
+struct FeatureTable {
+    const std::string& file;
+    json json_;
+    Bytes binary;
+
+    static std::string path(const char* name) { return std::string("featureTable.") + name; }
+    const json* find(const char* name) const {
+        auto it = json_.find(name);
+        return it == json_.end() ? nullptr : &*it;
+    }
+
+    // The start of `count` elements of `components` values of `componentSize` bytes that `name` refers to in
+    // the binary body; the byteOffset is a multiple of the component size, as the spec requires.
+    const unsigned char* binaryRef(const char* name, const json& ref, size_t componentSize, size_t components,
+                                   uint64_t count) const {
+        const auto off = ref.find("byteOffset");
+        if (off == ref.end() || !off->is_number_unsigned())
+            fail(file, path(name) + ".byteOffset", "is missing or not a non-negative integer");
+        const uint64_t o = off->get<uint64_t>();
+        if (o % componentSize != 0)
+            fail(file, path(name) + ".byteOffset",
+                 "byteOffset " + str(o) + " is not a multiple of the component size " + str(componentSize));
+        const uint64_t elem = componentSize * components;
+        if (o > binary.size || count > (binary.size - o) / elem)
+            fail(file, path(name),
+                 "byteOffset " + str(o) + " + " + str(count) + " elements of " + str(elem) +
+                     " bytes is past the end of the feature table binary (" + str(binary.size) + " bytes)");
+        return binary.data + o;
+    }
+    // Semantics with one component type refuse another named in "componentType".
+    void fixedType(const char* name, const json& ref, const char* type) const {
+        const auto t = ref.find("componentType");
+        if (t != ref.end() && !(t->is_string() && t->get<std::string>() == type))
+            fail(file, path(name) + ".componentType", "must be " + std::string(type) + " (or absent)");
+    }
+
+    // A global uint32: a JSON integer or a reference to an UNSIGNED_INT in the binary body.
+    std::optional<uint32_t> globalUint(const char* name) const {
+        const json* v = find(name);
+        if (!v) return std::nullopt;
+        if (v->is_object()) {
+            fixedType(name, *v, "UNSIGNED_INT");
+            return le32(binaryRef(name, *v, 4, 1, 1));
+        }
+        if (!v->is_number_unsigned() || v->get<uint64_t>() > std::numeric_limits<uint32_t>::max())
+            fail(file, path(name), "must be an integer in [0, 2^32)");
+        return uint32_t(v->get<uint64_t>());
+    }
+    // A global float32[3]: a JSON array of 3 finite numbers or a reference to 3 FLOATs in the binary body.
+    std::optional<dvec3> globalVec3(const char* name) const {
+        const json* v = find(name);
+        if (!v) return std::nullopt;
+        dvec3 r;
+        if (v->is_object()) {
+            fixedType(name, *v, "FLOAT");
+            const unsigned char* p = binaryRef(name, *v, 4, 3, 1);
+            r = dvec3(f32(p), f32(p + 4), f32(p + 8));
+        } else {
+            if (!v->is_array() || v->size() != 3) fail(file, path(name), "must be an array of 3 numbers");
+            for (int k = 0; k < 3; ++k) {
+                if (!(*v)[k].is_number()) fail(file, path(name), "element " + str(k) + " is not a number");
+                r[k] = (*v)[k].get<double>();
+            }
+        }
+        for (int k = 0; k < 3; ++k)
+            if (!std::isfinite(r[k])) fail(file, path(name), "element " + str(k) + " is not finite");
+        return r;
+    }
+    // A per-instance property: only in the binary body (the spec allows no JSON arrays); nullptr when absent.
+    const unsigned char* perInstance(const char* name, const char* type, size_t componentSize, size_t components,
+                                     uint32_t count) const {
+        const json* v = find(name);
+        if (!v) return nullptr;
+        if (!v->is_object()) fail(file, path(name), "must refer to the binary body ({\"byteOffset\": ...})");
+        fixedType(name, *v, type);
+        return binaryRef(name, *v, componentSize, components, count);
+    }
+};
+
+// The sections after a 28- or 32-byte header: feature table (JSON, binary), batch table (JSON, binary), and
+// what follows up to byteLength (the glb or the glTF URI).
+struct Sections {
+    FeatureTable featureTable;
+    Bytes body;
+};
+
+Sections readSections(const std::string& file, const unsigned char* data, size_t size, size_t headerSize) {
+    static const char* names[4] = {"featureTableJSONByteLength", "featureTableBinaryByteLength",
+                                   "batchTableJSONByteLength", "batchTableBinaryByteLength"};
+    size_t offset = headerSize, start[4];
+    uint32_t len[4];
+    for (int i = 0; i < 4; ++i) {
+        len[i] = le32(data + 12 + 4 * i);
+        if (len[i] > size - offset)  // offset <= size holds: headerSize <= size, each section checked
+            fail(file, std::string("header.") + names[i],
+                 str(len[i]) + " bytes at byte " + str(offset) + " exceed the " + str(size) + " bytes of the tile");
+        start[i] = offset;
+        offset += len[i];
+    }
+    Sections s{FeatureTable{file, parseFeatureJson(file, data + start[0], len[0]), Bytes{data + start[1], len[1]}},
+               Bytes{data + offset, size - offset}};
+    return s;
+}
+
+// The glb after the tables, by its own header's length (the tile may pad after it).
+Bytes embeddedGlb(const std::string& file, Bytes body) {
+    if (body.size < 12) fail(file, "glb", "the embedded glb is " + str(body.size) + " bytes, under its 12-byte header");
+    if (std::memcmp(body.data, "glTF", 4) != 0)
+        fail(file, "glb", "the embedded glTF starts with " + magicText(body.data) + ", not 'glTF'");
+    const uint32_t length = le32(body.data + 8);
+    if (length < 12 || length > body.size)
+        fail(file, "glb", "the embedded glb's length " + str(length) + " is outside [12, " + str(body.size) + "]");
+    return Bytes{body.data, length};
+}
+
+// Oct-decoding of a unit vector stored as two uint16 in [0, 65535] (the spec's oct32P; CesiumJS' octDecodeInRange).
+dvec3 octDecode(uint16_t ex, uint16_t ey) {
+    auto snorm = [](uint16_t v) { return v / 65535.0 * 2.0 - 1.0; };
+    auto signNotZero = [](double v) { return v < 0.0 ? -1.0 : 1.0; };
+    dvec3 n(snorm(ex), snorm(ey), 0.0);
+    n.z = 1.0 - (std::abs(n.x) + std::abs(n.y));
+    if (n.z < 0.0) {
+        const double x = n.x;
+        n.x = (1.0 - std::abs(n.y)) * signNotZero(x);
+        n.y = (1.0 - std::abs(x)) * signNotZero(n.y);
+    }
+    return glm::normalize(n);  // |x| + |y| + |z| >= 1: never zero
+}
+
+// A unit vector along v (not zero, finite), scaled first so that squaring its parts cannot overflow or underflow.
+dvec3 direction(dvec3 v) {
+    v /= std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    return glm::normalize(v);
+}
+
+// East, north, up of WGS84 at an ECEF position (CesiumJS' eastNorthUpToFixedFrame): up is the ellipsoid
+// normal, east is horizontal. On the polar axis, where east is undefined, its fixed frame for the pole's side.
+dmat3 eastNorthUp(const dvec3& p) {
+    if (std::abs(p.x) < 1e-14 && std::abs(p.y) < 1e-14) {
+        const double s = p.z < 0.0 ? -1.0 : 1.0;
+        return dmat3(dvec3(0, 1, 0), dvec3(-s, 0, 0), dvec3(0, 0, s));
+    }
+    // The gradient of x²/a² + y²/a² + z²/b² (a² factored out), of p scaled to 1 first: p may be as large as
+    // doubles go.
+    const dvec3 q = p / std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    const dvec3 up = direction(dvec3(q.x, q.y, q.z * (kWgs84A / kWgs84B) * (kWgs84A / kWgs84B)));
+    const dvec3 east = direction(dvec3(-p.y, p.x, 0.0));
+    return dmat3(east, glm::cross(up, east), up);
+}
+
+// Checks a right/up pair and makes the rotation whose columns are right, up, right x up.
+dmat3 basis(const std::string& file, const char* name, uint32_t i, dvec3 right, dvec3 up) {
+    for (const dvec3* v : {&right, &up}) {
+        const double len = glm::length(*v);
+        if (!std::isfinite(len) || len < 1e-6)
+            fail(file, FeatureTable::path(name),
+                 "instance " + str(i) + ": zero-length or non-finite " + (v == &up ? "up" : "right") + " normal");
+    }
+    right = glm::normalize(right);
+    up = glm::normalize(up);
+    const dvec3 forward = glm::cross(right, up);
+    if (glm::length(forward) < 1e-6)
+        fail(file, FeatureTable::path(name), "instance " + str(i) + ": the up and right normals are parallel");
+    return dmat3(right, up, glm::normalize(forward));
+}
+
+void collectTiles(const std::string& file, const std::string& prefix, const unsigned char* data, size_t size, int depth,
+                  std::vector<Bytes>& out) {
+    if (depth > kMaxCmptDepth)
+        fail(file, prefix.empty() ? "" : prefix.substr(0, prefix.size() - 1),
+             "composite tiles nested deeper than " + str(kMaxCmptDepth) + " levels");
+    checkHeader(file, prefix, data, size, "cmpt", 16);
+    const uint32_t tilesLength = le32(data + 12);
+    size_t offset = 16;
+    // Each inner tile takes at least 12 bytes, so the loop ends with the data whatever tilesLength says.
+    for (uint32_t i = 0; i < tilesLength; ++i) {
+        const std::string path = prefix + at("tiles", i);
+        if (size - offset < 12)
+            fail(file, path,
+                 "tile " + str(i) + " of " + str(tilesLength) + " starts at byte " + str(offset) + ", " +
+                     str(size - offset) + " bytes before the end: no room for its 12-byte header");
+        const unsigned char* tile = data + offset;
+        const uint32_t length = le32(tile + 8);
+        if (length < 12 || length > size - offset)
+            fail(file, path + ".header.byteLength",
+                 "byteLength " + str(length) + " is outside [12, " + str(size - offset) + "] (the bytes left)");
+        if (std::memcmp(tile, "cmpt", 4) == 0)
+            collectTiles(file, path + ".", tile, length, depth + 1, out);
+        else if (std::memcmp(tile, "b3dm", 4) == 0 || std::memcmp(tile, "i3dm", 4) == 0 ||
+                 std::memcmp(tile, "pnts", 4) == 0)
+            out.push_back(Bytes{tile, length});
+        else
+            fail(file, path + ".header.magic", "unknown tile format " + magicText(tile));
+        offset += length;
+    }
+}
+
+}  // namespace
+
+ContentKind sniffContent(const unsigned char* data, size_t size) {
+    if (size >= 4) {
+        static const std::pair<const char*, ContentKind> magics[] = {{"glTF", ContentKind::Glb},
+                                                                     {"b3dm", ContentKind::B3dm},
+                                                                     {"i3dm", ContentKind::I3dm},
+                                                                     {"cmpt", ContentKind::Cmpt},
+                                                                     {"pnts", ContentKind::Pnts}};
+        for (const auto& [magic, kind] : magics)
+            if (std::memcmp(data, magic, 4) == 0) return kind;
+    }
+    size_t i = size >= 3 && data[0] == 0xef && data[1] == 0xbb && data[2] == 0xbf ? 3 : 0;
+    while (i < size && (data[i] == ' ' || data[i] == '\t' || data[i] == '\n' || data[i] == '\r')) ++i;
+    return i < size && data[i] == '{' ? ContentKind::Json : ContentKind::Unknown;
+}
+
+B3dm parseB3dm(const std::string& file, const unsigned char* data, size_t size) {
+    checkHeader(file, "", data, size, "b3dm", 28);
+    // The legacy layouts (before 3D Tiles 1.0) are not read: refused by name so the user knows what the file is.
+    if (le32(data + 20) >= kLegacyLength)
+        fail(file, "header",
+             "legacy b3dm header [batchLength] [batchTableByteLength] (20 bytes, before 3D Tiles 1.0) is not "
+             "supported");
+    if (le32(data + 24) >= kLegacyLength)
+        fail(file, "header",
+             "legacy b3dm header [batchTableJsonByteLength] [batchTableBinaryByteLength] [batchLength] (24 bytes, "
+             "before 3D Tiles 1.0) is not supported");
+    const Sections s = readSections(file, data, size, 28);
+    B3dm b;
+    // BATCH_LENGTH is required by the spec, yet CesiumJS reads tiles without it as 0 features: so does this.
+    b.batchLength = s.featureTable.globalUint("BATCH_LENGTH").value_or(0);
+    if (const auto rtc = s.featureTable.globalVec3("RTC_CENTER")) {
+        b.hasRtcCenter = true;
+        b.rtcCenter = *rtc;
+    }
+    b.glb = embeddedGlb(file, s.body);
+    return b;
+}
+
+I3dm parseI3dm(const std::string& file, const unsigned char* data, size_t size) {
+    checkHeader(file, "", data, size, "i3dm", 32);
+    const uint32_t gltfFormat = le32(data + 28);
+    if (gltfFormat > 1) fail(file, "header.gltfFormat", "gltfFormat " + str(gltfFormat) + " (0: URI, 1: glb)");
+    const Sections s = readSections(file, data, size, 32);
+    const FeatureTable& ft = s.featureTable;
+    I3dm r;
+    if (gltfFormat == 1) {
+        r.glb = embeddedGlb(file, s.body);
+    } else {
+        size_t n = s.body.size;
+        while (n > 0 && (s.body.data[n - 1] == ' ' || s.body.data[n - 1] == '\0')) --n;
+        if (n == 0) fail(file, "glbUri", "gltfFormat 0 with an empty glTF URI");
+        r.glbUri.assign(reinterpret_cast<const char*>(s.body.data), n);
+    }
+
+    const std::optional<uint32_t> count = ft.globalUint("INSTANCES_LENGTH");
+    if (!count) fail(file, FeatureTable::path("INSTANCES_LENGTH"), "is missing (required)");
+    const uint32_t n = *count;
+    const dvec3 rtc = ft.globalVec3("RTC_CENTER").value_or(dvec3(0.0));
+
+    // Each array is checked to hold INSTANCES_LENGTH elements before anything is allocated for them.
+    const unsigned char* pos = ft.perInstance("POSITION", "FLOAT", 4, 3, n);
+    const unsigned char* quantized = pos ? nullptr : ft.perInstance("POSITION_QUANTIZED", "UNSIGNED_SHORT", 2, 3, n);
+    if (!pos && !quantized) fail(file, FeatureTable::path("POSITION"), "neither POSITION nor POSITION_QUANTIZED");
+    dvec3 qOffset(0.0), qScale(0.0);
+    if (quantized) {
+        for (const char* name : {"QUANTIZED_VOLUME_OFFSET", "QUANTIZED_VOLUME_SCALE"})
+            if (!ft.find(name)) fail(file, FeatureTable::path(name), "is missing (POSITION_QUANTIZED needs it)");
+        qOffset = *ft.globalVec3("QUANTIZED_VOLUME_OFFSET");
+        qScale = *ft.globalVec3("QUANTIZED_VOLUME_SCALE");
+    }
+
+    // Orientation: float normals win over oct-encoded ones (the spec's "higher precision"); each needs its pair.
+    auto pair = [&](const char* upName, const char* rightName, const char* type, size_t size, size_t comps) {
+        const unsigned char* up = ft.perInstance(upName, type, size, comps, n);
+        const unsigned char* right = ft.perInstance(rightName, type, size, comps, n);
+        if (!up != !right)
+            fail(file, FeatureTable::path(up ? rightName : upName), "is missing (the other normal is given)");
+        return std::make_pair(up, right);
+    };
+    const auto [up, right] = pair("NORMAL_UP", "NORMAL_RIGHT", "FLOAT", 4, 3);
+    const auto [upOct, rightOct] =
+        up ? std::make_pair(nullptr, nullptr) : pair("NORMAL_UP_OCT32P", "NORMAL_RIGHT_OCT32P", "UNSIGNED_SHORT", 2, 2);
+    bool enu = false;
+    if (const json* e = ft.find("EAST_NORTH_UP")) {
+        if (!e->is_boolean()) fail(file, FeatureTable::path("EAST_NORTH_UP"), "must be true or false");
+        enu = e->get<bool>();
+    }
+    const unsigned char* scale = ft.perInstance("SCALE", "FLOAT", 4, 1, n);
+    const unsigned char* scale3 = ft.perInstance("SCALE_NON_UNIFORM", "FLOAT", 4, 3, n);
+    if (const json* b = ft.find("BATCH_ID")) {  // not returned, but a reader of the batch table relies on it
+        if (!b->is_object()) fail(file, FeatureTable::path("BATCH_ID"), "must refer to the binary body");
+        const auto t = b->find("componentType");
+        const std::string type = t == b->end() ? "UNSIGNED_SHORT" : t->is_string() ? t->get<std::string>() : "";
+        const size_t bytes = type == "UNSIGNED_BYTE"    ? 1
+                             : type == "UNSIGNED_SHORT" ? 2
+                             : type == "UNSIGNED_INT"   ? 4
+                                                        : 0;
+        if (bytes == 0)
+            fail(file, FeatureTable::path("BATCH_ID.componentType"),
+                 "must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+        ft.binaryRef("BATCH_ID", *b, bytes, 1, n);
+    }
+
+    auto finite = [&](const char* name, uint32_t i, dvec3 v) {
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+            fail(file, FeatureTable::path(name), "instance " + str(i) + ": not finite");
+        return v;
+    };
+    r.instances.reserve(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        dvec3 p;
+        if (pos) {
+            const unsigned char* q = pos + 12 * size_t(i);
+            p = dvec3(f32(q), f32(q + 4), f32(q + 8));
+        } else {
+            const unsigned char* q = quantized + 6 * size_t(i);
+            p = dvec3(le16(q), le16(q + 2), le16(q + 4)) * qScale / 65535.0 + qOffset;
+        }
+        p = finite(pos ? "POSITION" : "POSITION_QUANTIZED", i, p + rtc);
+        dmat3 rot(1.0);
+        if (up) {
+            const unsigned char* u = up + 12 * size_t(i);
+            const unsigned char* rt = right + 12 * size_t(i);
+            rot = basis(file, "NORMAL_UP", i, dvec3(f32(rt), f32(rt + 4), f32(rt + 8)),
+                        dvec3(f32(u), f32(u + 4), f32(u + 8)));
+        } else if (upOct) {
+            const unsigned char* u = upOct + 4 * size_t(i);
+            const unsigned char* rt = rightOct + 4 * size_t(i);
+            rot =
+                basis(file, "NORMAL_UP_OCT32P", i, octDecode(le16(rt), le16(rt + 2)), octDecode(le16(u), le16(u + 2)));
+        } else if (enu) {
+            rot = eastNorthUp(p);
+        }
+        dvec3 s(1.0);
+        if (scale) s *= finite("SCALE", i, dvec3(f32(scale + 4 * size_t(i))));
+        if (scale3) {
+            const unsigned char* q = scale3 + 12 * size_t(i);
+            s *= finite("SCALE_NON_UNIFORM", i, dvec3(f32(q), f32(q + 4), f32(q + 8)));
+        }
+        r.instances.push_back(glm::translate(dmat4(1.0), p) * dmat4(rot) * glm::scale(dmat4(1.0), s));
+    }
+    return r;
+}
+
+Cmpt parseCmpt(const std::string& file, const unsigned char* data, size_t size) {
+    Cmpt c;
+    collectTiles(file, "", data, size, 1, c.tiles);
+    return c;
+}
+
+uint32_t pntsPointCount(const std::string& file, const unsigned char* data, size_t size) {
+    checkHeader(file, "", data, size, "pnts", 28);
+    const Sections s = readSections(file, data, size, 28);
+    const std::optional<uint32_t> n = s.featureTable.globalUint("POINTS_LENGTH");
+    if (!n) fail(file, FeatureTable::path("POINTS_LENGTH"), "is missing (required)");
+    return *n;
+}
+
+}  // namespace sg::tiles

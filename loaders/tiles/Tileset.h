@@ -1,0 +1,85 @@
+// OGC 3D Tiles 1.0 and 1.1 read as a graph of paged nodes: every tile with children is a PagedLOD refined by
+// screen-space error, its content the coarse level and its children's contents, loaded together, the detail.
+// Contents: .glb and .gltf (glTF's +Y up turned to the tileset's +Z up), .b3dm, .i3dm (Instances), .cmpt and
+// external tilesets; .pnts is skipped with a warning. Files and http(s) URLs (loaders/net/Resource.h).
+#pragma once
+#include "loaders/gltf/Gltf.h"
+#include "loaders/net/Resource.h"
+#include "sg/core/Math.h"
+#include "sg/core/Node.h"
+#include "sg/paging/Pager.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sg {
+
+struct TilesetOptions {
+    // A tile refines while its geometric error, seen at the eye's distance to its bounding sphere, projects to
+    // more than this many pixels (Cesium's default).
+    double maximumScreenSpaceError = 16.0;
+    // Content-less tiles below a drawn tile are read with their children in one load (so that the drawn tile
+    // stays until everything replacing it is there), up to this many tiles per load; past it they page alone.
+    size_t maxTilesPerLoad = 256;
+    // Meshes equal to the bit in different tiles' contents become one mesh (held, welded and uploaded once), as a
+    // city's building kinds repeated in every tile's file. The pager's byte budget still counts a shared mesh in
+    // each detail that holds it.
+    bool shareMeshes = true;
+    // Occluders made from each load's geometry as it is read (sg::generateOccluders, sg/build/GeneratedOccluders.h),
+    // on the loader's thread: the occlusion pass uses a tile's while its content is drawn. Tiles that carry sgkit's
+    // own authored occluders keep them.
+    bool generateOccluders = false;
+    OccluderGenSettings occluders;
+    ResourceOptions resource;
+};
+
+// What a tileset holds and what was loaded so far (loads on the pager's threads add to it).
+struct TilesetCounts {
+    size_t tiles = 0;     // tiles read from tileset.json files (external ones as they are loaded)
+    size_t contents = 0;  // contents loaded
+    size_t externalTilesets = 0;
+    size_t skippedPoints = 0;  // .pnts contents skipped
+    size_t sharedMeshes = 0;   // meshes replaced by an equal one another tile had loaded (shareMeshes)
+    size_t pooledMeshes = 0;   // distinct meshes the tileset's loads hold now
+};
+
+namespace tiles {
+class TilesetState;  // the tile table shared by the graph's load function (loaders/tiles/TilesetRead.cpp)
+}
+
+class Tileset {
+public:
+    // The graph: the root tile's Transform (its transform and content) with the PagedLODs below; +Z up, in the
+    // tileset's frame (Earth-centred for georeferenced data: the renderer draws relative to the camera).
+    ref_ptr<Node> root() const { return root_; }
+    // The pager's load function for this tileset's PagedLODs (sg::Pager, Viewer::enablePaging). Files that are
+    // not this tileset's tiles are read as glTF pages (sg::loadGltfPage). Safe on several loader threads.
+    PageLoadFunction loadFunction() const;
+    // What was skipped or converted, each naming its file and JSON path; loads add theirs.
+    std::vector<std::string> warnings() const;
+    TilesetCounts counts() const;
+    const std::string& file() const { return file_; }
+
+private:
+    friend Tileset loadTileset(const std::string&, const TilesetOptions&);
+    std::shared_ptr<tiles::TilesetState> state_;
+    ref_ptr<Node> root_;
+    std::string file_;
+};
+
+// Reads tileset.json (a path or an http(s) URL) and the root tile's content. Throws LoadError naming the file,
+// the JSON path and the reason (e.g. "root.children[3].geometricError: missing"); a JSON file that is not a
+// tileset (a glTF, say) is refused.
+Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options = {});
+
+// Loads every tile below `root` now, on this thread (sgview --refine-all, tests): each PagedLOD gets its detail
+// attached and shows it whenever attached (Trigger::Command), so that a REPLACE tile's content gives way to its
+// children's and an ADD tile's stays. Throws what the load function throws. Returns the tiles loaded.
+size_t refineAll(Node& root, const PageLoadFunction& load);
+
+// Whether a file's JSON is a 3D Tiles tileset (an object with "asset" and "root"): what sgview asks before
+// choosing a reader. False for anything else, including files it cannot read.
+bool isTilesetFile(const std::string& path);
+
+}  // namespace sg

@@ -1,0 +1,272 @@
+// Tiles into nodes: a tile is its Transform, its content and, when it has children, a PagedLOD refined by
+// screen-space error whose detail is the children's graphs, read in one load. The PagedLOD shows its coarse
+// children (a REPLACE tile's content) until the whole detail is attached, so no tile leaves a hole; an ADD tile's
+// content sits beside the PagedLOD and stays.
+#include "loaders/gltf/internal/GltfDetail.h"
+#include "loaders/tiles/internal/TileFormats.h"
+#include "loaders/tiles/internal/TilesetTable.h"
+#include "nodes/Geometry.h"
+#include "nodes/Group.h"
+#include "nodes/Instance.h"
+#include "nodes/LOD.h"
+#include "nodes/PagedLOD.h"
+#include "nodes/Transform.h"
+#include "sg/build/GeneratedOccluders.h"
+#include "sg/core/NodeVisitor.h"
+
+#include <nlohmann/json.hpp>
+
+#include <sys/stat.h>
+#include <cstring>
+#include <fstream>
+#include <unordered_set>
+
+namespace sg {
+namespace tiles {
+namespace {
+
+// A glTF (binary, or JSON from a file so that its external buffers are found) turned +Z up. One read over the
+// network or from a data: URI is parsed from memory, where no external file is read.
+ref_ptr<Node> gltfContent(const std::shared_ptr<TilesetState>& s, const std::string& uri, const unsigned char* data,
+                          size_t size, bool binary, const dmat4& place) {
+    GltfScene g = binary || isUrl(uri) || isDataUri(uri) ? loadGltfFromMemory(uri, data, size) : loadGltf(uri);
+    for (const std::string& w : g.warnings) s->warn(uri + ": " + w);
+    auto t = make<Transform>(place * yUpToZUp());
+    t->addChild(g.root);
+    return t;
+}
+
+ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
+                        const unsigned char* data, size_t size, const dmat4& world, size_t& budget) {
+    switch (sniffContent(data, size)) {
+        case ContentKind::Glb: return gltfContent(s, uri, data, size, true, dmat4(1.0));
+        case ContentKind::B3dm: {
+            const B3dm b = parseB3dm(uri, data, size);
+            const dmat4 rtc = b.hasRtcCenter ? glm::translate(dmat4(1.0), b.rtcCenter) : dmat4(1.0);
+            return gltfContent(s, uri, b.glb.data, b.glb.size, true, rtc);
+        }
+        case ContentKind::I3dm: {
+            const I3dm in = parseI3dm(uri, data, size);
+            ref_ptr<Node> proto;
+            if (in.glbUri.empty()) {
+                proto = gltfContent(s, uri, in.glb.data, in.glb.size, true, dmat4(1.0));
+            } else {
+                const std::string model = resolveReference(uri, in.glbUri);
+                const std::vector<unsigned char> bytes = readResource(model, s->options.resource);
+                proto = gltfContent(s, model, bytes.data(), bytes.size(),
+                                    sniffContent(bytes.data(), bytes.size()) == ContentKind::Glb, dmat4(1.0));
+            }
+            auto g = make<Group>();
+            for (const dmat4& m : in.instances) g->addChild(make<Instance>(proto, m));
+            return g;
+        }
+        case ContentKind::Cmpt: {
+            const Cmpt c = parseCmpt(uri, data, size);
+            auto g = make<Group>();
+            for (size_t i = 0; i < c.tiles.size(); ++i) {
+                ref_ptr<Node> n = fromBytes(s, tile, uri + "#tiles[" + std::to_string(i) + "]", c.tiles[i].data,
+                                            c.tiles[i].size, world, budget);
+                if (n) g->addChild(n);
+            }
+            return g;
+        }
+        case ContentKind::Pnts:
+            pntsPointCount(uri, data, size);
+            s->warn(uri + ": point cloud (.pnts) skipped: points are not drawn");
+            s->countPoints();
+            return nullptr;
+        case ContentKind::Json: {
+            bool tileset = false;
+            try {
+                const auto j = nlohmann::json::parse(data, data + size);
+                tileset = j.is_object() && j.contains("root");
+            } catch (const nlohmann::json::exception&) {
+            }
+            if (!tileset) return gltfContent(s, uri, data, size, false, dmat4(1.0));
+            const TileDesc d = s->tile(tile);
+            const uint32_t root = s->addTileset(uri, std::vector<unsigned char>(data, data + size), d.source, tile);
+            return buildTile(s, root, world, false, budget);
+        }
+        case ContentKind::Unknown: break;
+    }
+    std::string magic;
+    for (size_t i = 0; i < std::min<size_t>(size, 4); ++i) magic += std::isprint(data[i]) ? char(data[i]) : '?';
+    throw LoadError(uri, "",
+                    "not a tile content (glb, b3dm, i3dm, cmpt, pnts or JSON): it starts with '" + magic + "'");
+}
+
+// A volume in the tile's frame: an Earth-centred one (a region's) brought into it.
+Sphere inFrame(Sphere sp, bool earthCentred, const dmat4& world) {
+    if (earthCentred) {
+        const dmat4 inv = glm::inverse(world);
+        sp.center = dvec3(inv * dvec4(sp.center, 1.0));
+        sp.radius *= maxScale(inv);
+    }
+    return sp;
+}
+
+// A tile with a viewerRequestVolume: what it holds below a distance LOD centred on the volume's sphere that
+// shows it only with the eye inside, so that it is neither drawn nor refined (nor its children asked for) from
+// outside, as the specification says.
+ref_ptr<Node> gated(const ref_ptr<Group>& tile, const TileDesc& d, const dmat4& world) {
+    if (!d.request) return tile;
+    const Sphere v = inFrame(*d.request, d.requestRegion, world);
+    auto body = make<Group>();
+    while (tile->numChildren() > 0) {
+        body->addChild(tile->child(0));
+        tile->removeChild(size_t(0));
+    }
+    auto gate = make<LOD>();
+    gate->setCenter(v.center);
+    gate->addChild(body, 0.0f, float(v.radius * maxScale(world)));  // an LOD's distances are the graph's
+    tile->addChild(gate);
+    return tile;
+}
+
+}  // namespace
+
+dmat4 yUpToZUp() {
+    dmat4 m(1.0);
+    m[1] = dvec4(0, 0, 1, 0);   // +Y goes to +Z
+    m[2] = dvec4(0, -1, 0, 0);  // +Z goes to -Y
+    return m;
+}
+
+std::string tileKey(const std::string& file, uint32_t t) { return file + "#tile=" + std::to_string(t); }
+
+bool parseTileKey(const std::string& key, uint32_t& t) {
+    const size_t at = key.rfind("#tile=");
+    if (at == std::string::npos || at + 6 >= key.size()) return false;
+    uint64_t v = 0;
+    for (size_t i = at + 6; i < key.size(); ++i) {
+        if (key[i] < '0' || key[i] > '9' || v > 0xffffffffu) return false;
+        v = v * 10 + uint64_t(key[i] - '0');
+    }
+    if (v > 0xffffffffu) return false;
+    t = uint32_t(v);
+    return true;
+}
+
+ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
+                          const dmat4& world, size_t& budget) {
+    const std::vector<unsigned char> bytes = readResource(uri, s->options.resource);
+    ref_ptr<Node> n = fromBytes(s, tile, uri, bytes.data(), bytes.size(), world, budget);
+    s->countContent();
+    return n;
+}
+
+ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, const dmat4& parentWorld, bool drawnAbove,
+                        size_t& budget) {
+    const TileDesc d = s->resolve(t);
+    const dmat4 world = parentWorld * d.transform;
+    s->setWorld(t, world);
+    if (budget > 0) --budget;
+    ref_ptr<Group> g = d.hasTransform ? ref_ptr<Group>(make<Transform>(d.transform)) : make<Group>();
+    ref_ptr<Group> content;
+    for (const std::string& uri : d.contents)
+        if (ref_ptr<Node> n = loadContent(s, t, uri, world, budget)) {
+            if (!content) content = make<Group>();
+            content->addChild(n);
+        }
+    if (d.children.empty()) {
+        if (content) g->addChild(content);
+        return gated(g, d, world);
+    }
+    // A content-less tile replacing a drawn one is read with its children, within the budget: the drawn tile
+    // stays until all of them are there.
+    if (!content && drawnAbove && !d.add && budget >= d.children.size()) {
+        for (uint32_t c : d.children) g->addChild(buildTile(s, c, world, true, budget));
+        return gated(g, d, world);
+    }
+    const Sphere sp = inFrame(d.sphere, d.region, world);
+    auto p = make<PagedLOD>();
+    p->setFile(tileKey(d.file, t));
+    p->setCenter(sp.center);
+    p->setRadius(sp.radius);
+    p->setScreenSpaceError(d.geometricError, s->options.maximumScreenSpaceError);
+    if (content) (d.add ? static_cast<Group&>(*g) : static_cast<Group&>(*p)).addChild(content);
+    g->addChild(p);
+    return gated(g, d, world);
+}
+
+}  // namespace tiles
+
+PageLoadFunction Tileset::loadFunction() const {
+    std::shared_ptr<tiles::TilesetState> s = state_;
+    return [s](const std::string& file) -> ref_ptr<Node> {
+        uint32_t t = 0;
+        if (!tiles::parseTileKey(file, t)) return loadGltfPage(file);
+        const tiles::TileDesc d = s->resolve(t);
+        if (!d.world) throw LoadError(file, d.path, "the tile's parent was not read");
+        size_t budget = s->options.maxTilesPerLoad;
+        const bool drawn = !d.add && !d.contents.empty();
+        auto g = make<Group>();
+        for (uint32_t c : d.children) g->addChild(tiles::buildTile(s, c, *d.world, drawn, budget));
+        if (s->options.shareMeshes) s->meshes.share(*g);
+        gltf::workOutSolids(*g);
+        if (s->options.generateOccluders) generateOccluders(*g, s->options.occluders);
+        return g;
+    };
+}
+
+std::vector<std::string> Tileset::warnings() const { return state_->warnings(); }
+TilesetCounts Tileset::counts() const { return state_->counts(); }
+
+Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options) {
+    if (!(options.maximumScreenSpaceError > 0.0) || !std::isfinite(options.maximumScreenSpaceError))
+        throw std::invalid_argument("loadTileset(): maximumScreenSpaceError must be finite and > 0");
+    if (options.generateOccluders) options.occluders.validate("loadTileset()");
+    Tileset ts;
+    ts.file_ = pathOrUrl;
+    ts.state_ = std::make_shared<tiles::TilesetState>(options);
+    const uint32_t root = ts.state_->addTileset(pathOrUrl, readResource(pathOrUrl, options.resource), -1, -1);
+    size_t budget = options.maxTilesPerLoad;
+    ts.root_ = tiles::buildTile(ts.state_, root, dmat4(1.0), false, budget);
+    if (options.shareMeshes) ts.state_->meshes.share(*ts.root_);
+    gltf::workOutSolids(*ts.root_);
+    if (options.generateOccluders) generateOccluders(*ts.root_, options.occluders);
+    return ts;
+}
+
+size_t refineAll(Node& root, const PageLoadFunction& load) {
+    struct Collect : NodeVisitor {
+        std::vector<PagedLOD*> found;
+        void apply(PagedLOD& p) override {
+            found.push_back(&p);
+            traverse(p);
+        }
+    };
+    size_t loaded = 0;
+    std::unordered_set<PagedLOD*> seen;
+    Collect c;
+    root.accept(c);
+    while (!c.found.empty()) {
+        PagedLOD* p = c.found.back();
+        c.found.pop_back();
+        if (!seen.insert(p).second) continue;
+        p->setTrigger(PagedLOD::Trigger::Command);
+        if (p->detail()) continue;  // visited with its parent
+        ref_ptr<Node> d = load(p->file());
+        p->attachDetail(d, pageBytes(d.get()));
+        ++loaded;
+        d->accept(c);
+    }
+    return loaded;
+}
+
+bool isTilesetFile(const std::string& path) {
+    struct stat st {};
+    if (stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_size > (off_t(1) << 28)) return false;
+    std::ifstream f(path, std::ios::binary);
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(f)), {});
+    if (tiles::sniffContent(bytes.data(), bytes.size()) != tiles::ContentKind::Json) return false;
+    try {
+        gltf::checkJsonDepth(path, bytes.data(), bytes.size());
+        const auto j = nlohmann::json::parse(bytes.begin(), bytes.end());
+        return j.is_object() && j.contains("asset") && j.contains("root");
+    } catch (const std::exception&) {
+        return false;
+    }
+}
+
+}  // namespace sg

@@ -1,0 +1,176 @@
+// The tileset reader's internal pieces (not installed): the tile table read from tileset.json files, shared
+// by the graph's load function on the pager's threads, and the reading of one tile's contents into nodes.
+#pragma once
+#include "loaders/tiles/Tileset.h"
+#include "loaders/tiles/internal/SharedMeshes.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace sg::tiles {
+
+struct Sphere {
+    dvec3 center{0.0};
+    double radius = 0.0;
+};
+
+// A tile metadata property whose semantic the reader applies (3D Tiles 1.1 metadata semantics): its name in its
+// class and its FLOAT32 or FLOAT64 components (12 for a box, 6 a region, 4 a sphere, 1 a geometric error).
+struct SemanticProperty {
+    std::string name;
+    bool float64 = true;
+    uint32_t components = 1;
+};
+// A metadata class's properties that give a tile's volume and geometric error, and what is wrong with them if
+// anything (raised when a subtree uses the class: file, JSON path, reason).
+struct TileSemantics {
+    std::optional<SemanticProperty> box, region, sphere, error;
+    std::optional<std::tuple<std::string, std::string, std::string>> problem;
+};
+using MetadataSchema = std::map<std::string, TileSemantics>;  // by class name
+
+// Implicit tiling (3D Tiles 1.1): a tile subdivided as a quadtree or octree written as URI templates, with
+// which tiles and contents exist in availability bitstreams of subtree files (TilesetImplicit.cpp).
+struct ImplicitTiling {
+    bool octree = false;
+    uint32_t subtreeLevels = 0, availableLevels = 0;
+    std::string subtrees;               // URI template of the subtree files, resolved against the tileset
+    std::vector<std::string> contents;  // URI templates of the contents, resolved
+    bool region = false;
+    std::vector<double> volume;  // the root's box (12 numbers) or region (6)
+    double geometricError = 0.0;
+    MetadataSchema schema;  // the tileset's, for the subtrees' tile metadata
+};
+
+// A subtree file's availability: of its tiles (levels 0 .. subtreeLevels - 1, Morton order per level), of each
+// content, and of the subtrees below its last level.
+struct Availability {
+    bool constant = false, value = false;
+    std::vector<uint8_t> bits;  // little-endian bit order, as the specification's bitstreams
+    bool operator[](uint64_t i) const { return constant ? value : (bits[size_t(i >> 3)] >> (i & 7)) & 1; }
+    // Set bits before bit i: a tile's row in the subtree's metadata (after countBits()).
+    uint64_t rank(uint64_t i) const;
+    uint64_t countBits(uint64_t bits);  // the set bits of the first `bits`; prepares rank()
+    std::vector<uint64_t> before;       // set bits before each byte
+};
+struct Subtree {
+    Availability tiles, children;
+    std::vector<Availability> contents;
+    // Tile metadata with the semantics the reader applies, a row per available tile (in availability order):
+    // the tile's volume in the implicit root's frame (Earth-centred for a region) and its geometric error.
+    enum class Volume { None, Box, Region, Sphere } volume = Volume::None;
+    std::vector<double> volumes;  // 12, 6 or 4 numbers a row
+    std::vector<double> errors;   // empty without TILE_GEOMETRIC_ERROR
+};
+// Reads a subtree file (binary "subt" or JSON): `readBuffer` reads an external buffer by its resolved URI.
+// Throws LoadError naming the file, the JSON path and the reason (e.g. a bitstream shorter than its level count,
+// a tile metadata table shorter than the available tiles, a negative geometric error).
+Subtree parseSubtree(const std::string& file, const std::vector<unsigned char>& bytes, const ImplicitTiling& tiling,
+                     const std::function<std::vector<unsigned char>(const std::string&)>& readBuffer);
+// Morton index of (x, y) or (x, y, z): bits interleaved, x lowest.
+uint64_t morton(uint32_t x, uint32_t y, uint32_t z, bool octree);
+// A template's {level}, {x}, {y} and {z} replaced.
+std::string expandTemplate(std::string t, uint32_t level, uint32_t x, uint32_t y, uint32_t z);
+// The sphere of implicit tile (level, x, y, z) and whether it is Earth-centred (a region).
+Sphere implicitSphere(const ImplicitTiling& t, uint32_t level, uint32_t x, uint32_t y, uint32_t z);
+// The sphere through a box's corners (12 numbers: centre and three half axes); the Earth-centred sphere holding a
+// region (6 numbers); what is wrong with a region's numbers, or nothing.
+Sphere boxSphere(const double* box);
+Sphere regionSphere(const std::vector<double>& region);
+std::string badRegion(const double* region);
+// The tile metadata classes of a tileset's `schema` (or the file its `schemaUri` names, read with `options`).
+MetadataSchema readSchema(const std::string& file, const nlohmann::json& tileset, const ResourceOptions& options);
+
+// One tile of a tileset.json, as read: its volume in its own frame (after its transform), or in the
+// Earth-centred frame for a region (which no transform moves, as the specification says).
+struct TileDesc {
+    int64_t parent = -1;
+    std::vector<uint32_t> children;
+    dmat4 transform{1.0};
+    bool hasTransform = false;
+    Sphere sphere;
+    bool region = false;  // sphere is Earth-centred
+    double geometricError = 0.0;
+    bool add = false;  // refine ADD (else REPLACE)
+    // viewerRequestVolume: the tile is drawn and refined only with the eye inside this sphere (its box's or
+    // region's bounding sphere), in the tile's frame, or Earth-centred for a region.
+    std::optional<Sphere> request;
+    bool requestRegion = false;
+    std::vector<std::string> contents;  // resolved URIs
+    std::string file, path;             // the tileset.json holding it and its JSON path, for messages
+    uint32_t source = 0;                // the tileset file (TilesetState's sources), for cycles
+    uint32_t depth = 0;                 // below the root of the whole tileset
+    std::optional<dmat4> world;         // its frame in the graph's, set when its node is built
+    // An implicit tile: its tiling and coordinates; `pending` until its contents and children are read from its
+    // subtree (TilesetState::resolve).
+    std::shared_ptr<const ImplicitTiling> implicit;
+    uint32_t level = 0, x = 0, y = 0, z = 0;
+    bool pending = false;
+};
+
+class TilesetState {
+public:
+    explicit TilesetState(TilesetOptions o) : options(std::move(o)) {}
+    const TilesetOptions options;
+
+    // Reads a tileset.json's tiles into the table; returns the root's index. `parentSource`: the tileset file
+    // whose tile names this one as content (-1 for the top), whose chain a cycle is checked against;
+    // `parentTile`: that tile (depth, inherited refinement). Throws LoadError.
+    uint32_t addTileset(const std::string& file, const std::vector<unsigned char>& bytes, int64_t parentSource,
+                        int64_t parentTile);
+    TileDesc tile(uint32_t i) const;
+    // The tile with its contents and children known: an implicit tile's read from its subtree file (loaded once
+    // and kept), its available children added to the table. Throws LoadError for a bad subtree file.
+    TileDesc resolve(uint32_t i);
+    void setWorld(uint32_t i, const dmat4& world);
+
+    void warn(std::string w);
+    std::vector<std::string> warnings() const;
+    TilesetCounts counts() const;
+    void countContent();
+    void countPoints();
+    // Equal meshes of different loads made one (TilesetOptions::shareMeshes).
+    SharedMeshes meshes;
+
+private:
+    struct Source {
+        std::string file;
+        int64_t parent;
+    };
+    mutable std::mutex mutex_;
+    std::deque<TileDesc> tiles_;
+    std::vector<Source> sources_;
+    std::map<std::tuple<const ImplicitTiling*, uint32_t, uint32_t, uint32_t, uint32_t>, std::shared_ptr<const Subtree>>
+        subtrees_;
+    std::vector<std::string> warnings_;
+    TilesetCounts counts_;
+};
+
+// The graph of tile `t` in its parent's frame: its Transform, content and (with children) a PagedLOD whose detail
+// is the children's graphs. `world`: the parent's frame in the graph's. `drawnAbove`: an ancestor's content is
+// drawn until this tile's replaces it (content-less tiles are then read with their children, see TilesetOptions).
+// `budget`: tiles this load may still read. Throws LoadError naming the content that failed.
+ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, const dmat4& parentWorld, bool drawnAbove,
+                        size_t& budget);
+
+// One content (a URI) as nodes in its tile's frame; null for skipped points. External tilesets become their root
+// tile's graph. `tile`: the tile naming it.
+ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
+                          const dmat4& world, size_t& budget);
+
+// The key a PagedLOD's file holds for tile t: "<tileset>#tile=<t>".
+std::string tileKey(const std::string& file, uint32_t t);
+bool parseTileKey(const std::string& key, uint32_t& t);
+
+// glTF's +Y up to 3D Tiles' +Z up: (x, y, z) -> (x, -z, y).
+dmat4 yUpToZUp();
+
+}  // namespace sg::tiles
