@@ -33,4 +33,11 @@ void SettingCheck::fail(const char* name, const std::string& v, const std::strin
     throw SettingError(caller, name, v, allowed);
 }
 
+std::string unknownName(const char* caller, const std::string& name, const char* what, const char* const* names,
+                        size_t count) {
+    std::string list;
+    for (size_t i = 0; i < count; ++i) list += (i ? ", " : "") + std::string(names[i]);
+    return std::string(caller) + ": '" + name + "' is not " + what + " (" + list + ")";
+}
+
 }  // namespace sg

@@ -1,6 +1,7 @@
 // Settings checked where they are set: SettingError names the entry point, the setting, its value and what is
 // allowed, and SettingCheck holds the checks every settings struct makes.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -34,5 +35,35 @@ struct SettingCheck {
     }
     [[noreturn]] void fail(const char* name, const std::string& v, const std::string& allowed) const;
 };
+
+// An enumeration's names: one table per enumeration, read both ways, with one wording for a name that is not
+// one of them.
+template <class E>
+struct EnumName {
+    E value;
+    const char* name;
+};
+
+template <class E, size_t N>
+const char* enumName(const EnumName<E> (&names)[N], E v) {
+    for (const EnumName<E>& n : names)
+        if (n.value == v) return n.name;
+    return "?";
+}
+
+// The message of an unknown name: "<caller>: '<name>' is not <what> (<a>, <b>, ...)".
+std::string unknownName(const char* caller, const std::string& name, const char* what, const char* const* names,
+                        size_t count);
+
+// The value named `name`; throws std::invalid_argument with unknownName's message.
+template <class E, size_t N>
+E parseEnum(const EnumName<E> (&names)[N], const std::string& name, const char* caller, const char* what) {
+    const char* all[N];
+    for (size_t i = 0; i < N; ++i) {
+        if (name == names[i].name) return names[i].value;
+        all[i] = names[i].name;
+    }
+    throw std::invalid_argument(unknownName(caller, name, what, all, N));
+}
 
 }  // namespace sg

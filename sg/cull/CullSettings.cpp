@@ -40,59 +40,36 @@ void CullSettings::validate(const char* caller) const {
     if (lodBudget.enabled) lodBudget.validate(caller);
 }
 
-const char* strategyName(CullStrategy s) {
-    switch (s) {
-        case CullStrategy::None: return "none";
-        case CullStrategy::Sphere: return "sphere";
-        case CullStrategy::Aabb: return "aabb";
-        case CullStrategy::SphereSphere: return "sphere-sphere";
-        case CullStrategy::CenterBox: return "center-box";
-    }
-    return "?";
-}
+namespace {
+const EnumName<CullStrategy> kStrategies[] = {{CullStrategy::None, "none"},
+                                              {CullStrategy::Sphere, "sphere"},
+                                              {CullStrategy::Aabb, "aabb"},
+                                              {CullStrategy::SphereSphere, "sphere-sphere"},
+                                              {CullStrategy::CenterBox, "center-box"}};
+const EnumName<OcclusionMode> kOcclusionModes[] = {
+    {OcclusionMode::Off, "off"}, {OcclusionMode::EveryFrame, "every-frame"}, {OcclusionMode::Adaptive, "adaptive"}};
+const EnumName<OcclusionMethod> kOcclusionMethods[] = {
+    {OcclusionMethod::Tree, "tree"}, {OcclusionMethod::Hom, "hom"}, {OcclusionMethod::Auto, "auto"}};
+}  // namespace
 
+const char* strategyName(CullStrategy s) { return enumName(kStrategies, s); }
 CullStrategy parseStrategy(const std::string& name) {
-    for (auto s : {CullStrategy::None, CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere,
-                   CullStrategy::CenterBox})
-        if (name == strategyName(s)) return s;
-    throw std::invalid_argument("parseStrategy(): unknown strategy '" + name +
-                                "' (none, sphere, aabb, sphere-sphere, center-box)");
+    return parseEnum(kStrategies, name, "parseStrategy()", "a cull strategy");
 }
 
 bool isConservative(CullStrategy s) { return s != CullStrategy::CenterBox; }
 
-const char* occlusionModeName(OcclusionMode m) {
-    switch (m) {
-        case OcclusionMode::Off: return "off";
-        case OcclusionMode::EveryFrame: return "every-frame";
-        case OcclusionMode::Adaptive: return "adaptive";
-    }
-    return "?";
-}
-
+const char* occlusionModeName(OcclusionMode m) { return enumName(kOcclusionModes, m); }
 OcclusionMode parseOcclusionMode(const std::string& name) {
-    for (auto m : {OcclusionMode::Off, OcclusionMode::EveryFrame, OcclusionMode::Adaptive})
-        if (name == occlusionModeName(m)) return m;
     // The names before OcclusionMethod took "tree" and "auto": scripts written then keep working.
     if (name == "tree") return OcclusionMode::EveryFrame;
     if (name == "auto") return OcclusionMode::Adaptive;
-    throw std::invalid_argument("parseOcclusionMode(): unknown occlusion mode '" + name +
-                                "' (off, every-frame, adaptive)");
+    return parseEnum(kOcclusionModes, name, "parseOcclusionMode()", "an occlusion mode");
 }
 
-const char* occlusionMethodName(OcclusionMethod m) {
-    switch (m) {
-        case OcclusionMethod::Tree: return "tree";
-        case OcclusionMethod::Hom: return "hom";
-        case OcclusionMethod::Auto: return "auto";
-    }
-    return "?";
-}
-
+const char* occlusionMethodName(OcclusionMethod m) { return enumName(kOcclusionMethods, m); }
 OcclusionMethod parseOcclusionMethod(const std::string& name) {
-    for (auto m : {OcclusionMethod::Tree, OcclusionMethod::Hom, OcclusionMethod::Auto})
-        if (name == occlusionMethodName(m)) return m;
-    throw std::invalid_argument("parseOcclusionMethod(): unknown occlusion method '" + name + "' (tree, hom, auto)");
+    return parseEnum(kOcclusionMethods, name, "parseOcclusionMethod()", "an occlusion method");
 }
 
 }  // namespace sg

@@ -1,25 +1,21 @@
 #include "sg/viewer/Threading.h"
 
+#include "sg/core/Settings.h"
+
 #include <stdexcept>
 
 namespace sg {
 
-const char* threadingModelName(ThreadingModel m) {
-    switch (m) {
-        case ThreadingModel::SingleThreaded: return "single";
-        case ThreadingModel::DrawThread: return "draw";
-        case ThreadingModel::CullThreadPerView: return "cull-per-view";
-        case ThreadingModel::AppCullDraw: return "app-cull-draw";
-    }
-    return "?";
-}
+namespace {
+const EnumName<ThreadingModel> kModels[] = {{ThreadingModel::SingleThreaded, "single"},
+                                            {ThreadingModel::DrawThread, "draw"},
+                                            {ThreadingModel::CullThreadPerView, "cull-per-view"},
+                                            {ThreadingModel::AppCullDraw, "app-cull-draw"}};
+}  // namespace
 
+const char* threadingModelName(ThreadingModel m) { return enumName(kModels, m); }
 ThreadingModel parseThreadingModel(const std::string& name) {
-    for (ThreadingModel m : {ThreadingModel::SingleThreaded, ThreadingModel::DrawThread,
-                             ThreadingModel::CullThreadPerView, ThreadingModel::AppCullDraw})
-        if (name == threadingModelName(m)) return m;
-    throw std::invalid_argument("parseThreadingModel(): '" + name +
-                                "' is not a threading model (single, draw, cull-per-view, app-cull-draw)");
+    return parseEnum(kModels, name, "parseThreadingModel()", "a threading model");
 }
 
 int threadingLatency(ThreadingModel m) {

@@ -10,19 +10,14 @@ constexpr double kMissFrames = 10.0;   // the budget's miss is smoothed over abo
 constexpr double kMaxMissShare = 0.2;  // and comes off its plan up to this share of the budget
 }  // namespace
 
-const char* lodPolicyName(LodPolicy p) {
-    switch (p) {
-        case LodPolicy::Static: return "static";
-        case LodPolicy::Stress: return "stress";
-        case LodPolicy::Budget: return "budget";
-    }
-    return "?";
-}
+namespace {
+const EnumName<LodPolicy> kLodPolicies[] = {
+    {LodPolicy::Static, "static"}, {LodPolicy::Stress, "stress"}, {LodPolicy::Budget, "budget"}};
+}  // namespace
 
+const char* lodPolicyName(LodPolicy p) { return enumName(kLodPolicies, p); }
 LodPolicy parseLodPolicy(const std::string& name) {
-    for (LodPolicy p : {LodPolicy::Static, LodPolicy::Stress, LodPolicy::Budget})
-        if (name == lodPolicyName(p)) return p;
-    throw std::invalid_argument("parseLodPolicy(): '" + name + "' is not an LOD policy (static, stress, budget)");
+    return parseEnum(kLodPolicies, name, "parseLodPolicy()", "an LOD policy");
 }
 
 CullSettings View::frameSettings(double periodMs, double spentMs, bool held) {

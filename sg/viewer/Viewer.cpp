@@ -38,19 +38,14 @@ void checkRate(double rate, const char* fn) {
 }
 }  // namespace
 
-const char* framePhaseName(FramePhase p) {
-    switch (p) {
-        case FramePhase::FreeRun: return "free-run";
-        case FramePhase::Limit: return "limit";
-        case FramePhase::Lock: return "lock";
-    }
-    return "?";
-}
+namespace {
+const EnumName<FramePhase> kFramePhases[] = {
+    {FramePhase::FreeRun, "free-run"}, {FramePhase::Limit, "limit"}, {FramePhase::Lock, "lock"}};
+}  // namespace
 
+const char* framePhaseName(FramePhase p) { return enumName(kFramePhases, p); }
 FramePhase parseFramePhase(const std::string& name) {
-    for (FramePhase p : {FramePhase::FreeRun, FramePhase::Limit, FramePhase::Lock})
-        if (name == framePhaseName(p)) return p;
-    throw std::invalid_argument("parseFramePhase(): '" + name + "' is not a frame phase (free-run, limit, lock)");
+    return parseEnum(kFramePhases, name, "parseFramePhase()", "a frame phase");
 }
 
 StageError::StageError(std::string stage, uint64_t frame, const std::string& what)

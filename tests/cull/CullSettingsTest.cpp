@@ -186,6 +186,28 @@ TEST(CullSettings, OcclusionModeAndMethodNamesRoundTripAndNeverMeet) {
         parseOcclusionMode("sometimes");
         ADD_FAILURE() << "no error";
     } catch (const std::invalid_argument& e) {
-        EXPECT_STREQ(e.what(), "parseOcclusionMode(): unknown occlusion mode 'sometimes' (off, every-frame, adaptive)");
+        EXPECT_STREQ(e.what(),
+                     "parseOcclusionMode(): 'sometimes' is not an occlusion mode (off, every-frame, adaptive)");
     }
+}
+
+// Every enumeration a program reads by name: the names read back, and an unknown one named in one wording.
+TEST(CullSettings, EveryEnumerationsNamesReadBackAndAnUnknownNameIsRefusedInOneWording) {
+    for (auto s : {CullStrategy::None, CullStrategy::Sphere, CullStrategy::Aabb, CullStrategy::SphereSphere,
+                   CullStrategy::CenterBox})
+        EXPECT_EQ(parseStrategy(strategyName(s)), s);
+    auto message = [](auto parse) {
+        try {
+            parse();
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string("(no error)");
+    };
+    EXPECT_EQ(message([] { parseStrategy("fast"); }),
+              "parseStrategy(): 'fast' is not a cull strategy (none, sphere, aabb, sphere-sphere, center-box)");
+    EXPECT_EQ(message([] { parseOcclusionMethod("fast"); }),
+              "parseOcclusionMethod(): 'fast' is not an occlusion method (tree, hom, auto)");
+    EXPECT_EQ(message([] { parseStrategy(""); }),
+              "parseStrategy(): '' is not a cull strategy (none, sphere, aabb, sphere-sphere, center-box)");
 }
