@@ -8,12 +8,13 @@
 
 namespace sg {
 
-void PagedLOD::setFile(std::string file) {
+void PagedLOD::setFile(std::string file, uint32_t part) {
     if (file.empty()) throw std::invalid_argument("PagedLOD::setFile(): " + describe() + ": file name is empty");
     if (state() == State::Requested || state() == State::Loaded)
         throw std::logic_error("PagedLOD::setFile(): " + describe() + ": the detail of '" + file_ +
                                "' is requested or attached; release it first");
     file_ = std::move(file);
+    part_ = part;
     failures_ = 0;
     if (state() == State::Failed) setUnloaded();
 }

@@ -29,10 +29,14 @@ public:
 
     PagedLOD() : Group(NodeKind::PagedLOD) {}
 
-    // The file the detail is loaded from. Throws std::invalid_argument for an empty name and std::logic_error
-    // while the detail is requested or attached (release it first); a failed node becomes Unloaded.
-    void setFile(std::string file);
+    // The file the detail is loaded from and, for a file that holds many details (a tileset's tiles), which of
+    // them: `part` is the loader's own index, handed to the load function as it is (sg::PageSource), so that
+    // nothing is encoded into the name and parsed back. Throws std::invalid_argument for an empty name and
+    // std::logic_error while the detail is requested or attached (release it first); a failed node becomes Unloaded.
+    static constexpr uint32_t kWholeFile = 0xffffffffu;
+    void setFile(std::string file, uint32_t part = kWholeFile);
     const std::string& file() const { return file_; }
+    uint32_t part() const { return part_; }
 
     // The detail is wanted while min <= value < max (value: the eye's distance to center(), or the bound's
     // size in pixels, as LOD::Mode); outside it the coarse children are drawn. Throws std::invalid_argument
@@ -116,6 +120,7 @@ protected:
 
 private:
     std::string file_, error_;
+    uint32_t part_ = kWholeFile;
     dvec3 center_{0.0};
     double radius_ = 0.0;
     Node* detail_ = nullptr;  // one of the children (which hold the reference)

@@ -76,8 +76,8 @@ struct TiledCity {
         ps.maxResidentBytes = size_t(8) << 30;  // the views' tiles stay: no view waits for an eviction
         pager = std::make_unique<sg::Pager>(
             scene,
-            [this, load = ts.loadFunction()](const std::string& file) {
-                sg::ref_ptr<sg::Node> d = load(file);
+            [this, load = ts.loadFunction()](const sg::PageSource& source) {
+                sg::ref_ptr<sg::Node> d = load(source);
                 sg::OccluderGenStats st;
                 if (generate && d) st = sg::generateOccluders(*d, *generate);
                 std::lock_guard<std::mutex> lock(m);

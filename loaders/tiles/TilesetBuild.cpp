@@ -132,21 +132,6 @@ dmat4 yUpToZUp() {
     return m;
 }
 
-std::string tileKey(const std::string& file, uint32_t t) { return file + "#tile=" + std::to_string(t); }
-
-bool parseTileKey(const std::string& key, uint32_t& t) {
-    const size_t at = key.rfind("#tile=");
-    if (at == std::string::npos || at + 6 >= key.size()) return false;
-    uint64_t v = 0;
-    for (size_t i = at + 6; i < key.size(); ++i) {
-        if (key[i] < '0' || key[i] > '9' || v > 0xffffffffu) return false;
-        v = v * 10 + uint64_t(key[i] - '0');
-    }
-    if (v > 0xffffffffu) return false;
-    t = uint32_t(v);
-    return true;
-}
-
 ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
                           const dmat4& world, size_t& budget) {
     const std::vector<unsigned char> bytes = readResource(uri, s->options.resource);
@@ -180,7 +165,7 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
     }
     const Sphere sp = inFrame(d.sphere, d.region, world);
     auto p = make<PagedLOD>();
-    p->setFile(tileKey(d.file, t));
+    p->setFile(d.file, t);  // the tile's index: the load function's key
     p->setCenter(sp.center);
     p->setRadius(sp.radius);
     p->setScreenSpaceError(d.geometricError, s->options.maximumScreenSpaceError);
@@ -193,11 +178,11 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
 
 PageLoadFunction Tileset::loadFunction() const {
     std::shared_ptr<tiles::TilesetState> s = state_;
-    return [s](const std::string& file) -> ref_ptr<Node> {
-        uint32_t t = 0;
-        if (!tiles::parseTileKey(file, t)) return loadGltfPage(file);
+    return [s](const PageSource& source) -> ref_ptr<Node> {
+        if (source.part == PagedLOD::kWholeFile) return loadGltfPage(source.file);  // a glTF paged inside a tile
+        const uint32_t t = source.part;
         const tiles::TileDesc d = s->resolve(t);
-        if (!d.world) throw LoadError(file, d.path, "the tile's parent was not read");
+        if (!d.world) throw LoadError(source.name(), d.path, "the tile's parent was not read");
         size_t budget = s->options.maxTilesPerLoad;
         const bool drawn = !d.add && !d.contents.empty();
         auto g = make<Group>();
@@ -246,7 +231,7 @@ size_t refineAll(Node& root, const PageLoadFunction& load) {
         if (!seen.insert(p).second) continue;
         p->setTrigger(PagedLOD::Trigger::Command);
         if (p->detail()) continue;  // visited with its parent
-        ref_ptr<Node> d = load(p->file());
+        ref_ptr<Node> d = load(PageSource{p->file(), p->part()});
         p->attachDetail(d, pageBytes(d.get()));
         ++loaded;
         d->accept(c);

@@ -131,7 +131,7 @@ void Pager::run() {
         Result r{job.id, job.node, {}, 0, {}, 0.0, {}, dmat4(1.0)};
         const auto t0 = std::chrono::steady_clock::now();
         try {
-            r.detail = load_(job.file);
+            r.detail = load_(job.source);
             if (r.detail) {
                 r.bytes = pageBytes(r.detail.get());
                 if (job.frame) {  // the image the update would build, built here
@@ -139,14 +139,14 @@ void Pager::run() {
                     r.frame = *job.frame;
                 }
             } else {
-                r.error = job.file + ": the load function returned no node";
+                r.error = job.source.name() + ": the load function returned no node";
             }
         } catch (const std::exception& e) {
             r.detail = {};
-            r.error = withFile(job.file, e.what());
+            r.error = withFile(job.source.name(), e.what());
         } catch (...) {
             r.detail = {};
-            r.error = job.file + ": the load failed with an unknown exception";
+            r.error = job.source.name() + ": the load failed with an unknown exception";
         }
         if (settings_.trimFreedMemory) trimFreed();
         r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -203,7 +203,8 @@ void Pager::queue(PagedLOD& node, const FrameInfo& frame, float priority, std::o
     const bool essential = priority == kCommandPriority || node.numChildren() == 0;
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        Job job{id, &node, node.file(), priority, essential, settings_.buildImages ? detailFrame : std::nullopt};
+        Job job{id,       &node,     PageSource{node.file(), node.part()},
+                priority, essential, settings_.buildImages ? detailFrame : std::nullopt};
         jobs_.insert(std::upper_bound(jobs_.begin(), jobs_.end(), job, lessNeeded), std::move(job));
     }
     wake_.notify_one();

@@ -20,10 +20,20 @@
 
 namespace sg {
 
-// Reads a detail: returns its root, or throws with the reason (the pager adds the file name when the message
+// What a load function is given: a PagedLOD's file and part (PagedLOD::setFile). A function of whole files may
+// take it as the file's name (const std::string&); one that wraps another load function passes it on whole.
+struct PageSource {
+    std::string file;
+    uint32_t part = PagedLOD::kWholeFile;
+    operator const std::string&() const { return file; }
+    // The file, and the part when there is one ("city/tileset.json#12"): how messages name it.
+    std::string name() const { return part == PagedLOD::kWholeFile ? file : file + "#" + std::to_string(part); }
+};
+
+// Reads a detail: returns its root, or throws with the reason (the pager adds the source's name when the message
 // lacks it). Runs on a loader thread, on several at once with PagerSettings::loaderThreads above 1: it must not
 // touch the scene, and must be safe to call concurrently.
-using PageLoadFunction = std::function<ref_ptr<Node>(const std::string& file)>;
+using PageLoadFunction = std::function<ref_ptr<Node>(const PageSource& source)>;
 
 // Mesh, texture and node bytes below `root`, each shared mesh, texture or node counted once: what a detail takes
 // (its flat image, about a third of its nodes' bytes, aside).
@@ -157,7 +167,7 @@ private:
     struct Job {
         uint64_t id;
         const PagedLOD* node;
-        std::string file;
+        PageSource source;
         float priority;              // bigger first; Pager::load()'s: infinity
         bool essential;              // may start while over the byte budget (commanded, or no coarse children)
         std::optional<dmat4> frame;  // the detail image's frame, when the cull posted it (buildImages)

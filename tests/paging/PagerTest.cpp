@@ -184,6 +184,38 @@ TEST(Pager, AFailedLoadNamesTheFileAndTheReasonAndTheCoarseLevelStays) {
     EXPECT_EQ(pager.stats().failures, 2u);
 }
 
+// A file of many details (a tileset's tiles): the node's part reaches the load function as it was set, and a
+// failure names the file and the part.
+TEST(Pager, TheLoadFunctionIsGivenTheNodesFileAndPart) {
+    World w("city/tileset.json");
+    w.tile->setFile("city/tileset.json", 12);
+    EXPECT_EQ(w.tile->part(), 12u);
+    Scene scene(w.root);
+    std::mutex m;
+    std::vector<std::pair<std::string, uint32_t>> asked;
+    Pager pager(scene, [&](const PageSource& source) -> ref_ptr<Node> {
+        std::lock_guard<std::mutex> lock(m);
+        asked.emplace_back(source.file, source.part);
+        if (asked.size() == 1) throw std::runtime_error("tile unreadable");
+        return makeDetail();
+    });
+    Frames f(scene, pager);
+    f.run();
+    f.run();
+    pager.waitIdle();
+    f.run();
+    ASSERT_EQ(w.tile->state(), PagedLOD::State::Failed);
+    EXPECT_EQ(w.tile->error(), "city/tileset.json#12: tile unreadable");
+    w.tile->setFile("city/tileset.json");  // the whole file again: no part
+    pager.load(*w.tile);
+    pager.waitIdle();
+    f.run();
+    EXPECT_EQ(w.tile->state(), PagedLOD::State::Loaded);
+    const std::vector<std::pair<std::string, uint32_t>> expected = {{"city/tileset.json", 12u},
+                                                                    {"city/tileset.json", PagedLOD::kWholeFile}};
+    EXPECT_EQ(asked, expected);
+}
+
 TEST(Pager, GltfErrorsOfMissingAndMalformedFilesReachTheNode) {
     const std::string dir = ::testing::TempDir();
     const std::string missing = dir + "sgkit_pager_missing.glb", bad = dir + "sgkit_pager_bad.gltf";

@@ -9,6 +9,7 @@
 #include "nodes/Group.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
+#include "sg/core/NodeVisitor.h"
 #include "sg/cull/CullTraversal.h"
 
 #include <gtest/gtest.h>
@@ -71,7 +72,7 @@ TEST(Tileset, ReplaceKeepsTheParentUntilEveryChildIsLoaded) {
     std::condition_variable cv;
     bool open = false;
     PageLoadFunction inner = ts.loadFunction();
-    Pager pager(scene, [&](const std::string& f) {
+    Pager pager(scene, [&](const PageSource& f) {
         std::unique_lock<std::mutex> lock(m);
         cv.wait(lock, [&] { return open; });
         return inner(f);
@@ -129,6 +130,35 @@ TEST(Tileset, TransformsChain) {
     Drawn dr = cullOnce(scene, lookingDownAt(dvec3(1001, 51, 0), 50.0));
     ASSERT_EQ(dr.boxes.size(), 1u);
     EXPECT_EQ(*dr.boxes.begin(), std::make_pair(1000l, 50l));
+}
+
+// A tile's PagedLOD names its tileset file and the tile's index (no key written into the name and parsed back);
+// the load function refuses an index the tileset does not have.
+TEST(Tileset, ATilesPagedNodeCarriesItsTileToTheLoadFunction) {
+    TempDir d;
+    Tileset ts = loadTileset(quadTileset(d));
+    struct Find : NodeVisitor {
+        std::vector<PagedLOD*> paged;
+        void apply(PagedLOD& p) override {
+            paged.push_back(&p);
+            traverse(p);
+        }
+    } find;
+    ts.root()->accept(find);
+    ASSERT_EQ(find.paged.size(), 1u);
+    const PagedLOD& root = *find.paged[0];
+    EXPECT_EQ(root.file(), d / "tileset.json");
+    EXPECT_EQ(root.part(), 0u);  // the root tile
+    const PageLoadFunction load = ts.loadFunction();
+    const ref_ptr<Node> children = load(PageSource{root.file(), root.part()});
+    ASSERT_TRUE(children);
+    EXPECT_EQ(children->numChildren(), 4u);
+    try {
+        load(PageSource{root.file(), 999});
+        ADD_FAILURE() << "tile 999 was loaded";
+    } catch (const LoadError& e) {
+        EXPECT_NE(e.reason().find("tile 999 is not in the tileset"), std::string::npos) << e.what();
+    }
 }
 
 TEST(Tileset, ExternalTilesetsAreReadAndCyclesRefused) {
