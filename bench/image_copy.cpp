@@ -14,6 +14,7 @@
 #include "sg/scene/Scene.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
+#include "testbed/Stats.h"
 
 #include <algorithm>
 #include <chrono>
@@ -35,8 +36,7 @@ double medianMs(int runs, const std::function<void()>& setup, const std::functio
         timed();
         ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
-    std::nth_element(ms.begin(), ms.begin() + ptrdiff_t(ms.size() / 2), ms.end());
-    return ms[ms.size() / 2];
+    return stats::median(ms);
 }
 
 void measure(const std::string& name, Scene& scene, Switch& sw, Transform& t, int runs) {

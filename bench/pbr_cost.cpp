@@ -6,6 +6,7 @@
 //   pbr_cost [--frames F] [--size WxH]
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
+#include "testbed/Stats.h"
 
 #include <algorithm>
 #include <chrono>
@@ -27,11 +28,6 @@ ref_ptr<Texture> noise(int n, int seed) {
         px[i] = i % 4 == 3 ? 255 : uint8_t(96 + (s >> 25));
     }
     return make<Texture>(n, n, std::move(px));
-}
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    return v[v.size() / 2];
 }
 
 }  // namespace
@@ -134,12 +130,12 @@ int main(int argc, char** argv) try {
         clear += std::abs(int(img.rgba[i]) - int(std::lround(cc.r * 255.0f))) <= 1 &&
                  std::abs(int(img.rgba[i + 1]) - int(std::lround(cc.g * 255.0f))) <= 1 &&
                  std::abs(int(img.rgba[i + 2]) - int(std::lround(cc.b * 255.0f))) <= 1;
-    const double pixels = double(width) * height, base = median(ms[0]);
+    const double pixels = double(width) * height, base = stats::median(ms[0]);
     std::printf("pbr_cost: %zu of %.0f pixels left at the clear colour\n", clear, pixels);
     std::printf("pbr_cost: %dx%d, %d frames each, interleaved; median frame, ratio to classic, extra ns per pixel\n",
                 width, height, frames);
     for (int k = 0; k < kKinds; ++k) {
-        const double m = median(ms[k]);
+        const double m = stats::median(ms[k]);
         std::printf("  %-30s %7.2f ms  %5.2fx  %+6.2f ns/pixel\n", kinds[k].name, m, m / base,
                     (m - base) * 1e6 / pixels);
     }

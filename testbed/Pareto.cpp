@@ -3,6 +3,7 @@
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OcclusionQueries.h"
 #include "sg/io/ImageIO.h"
+#include "testbed/Stats.h"
 
 #include <algorithm>
 #include <array>
@@ -22,13 +23,6 @@ using namespace sg;
 namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-double medianOf(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const size_t m = v.size() / 2;
-    return (v.size() % 2) ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
 
 CullSettings frustumOnly(CullStrategy s, double smallFeaturePixels = 0.0) {
     CullSettings c;
@@ -338,8 +332,8 @@ std::vector<Row> measure(Renderer& r, const SceneViews& sv, const std::vector<Me
         w.rounds = o.rounds;
         w.width = sv.views[0].width();
         w.height = sv.views[0].height();
-        w.cullMs = medianOf(a.cull);
-        w.frameMs = medianOf(a.frame);
+        w.cullMs = stats::median(a.cull);
+        w.frameMs = stats::median(a.frame);
         w.objects = a.objects / double(V);
         w.triangles = a.triangles / double(V);
         w.errorPixels = a.error / double(V);
@@ -445,7 +439,7 @@ std::vector<OffFront> defaultOffFront(const std::vector<Row>& rows, double toler
                     r.push_back(w.frames[i] / d.frames[i]);
                     faster += w.frames[i] < d.frames[i];
                 }
-                ratio = medianOf(r);
+                ratio = stats::median(r);
                 paired = ", frame by frame " + fixed(100.0 * (ratio - 1.0), 1) + "% (median), faster in " +
                          std::to_string(faster) + " of " + std::to_string(r.size());
             }

@@ -8,6 +8,7 @@
 #include "sg/gl/GlfwWindow.h"
 #include "sg/viewer/Viewer.h"
 #include "testbed/City.h"
+#include "testbed/Stats.h"
 
 #include <algorithm>
 #include <chrono>
@@ -18,12 +19,6 @@
 #include <vector>
 
 namespace {
-
-double quantile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
-}
 
 long argNumber(const char* s, const char* what, long lo, long hi) {
     char* end = nullptr;
@@ -105,9 +100,9 @@ int main(int argc, char** argv) try {
         "\"frame_ms_p95\": %.3f, \"cull_ms_median\": %.3f, \"draw_ms_median\": %.3f, \"gpu_ms_median\": %.3f, "
         "\"geometries_mean\": %.1f, \"triangles_mean\": %.1f, \"draw_calls_mean\": %.1f, \"back_faces_skipped_mean\": "
         "%.1f, \"build_s\": %.2f}\n",
-        threadingModelName(threading), backFaces.c_str(), n, w, h, frameMs.size(), quantile(frameMs, 0.5),
-        quantile(frameMs, 0.95), quantile(cullMs, 0.5), quantile(drawMs, 0.5), quantile(gpuMs, 0.5), geometries / k,
-        triangles / k, drawCalls / k, skipped / k, buildS);
+        threadingModelName(threading), backFaces.c_str(), n, w, h, frameMs.size(), stats::median(frameMs),
+        stats::percentile(frameMs, 0.95), stats::median(cullMs), stats::median(drawMs), stats::median(gpuMs),
+        geometries / k, triangles / k, drawCalls / k, skipped / k, buildS);
     viewer.flush();
     return 0;
 } catch (const std::exception& e) {

@@ -28,7 +28,9 @@
 #include <osgViewer/Renderer>
 #include <osgViewer/Viewer>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
@@ -38,10 +40,19 @@ namespace {
 
 using namespace osgcity;
 
-double quantile(std::vector<double> v, double q) {
+// testbed/Stats.h's formulas (this program is built without the testbed): a median is the mean of the two middle
+// values, other percentiles nearest-rank.
+double median(std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
-    return v[std::min(v.size() - 1, size_t(q * double(v.size())))];
+    const size_t m = v.size() / 2;
+    return (v.size() % 2) ? v[m] : 0.5 * (v[m - 1] + v[m]);
+}
+double percentile(std::vector<double> v, double p) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    const size_t rank = size_t(std::ceil(p * double(v.size())));
+    return v[std::min(std::max<size_t>(rank, 1), v.size()) - 1];
 }
 
 long argNumber(const char* s, const char* what, long lo, long hi) {
@@ -162,7 +173,7 @@ int main(int argc, char** argv) try {
         "\"height\": %d, \"frames\": %zu, \"frame_ms_median\": %.3f, \"frame_ms_p95\": %.3f, \"geometries_mean\": "
         "%s, \"build_s\": %.2f}\n",
         osgGetVersion(), threading.c_str(), cullFace ? "+cullface" : "", n, kViewportW, kViewportH, frameMs.size(),
-        quantile(frameMs, 0.5), quantile(frameMs, 0.95), counted.c_str(), buildS);
+        median(frameMs), percentile(frameMs, 0.95), counted.c_str(), buildS);
     std::fflush(stdout);
     std::_Exit(0);  // the graph's teardown is quadratic in shared Geometry parents (see sgbench_osg); nothing follows
 } catch (const std::exception& e) {

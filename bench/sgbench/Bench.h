@@ -3,6 +3,7 @@
 #include "sg/build/PvsBuilder.h"
 #include "sg/core/Camera.h"
 #include "sg/core/Node.h"
+#include "testbed/Stats.h"
 
 #include <cstdint>
 #include <map>
@@ -38,9 +39,8 @@ private:
 };
 
 double rssMb();
-// Median: the mean of the two middle elements for an even count. Percentile: nearest rank (p in [0, 1]).
-double median(std::vector<double> v);
-double percentile(std::vector<double> v, double p);
+using stats::median;  // testbed/Stats.h: the same definitions as bench/osg_peer's, which compare_osg.sh divides by
+using stats::percentile;
 
 int runCull(const Args& a);
 int runAccuracy(const Args& a);

@@ -85,21 +85,6 @@ double rssMb() {
     return double(rss) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
-// The same definitions as bench/osg_peer's (compare_osg.sh divides one program's median by the other's):
-// the median is the mean of the two middle elements for an even count, other percentiles are nearest-rank.
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const size_t m = v.size() / 2;
-    return (v.size() % 2) ? v[m] : 0.5 * (v[m - 1] + v[m]);
-}
-double percentile(std::vector<double> v, double p) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const size_t rank = size_t(std::ceil(p * double(v.size())));
-    return v[std::min(std::max<size_t>(rank, 1), v.size()) - 1];
-}
-
 }  // namespace bench
 
 static void usage() {

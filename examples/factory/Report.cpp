@@ -1,4 +1,5 @@
 #include "factory/Report.h"
+#include "testbed/Stats.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,24 +7,11 @@
 
 namespace factory {
 
-double percentile(std::vector<double> v, double q) {
-    if (v.empty()) return 0.0;
-    std::sort(v.begin(), v.end());
-    const size_t k = size_t(std::ceil(q * double(v.size())));
-    return v[std::min(v.size() - 1, k > 0 ? k - 1 : 0)];
-}
-double medianOf(const std::vector<double>& v) {
-    if (v.empty()) return 0.0;
-    std::vector<double> s = v;
-    std::sort(s.begin(), s.end());
-    const size_t n = s.size();
-    return n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
-}
 double jitterP95(const std::vector<double>& frameMs) {
-    const double m = medianOf(frameMs);
+    const double m = stats::median(frameMs);
     std::vector<double> d;
     for (double t : frameMs) d.push_back(std::abs(t - m));
-    return percentile(d, 0.95);
+    return stats::percentile(d, 0.95);
 }
 
 ModeSummary summarize(const ModeRun& run) {
@@ -54,17 +42,17 @@ ModeSummary summarize(const ModeRun& run) {
         }
     }
     const double n = std::max<double>(1.0, double(run.frames.size()));
-    s.fpsMedian = medianOf(fps);
-    s.frameMsMedian = medianOf(frame);
+    s.fpsMedian = stats::median(fps);
+    s.frameMsMedian = stats::median(frame);
     for (double t : frame) s.frameMsMean += t / n;
-    s.frameMsP95 = percentile(frame, 0.95);
+    s.frameMsP95 = stats::percentile(frame, 0.95);
     s.drawMsMean = draw / n;
     s.workMsMean /= n;
-    s.workMsP95 = percentile(work, 0.95);
+    s.workMsP95 = stats::percentile(work, 0.95);
     s.trianglesMean = tris / n;
     s.verticesMean = verts / n;
     s.imageMae = compared ? mae / compared : -1.0;
-    s.budgetAbsDevP95 = percentile(dev, 0.95);
+    s.budgetAbsDevP95 = stats::percentile(dev, 0.95);
     s.frameMsMeanReduced = reduced ? reducedMs / reduced : -1.0;
     return s;
 }

@@ -30,8 +30,6 @@ struct Summary {
     std::vector<ModeSummary> modes;
 };
 
-double percentile(std::vector<double> v, double q);  // nearest rank; 0 for an empty vector
-double medianOf(const std::vector<double>& v);
 ModeSummary summarize(const ModeRun& run);
 // p95 of |t - median(t)|.
 double jitterP95(const std::vector<double>& frameMs);

@@ -1,4 +1,5 @@
 #include "map/Session.h"
+#include "testbed/Stats.h"
 
 #include <malloc.h>
 #include <unistd.h>
@@ -17,12 +18,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-double median(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-    return v[v.size() / 2];
-}
 
 std::vector<std::string> words(const std::string& line) {
     std::istringstream in(line);
@@ -246,7 +241,7 @@ size_t Session::residentFileKb() {
 std::string Session::stats() const {
     const PagerStats& p = atlas_.pager().stats();
     std::vector<double> recent(frameMs_.end() - long(std::min<size_t>(frameMs_.size(), 60)), frameMs_.end());
-    const double med = median(recent);
+    const double med = stats::median(recent);
     const Level& l = atlas_.level();
     std::string s = "level " + l.name + (l.parent.empty() ? "" : " " + l.parent);
     s += fmt("\tregions %.0f", double(l.regions.size()));
@@ -265,7 +260,7 @@ std::string Session::overlayText() const {
     const Level& l = atlas_.level();
     const PagerStats& p = atlas_.pager().stats();
     std::vector<double> recent(frameMs_.end() - long(std::min<size_t>(frameMs_.size(), 30)), frameMs_.end());
-    const double med = median(recent);
+    const double med = stats::median(recent);
     std::string s = "level " + l.name + (l.parent.empty() ? "" : " (" + l.parent + ")") +
                     fmt(": %.0f regions", double(l.regions.size())) + fmt("   fps %.1f", med > 0 ? 1000.0 / med : 0.0) +
                     "\n";
@@ -349,7 +344,7 @@ std::string Session::command(const std::string& line) {
         std::vector<double> ms;
         if (!(v[1] >= 1.0 && v[1] <= 100000.0)) return "error\tframes: the count must be 1 to 100000";
         for (int i = 0; i < int(v[1]); ++i) ms.push_back(frame());
-        const double med = median(ms);
+        const double med = stats::median(ms);
         return "frames" + fmt("\t%.0f", double(ms.size())) + fmt("\tmedian %.2f ms", med) +
                fmt("\t%.1f fps", med > 0 ? 1000.0 / med : 0.0) +
                fmt("\t%.0f triangles", double(viewer_.view().cullStats().triangles));
