@@ -49,7 +49,7 @@ public:
         // drawn last, and the picture is the renderer's only on the draw thread (onViewer's drawn callbacks)
         // or after stopThreads().
         sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded;
-        std::function<void(bool current)> bindContext;
+        std::function<void(bool current)> bindContext = {};
     };
     // Draws with `renderer` (its context current), through a viewer of its own made at the first frame. Throws
     // std::invalid_argument for a budget that is not a positive number of milliseconds.

@@ -64,7 +64,7 @@ struct Row {
     double queries = 0.0;  // occlusion queries issued per frame, mean per view (Method::gpuQueries; else 0)
     // Every timed frame's ms, round by round, view by view: the same order for every method of a scene, so that
     // two methods compare frame by frame (the view's own cost cancels).
-    std::vector<double> frames;
+    std::vector<double> frames = {};
 };
 
 // Every method on every view, methods interleaved per view (each view starts one further along the table, so

@@ -17,11 +17,11 @@ struct LoadedScene {
     std::vector<std::string> warnings;  // what the loader skipped or converted
     sg::dvec3 up{0.0, 0.0, 1.0};        // the scene's up axis: +Z for the built-in scenes, +Y for glTF
     std::string title;
-    std::vector<sg::PunctualLight> lights;  // a glTF file's KHR_lights_punctual lights (the renderer's first ones)
+    std::vector<sg::PunctualLight> lights = {};  // a glTF file's KHR_lights_punctual lights (the renderer's first ones)
     // A tileset's: the pager's load function for its tiles, and a line on its tiles for --info (tiles read,
     // contents loaded); empty for glTF files and built-in scenes.
-    sg::PageLoadFunction pageLoad;
-    std::function<std::string()> tilesReport;
+    sg::PageLoadFunction pageLoad = {};
+    std::function<std::string()> tilesReport = {};
 };
 
 // One glTF file or 3D Tiles tileset (LoadScene.cpp; a path or, for a tileset, a URL), every tile loaded with

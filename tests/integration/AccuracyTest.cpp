@@ -233,6 +233,7 @@ TEST(Accuracy, OcclusionCenterPlaneCapShowsError) {
         report(s, accuracy::officeViews(kOfficeR, 10 * kViews, kOfficeSeed, kW, kH), "office");
     }
     // The error shows on a handful of the 2000 office views; the sanitizer build's quarter may miss it.
-    if (testutil::kSanitizerDivisor == 1)
+    if (testutil::kSanitizerDivisor == 1) {
         EXPECT_GT(total, 0u) << "the centre-plane cap showed no error on city nor on office";
+    }
 }

@@ -9,8 +9,8 @@ using namespace sg;
 
 namespace {
 Image solid(int w, int h, uint8_t r, uint8_t g, uint8_t b) {
-    Image img{w, h, {}};
-    for (int i = 0; i < w * h; ++i) img.rgba.insert(img.rgba.end(), {r, g, b, 255});
+    Image img{w, h, std::vector<uint8_t>(size_t(w) * size_t(h) * 4, 255)};
+    for (size_t i = 0; i < img.rgba.size(); i += 4) img.rgba[i] = r, img.rgba[i + 1] = g, img.rgba[i + 2] = b;
     return img;
 }
 }  // namespace
