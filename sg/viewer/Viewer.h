@@ -156,30 +156,42 @@ private:
         uint64_t frame = 0;
         std::exception_ptr error;
     };
+    // Construction and settings (Viewer.cpp).
     void init();
-    double periodMs() const { return 1000.0 / settings_.frameRate; }
     void checkSettings() const;
+    // The frame's stages in order (ViewerFrame.cpp).
+    std::unique_ptr<Packet> beginPacket();               // numbered, its start and interval timed
+    void appAndUpdate(Packet& p, ThreadingModel model);  // ISECT's answers, events, app, update; a failure thrown here
+    void cullDrawHere(std::unique_ptr<Packet> p);        // SingleThreaded: cull, draw, wait and present here
+    void handToThreads(std::unique_ptr<Packet> p, ThreadingModel model);  // to the pipeline, then the wait
     void appStage(Packet& p, Clock::time_point start, const char*& stage);
     void updateStage(Packet& p);
     void cullSetup(Packet& p);
+    // The cull and the draw, on whichever thread the model runs them (ViewerCullDraw.cpp).
     void cullViews(Packet& p, bool parallel);
-    void lookAhead(Packet& p, size_t k);  // view k's camera observed, and carried ahead
-    void drawPacket(Packet& p);           // on the thread that holds the context
+    void drawPacket(Packet& p);  // on the thread that holds the context
+    // The pipeline (ViewerThreads.cpp).
     void startDraw(std::unique_ptr<Packet> p);
     void waitDraw();  // the draw in hand done and retired
     void waitCull();  // the cull in hand (AppCullDraw) done and handed to the draw
     void retire(std::unique_ptr<Packet> p);
-    bool drawFailed();  // the recorded failure is the draw thread's
-    void wait(Clock::time_point start, StageTimes& t);
-    double now() const;
     // Threads for the model in use: started at the first frame that needs them, stopped by stop().
     void startThreads();
     void stop();
+    std::unique_ptr<Packet> takePacket();
+    void recycle(std::unique_ptr<Packet> p);  // an undrawn packet: its uploads are asked again
+    // Failures across threads (ViewerErrors.cpp).
     void fail(const char* stage, uint64_t frame);  // records the current exception (the first one wins)
     void rethrowFailure();                         // stop(), then throw the recorded failure
     bool failed();
-    std::unique_ptr<Packet> takePacket();
-    void recycle(std::unique_ptr<Packet> p);  // an undrawn packet: its uploads are asked again
+    bool drawFailed();  // the recorded failure is the draw thread's
+    // Pacing (ViewerPacing.cpp).
+    double periodMs() const { return 1000.0 / settings_.frameRate; }
+    void wait(Clock::time_point start, StageTimes& t);
+    double now() const;
+    // Paging (ViewerPaging.cpp).
+    void pagerStage(Packet& p);           // the pager's update, its uploads wired to the renderer for it
+    void lookAhead(Packet& p, size_t k);  // view k's camera observed, and carried ahead
     // Pipelined, the pager's details are uploaded on the draw thread within the pager's budget: the pager asks on
     // the application thread (prepareOnDraw), a packet carries the detail to the draw thread, and the answer comes
     // back with the packet (settleUploads); the pager's next ask of a detail uploaded returns true.

@@ -1,0 +1,110 @@
+// Viewer's cull and draw stages: each view culled (in parallel with a thread per view), then drawn into its
+// viewport with the overlay over them, on whichever thread the threading model runs them.
+#include "sg/viewer/Viewer.h"
+#include "sg/viewer/internal/FramePacket.h"
+#include "sg/viewer/internal/StageClock.h"
+#include "sg/viewer/internal/StageThread.h"
+
+#include <algorithm>
+#include <atomic>
+
+namespace sg {
+
+using stageclock::msSince;
+
+void Viewer::cullViews(Packet& p, bool parallel) {
+    const auto start = Clock::now();
+    std::atomic<bool> ok{true};
+    auto cullOne = [this, &p, &ok](size_t k) {
+        Packet::ViewFrame& vf = p.views[k];
+        const auto at = Clock::now();
+        try {
+            vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
+            vf.aheadStats = CullStats{};
+            if (vf.ahead)
+                vf.view->prefetch_.cull(*scene_, *vf.ahead, vf.aheadSettings, vf.view->prefetchList_, vf.aheadStats);
+        } catch (...) {
+            fail("cull", p.info.frame);
+            ok = false;
+        }
+        vf.cullMs = msSince(at);
+    };
+    if (parallel && p.viewCount > 1) {
+        while (viewThreads_.size() + 1 < p.viewCount) viewThreads_.push_back(std::make_unique<StageThread>());
+        for (size_t k = 1; k < p.viewCount; ++k) viewThreads_[k - 1]->run([&cullOne, k] { cullOne(k); });
+        cullOne(0);
+        for (size_t k = 1; k < p.viewCount; ++k) viewThreads_[k - 1]->wait();
+    } else {
+        for (size_t k = 0; k < p.viewCount; ++k) cullOne(k);
+    }
+    if (threaded_) {
+        // Consecutive items mostly share their mesh and material (the lists are sorted by state): a reference each
+        // time one changes.
+        p.keep.clear();
+        for (size_t k = 0; k < p.viewCount; ++k) {
+            const Mesh* mesh = nullptr;
+            const Material* material = nullptr;
+            for (const DrawItem& it : p.views[k].list.items) {
+                if (it.mesh != mesh && it.mesh) p.keep.emplace_back(mesh = it.mesh);
+                if (it.material != material && it.material) p.keep.emplace_back(material = it.material);
+            }
+        }
+    }
+    p.times.cullMs = msSince(start);
+    p.culled = ok;
+}
+
+// Each view into its viewport; a view whose policy learns from its draw is finished before the next is drawn, so
+// that its time is its own. The overlay goes over them all.
+void Viewer::drawPacket(Packet& p) {
+    const char* stage = "draw";
+    try {
+        const auto start = Clock::now();
+        if (!p.upload.empty() || !p.forget.empty()) {
+            PrepareBudget b(p.uploadBudget.ms, p.uploadBudget.objects);
+            for (size_t k = 0; k < p.upload.size() && !b.exhausted(); ++k)
+                p.uploadDone[k] = renderer_->prepare(*p.upload[k], b);
+            for (const auto& d : p.forget) renderer_->forgetPrepare(*d);
+        }
+        int width = 0, height = 0;  // what the views cover, for the overlay
+        for (size_t k = 0; k < p.viewCount; ++k) {
+            Packet::ViewFrame& vf = p.views[k];
+            const auto at = Clock::now();
+            if (vf.viewport.width > 0 && vf.viewport.height > 0) {
+                renderer_->draw(vf.list, vf.camera, vf.viewport, vf.clear);
+                width = std::max(width, vf.viewport.x + vf.viewport.width);
+                height = std::max(height, vf.viewport.y + vf.viewport.height);
+            } else {
+                renderer_->draw(vf.list, vf.camera, vf.clear);
+                width = std::max(width, vf.camera.width());
+                height = std::max(height, vf.camera.height());
+            }
+            vf.render = renderer_->lastStats();
+            if (vf.finished) renderer_->finish();
+            vf.drawMs = msSince(at);
+            vf.gpuMs = vf.finished ? renderer_->gpuMs() : -1.0;
+            if (vf.gpuMs >= 0.0) p.times.gpuMs += vf.gpuMs;
+        }
+        if (p.drawOverlay && width > 0 && height > 0) {
+            if (!text_) text_ = std::make_unique<TextOverlay>();
+            text_->draw(p.overlay, width, height, width >= 960 && height >= 480 ? 2.0f : 1.0f);
+        }
+        for (const Callback& f : overlayCallbacks_) f();
+        if (p.finishAll) renderer_->finish();
+        p.times.drawMs = msSince(start);
+        stage = "drawn";
+        for (const FrameCallback& f : drawn_) f(p.info);
+        if (threaded_) {
+            stage = "present";
+            const auto at = Clock::now();
+            for (const Callback& f : present_) f();
+            p.times.presentMs = msSince(at);
+        }
+        p.drawEnd = Clock::now();
+        p.drawn = true;
+    } catch (...) {
+        fail(stage, p.info.frame);
+    }
+}
+
+}  // namespace sg
