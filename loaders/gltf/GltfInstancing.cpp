@@ -1,6 +1,9 @@
-// EXT_mesh_gpu_instancing: a node's per-instance translation, rotation and scale read into matrices, and
-// instance matrices split back into float translation, rotation and scale for writing.
-#include "loaders/gltf/internal/GltfDetail.h"
+// EXT_mesh_gpu_instancing: a node's per-instance translation, rotation and scale read into matrices, its
+// instances built as Instances of one prototype, and instance matrices split back into float translation,
+// rotation and scale for writing.
+#include "loaders/gltf/internal/GltfConverter.h"
+
+#include "nodes/Instance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -65,6 +68,56 @@ std::vector<dmat4> instanceMatrices(const std::string& file, const tinygltf::Mod
             fail(file, path, "instance " + std::to_string(i) + "'s world matrix is not finite (" + overflow + ")");
     }
     return out;
+}
+
+void Converter::levelOfInstancedLod(LOD& lod, const tinygltf::Node& gn, const Value& sx, const std::string& xp,
+                                    const std::string& path) {
+    const Value* ranges = sx.Has("ranges") ? &sx.Get("ranges") : nullptr;
+    if (!ranges || !ranges->IsArray() || ranges->ArrayLen() != 1)
+        bad(xp + ".ranges", "an instanced LOD needs one [min, max] range, its mesh's");
+    const auto& gs = geometries(gn.mesh);
+    if (gs.size() != 1 || !gs[0]) bad(path + ".mesh", "an instanced sgkit LOD needs a mesh of one triangle primitive");
+    try {
+        addLevel(lod, gs[0], sx, xp, 0, 1);
+    } catch (const std::invalid_argument& e) {
+        bad(xp + ".ranges", e.what());
+    }
+}
+
+void Converter::instances(int i, Group* into, const dmat4& world, const std::string& path, ref_ptr<LOD> lodPrototype) {
+    const tinygltf::Node& gn = m.nodes[size_t(i)];
+    const std::string xp = path + ".extensions." + kInstancing + ".attributes";
+    instancesDone += instanceCount(m, gn);
+    if (instancesDone > kMaxInstances)
+        bad(xp, "the file places more than " + std::to_string(kMaxInstances) + " instances");
+    const std::vector<dmat4> placements = instanceMatrices(file, m, i, world);
+    std::vector<ref_ptr<Geometry>> drawn;
+    for (const auto& g : geometries(gn.mesh))
+        if (g) drawn.push_back(g);
+    if (drawn.empty()) return;  // every primitive skipped, with a warning each
+    ref_ptr<Node> proto = drawn[0];
+    if (lodPrototype) {
+        proto = lodPrototype;
+    } else if (drawn.size() > 1) {
+        auto& group = prototypes[gn.mesh];
+        if (!group) {
+            group = make<Group>();
+            for (const auto& g : drawn) group->addChild(g);
+        }
+        proto = group;
+    }
+    const std::string scale = instancing(gn)->Get("attributes").Has("SCALE") ? xp + ".SCALE" : xp;
+    std::vector<ref_ptr<Node>> placed;
+    std::vector<dvec3> where;
+    for (size_t k = 0; k < placements.size(); ++k) {
+        try {
+            placed.push_back(make<Instance>(proto, placements[k]));
+            where.push_back(dvec3(placements[k][3]));
+        } catch (const std::invalid_argument& e) {  // a singular matrix: rotations are not, so the scale
+            bad(scale, "instance " + std::to_string(k) + " cannot be placed (" + e.what() + ")");
+        }
+    }
+    addNearbyGrouped(*into, placed, where);
 }
 
 bool splitTrs(const dmat4& m, FloatTrs& out) {

@@ -391,19 +391,32 @@ struct Writer {
         if (lod.hasErrors()) x["errors"] = Value(std::move(errors));
     }
 
-    // Writes node `n` (and its subtree) as a new glTF node; returns its index. world: n's parent's world matrix.
-    int node(const Node& n, const dmat4& world) {
-        const int self = int(m.nodes.size());
-        m.nodes.emplace_back();
-        tinygltf::Node gn;
-        gn.name = n.name();
-        Value::Object x;
-        if (n.numParents() > 1) {
-            auto it = ids.find(&n);
-            if (it == ids.end()) it = ids.emplace(&n, (long long)ids.size()).first;
-            x["id"] = num(double(it->second));
+    // A PagedLOD's settings: the file, not the detail (the coarse children are written).
+    static void pagedLodExtras(const PagedLOD& p, Value::Object& x) {
+        x["kind"] = Value(std::string("PagedLOD"));
+        x["file"] = Value(p.file());
+        x["mode"] = Value(std::string(p.mode() == LOD::Mode::Distance ? "distance" : "pixelSize"));
+        x["min"] = num(p.rangeMin());
+        if (std::isfinite(p.rangeMax())) x["max"] = num(p.rangeMax());
+        if (p.userCenter()) x["center"] = vec3v(p.center());
+        if (p.radius() > 0.0) x["radius"] = num(p.radius());
+        if (p.trigger() == PagedLOD::Trigger::Command) x["trigger"] = Value(std::string("command"));
+    }
+
+    static void occluderExtras(const Occluder& oc, Value::Object& x) {
+        x["kind"] = Value(std::string("Occluder"));
+        if (oc.shape() == Occluder::Shape::Polygon) {
+            Value::Array pts;
+            for (const dvec3& p : oc.polygon()) pts.push_back(vec3v(p));
+            x["polygon"] = Value(std::move(pts));
+        } else {
+            x["min"] = vec3v(oc.box().min);
+            x["max"] = vec3v(oc.box().max);
         }
-        if (n.nodeMask() != 0xffffffffu) x["mask"] = num(n.nodeMask());
+    }
+
+    // What n's kind puts in gn: its matrix or mesh, and its settings in sgkit's extras `x`.
+    void kindExtras(const Node& n, tinygltf::Node& gn, Value::Object& x) {
         switch (n.kind()) {
             case NodeKind::Group: x["kind"] = Value(std::string("Group")); break;
             case NodeKind::Transform: setMatrix(gn, static_cast<const Transform&>(n).matrix()); break;
@@ -439,32 +452,25 @@ struct Writer {
                 setMatrix(gn, static_cast<const Instance&>(n).matrix());
                 break;
             case NodeKind::BspGroup: x["kind"] = Value(std::string("BspGroup")); break;
-            case NodeKind::PagedLOD: {  // the file, not the detail (the coarse children are written)
-                const auto& p = static_cast<const PagedLOD&>(n);
-                x["kind"] = Value(std::string("PagedLOD"));
-                x["file"] = Value(p.file());
-                x["mode"] = Value(std::string(p.mode() == LOD::Mode::Distance ? "distance" : "pixelSize"));
-                x["min"] = num(p.rangeMin());
-                if (std::isfinite(p.rangeMax())) x["max"] = num(p.rangeMax());
-                if (p.userCenter()) x["center"] = vec3v(p.center());
-                if (p.radius() > 0.0) x["radius"] = num(p.radius());
-                if (p.trigger() == PagedLOD::Trigger::Command) x["trigger"] = Value(std::string("command"));
-                break;
-            }
-            case NodeKind::Occluder: {
-                const auto& oc = static_cast<const Occluder&>(n);
-                x["kind"] = Value(std::string("Occluder"));
-                if (oc.shape() == Occluder::Shape::Polygon) {
-                    Value::Array pts;
-                    for (const dvec3& p : oc.polygon()) pts.push_back(vec3v(p));
-                    x["polygon"] = Value(std::move(pts));
-                } else {
-                    x["min"] = vec3v(oc.box().min);
-                    x["max"] = vec3v(oc.box().max);
-                }
-                break;
-            }
+            case NodeKind::PagedLOD: pagedLodExtras(static_cast<const PagedLOD&>(n), x); break;
+            case NodeKind::Occluder: occluderExtras(static_cast<const Occluder&>(n), x); break;
         }
+    }
+
+    // Writes node `n` (and its subtree) as a new glTF node; returns its index. world: n's parent's world matrix.
+    int node(const Node& n, const dmat4& world) {
+        const int self = int(m.nodes.size());
+        m.nodes.emplace_back();
+        tinygltf::Node gn;
+        gn.name = n.name();
+        Value::Object x;
+        if (n.numParents() > 1) {
+            auto it = ids.find(&n);
+            if (it == ids.end()) it = ids.emplace(&n, (long long)ids.size()).first;
+            x["id"] = num(double(it->second));
+        }
+        if (n.nodeMask() != 0xffffffffu) x["mask"] = num(n.nodeMask());
+        kindExtras(n, gn, x);
         const Node* detail = n.kind() == NodeKind::PagedLOD ? static_cast<const PagedLOD&>(n).detail() : nullptr;
         const dmat4 inner = n.kind() == NodeKind::Transform  ? world * static_cast<const Transform&>(n).matrix()
                             : n.kind() == NodeKind::Instance ? world * static_cast<const Instance&>(n).matrix()

@@ -1,0 +1,107 @@
+// glTF mesh primitives to shared Meshes and Geometries: one Mesh per distinct primitive (strips and fans made
+// triangles), tangents made for normal maps, classic materials' UV transforms applied to a copy.
+#include "loaders/gltf/internal/GltfConverter.h"
+
+#include <cmath>
+
+namespace sg::gltf {
+
+void Converter::toTriangles(int mode, std::vector<uint32_t>& idx) {
+    std::vector<uint32_t> t;
+    for (size_t i = 2; i < idx.size(); ++i) {
+        if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            const bool odd = (i % 2) == 1;  // keep the winding of the first triangle
+            t.insert(t.end(), {idx[i - 2 + (odd ? 1 : 0)], idx[i - 1 - (odd ? 1 : 0)], idx[i]});
+        } else {
+            t.insert(t.end(), {idx[0], idx[i - 1], idx[i]});
+        }
+    }
+    idx = std::move(t);
+}
+
+ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& path) {
+    auto attr = [&](const char* name) {
+        auto it = p.attributes.find(name);
+        return it == p.attributes.end() ? -1 : it->second;
+    };
+    const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0"),
+              tan = attr("TANGENT"), uv1 = attr("TEXCOORD_1");
+    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1);
+    auto found = meshes.find(key);
+    if (found != meshes.end()) return found->second;
+
+    std::vector<vec3> positions = readVectors<vec3, 3>(m, pos);
+    const size_t n = positions.size();
+    std::vector<uint32_t> idx = indices(p, n, path);
+    if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) toTriangles(p.mode, idx);
+    auto mesh = make<Mesh>();
+    try {
+        mesh->set(std::move(positions), nrm >= 0 ? readUnitVectors<vec3>(m, nrm) : std::vector<vec3>{}, std::move(idx),
+                  uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
+                  col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
+        mesh->setSurface(tan >= 0 ? readUnitVectors<vec4>(m, tan) : std::vector<vec4>{},
+                         uv1 >= 0 ? readVectors<vec2, 2>(m, uv1) : std::vector<vec2>{});
+    } catch (const std::exception& e) {
+        bad(path, e.what());
+    }
+    if (!mesh->validBound()) {
+        const auto& ps = mesh->positions();
+        size_t i = 0;
+        while (std::isfinite(ps[i].x) && std::isfinite(ps[i].y) && std::isfinite(ps[i].z)) ++i;
+        bad(path + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite (" +
+                                               std::to_string(ps[i].x) + ", " + std::to_string(ps[i].y) + ", " +
+                                               std::to_string(ps[i].z) + ")");
+    }
+    meshes[key] = mesh;
+    return mesh;
+}
+
+void Converter::withTangents(Mesh& mesh, const Material* mat) {
+    if (!mat || !mat->physical || !mat->pbr.normal.texture || !mesh.tangents().empty()) return;
+    const int set = mat->pbr.normal.texCoord;
+    const size_t n = mesh.positions().size();
+    if (mesh.normals().size() != n || (set == 0 ? mesh.uvs() : mesh.uvs1()).size() != n) return;
+    mesh.setSurface(generateTangents(mesh, set), mesh.uvs1());
+}
+
+ref_ptr<Mesh> Converter::withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int set) {
+    ref_ptr<Mesh>& out = classicUvMeshes[{mesh.get(), mat}];
+    if (out) return out;
+    const mat3& t = classicUv[mat];
+    std::vector<vec2> uvs = mesh->uvs(), uvs1 = mesh->uvs1();
+    for (vec2& uv : set == 0 ? uvs : uvs1) uv = vec2(t * vec3(uv, 1.0f));
+    std::vector<uint32_t> idx(mesh->indexCount());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = mesh->index(i);
+    out = make<Mesh>();
+    out->set(mesh->positions(), mesh->normals(), std::move(idx), std::move(uvs), mesh->colors());
+    out->setSurface(mesh->tangents(), std::move(uvs1));
+    return out;
+}
+
+const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
+    if (sharedDone[size_t(i)]) return shared[size_t(i)];
+    sharedDone[size_t(i)] = true;
+    auto& gs = shared[size_t(i)];
+    const auto& prims = m.meshes[size_t(i)].primitives;
+    for (size_t k = 0; k < prims.size(); ++k) {
+        const tinygltf::Primitive& p = prims[k];
+        const std::string path = at(at("meshes", size_t(i)) + ".primitives", k);
+        if (p.mode < TINYGLTF_MODE_TRIANGLES) {
+            warn(path, "points and lines are not drawn, primitive skipped");
+            gs.push_back({});
+        } else if (!p.attributes.count("POSITION")) {
+            warn(path, "no POSITION attribute, primitive skipped");
+            gs.push_back({});
+        } else {
+            ref_ptr<Mesh> mh = mesh(p, path);
+            ref_ptr<Material> mat = material(p.material);
+            if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
+            withTangents(*mh, mat.get());
+            gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
+        }
+    }
+    progress.report(0.6 + 0.4 * double(nodesDone) / double(std::max<size_t>(1, m.nodes.size())), "converting");
+    return gs;
+}
+
+}  // namespace sg::gltf

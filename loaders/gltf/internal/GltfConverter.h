@@ -1,0 +1,153 @@
+// The conversion of a validated tinygltf model to an sgkit graph: what it has made so far (each material,
+// texture, mesh and shared node once) and its parts, each defined in the file of its concern.
+#pragma once
+#include "loaders/gltf/internal/GltfDetail.h"
+
+#include "nodes/Geometry.h"
+#include "nodes/LOD.h"
+
+#include <map>
+#include <tuple>
+#include <unordered_map>
+
+namespace sg::gltf {
+
+// --- accessors (GltfAccessors.cpp)
+
+// Float vectors of N components; tightly packed float data is copied in one go.
+template <class V, int N>
+std::vector<V> readVectors(const tinygltf::Model& m, int acc);
+// Unit vectors (xyz; a tangent's w, its handedness, kept): quantized ones come back a little off unit length.
+template <class V>
+std::vector<V> readUnitVectors(const tinygltf::Model& m, int acc);
+
+// --- extras (GltfExtras.cpp)
+
+// String and finite number members of extras other than sgkit's key.
+GltfProperties properties(const tinygltf::Value& extras);
+// sgkit's object in extras, or null when there is none.
+const tinygltf::Value* sgkitExtras(const tinygltf::Value& extras);
+
+struct Converter {
+    using Value = tinygltf::Value;
+
+    Converter(const std::string& f, const tinygltf::Model& model, Progress& p)
+        : file(f),
+          m(model),
+          progress(p),
+          materials(model.materials.size()),
+          materialDone(model.materials.size()),
+          textures(model.images.size()),
+          textureDone(model.images.size()),
+          shared(model.meshes.size()),
+          sharedDone(model.meshes.size()) {}
+
+    const std::string& file;
+    const tinygltf::Model& m;
+    Progress& progress;
+    GltfScene out;
+    // Made once each, on first use (index: the glTF element).
+    std::vector<ref_ptr<Material>> materials;
+    std::vector<bool> materialDone;
+    std::vector<ref_ptr<Texture>> textures;  // per image
+    std::vector<bool> textureDone;
+    // KHR_texture_transform of classic materials (packers add it to dequantize UVs), by material, and the meshes
+    // with it applied to their UVs, by mesh and material.
+    std::map<int, mat3> classicUv;
+    std::map<std::pair<const Mesh*, int>, ref_ptr<Mesh>> classicUvMeshes;
+    std::map<std::tuple<int, int, int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
+    std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
+    std::vector<bool> sharedDone;
+    std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
+    size_t nodesDone = 0;
+    size_t instancesDone = 0;                                // EXT_mesh_gpu_instancing instances, against kMaxInstances
+    std::map<int, ref_ptr<Group>> prototypes;                // per glTF mesh of several primitives that is instanced
+    std::unordered_map<const Node*, uint64_t> expandedSize;  // nodes below a node, counted per path
+
+    void warn(const std::string& path, const std::string& what) { out.warnings.push_back(path + ": " + what); }
+
+    // --- extras (GltfExtras.cpp)
+    [[noreturn]] void bad(const std::string& path, const std::string& why) { fail(file, path, why); }
+    double number(const Value& o, const char* key, const std::string& path, double def);
+    std::string string(const Value& o, const char* key, const std::string& path, const std::string& def);
+    std::vector<double> numbers(const Value& v, const std::string& path, size_t n);
+    float toFloat(double v, const std::string& path);
+    dvec3 vec(const Value& o, const char* key, const std::string& path);
+
+    // --- materials and textures (GltfMaterials.cpp)
+    ref_ptr<Texture> texture(int t, const std::string& path);
+    // KHR_texture_transform of a texture reference: translation * rotation * scale (the extension's matrices),
+    // and its texCoord, which overrides the reference's. A value that is not a finite number: a warning, no
+    // transform.
+    void textureTransform(const tinygltf::ExtensionMap& ext, const std::string& path, TextureSlot& slot);
+    // A texture reference of a material: its texture (sRGB or not is the renderer's choice by the use), UV set and
+    // transform. A UV set other than 0 and 1 is a warning, and the texture is not used.
+    TextureSlot slot(int index, int texCoord, const tinygltf::ExtensionMap& ext, const std::string& path);
+    // A material sgkit wrote from a classic one (GltfWrite.cpp) is read back as that: the same look as before it
+    // was saved.
+    void classic(const Value& x, const std::string& path, Material& mat);
+    // A glTF material as a physical one (Material::physical): the metallic-roughness model with its textures,
+    // KHR_materials_unlit, KHR_materials_emissive_strength, KHR_texture_transform, alpha modes, double-sidedness.
+    ref_ptr<Material> material(int i);
+
+    // --- accessors (GltfAccessors.cpp)
+    // A primitive's triangle indices (its vertices in order when it has none), each checked against the n
+    // vertices.
+    std::vector<uint32_t> indices(const tinygltf::Primitive& p, size_t n, const std::string& path);
+
+    // --- meshes (GltfMeshes.cpp)
+    static void toTriangles(int mode, std::vector<uint32_t>& idx);
+    ref_ptr<Mesh> mesh(const tinygltf::Primitive& p, const std::string& path);
+    // A normal map over a mesh without TANGENT: tangents made by MikkTSpace's rules, as glTF asks (once per mesh).
+    static void withTangents(Mesh& mesh, const Material* mat);
+    // A copy of `mesh` whose UV set `set` has material `mat`'s classicUv applied (once per mesh and material).
+    ref_ptr<Mesh> withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int set);
+    // One Geometry per drawable primitive of glTF mesh `i`, made once (null for skipped primitives).
+    const std::vector<ref_ptr<Geometry>>& geometries(int i);
+
+    // --- sgkit's node kinds (GltfNodeKinds.cpp)
+    // A relative file name is relative to the directory of the glTF file that names it.
+    ref_ptr<Node> pagedLod(const Value& sx, const std::string& xp);
+    ref_ptr<Node> makeKind(const std::string& kind, const Value* sx, const std::string& xp, const tinygltf::Node& gn,
+                           const dmat4& local, const std::string& path);
+    // Child k of nc of an LOD, with its range and error from the LOD's extras (which the caller has checked).
+    void addLevel(LOD& lod, ref_ptr<Node> c, const Value& sx, const std::string& xp, size_t k, size_t nc);
+
+    // --- the node tree (GltfConvert.cpp)
+    static dmat4 localMatrix(const tinygltf::Node& n);
+    // Builds node i and its subtree; null when the node is skipped (with a warning).
+    ref_ptr<Node> build(int i, const dmat4& parentWorld);
+    // Refuses a node whose world matrix is not finite, naming the field that made it so.
+    void checkWorld(const tinygltf::Node& gn, const std::string& path, const dmat4& world);
+    // The node's sgkit "id" (-1 when it has none): a node with several parents is built once.
+    long long nodeId(const Value* sx, const std::string& xp);
+    // The sgkit kind the node is built as ("Transform" for a plain glTF node).
+    std::string nodeKind(const tinygltf::Node& gn, const Value* sx, const std::string& xp);
+    // The node of `kind`, in a Transform when sgkit's kind has a matrix; an instanced LOD's LOD goes to
+    // lodPrototype and a Transform is returned. Null (with a warning) when a matrix cannot be used.
+    ref_ptr<Node> makeNode(const std::string& kind, const Value* sx, const std::string& xp, const tinygltf::Node& gn,
+                           const dmat4& local, const std::string& path, bool instancedLod, ref_ptr<LOD>& lodPrototype);
+    // The node's name, the application's properties in its extras and its sgkit mask, set on the built node.
+    void label(Node& inner, const tinygltf::Node& gn, const Value* sx, const std::string& xp);
+    // Node i's mesh below `inner`: its instances, its Geometries, or a warning where the kind has no use for it.
+    void addMesh(int i, const std::string& kind, const Value* sx, const std::string& xp, Node* inner,
+                 const dmat4& world, const std::string& path, bool instancedLod, const ref_ptr<LOD>& lodPrototype);
+    // Records how many nodes `node` expands to, refusing a graph that expands to more than kMaxExpandedNodes.
+    void countExpanded(const Node* node, const Node* inner, const std::string& kind, const std::string& path);
+    uint64_t expanded(const Node* n) const;
+    void children(const tinygltf::Node& gn, const std::string& kind, const Value* sx, const std::string& xp,
+                  Node* inner, const dmat4& world, const std::string& path);
+
+    // --- EXT_mesh_gpu_instancing (GltfInstancing.cpp)
+    // An instanced LOD's one level: the node's mesh, with the one range (and error) its extras give.
+    void levelOfInstancedLod(LOD& lod, const tinygltf::Node& gn, const Value& sx, const std::string& xp,
+                             const std::string& path);
+    // Node i's mesh placed once per instance (the node's own matrix outside them), by Instances of one prototype,
+    // the mesh's Geometry (a Group of them for a mesh of several primitives).
+    void instances(int i, Group* into, const dmat4& world, const std::string& path, ref_ptr<LOD> lodPrototype);
+
+    // --- cameras (GltfCameras.cpp)
+    void camera(int c, const dmat4& world, const std::string& nodeName);
+};
+
+}  // namespace sg::gltf
