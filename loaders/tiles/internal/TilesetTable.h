@@ -166,7 +166,6 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
 ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
                           const dmat4& world, size_t& budget);
 
-
 // glTF's +Y up to 3D Tiles' +Z up: (x, y, z) -> (x, -z, y).
 dmat4 yUpToZUp();
 

@@ -1,6 +1,6 @@
 // The parts of meshOccluders (GeneratedOccluders.h) shared by its two files: boxes inside a closed surface
 // (MeshOccluders.cpp), and the analysis of open meshes, their polygons and their capped boxes (OpenMeshOccluders.cpp).
-// Internal header: not installed (cmake/LayerCheck.cmake, SGKIT_INTERNAL_HEADERS).
+// Internal header: not installed (an internal/ folder, cmake/LayerCheck.cmake).
 #pragma once
 #include "sg/build/GeneratedOccluders.h"
 

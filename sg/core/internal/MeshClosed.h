@@ -1,5 +1,5 @@
 // Whether a triangle mesh bounds solids (Mesh::closed()): the test Mesh::set() runs once per set.
-// Internal header: not installed (cmake/LayerCheck.cmake, SGKIT_INTERNAL_HEADERS).
+// Internal header: not installed (an internal/ folder, cmake/LayerCheck.cmake).
 #pragma once
 #include "sg/core/Math.h"
 

@@ -1,7 +1,7 @@
 // What the parts of CullTraversal share (CullTraversal.cpp: the frame; CullVisit.cpp: the walk and a handler
 // per node kind; CullBounds.cpp: the bound tests; CullEmit.cpp: the fast path and the draw items): the per-image
 // context and the LOD handler, which the walk and the fast path both use.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "sg/cull/CullTraversal.h"
 #include "sg/cull/internal/FrustumKernel.h"

@@ -1,6 +1,6 @@
 // Frustum kernels: classify flat arrays of bounds against up to six planes, branch-free so that the
 // compiler vectorizes them (an AVX2 clone is chosen at run time where the CPU has it).
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "sg/core/Math.h"
 

@@ -1,5 +1,5 @@
 // Which draw items may skip their back faces: those no eye ray can meet back-first. Internal header: not installed
-// (cmake/LayerCheck.cmake, SGKIT_INTERNAL_HEADERS).
+// (an internal/ folder, cmake/LayerCheck.cmake).
 //
 // A ray from an eye outside a closed mesh (Mesh::closed()) enters a solid before it leaves one, so the first face it
 // meets faces the eye; drawn opaque with the depth test, every back face lies behind a front face of the same item,

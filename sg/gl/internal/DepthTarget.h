@@ -1,6 +1,6 @@
 // The renderer's own framebuffer for reverse-Z: RGBA8 colour and a 32-bit float depth buffer, which the
 // default framebuffers of OSMesa and GLFW (24-bit fixed depth) do not offer.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 
 namespace sg {

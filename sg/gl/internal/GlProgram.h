@@ -1,6 +1,6 @@
 // The shader program of a vertex and a fragment shader, compiled and linked in the current OpenGL 3.3
 // context: the renderer's, and any overlay an application draws beside it.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 
 namespace sg {

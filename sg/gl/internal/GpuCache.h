@@ -1,6 +1,6 @@
 // The GPU copies of the meshes and textures a renderer draws: each uploaded on its first use and kept, with a
 // reference (so that its pointer stays valid), until the frames stop using it.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"

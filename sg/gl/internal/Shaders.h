@@ -1,5 +1,5 @@
 // The renderer's GLSL program: its two shaders' sources and the vertex attributes they read.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "sg/core/Math.h"
 

@@ -1,6 +1,6 @@
 // The geometric predicates of the intersection queries (ray-box, sphere-triangle, swept sphere-triangle),
 // in double, with their rounding policy stated here.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "sg/core/Math.h"
 

@@ -2,7 +2,7 @@
 // live (ranges by distance or by pixel size, the LOD scale, hysteresis, fade bands, the budget's plan, the
 // finest child for queries that ask for it, a paged node's detail), so that the cull's walk and its fast path,
 // the budget's replay and planner, and the intersection traversal (a pick sees the level that is drawn) agree.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "nodes/LOD.h"
 #include "nodes/PagedLOD.h"

@@ -1,6 +1,6 @@
 // Builds a BspGroup's tree over its children's boxes (in the group's frame): axis-aligned splits at
 // the median centre, children that straddle a plane stay on it.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "nodes/BspGroup.h"
 

@@ -1,6 +1,6 @@
 // Each Geometry below a root once, however many paths lead to it (shared subgraphs counted once), walked without
 // recursion: what a paged detail holds, to measure (pageBytes), to upload (Renderer::prepare) or to work out ahead.
-// Internal header: not installed (SGKIT_INTERNAL_HEADERS in cmake/LayerCheck.cmake).
+// Internal header: not installed (an internal/ folder).
 #pragma once
 #include "nodes/Geometry.h"
 

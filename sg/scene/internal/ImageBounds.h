@@ -1,7 +1,7 @@
 // Scene::Builder's bounds: an entry's bound from its node or its children's, and what a kind derives from them
 // once its children are written (an LOD's centre, a PagedLOD's reach and detail, a wide Group's spheres, a
 // Billboard's sphere, a BspGroup's tree). Inline: run once per entry by both the full build and the refit.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "nodes/BspGroup.h"
 #include "nodes/Geometry.h"

@@ -6,7 +6,7 @@
 // NestedImages.cpp (prototypes' and paged details' images built or adopted). What runs once per entry is inline
 // (here, in ImageBounds.h, or in the .cpp of the loop that calls it): the library is built with -fPIC, where a
 // function that is not inline is called through the PLT and never inlined.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "nodes/LOD.h"
 #include "nodes/PagedLOD.h"

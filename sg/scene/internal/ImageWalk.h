@@ -1,6 +1,6 @@
 // What the walks over a Scene's flat image (the cull, the intersection traversal) share: an entry's
 // transform composed with its parent's, and the checks before a walk.
-// Internal header: not installed (CMakeLists.txt, SGKIT_INTERNAL_HEADERS); its shape may change freely.
+// Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
 #include "sg/scene/ImageFrame.h"
 #include "sg/scene/Scene.h"

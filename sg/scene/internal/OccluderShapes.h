@@ -1,6 +1,6 @@
 // Small geometry on occluder shapes shared by the mesh analysis (MeshOccluders.cpp, OpenMeshOccluders.cpp) and the
 // graph's generator (GeneratedOccluders.cpp): box volume, the flatness float positions allow, convex polygons' normal,
-// area and clipping. Internal header: not installed (cmake/LayerCheck.cmake, SGKIT_INTERNAL_HEADERS).
+// area and clipping. Internal header: not installed (an internal/ folder, cmake/LayerCheck.cmake).
 #pragma once
 #include "sg/core/Math.h"
 

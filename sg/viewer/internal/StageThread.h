@@ -1,6 +1,6 @@
 // StageThread: a thread that runs the jobs another thread hands it, one at a time (a pipeline stage: the draw, a
 // view's cull, the ISECT queries). The job catches its own exceptions; the thread only runs it.
-// Internal header: not installed (cmake/LayerCheck.cmake, SGKIT_INTERNAL_HEADERS).
+// Internal header: not installed (an internal/ folder, cmake/LayerCheck.cmake).
 #pragma once
 #include <condition_variable>
 #include <functional>
