@@ -169,8 +169,8 @@ TEST(LodBudgetPlanner, NoLevelCoarserThanTheRangesShowAtTheCoarsestScale) {
         p.b.coarsestScale = coarsestScale;
         return p.plan();
     };
-    EXPECT_GE(plan(0.0).lodLevels[1], 10u);  // off: the budget goes coarse
-    const LodPlanStats limited = plan(16.0);    // 20-210 m times 16 is still in the fine range, [0, 1e6)
+    EXPECT_GE(plan(0.0).lodLevels[1], 10u);   // off: the budget goes coarse
+    const LodPlanStats limited = plan(16.0);  // 20-210 m times 16 is still in the fine range, [0, 1e6)
     EXPECT_EQ(limited.lodLevels[0], 20u);
     EXPECT_GT(limited.lodPredictedMs, 1.3);  // over the budget, as stress at its largest scale would be
     EXPECT_GE(plan(1e5).lodLevels[1], 10u);  // 2e6 and beyond: the ranges show nothing there, no limit
