@@ -36,6 +36,24 @@ constexpr uint8_t kCube[36] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5
 constexpr double kGrow = 1e-3;
 
 int64_t mm(double v) { return std::llround(v * 1000.0); }
+
+// The rest of the list, renumbered: the cull's sort order, fades and parts of the items kept. newIndex: list's item
+// -> drawn's, ~0u where it was left out.
+void renumberRest(const DrawList& list, const std::vector<uint32_t>& newIndex, DrawList& drawn) {
+    for (uint32_t i : list.order)
+        if (i < newIndex.size() && newIndex[i] != ~0u) drawn.order.push_back(newIndex[i]);
+    for (const auto& [i, f] : list.fades)
+        if (i < newIndex.size() && newIndex[i] != ~0u) drawn.fades.push_back({newIndex[i], f});
+    if (!list.parts.empty()) {
+        drawn.ranges = list.ranges;
+        for (DrawList::Part p : list.parts)
+            if (p.item < newIndex.size() && newIndex[p.item] != ~0u) {
+                p.item = newIndex[p.item];
+                drawn.parts.push_back(p);
+            }
+    }
+}
+
 }  // namespace
 
 OcclusionQueries::OcclusionQueries() {
@@ -167,20 +185,7 @@ void OcclusionQueries::select(const DrawList& list, const Camera& camera, DrawLi
             corners_.push_back(vec3(c + e * dvec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1)));
     }
     stats_.queries = uint32_t(keys_.size());
-
-    // The rest of the list, renumbered: the cull's sort order, fades and parts of the items kept.
-    for (uint32_t i : list.order)
-        if (i < newIndex.size() && newIndex[i] != ~0u) drawn.order.push_back(newIndex[i]);
-    for (const auto& [i, f] : list.fades)
-        if (i < newIndex.size() && newIndex[i] != ~0u) drawn.fades.push_back({newIndex[i], f});
-    if (!list.parts.empty()) {
-        drawn.ranges = list.ranges;
-        for (DrawList::Part p : list.parts)
-            if (p.item < newIndex.size() && newIndex[p.item] != ~0u) {
-                p.item = newIndex[p.item];
-                drawn.parts.push_back(p);
-            }
-    }
+    renumberRest(list, newIndex, drawn);
 }
 
 void OcclusionQueries::issue(const mat4& viewProj, bool reverseDepth) {

@@ -235,6 +235,8 @@ private:
     void upload();
     bool wantsReverseZ(const Camera& camera) const;
     void beginFrame(Target& target, const Camera& camera, const vec4& clearColor);
+    // The frame's light uniforms (lightDir_, punctual*_) for this camera.
+    void frameLights(const Camera& camera);
     void drawRuns(const DrawList& list, const Camera& camera, bool reverse);
     void drawRun(const DrawList& list, const Run& r);
     void endFrame(const Target& target);

@@ -97,48 +97,7 @@ void main() {
 // The variants: the same arithmetic as the one program above, with each feature a preprocessor constant, so
 // that a variant declares only the attributes, outputs and uniforms its draws use and its fragment stage has no
 // branch on a uniform (llvmpipe runs the fragment shader per pixel in software: every interpolated output and
-// every branch is paid for at each pixel).
-const char* const kVariantVertexShader = R"(
-layout(location = 0) in vec3 aPosition;
-#if LIT
-layout(location = 1) in vec3 aNormal;
-out vec3 vNormal;
-#if SUN
-out vec3 vFromEye;
-#endif
-#endif
-#if TEXTURE
-layout(location = 2) in vec2 aUv;
-out vec2 vUv;
-#endif
-#if COLOR
-layout(location = 3) in vec4 aColor;
-out vec4 vColor;
-#endif
-layout(location = 4) in mat4 aModel;
-layout(location = 8) in vec4 aBaseColor;
-uniform mat4 uViewProj;
-flat out vec4 vBaseColor;
-void main() {
-    vec4 world = aModel * vec4(aPosition, 1.0);
-    gl_Position = uViewProj * world;
-#if LIT
-#if SUN
-    vFromEye = world.xyz;
-#endif
-    mat3 m = mat3(aModel);
-    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
-#endif
-#if TEXTURE
-    vUv = aUv;
-#endif
-#if COLOR
-    vColor = aColor;
-#endif
-    vBaseColor = aBaseColor;
-}
-)";
-
+// every branch is paid for at each pixel). Their vertex stage is the physical variants' too (ShadersVertex.cpp).
 const char* const kVariantFragmentShader = R"(
 flat in vec4 vBaseColor;
 #if LIT
@@ -250,8 +209,8 @@ std::string variantSource(bool vertex, uint32_t features) {
                                                       {kShadePunctual, "PUNCTUAL"},
                                                       {kShadePbrOrm, "PBR_ORM"}};
     for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
-    if (f & kShadePbr) return s + (vertex ? kPbrVertexShader : kPbrFragmentShader);
-    return s + (vertex ? kVariantVertexShader : kVariantFragmentShader);
+    if (vertex) return s + variantVertexSource((f & kShadePbr) != 0);
+    return s + ((f & kShadePbr) ? kPbrFragmentShader : kVariantFragmentShader);
 }
 
 namespace {

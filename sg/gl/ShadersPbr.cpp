@@ -1,63 +1,10 @@
-// The metallic-roughness program's sources: glTF 2.0's BRDF as its Appendix B writes it (Lambert diffuse, GGX
-// distribution, the separable Smith visibility, Schlick's Fresnel), in linear space, written out as sRGB. The
-// features are preprocessor constants, as for the classic variants (Shaders.cpp): a draw pays only for what its
-// material uses.
+// The metallic-roughness program's fragment source (its vertex stage is the classic variants', ShadersVertex.cpp):
+// glTF 2.0's BRDF as its Appendix B writes it (Lambert diffuse, GGX distribution, the separable Smith visibility,
+// Schlick's Fresnel), in linear space, written out as sRGB. The features are preprocessor constants, as for the classic
+// variants (Shaders.cpp): a draw pays only for what its material uses.
 #include "sg/gl/internal/Shaders.h"
 
 namespace sg {
-
-const char* const kPbrVertexShader = R"(
-layout(location = 0) in vec3 aPosition;
-layout(location = 4) in mat4 aModel;
-layout(location = 8) in vec4 aBaseColor;
-uniform mat4 uViewProj;
-flat out vec4 vBaseColor;
-out vec3 vFromEye;  // world offset from the eye: the models' matrices carry the eye's translation
-#if LIT && !FLAT
-layout(location = 1) in vec3 aNormal;
-out vec3 vNormal;
-#endif
-#if PBR_NORMAL
-layout(location = 9) in vec4 aTangent;
-out vec4 vTangent;
-#endif
-#if UV0
-layout(location = 2) in vec2 aUv;
-out vec2 vUv0;
-#endif
-#if UV1
-layout(location = 10) in vec2 aUv1;
-out vec2 vUv1;
-#endif
-#if COLOR
-layout(location = 3) in vec4 aColor;
-out vec4 vColor;
-#endif
-void main() {
-    vec4 world = aModel * vec4(aPosition, 1.0);
-    vFromEye = world.xyz;
-    gl_Position = uViewProj * world;
-    mat3 m = mat3(aModel);
-#if LIT && !FLAT
-    // The cofactor matrix (det x inverse-transpose): right under non-uniform scale; a mirror's sign flip is undone
-    // with the facing below, since a mirror also turns the winding.
-    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
-#endif
-#if PBR_NORMAL
-    vTangent = vec4(m * aTangent.xyz, aTangent.w);
-#endif
-#if UV0
-    vUv0 = aUv;
-#endif
-#if UV1
-    vUv1 = aUv1;
-#endif
-#if COLOR
-    vColor = aColor;
-#endif
-    vBaseColor = aBaseColor;
-}
-)";
 
 const char* const kPbrFragmentShader = R"(
 const float PI = 3.14159265358979;

@@ -55,8 +55,10 @@ constexpr unsigned kPositionLocation = 0, kNormalLocation = 1, kUvLocation = 2, 
 constexpr unsigned kTangentLocation = 9, kUv1Location = 10;
 // The texture units of a physical material's textures (the classic programs read unit 0 only).
 constexpr int kBaseColorUnit = 0, kMetallicRoughnessUnit = 1, kNormalUnit = 2, kOcclusionUnit = 3, kEmissiveUnit = 4;
-// A physical variant's sources (ShadersPbr.cpp), after the #defines variantSource() writes.
-extern const char* const kPbrVertexShader;
+// The variants' vertex stage, one source for both families (ShadersVertex.cpp), after the #defines variantSource()
+// writes; physical: as the physical fragment stage reads it.
+std::string variantVertexSource(bool physical);
+// A physical variant's fragment source (ShadersPbr.cpp), after the #defines variantSource() writes.
 extern const char* const kPbrFragmentShader;
 
 // Per instance, from the frame's instance buffer: an item's matrix and base colour, at locations 4 to 8.

@@ -1,0 +1,148 @@
+// Renderer: the frame's runs get their GPU copies and their programs (ShaderMode: the one program, or a variant
+// per combination of features, compiled on first use).
+#include "sg/gl/Renderer.h"
+
+#include "sg/gl/internal/GlProgram.h"
+#include "sg/gl/internal/GpuCache.h"
+#include "sg/gl/internal/Shaders.h"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <string>
+#include <utility>
+
+namespace sg {
+
+Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentSource, const char* who) {
+    Program p;
+    p.id = buildGlProgram(vertexSource, fragmentSource, who);
+    const auto at = [&](const char* name) { return glGetUniformLocation(p.id, name); };
+    p.uViewProj = at("uViewProj");
+    p.uLightDir = at("uLightDir");
+    p.uHeadlight = at("uHeadlight");
+    p.uAmbient = at("uAmbient");
+    p.uLightColor = at("uLightColor");
+    p.uUseTexture = at("uUseTexture");
+    p.uUseColor = at("uUseColor");
+    p.uLit = at("uLit");
+    p.uBakedLight = at("uBakedLight");
+    p.uSpecular = at("uSpecular");
+    p.uShininess = at("uShininess");
+    p.uFade = at("uFade");
+    p.uAlphaCutoff = at("uAlphaCutoff");
+    p.uLightE = at("uLightE");
+    p.uSky = at("uSky");
+    p.uGround = at("uGround");
+    p.uUp = at("uUp");
+    p.uMetallic = at("uMetallic");
+    p.uRoughness = at("uRoughness");
+    p.uEmissive = at("uEmissive");
+    p.uNormalScale = at("uNormalScale");
+    p.uOcclusionStrength = at("uOcclusionStrength");
+    p.uLightCount = at("uLightCount");
+    p.uPunctualPos = at("uPunctualPos");
+    p.uPunctualDir = at("uPunctualDir");
+    p.uPunctualE = at("uPunctualE");
+    p.uPunctualCone = at("uPunctualCone");
+    const char* names[5] = {"uBase", "uMr", "uNormal", "uOcclusion", "uEmissive"};
+    const char* samplers[5] = {"uTexture", "uMrTex", "uNormalTex", "uOcclusionTex", "uEmissiveTex"};
+    glUseProgram(p.id);
+    for (int u = 0; u < 5; ++u) {
+        p.uXf[u] = at((std::string(names[u]) + "Xf").c_str());
+        p.uSet[u] = at((std::string(names[u]) + "Set").c_str());
+        glUniform1i(at(samplers[u]), u);  // units: Shaders.h
+    }
+    glUseProgram(0);
+    return p;
+}
+
+Renderer::Program& Renderer::programFor(const Shading& s) {
+    if (shaderMode_ == ShaderMode::OneProgram) return one_;
+    uint32_t f = 0;
+    if (s.texture) f |= kShadeTexture;
+    if (s.colors) f |= kShadeColor;
+    if (s.bakedLight) f |= kShadeBaked;
+    if (s.lit) f |= kShadeLit;
+    if (!light_.headlight) f |= kShadeSun;
+    if (s.specular > 0.0f) f |= kShadeSpecular;
+    if (s.alphaCutoff > 0.0f) f |= kShadeAlphaCut;
+    if (s.fade < 1.0f) f |= kShadeFade;
+    if (s.material && s.material->physical) f |= kShadePbr | s.pbr | (punctual_.empty() ? 0u : kShadePunctual);
+    f = canonicalFeatures(f);
+    const auto it = variants_.find(f);
+    if (it != variants_.end()) return it->second;
+    const std::string vs = variantSource(true, f), fs = variantSource(false, f);
+    return variants_.emplace(f, link(vs.c_str(), fs.c_str(), "Renderer::draw()")).first->second;
+}
+
+Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
+    Shading s;
+    s.texture = texture != 0;
+    s.colors = g.colors;
+    s.lit = (!mat || !mat->unlit) && g.normals;
+    s.bakedLight = mat && mat->bakedLight;
+    s.specular = mat ? mat->specular : 0.0f;
+    s.shininess = mat ? mat->shininess : 1.0f;
+    s.fade = fade;
+    s.alphaCutoff = mat ? mat->alphaCutoff : 0.0f;
+    if (mat && mat->physical) {
+        s.material = mat;
+        s.lit = !mat->unlit;
+        if (s.lit && !g.normals) s.pbr |= kShadeFlat;
+        if (mat->blend) s.pbr |= kShadeBlend;
+    }
+    return s;
+}
+
+// Each texture of a physical material that the mesh can read (its UV set present; a normal map also needs normals
+// and tangents): its copy (colour ones as sRGB) and the features and UV sets that it brings.
+void Renderer::physicalTextures(Run& r) {
+    const Material& m = *r.material;
+    const GpuMesh& g = *r.gpu;
+    const bool cut = m.alphaCutoff > 0.0f;
+    auto readable = [&](const TextureSlot& t) {
+        return t.texture && ((t.texCoord == 0 && g.uvs) || (t.texCoord == 1 && g.uvs1));
+    };
+    auto set = [&](const TextureSlot& t) { r.shading.pbr |= t.texCoord == 1 ? kShadeUv1 : kShadeUv0; };
+    r.texture = 0;
+    r.shading.texture = false;
+    const TextureSlot base{m.texture, m.texCoord, m.textureTransform};
+    if (readable(base)) {
+        r.texture = cache_->texture(base.texture.get(), cut, true);
+        r.shading.texture = true;
+        set(base);
+    }
+    if (!r.shading.lit) return;  // unlit: the base colour alone
+    const PhysicalMaterial& p = m.pbr;
+    const std::pair<const TextureSlot*, uint32_t> slots[4] = {{&p.metallicRoughness, kShadePbrMr},
+                                                              {&p.normal, kShadePbrNormal},
+                                                              {&p.occlusion, kShadePbrOcclusion},
+                                                              {&p.emissive, kShadePbrEmissive}};
+    for (int k = 0; k < 4; ++k) {
+        const TextureSlot& t = *slots[k].first;
+        if (!readable(t) || (slots[k].second == kShadePbrNormal && (!g.tangents || !g.normals))) continue;
+        r.pbrTextures[k] = cache_->texture(t.texture.get(), false, slots[k].second == kShadePbrEmissive);
+        r.shading.pbr |= slots[k].second;
+        set(t);
+    }
+    const TextureSlot &mr = p.metallicRoughness, &ao = p.occlusion;
+    if ((r.shading.pbr & kShadePbrMr) && (r.shading.pbr & kShadePbrOcclusion) && mr.texture == ao.texture &&
+        mr.texCoord == ao.texCoord && mr.transform == ao.transform)
+        r.shading.pbr |= kShadePbrOrm;
+}
+
+// Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
+// draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
+void Renderer::upload() {
+    for (Run& r : runs_) {
+        r.gpu = &cache_->mesh(r.mesh);
+        const Texture* tex = r.material && !r.material->physical && r.gpu->uvs ? r.material->texture.get() : nullptr;
+        r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
+        r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
+        if (r.material && r.material->physical) physicalTextures(r);
+        r.program = &programFor(r.shading);
+    }
+}
+
+}  // namespace sg

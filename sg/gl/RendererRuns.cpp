@@ -1,0 +1,108 @@
+// Renderer: the draw list into runs of equal state, each one instanced draw.
+#include "sg/gl/Renderer.h"
+
+#include "sg/gl/internal/BackFaces.h"
+#include "sg/gl/internal/Shaders.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sg {
+
+// Dissolving items are few: a dense copy of DrawList::fades only in frames that have them.
+void Renderer::indexFades(const DrawList& list) {
+    fades_.clear();
+    if (list.fades.empty()) return;
+    fades_.assign(list.items.size(), 1.0f);
+    for (const auto& [i, f] : list.fades)
+        if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
+}
+
+// Like fades: a dense copy of DrawList::parts only in frames that draw items in part, each part checked.
+void Renderer::indexParts(const DrawList& list) {
+    parts_.clear();
+    if (list.parts.empty()) return;
+    parts_.assign(list.items.size(), kWhole);
+    for (size_t p = 0; p < list.parts.size(); ++p) {
+        const DrawList::Part& part = list.parts[p];
+        const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
+        bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
+        for (uint32_t r = 0; ok && r < part.count; ++r) {
+            const IndexRange& ir = list.ranges[size_t(part.first) + r];
+            ok = uint64_t(ir.first) + ir.count <= m->indexCount();
+        }
+        if (!ok)
+            throw std::out_of_range("Renderer::draw(): parts[" + std::to_string(p) + "] (item " +
+                                    std::to_string(part.item) + ", ranges " + std::to_string(part.first) + " + " +
+                                    std::to_string(part.count) + ") is past the items, the " +
+                                    std::to_string(list.ranges.size()) + " ranges or its mesh's indices");
+        parts_[part.item] = uint32_t(p);
+    }
+}
+
+// Runs of equal (mesh, material) pointers in draw order, split where the back faces' culling changes; blended items
+// (Material::blend) after all others, farthest first by the centre of their bound along the view. Every matrix of
+// the frame goes in one buffer.
+void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
+    const double reach = backFaceCulling_ ? nearPlaneReach(camera) : -1.0;
+    const size_t n = list.order.empty() ? list.items.size() : list.order.size();
+    items_.clear();
+    runs_.clear();
+    blended_.clear();
+    indexFades(list);
+    indexParts(list);
+    const vec3 view(camera.viewDirection());
+    for (size_t k = 0; k < n; ++k) {
+        const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
+        if (i >= list.items.size())
+            throw std::out_of_range("Renderer::draw(): order[" + std::to_string(k) + "] = " + std::to_string(i) +
+                                    " is past the " + std::to_string(list.items.size()) + " items");
+        const DrawItem& it = list.items[i];
+        if (!it.mesh || it.mesh->indexCount() == 0) continue;
+        if (it.material && it.material->blend) {
+            const float depth = glm::dot(view, it.model * vec4(vec3(it.mesh->box().center()), 1.0f));
+            blended_.push_back({std::isfinite(depth) ? depth : 0.0f, i});
+            continue;
+        }
+        addItem(list, i, reach);
+    }
+    std::stable_sort(blended_.begin(), blended_.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& [depth, i] : blended_) addItem(list, i, reach);
+}
+
+void Renderer::addItem(const DrawList& list, uint32_t i, double reach) {
+    const DrawItem& it = list.items[i];
+    const float fade = fades_.empty() ? 1.0f : fades_[i];
+    const uint32_t part = parts_.empty() ? kWhole : parts_[i];
+    const Material* mat = it.material;
+    // A single-sided material's back faces are never drawn (glTF: "back-face culling must be enabled"); a mirroring
+    // matrix turns which winding is in front.
+    const bool single = mat && !mat->doubleSided;
+    const bool mirrored = single && glm::determinant(glm::mat3(it.model)) < 0.0f;
+    const bool cullBack = single || (fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
+                                     backFacesHidden(it, mat, reach));
+    if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != mat || runs_.back().fade != fade ||
+        part != kWhole || runs_.back().part != kWhole || runs_.back().cullBack != cullBack ||
+        runs_.back().mirrored != mirrored) {
+        runs_.push_back(Run{it.mesh,
+                            mat,
+                            uint32_t(items_.size()),
+                            0,
+                            fade,
+                            part,
+                            cullBack,
+                            mirrored,
+                            mat && mat->blend,
+                            nullptr,
+                            0,
+                            {},
+                            nullptr,
+                            {}});
+    }
+    runs_.back().count++;
+    items_.push_back(ItemAttributes{it.matrix(), mat ? mat->baseColor : vec4(1.0f)});
+}
+
+}  // namespace sg

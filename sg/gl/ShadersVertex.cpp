@@ -1,0 +1,97 @@
+// The variants' vertex stage: one source that the classic and the physical variants both compile, after the
+// #defines variantSource() writes. The two families differ in two outputs only, substituted per family ($EYE_IF,
+// $UV0_IF, $UV0_OUT): the eye offset (a classic draw reads it for the sun's light alone, a physical one always)
+// and the first UV set's (the classic fragment stage reads it as vUv, the physical one as vUv0). The rest reads
+// macros that the classic features leave at 0 (FLAT, PBR_NORMAL, UV1), so one text serves both.
+#include "sg/gl/internal/Shaders.h"
+
+#include <cstring>
+#include <string>
+
+namespace sg {
+
+namespace {
+
+const char* const kVertexStage = R"(
+layout(location = 0) in vec3 aPosition;
+layout(location = 4) in mat4 aModel;
+layout(location = 8) in vec4 aBaseColor;
+uniform mat4 uViewProj;
+flat out vec4 vBaseColor;
+#if $EYE_IF
+out vec3 vFromEye;  // world offset from the eye: the models' matrices carry the eye's translation
+#endif
+#if LIT && !FLAT
+layout(location = 1) in vec3 aNormal;
+out vec3 vNormal;
+#endif
+#if PBR_NORMAL
+layout(location = 9) in vec4 aTangent;
+out vec4 vTangent;
+#endif
+#if $UV0_IF
+layout(location = 2) in vec2 aUv;
+out vec2 $UV0_OUT;
+#endif
+#if UV1
+layout(location = 10) in vec2 aUv1;
+out vec2 vUv1;
+#endif
+#if COLOR
+layout(location = 3) in vec4 aColor;
+out vec4 vColor;
+#endif
+void main() {
+    vec4 world = aModel * vec4(aPosition, 1.0);
+    gl_Position = uViewProj * world;
+#if $EYE_IF
+    vFromEye = world.xyz;
+#endif
+#if (LIT && !FLAT) || PBR_NORMAL
+    mat3 m = mat3(aModel);
+#endif
+#if LIT && !FLAT
+    // The cofactor matrix (det x inverse-transpose): right under non-uniform scale; its sign, which a mirror turns,
+    // each fragment stage settles (the classic one toward the eye, the physical one by the facing).
+    vNormal = mat3(cross(m[1], m[2]), cross(m[2], m[0]), cross(m[0], m[1])) * aNormal;
+#endif
+#if PBR_NORMAL
+    vTangent = vec4(m * aTangent.xyz, aTangent.w);
+#endif
+#if $UV0_IF
+    $UV0_OUT = aUv;
+#endif
+#if UV1
+    vUv1 = aUv1;
+#endif
+#if COLOR
+    vColor = aColor;
+#endif
+    vBaseColor = aBaseColor;
+}
+)";
+
+// What differs between the families: the condition of the eye offset, that of the first UV set, and its name.
+struct Family {
+    const char *eyeIf, *uv0If, *uv0Out;
+};
+constexpr Family kClassic{"LIT && SUN", "TEXTURE", "vUv"}, kPhysical{"1", "UV0", "vUv0"};
+
+// Replaces every `from` in s by `to`.
+void substitute(std::string& s, const char* from, const char* to) {
+    const size_t n = std::strlen(from), m = std::strlen(to);
+    for (size_t at = s.find(from); at != std::string::npos; at = s.find(from, at + m)) s.replace(at, n, to);
+}
+
+}  // namespace
+
+std::string variantVertexSource(bool physical) {
+    const Family& f = physical ? kPhysical : kClassic;
+    std::string s = kVertexStage;
+    substitute(s, "$EYE_IF", f.eyeIf);
+    substitute(s, "$UV0_IF", f.uv0If);
+    substitute(s, "$UV0_OUT", f.uv0Out);
+    return s;
+}
+
+}  // namespace sg
