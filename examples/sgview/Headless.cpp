@@ -52,12 +52,15 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     IntersectTraversal picker;
     for (const auto& [x, y] : o.picks) std::printf("%s\n", pickReport(picker, scene, camera, x, y).c_str());
     const dvec3 e = camera.eye();
+    // The threading model the viewer ran and what occlusion culled in the last frame: what --threading and
+    // --auto-occluders changed, where the picture must not change.
     std::printf(
         "sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
-        "eye (%g, %g, %g)\n",
+        "eye (%g, %g, %g); threading %s, %llu culled by occlusion\n",
         o.out.c_str(), o.width, o.height, frames, frames == 1 ? "" : "s", cullMs / double(counted),
         drawMs / double(counted), (unsigned long long)view.renderStats().instances,
-        (unsigned long long)view.renderStats().triangles, e.x, e.y, e.z);
+        (unsigned long long)view.renderStats().triangles, e.x, e.y, e.z,
+        threadingModelName(view.viewer().settings().threading), (unsigned long long)view.cullStats().culledOcclusion);
     return 0;
 }
 

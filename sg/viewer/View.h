@@ -9,6 +9,7 @@
 #include "sg/paging/CameraMotion.h"
 
 #include <string>
+#include <thread>
 
 namespace sg {
 
@@ -53,6 +54,8 @@ public:
     const CameraMotion& motion() const { return motion_; }
     const RenderStats& renderStats() const { return render_; }
     double cullMs() const { return cullMs_; }
+    // The thread that culled it (the threading model's: the frame's thread, the cull thread or one of its own).
+    std::thread::id cullThread() const { return cullThread_; }
     double drawMs() const { return drawMs_; }  // submitted and, when timed, finished
     // The draw as the GL timed it (Renderer::gpuMs()), when the viewer finished it; -1 when not known.
     double gpuMs() const { return gpuMs_; }
@@ -81,6 +84,7 @@ private:
     CullStats prefetchStats_;
     RenderStats render_;
     double cullMs_ = 0.0, drawMs_ = 0.0, gpuMs_ = -1.0;
+    std::thread::id cullThread_;
     DrawCostModel model_;
     LodStress stress_;
     double stressBudgetMs_ = 0.0;  // the budget stress_ was made for

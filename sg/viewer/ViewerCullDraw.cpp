@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <thread>
 
 namespace sg {
 
@@ -18,6 +19,7 @@ void Viewer::cullViews(Packet& p, bool parallel) {
     auto cullOne = [this, &p, &ok](size_t k) {
         Packet::ViewFrame& vf = p.views[k];
         const auto at = Clock::now();
+        vf.cullThread = std::this_thread::get_id();
         try {
             vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
             vf.aheadStats = CullStats{};

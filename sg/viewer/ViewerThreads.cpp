@@ -140,6 +140,7 @@ void Viewer::retire(std::unique_ptr<Packet> p) {
         v.prefetchStats_ = vf.aheadStats;
         v.render_ = vf.render;
         v.cullMs_ = vf.cullMs;
+        v.cullThread_ = vf.cullThread;
         v.drawMs_ = vf.drawMs;
         v.gpuMs_ = vf.gpuMs;
         if (v.enabled) v.learn(p->times.workMs, vf.finished);

@@ -6,7 +6,29 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 using namespace sg;
+
+// The time limit, without a clock's luck: a budget whose frame began an hour ago is spent before it starts (nothing
+// is listed nor uploaded, and the call says the detail is not ready), however many objects it allows; one that
+// began now with time to spare uploads the whole detail.
+TEST(RendererPrepare, ABudgetWhoseTimeIsSpentUploadsNothing) {
+    OsmesaContext context(200, 150);
+    Renderer renderer;
+    auto detail = make<Group>();
+    for (int k = 0; k < 4; ++k) detail->addChild(make<Geometry>(makeBoxMesh(dvec3(k), dvec3(k + 1)), make<Material>()));
+    PrepareBudget late(5.0, 1000);
+    late.start -= std::chrono::hours(1);
+    EXPECT_TRUE(late.exhausted());
+    EXPECT_FALSE(renderer.prepare(*detail, late));
+    EXPECT_EQ(renderer.cachedMeshes(), 0u);
+    EXPECT_EQ(late.objectsUsed, 0u);
+    PrepareBudget ample(60000.0, 1000);  // a minute: the time is not what stops it
+    EXPECT_TRUE(renderer.prepare(*detail, ample));
+    EXPECT_EQ(renderer.cachedMeshes(), 4u);
+    EXPECT_EQ(ample.objectsUsed, 4u);
+}
 
 TEST(RendererPrepare, UploadsWithinTheObjectBudgetAndTheFirstDrawUploadsNothingMore) {
     OsmesaContext context(200, 150);

@@ -2,6 +2,7 @@
 // window itself under a virtual X server: the picture of a view equals the library's headless render of the same
 // camera, walking stops at a building's wall where flying goes through, M changes the LOD method shown, P saves a
 // screenshot, and a build or a display that cannot give it a window says so.
+#include "OutsideTools.h"
 #include "common/Navigator.h"
 #include "factory/KeyScript.h"
 #include "factory/Options.h"
@@ -268,7 +269,7 @@ TEST(FactoryWindow, OverlayShowsTheModeAndPSavesAScreenshot) {
 }
 #else
 TEST(FactoryWindow, NeedsXvfbRun) {
-    GTEST_SKIP() << "xvfb-run was not found (or no factory-window): no window to test";
+    SG_SKIP_OR_FAIL("xvfb-run was not found (or no factory-window): no window to test");
 }
 #endif
 

@@ -1,6 +1,7 @@
 // glTF's materials in pixels: KHR_texture_transform on Khronos' own test model, normal maps (the file's tangents or
 // generated ones), and physical materials written by saveGltf and read back.
 #include "GltfTestUtil.h"
+#include "OutsideTools.h"
 #include "RenderUtil.h"
 
 #include "loaders/gltf/Gltf.h"
@@ -64,7 +65,7 @@ TEST(GltfMaterialImage, TextureTransformDrawsAsUvsTransformedBeforehand) {
     // Khronos' KHR_texture_transform test model (offset, rotation, scale and all three): drawn as loaded, and as
     // a copy whose UVs carry the transform themselves (the material's cleared). The same pixels, and not those
     // of the model with its transforms ignored (which shows its "error" marks).
-    if (!std::filesystem::exists(kTextureTransformModel)) GTEST_SKIP() << kTextureTransformModel << " missing";
+    if (!std::filesystem::exists(kTextureTransformModel)) SG_SKIP_OR_FAIL(kTextureTransformModel << " missing");
     const GltfScene loaded = loadGltf(kTextureTransformModel);
     const ref_ptr<Node> baked = loadGltf(kTextureTransformModel).root;
     const ref_ptr<Node> ignored = loadGltf(kTextureTransformModel).root;

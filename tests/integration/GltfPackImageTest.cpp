@@ -1,6 +1,7 @@
 // The factory through gltfpack and back: saved as .glb, packed with quantization and meshopt compression (-cc)
 // and with compression alone (-cc -noq), loaded, and drawn from the same views as the scene in memory. Packing
 // moves vertices by its quantization step and rewrites normals, so pixels are compared with a tolerance.
+#include "OutsideTools.h"
 #include "RenderUtil.h"
 #include "loaders/gltf/Gltf.h"
 #include "sg/cull/CullTraversal.h"
@@ -69,7 +70,7 @@ TEST(GltfPackImage, TheFactoryPackedByGltfpackDrawsAsTheOriginal) {
 #ifndef SGKIT_GLTFPACK
     GTEST_SKIP() << "no SGKIT_GLTFPACK: build the tiles-tools target";
 #else
-    if (!fs::exists(SGKIT_GLTFPACK)) GTEST_SKIP() << SGKIT_GLTFPACK << " absent: build the tiles-tools target";
+    if (!fs::exists(SGKIT_GLTFPACK)) SG_SKIP_OR_FAIL(SGKIT_GLTFPACK << " absent: build the tiles-tools target");
     const scenes::Factory f = scenes::buildFactory();
     const std::string dir = ::testing::TempDir(), in = dir + "sgkit_pack_factory.glb";
     nameEveryNode(*f.root);

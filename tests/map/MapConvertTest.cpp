@@ -1,6 +1,7 @@
 // The map's levels: prisms (top facing up, walls facing out), region properties through a .glb round trip,
 // the generated stand-in map's layout, and, when the source data has been fetched (tools/fetch-map-data.sh),
 // the whole conversion: every country, state and county present, triangle areas equal to polygon areas.
+#include "OutsideTools.h"
 #include "map/data/MapConvert.h"
 #include "map/data/TopoJson.h"
 #include "nodes/Geometry.h"
@@ -33,11 +34,12 @@ bool haveSource() {
     return fs::exists(fs::path(sourceDir()) / "countries-50m.json") &&
            fs::exists(fs::path(sourceDir()) / "counties-10m.json");
 }
-#define SKIP_WITHOUT_SOURCE()                                                                                   \
-    if (!haveSource())                                                                                          \
-    GTEST_SKIP() << "no map source data in " << sourceDir()                                                     \
-                 << " (run tools/fetch-map-data.sh there, or cmake --build BUILD --target map-data; needs the " \
-                    "network)"
+#define SKIP_WITHOUT_SOURCE()                                                                                  \
+    if (!haveSource())                                                                                         \
+    SG_SKIP_OR_FAIL("no map source data in "                                                                   \
+                    << sourceDir()                                                                             \
+                    << " (run tools/fetch-map-data.sh there, or cmake --build BUILD --target map-data; needs " \
+                       "the network)")
 
 const Geometry& geometry(const Node& n) {
     EXPECT_EQ(n.kind(), NodeKind::Geometry);

@@ -2,6 +2,7 @@
 // 200 random points per level; every point farther than one pixel from a border picks the source's region
 // (or none over the sea and outside Texas). Skips, saying why, without the map-data target's files.
 #include "MapPickCheck.h"
+#include "OutsideTools.h"
 
 #include <gtest/gtest.h>
 
@@ -14,9 +15,9 @@ TEST(MapPick, PickGeoMatchesSourcePolygonsAwayFromBorders) {
     namespace fs = std::filesystem;
     const fs::path source = SGKIT_MAP_SOURCE_DIR, levels = SGKIT_MAP_LEVELS_DIR;
     if (!fs::exists(source / "countries-50m.json") || !fs::exists(source / "counties-10m.json"))
-        GTEST_SKIP() << "no map source data in " << source << " (build the map-data target)";
+        SG_SKIP_OR_FAIL("no map source data in " << source << " (build the map-data target)");
     if (!fs::exists(levels / "world.glb") || !fs::exists(levels / "us.glb") || !fs::exists(levels / "states/48.glb"))
-        GTEST_SKIP() << "no converted map levels in " << levels << " (build the map-data target)";
+        SG_SKIP_OR_FAIL("no converted map levels in " << levels << " (build the map-data target)");
     sgmap::Atlas atlas(levels.string());
     ASSERT_FALSE(atlas.generated());
     const auto result = sgmap::checkMapPicks(atlas, source.string(), 200, 1);

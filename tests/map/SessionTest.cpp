@@ -1,6 +1,7 @@
 // The map's session drawn headless (OSMesa): script commands and their result lines, entering by zooming in,
 // the picked region highlighted in the picture, and on the real data (when converted) the walk from the world to
 // a Texas county.
+#include "OutsideTools.h"
 #include "map/MapTestData.h"
 #include "map/OsmesaDisplay.h"
 #include "map/Session.h"
@@ -164,7 +165,7 @@ TEST(MapSession, AStatesCountiesAreDrawnAsOneMeshAndPickedOneByOne) {
 }
 
 TEST(MapSession, RealDataFromTheWorldToATexasCounty) {
-    if (!haveReal()) GTEST_SKIP() << "the real map is not converted (cmake --build <dir> --target map-data)";
+    if (!haveReal()) SG_SKIP_OR_FAIL("the real map is not converted (cmake --build <dir> --target map-data)");
     Atlas atlas(realDir());
     OsmesaDisplay display(kW, kH);
     Session s(atlas, display, kW, kH);

@@ -175,8 +175,13 @@ TEST(SgviewRun, AutoOccludersMakesABoxPerBuildingAndChangesNoPixel) {
     EXPECT_NE(r.out.find("  Occluder   64"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("--auto-occluders: 64 boxes and 0 polygons for 64 geometries"), std::string::npos) << r.out;
     const std::string street = " --headless --size 320x180 --camera 80,0.5,1.7,80,100,1.7,0,0,1";
-    ASSERT_EQ(runSgview("--scene city --n 8 --out plain.png" + street).code, 0);
-    ASSERT_EQ(runSgview("--scene city --n 8 --auto-occluders --out auto.png" + street).code, 0);
+    const Result without = runSgview("--scene city --n 8 --out plain.png" + street);
+    ASSERT_EQ(without.code, 0) << without.err;
+    EXPECT_NE(without.out.find(", 0 culled by occlusion"), std::string::npos) << without.out;
+    const Result with = runSgview("--scene city --n 8 --auto-occluders --out auto.png" + street);
+    ASSERT_EQ(with.code, 0) << with.err;
+    EXPECT_EQ(with.out.find(", 0 culled by occlusion"), std::string::npos) << with.out;  // they cull there
+    EXPECT_NE(with.out.find(" culled by occlusion"), std::string::npos) << with.out;
     const Image plain = loadPng((scratch() / "plain.png").string()), made = loadPng((scratch() / "auto.png").string());
     EXPECT_GT(nonBackground(plain), size_t(320 * 180 / 4));
     EXPECT_EQ(countDifferingPixels(plain, made), 0u);
@@ -338,6 +343,7 @@ TEST(SgviewRun, TheThreadingModelsDrawThePicturesOfOneThread) {
             const Result r = runSgview(base + model + ".png --threading " + model);
             ASSERT_EQ(r.code, 0) << views[v] << " " << model << ": " << r.err;
             EXPECT_NE(r.out.find(", 3 frames:"), std::string::npos) << r.out;
+            EXPECT_NE(r.out.find("; threading " + std::string(model) + ","), std::string::npos) << r.out;
             const Image got = loadPng((scratch() / ("v" + std::to_string(v) + "-" + model + ".png")).string());
             EXPECT_EQ(countDifferingPixels(got, want), 0u) << views[v] << " " << model;
         }

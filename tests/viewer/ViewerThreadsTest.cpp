@@ -177,6 +177,36 @@ TEST(ViewerThreads, AppCallbacksRunOnTheCallingThreadAndDrawCallbacksWhereTheCon
     }
 }
 
+// Which thread culls each view: the caller's for the single-threaded and draw-thread models, a thread of each view's
+// own under CullThreadPerView (a fallback to one thread would draw the same pictures), the cull thread under
+// AppCullDraw.
+TEST(ViewerThreads, EachModelCullsItsViewsOnTheThreadsItNames) {
+    for (ThreadingModel m : kModels) {
+        Small s;
+        Viewer viewer(s.scene, settingsFor(m, s.ctx));
+        for (int k = 0; k < 3; ++k) viewer.addView(lookingAt(dvec3(0, -6 - k, 0), Small::kW, Small::kH));
+        for (int i = 0; i < 4; ++i) viewer.frame();
+        viewer.flush();
+        const std::thread::id caller = std::this_thread::get_id();
+        const std::thread::id a = viewer.view(0).cullThread(), b = viewer.view(1).cullThread(),
+                              c = viewer.view(2).cullThread();
+        EXPECT_NE(a, std::thread::id()) << threadingModelName(m);
+        switch (m) {
+            case ThreadingModel::SingleThreaded:
+            case ThreadingModel::DrawThread:
+                EXPECT_TRUE(a == caller && b == caller && c == caller) << threadingModelName(m);
+                break;
+            case ThreadingModel::CullThreadPerView:
+                EXPECT_TRUE(a != b && b != c && a != c) << threadingModelName(m);
+                EXPECT_TRUE(b != caller && c != caller) << threadingModelName(m);
+                break;
+            case ThreadingModel::AppCullDraw:
+                EXPECT_TRUE(a == b && b == c && a != caller) << threadingModelName(m);
+                break;
+        }
+    }
+}
+
 // The draw of frame N must not see the graph's later changes: the app stage of frames N+1.. removes the box
 // (freeing its mesh and material unless the frame in flight holds them) and adds a new one each frame.
 TEST(ViewerThreads, AFrameInFlightKeepsWhatItDrawsWhenTheAppDropsItFromTheGraph) {

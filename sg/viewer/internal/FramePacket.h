@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace sg {
@@ -31,6 +32,7 @@ struct Viewer::Packet {
         CullStats aheadStats;
         RenderStats render;
         double cullMs = 0.0, drawMs = 0.0, gpuMs = -1.0;
+        std::thread::id cullThread;
     };
     std::vector<ViewFrame> views;
     size_t viewCount = 0;  // views[0, viewCount) are this frame's (the rest are kept for their lists' memory)

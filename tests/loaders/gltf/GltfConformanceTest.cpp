@@ -3,6 +3,7 @@
 // finds valid loads; every other one loads, with warnings, or is refused with a LoadError, never a crash. And
 // what saveGltf writes passes the validator.
 #include "GltfTestUtil.h"
+#include "OutsideTools.h"
 #include "loaders/gltf/Gltf.h"
 #include "nodes/Instance.h"
 #include "testbed/Factory.h"
@@ -95,8 +96,8 @@ std::vector<std::string> thirdPartyFiles() {
 
 TEST(GltfConformance, FilesTheValidatorPassesLoadAndTheRestLoadOrAreRefused) {
     const std::vector<std::string> files = thirdPartyFiles();
-    if (files.empty()) GTEST_SKIP() << "no glTF files under " << kModels << ": install assimp-testmodels";
-    if (const std::string why = validatorMissing(); !why.empty()) GTEST_SKIP() << why;
+    if (files.empty()) SG_SKIP_OR_FAIL("no glTF files under " << kModels << ": install assimp-testmodels");
+    if (const std::string why = validatorMissing(); !why.empty()) SG_SKIP_OR_FAIL(why);
     const std::map<std::string, Verdict> verdicts = validate(files);
     int valid = 0, validLoaded = 0, validUnsupported = 0, invalidLoaded = 0, invalidRefused = 0;
     for (const std::string& f : files) {
@@ -231,7 +232,7 @@ std::vector<std::pair<std::string, ref_ptr<Node>>> writtenScenes() {
 }
 
 TEST(GltfConformance, WhatSaveGltfWritesPassesTheValidator) {
-    if (const std::string why = validatorMissing(); !why.empty()) GTEST_SKIP() << why;
+    if (const std::string why = validatorMissing(); !why.empty()) SG_SKIP_OR_FAIL(why);
     const fs::path dir = fs::temp_directory_path() / ("sgkit_gltf_written_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     std::vector<std::string> files;

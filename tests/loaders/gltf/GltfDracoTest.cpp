@@ -2,6 +2,7 @@
 // quantization promises; broken streams and files that disagree with their stream are refused, naming the
 // primitive's extension.
 #include "GltfTestUtil.h"
+#include "OutsideTools.h"
 #include "loaders/gltf/Gltf.h"
 #include "sg/scene/internal/DistinctGeometries.h"
 
@@ -379,7 +380,7 @@ TEST(GltfDraco, ThirdPartyEngineModelMatchesItsUncompressedOriginal) {
     const std::string dir = "/usr/share/assimp/models/glTF2/";
     const std::string draco = dir + "draco/2CylinderEngine.gltf",
                       plain = dir + "2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
-    if (!fs::exists(draco) || !fs::exists(plain)) GTEST_SKIP() << draco << " absent: install assimp-testmodels";
+    if (!fs::exists(draco) || !fs::exists(plain)) SG_SKIP_OR_FAIL(draco << " absent: install assimp-testmodels");
     const GltfScene a = loadGltf(draco), b = loadGltf(plain);
     // Triangles drawn (a mesh once per path to it) and the world box of the graph.
     auto measure = [](const GltfScene& s, size_t& triangles, Box& box) {
@@ -421,8 +422,8 @@ TEST(GltfDraco, GltfPipelineOutputMatchesWhatWasSaved) {
     const fs::path modules = env ? env : "";
 #endif
     const fs::path tool = modules / "gltf-pipeline" / "bin" / "gltf-pipeline.js";
-    if (!fs::exists(tool)) GTEST_SKIP() << tool << " absent: tools/fetch-tiles-tools.sh installs it";
-    if (std::system("node --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "node is not installed";
+    if (!fs::exists(tool)) SG_SKIP_OR_FAIL(tool << " absent: tools/fetch-tiles-tools.sh installs it");
+    if (std::system("node --version > /dev/null 2>&1") != 0) SG_SKIP_OR_FAIL("node is not installed");
 
     const Original sph = sphere(24, 12, 2.0f);
     auto sphereMesh = make<Mesh>();

@@ -2,6 +2,7 @@
 // JSON path, Instances written as instanced nodes and read back, the written file checked by Khronos' validator,
 // and gltfpack's instanced output read.
 #include "GltfTestUtil.h"
+#include "OutsideTools.h"
 
 #include "loaders/gltf/Gltf.h"
 #include "nodes/Instance.h"
@@ -377,7 +378,7 @@ TEST(GltfInstancing, KhronosValidatorFindsNoErrorInAWrittenFile) {
     GTEST_SKIP() << "no SGKIT_TILES_TOOLS: build the tiles-tools target";
 #else
     const fs::path modules = fs::path(SGKIT_TILES_TOOLS).parent_path().parent_path();
-    if (!fs::exists(modules / "gltf-validator")) GTEST_SKIP() << "gltf-validator absent: build the tiles-tools target";
+    if (!fs::exists(modules / "gltf-validator")) SG_SKIP_OR_FAIL("gltf-validator absent: build the tiles-tools target");
     const std::string file = tempPath("validate.glb"), out = tempPath("validate.json");
     saveGltf(*instancedScene(11), file);
     const std::string script =
@@ -397,7 +398,7 @@ TEST(GltfInstancing, GltfpackInstancedOutputLoads) {
     GTEST_SKIP() << "no SGKIT_TILES_TOOLS: build the tiles-tools target";
 #else
     const fs::path cli = fs::path(SGKIT_TILES_TOOLS).parent_path().parent_path() / "gltfpack" / "cli.js";
-    if (!fs::exists(cli)) GTEST_SKIP() << cli << " absent: build the tiles-tools target";
+    if (!fs::exists(cli)) SG_SKIP_OR_FAIL(cli << " absent: build the tiles-tools target");
     // Twenty nodes of one mesh, written without instancing: gltfpack -mi makes one instanced node of them.
     auto box = make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>());
     auto root = make<Group>();

@@ -1,5 +1,6 @@
 // The 3D Tiles binary formats: tiles written here byte by byte per the spec, each field read back, each
 // malformation refused with its place and reason; and files converted by CesiumGS' 3d-tiles-tools.
+#include "OutsideTools.h"
 #include "loaders/tiles/Tileset.h"
 #include "loaders/tiles/internal/TileFormats.h"
 #include "sg/cull/CullTraversal.h"
@@ -641,10 +642,12 @@ void tool(const std::string& args) {
 
 }  // namespace
 
-#define SKIP_WITHOUT_TOOL()                                   \
-    if (!haveTool())                                          \
-    GTEST_SKIP() << "3d-tiles-tools not installed (" << kTool \
-                 << "): `cmake --build build/release --target tiles-tools` fetches it from the npm registry"
+#define SKIP_WITHOUT_TOOL()                                                                             \
+    if (!haveTool())                                                                                    \
+    SG_SKIP_OR_FAIL("3d-tiles-tools not installed ("                                                    \
+                    << kTool                                                                            \
+                    << "): `cmake --build build/release --target tiles-tools` fetches it from the npm " \
+                       "registry")
 
 TEST(TileFormatsTools, ParsesTilesTheToolMakesFromASavedGlb) {
     SKIP_WITHOUT_TOOL();

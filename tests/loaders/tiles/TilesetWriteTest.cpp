@@ -1,5 +1,6 @@
 // writeTileset: the written tileset.json read back with nlohmann-json and every content with loadGltf, against
 // the scene: bounds, errors, counts, and what a reader draws from a set of eyes against what the graph draws.
+#include "OutsideTools.h"
 #include "loaders/gltf/Gltf.h"
 #include "loaders/tiles/Tileset.h"
 #include "loaders/tiles/TilesetWrite.h"
@@ -446,7 +447,7 @@ TEST(TilesetWrite, ThirdPartyToolsReadItAndTheGltfValidatorFindsNoError) {
     const fs::path tool(SGKIT_TILES_TOOLS);
     const fs::path modules = tool.parent_path().parent_path();
     if (!fs::exists(tool) || !fs::exists(modules / "gltf-validator"))
-        GTEST_SKIP() << tool << " or gltf-validator absent: build the tiles-tools target";
+        SG_SKIP_OR_FAIL(tool << " or gltf-validator absent: build the tiles-tools target");
     auto city = scenes::buildCity({16, false});
     // The explicit tileset, then the implicit one: the tools see the same tiles, with the same final geometric
     // errors and box sizes (the implicit tiles' from their metadata semantics, as the tools apply them).

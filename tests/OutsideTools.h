@@ -1,0 +1,25 @@
+// A test that needs something from outside the project (an npm tool, the map's source data, a model package,
+// xvfb-run) skips without it, saying how to get it; where SGKIT_REQUIRE_OUTSIDE is set (.ci/run sets it) it fails
+// instead: there, a check that did not run is a failure, not a pass.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+
+namespace testutil {
+inline bool outsideRequired() {
+    const char* v = std::getenv("SGKIT_REQUIRE_OUTSIDE");
+    return v && *v && std::strcmp(v, "0") != 0;
+}
+}  // namespace testutil
+
+// SG_SKIP_OR_FAIL(a << b): GTEST_SKIP() << a << b, or FAIL() with the same message where outside tools are required.
+#define SG_SKIP_OR_FAIL(message)                                                         \
+    do {                                                                                 \
+        if (::testutil::outsideRequired()) {                                             \
+            FAIL() << message << " [SGKIT_REQUIRE_OUTSIDE is set: it is required here]"; \
+        } else {                                                                         \
+            GTEST_SKIP() << message;                                                     \
+        }                                                                                \
+    } while (0)
