@@ -309,26 +309,14 @@ std::string closedAfter(CURL* curl, const char* what) {
     return s + (length >= 0 ? " of " + std::to_string(length) : std::string()) + " bytes";
 }
 
-std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
-    if (cancelled(o)) fail(url, "cancelled");
-    CURL* curl = threadHandle();
-    if (!curl) fail(url, "libcurl could not be initialised");
-    // The handle outlives this call: the pointers to this frame (error buffer, callbacks' data) must go with it.
-    struct Forget {
-        CURL* curl;
-        ~Forget() { curl_easy_reset(curl); }
-    } forget{curl};
-    Transfer t;
-    t.curl = curl;
-    t.options = &o;
-    char error[CURL_ERROR_SIZE] = "";
-    curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
-    curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, error);
-    curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // no SIGALRM for timeouts: other threads run
-    curl_easy_setopt(curl, CURLOPT_FOLLOWLOCATION, 1L);
-    curl_easy_setopt(curl, CURLOPT_MAXREDIRS, 5L);
-    // Only the web: a remote tileset must not redirect a read to file:// (or anything else libcurl speaks), and
-    // what was asked for over TLS is not handed over in the clear.
+// The seconds under 1 byte/s that end a transfer (LOW_SPEED_TIME), 0 for never.
+long stallTime(const ResourceOptions& o) {
+    return o.stallSeconds > 0 ? std::max(1L, long(std::ceil(o.stallSeconds))) : 0L;
+}
+
+// Only the web: a remote tileset must not redirect a read to file:// (or anything else libcurl speaks), and
+// what was asked for over TLS is not handed over in the clear.
+void setProtocols(CURL* curl, const std::string& url) {
     const bool secure = startsWithNoCase(url, "https://");
 #if LIBCURL_VERSION_NUM >= 0x075500
     curl_easy_setopt(curl, CURLOPT_PROTOCOLS_STR, "http,https");
@@ -338,13 +326,28 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
     curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS,
                      secure ? long(CURLPROTO_HTTPS) : long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
 #endif
+}
+
+// What is asked for and how: the URL, redirects, protocols, certificates, encodings. `error`: libcurl's message
+// buffer (CURL_ERROR_SIZE bytes).
+void setRequest(CURL* curl, const std::string& url, const ResourceOptions& o, char* error) {
+    curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
+    curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, error);
+    curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // no SIGALRM for timeouts: other threads run
+    curl_easy_setopt(curl, CURLOPT_FOLLOWLOCATION, 1L);
+    curl_easy_setopt(curl, CURLOPT_MAXREDIRS, 5L);
+    setProtocols(curl, url);
     if (!o.caFile.empty()) curl_easy_setopt(curl, CURLOPT_CAINFO, o.caFile.c_str());
     curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, "");  // gzip and the like: tileset.json compresses well
     curl_easy_setopt(curl, CURLOPT_USERAGENT, "sgkit");
+}
+
+// The connect timeout, the stall and the size limits.
+void setLimits(CURL* curl, const ResourceOptions& o) {
     curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, long(std::max(1.0, o.connectTimeoutSeconds * 1000.0)));
     // A trickle is less than 1 byte/s for LOW_SPEED_TIME (whole seconds; a body that stops growing is timed by
     // onProgress); no total timeout, so that a large tile on a slow but moving link completes.
-    const long stall = o.stallSeconds > 0 ? std::max(1L, long(std::ceil(o.stallSeconds))) : 0L;
+    const long stall = stallTime(o);
     if (stall > 0) {
         curl_easy_setopt(curl, CURLOPT_LOW_SPEED_LIMIT, 1L);
         curl_easy_setopt(curl, CURLOPT_LOW_SPEED_TIME, stall);
@@ -352,6 +355,10 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
     // An announced length over the limit is refused before the body is read.
     const uint64_t maxOff = uint64_t(INT64_MAX);
     curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, curl_off_t(std::min<uint64_t>(o.maxBytes, maxOff)));
+}
+
+// The callbacks, and the transfer they share.
+void setCallbacks(CURL* curl, Transfer& t) {
     curl_easy_setopt(curl, CURLOPT_HEADERFUNCTION, &onHeader);
     curl_easy_setopt(curl, CURLOPT_HEADERDATA, &t);
     curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, &onData);
@@ -359,11 +366,12 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
     curl_easy_setopt(curl, CURLOPT_XFERINFOFUNCTION, &onProgress);
     curl_easy_setopt(curl, CURLOPT_XFERINFODATA, &t);
     curl_easy_setopt(curl, CURLOPT_NOPROGRESS, 0L);
+}
 
-    const CURLcode rc = curl_easy_perform(curl);
-    long status = 0, osErrno = 0;
-    curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &status);
-    curl_easy_getinfo(curl, CURLINFO_OS_ERRNO, &osErrno);
+// libcurl's result as the reason of a LoadError; returns for CURLE_OK only. `error`: libcurl's message buffer.
+void checkResult(const std::string& url, CURLcode rc, long osErrno, const char* error, const Transfer& t) {
+    CURL* curl = t.curl;
+    const ResourceOptions& o = *t.options;
     const std::string detail = error[0] ? error : curl_easy_strerror(rc);
     switch (rc) {
         case CURLE_OK: break;
@@ -377,7 +385,7 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
             // The same code for both timeouts: a request sent (pre-transfer time set) means the connection was made.
             curl_off_t sent = 0;
             curl_easy_getinfo(curl, CURLINFO_PRETRANSFER_TIME_T, &sent);
-            if (sent > 0) fail(url, "less than 1 byte/s for " + seconds(double(stall)));
+            if (sent > 0) fail(url, "less than 1 byte/s for " + seconds(double(stallTime(o))));
             fail(url, "connection timed out after " + seconds(o.connectTimeoutSeconds));
         }
         case CURLE_PARTIAL_FILE: fail(url, closedAfter(curl, "closed"));
@@ -385,6 +393,7 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
         case CURLE_RECV_ERROR: fail(url, closedAfter(curl, osErrno == ECONNRESET ? "reset" : "failed"));
         case CURLE_TOO_MANY_REDIRECTS: fail(url, "more than 5 redirects");
         case CURLE_UNSUPPORTED_PROTOCOL: {  // only a redirect can get here: the URL itself is http or https
+            const bool secure = startsWithNoCase(url, "https://");
             const std::string where = t.location.empty() ? std::string() : " '" + t.location + "'";
             fail(url,
                  "redirected to" + where + ", refused: " +
@@ -393,12 +402,41 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
         }
         default: fail(url, detail);
     }
+}
+
+// A completed transfer's status, and its body against the announced length.
+void checkResponse(const std::string& url, long status, const Transfer& t) {
     if (status < 200 || status >= 300) fail(url, statusReason(status, t.phrase));
     // libcurl reports a short body as CURLE_PARTIAL_FILE; checked again here, since a truncated tile parses badly.
     curl_off_t got = 0, length = -1;
-    curl_easy_getinfo(curl, CURLINFO_SIZE_DOWNLOAD_T, &got);
-    curl_easy_getinfo(curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
-    if (length >= 0 && got != length) fail(url, closedAfter(curl, "closed"));
+    curl_easy_getinfo(t.curl, CURLINFO_SIZE_DOWNLOAD_T, &got);
+    curl_easy_getinfo(t.curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+    if (length >= 0 && got != length) fail(url, closedAfter(t.curl, "closed"));
+}
+
+std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
+    if (cancelled(o)) fail(url, "cancelled");
+    CURL* curl = threadHandle();
+    if (!curl) fail(url, "libcurl could not be initialised");
+    // The handle outlives this call: the pointers to this frame (error buffer, callbacks' data) must go with it.
+    struct Forget {
+        CURL* curl;
+        ~Forget() { curl_easy_reset(curl); }
+    } forget{curl};
+    Transfer t;
+    t.curl = curl;
+    t.options = &o;
+    char error[CURL_ERROR_SIZE] = "";
+    setRequest(curl, url, o, error);
+    setLimits(curl, o);
+    setCallbacks(curl, t);
+
+    const CURLcode rc = curl_easy_perform(curl);
+    long status = 0, osErrno = 0;
+    curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &status);
+    curl_easy_getinfo(curl, CURLINFO_OS_ERRNO, &osErrno);
+    checkResult(url, rc, osErrno, error, t);
+    checkResponse(url, status, t);
     return std::move(t.bytes);
 }
 

@@ -13,6 +13,8 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 namespace sg::tiles {
 namespace {
@@ -288,6 +290,135 @@ void collectTiles(const std::string& file, const std::string& prefix, const unsi
     }
 }
 
+// An i3dm's glTF after the tables: the embedded glb (gltfFormat 1) or its URI (0).
+void readGltf(const std::string& file, uint32_t gltfFormat, Bytes body, I3dm& r) {
+    if (gltfFormat == 1) {
+        r.glb = embeddedGlb(file, body);
+    } else {
+        size_t n = body.size;
+        while (n > 0 && (body.data[n - 1] == ' ' || body.data[n - 1] == '\0')) --n;
+        if (n == 0) fail(file, "glbUri", "gltfFormat 0 with an empty glTF URI");
+        r.glbUri.assign(reinterpret_cast<const char*>(body.data), n);
+    }
+}
+
+// An i3dm's per-instance arrays in the feature table's binary body (null when absent) and the globals they need.
+struct InstanceColumns {
+    const unsigned char* pos = nullptr;
+    const unsigned char* quantized = nullptr;
+    dvec3 qOffset{0.0}, qScale{0.0};
+    const unsigned char *up = nullptr, *right = nullptr;
+    const unsigned char *upOct = nullptr, *rightOct = nullptr;
+    bool enu = false;
+    const unsigned char *scale = nullptr, *scale3 = nullptr;
+};
+
+void readPositions(const FeatureTable& ft, uint32_t n, InstanceColumns& c) {
+    c.pos = ft.perInstance("POSITION", "FLOAT", 4, 3, n);
+    c.quantized = c.pos ? nullptr : ft.perInstance("POSITION_QUANTIZED", "UNSIGNED_SHORT", 2, 3, n);
+    if (!c.pos && !c.quantized)
+        fail(ft.file, FeatureTable::path("POSITION"), "neither POSITION nor POSITION_QUANTIZED");
+    if (c.quantized) {
+        for (const char* name : {"QUANTIZED_VOLUME_OFFSET", "QUANTIZED_VOLUME_SCALE"})
+            if (!ft.find(name)) fail(ft.file, FeatureTable::path(name), "is missing (POSITION_QUANTIZED needs it)");
+        c.qOffset = *ft.globalVec3("QUANTIZED_VOLUME_OFFSET");
+        c.qScale = *ft.globalVec3("QUANTIZED_VOLUME_SCALE");
+    }
+}
+
+// An up/right pair of per-instance normals: both or neither.
+std::pair<const unsigned char*, const unsigned char*> normalPair(const FeatureTable& ft, uint32_t n, const char* upName,
+                                                                 const char* rightName, const char* type, size_t size,
+                                                                 size_t comps) {
+    const unsigned char* up = ft.perInstance(upName, type, size, comps, n);
+    const unsigned char* right = ft.perInstance(rightName, type, size, comps, n);
+    if (!up != !right)
+        fail(ft.file, FeatureTable::path(up ? rightName : upName), "is missing (the other normal is given)");
+    return std::make_pair(up, right);
+}
+
+// Orientation: float normals win over oct-encoded ones (the spec's "higher precision"); each needs its pair.
+void readOrientations(const FeatureTable& ft, uint32_t n, InstanceColumns& c) {
+    std::tie(c.up, c.right) = normalPair(ft, n, "NORMAL_UP", "NORMAL_RIGHT", "FLOAT", 4, 3);
+    if (!c.up)
+        std::tie(c.upOct, c.rightOct) =
+            normalPair(ft, n, "NORMAL_UP_OCT32P", "NORMAL_RIGHT_OCT32P", "UNSIGNED_SHORT", 2, 2);
+    if (const json* e = ft.find("EAST_NORTH_UP")) {
+        if (!e->is_boolean()) fail(ft.file, FeatureTable::path("EAST_NORTH_UP"), "must be true or false");
+        c.enu = e->get<bool>();
+    }
+}
+
+// BATCH_ID is not returned, but a reader of the batch table relies on it: its type and extent are checked.
+void checkBatchIds(const FeatureTable& ft, uint32_t n) {
+    const json* b = ft.find("BATCH_ID");
+    if (!b) return;
+    if (!b->is_object()) fail(ft.file, FeatureTable::path("BATCH_ID"), "must refer to the binary body");
+    const auto t = b->find("componentType");
+    const std::string type = t == b->end() ? "UNSIGNED_SHORT" : t->is_string() ? t->get<std::string>() : "";
+    const size_t bytes = type == "UNSIGNED_BYTE" ? 1 : type == "UNSIGNED_SHORT" ? 2 : type == "UNSIGNED_INT" ? 4 : 0;
+    if (bytes == 0)
+        fail(ft.file, FeatureTable::path("BATCH_ID.componentType"),
+             "must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+    ft.binaryRef("BATCH_ID", *b, bytes, 1, n);
+}
+
+// v, checked finite: the error names the property and the instance.
+dvec3 requireFinite(const std::string& file, const char* name, uint32_t i, dvec3 v) {
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        fail(file, FeatureTable::path(name), "instance " + str(i) + ": not finite");
+    return v;
+}
+
+// Instance i's position in the tile's frame: RTC_CENTER + POSITION or the dequantized POSITION_QUANTIZED.
+dvec3 instancePosition(const std::string& file, const InstanceColumns& c, const dvec3& rtc, uint32_t i) {
+    dvec3 p;
+    if (c.pos) {
+        const unsigned char* q = c.pos + 12 * size_t(i);
+        p = dvec3(f32(q), f32(q + 4), f32(q + 8));
+    } else {
+        const unsigned char* q = c.quantized + 6 * size_t(i);
+        p = dvec3(le16(q), le16(q + 2), le16(q + 4)) * c.qScale / 65535.0 + c.qOffset;
+    }
+    return requireFinite(file, c.pos ? "POSITION" : "POSITION_QUANTIZED", i, p + rtc);
+}
+
+// Instance i's rotation, at position p: from its normals, east-north-up, or none.
+dmat3 instanceRotation(const std::string& file, const InstanceColumns& c, uint32_t i, const dvec3& p) {
+    if (c.up) {
+        const unsigned char* u = c.up + 12 * size_t(i);
+        const unsigned char* rt = c.right + 12 * size_t(i);
+        return basis(file, "NORMAL_UP", i, dvec3(f32(rt), f32(rt + 4), f32(rt + 8)),
+                     dvec3(f32(u), f32(u + 4), f32(u + 8)));
+    }
+    if (c.upOct) {
+        const unsigned char* u = c.upOct + 4 * size_t(i);
+        const unsigned char* rt = c.rightOct + 4 * size_t(i);
+        return basis(file, "NORMAL_UP_OCT32P", i, octDecode(le16(rt), le16(rt + 2)), octDecode(le16(u), le16(u + 2)));
+    }
+    if (c.enu) return eastNorthUp(p);
+    return dmat3(1.0);
+}
+
+// Instance i's scale: SCALE times SCALE_NON_UNIFORM, 1 where neither is given.
+dvec3 instanceScale(const std::string& file, const InstanceColumns& c, uint32_t i) {
+    dvec3 s(1.0);
+    if (c.scale) s *= requireFinite(file, "SCALE", i, dvec3(f32(c.scale + 4 * size_t(i))));
+    if (c.scale3) {
+        const unsigned char* q = c.scale3 + 12 * size_t(i);
+        s *= requireFinite(file, "SCALE_NON_UNIFORM", i, dvec3(f32(q), f32(q + 4), f32(q + 8)));
+    }
+    return s;
+}
+
+// translate(RTC_CENTER + position) * rotation * scale, with each part checked in that order.
+dmat4 instanceMatrix(const std::string& file, const InstanceColumns& c, const dvec3& rtc, uint32_t i) {
+    const dvec3 p = instancePosition(file, c, rtc, i);
+    const dmat3 rot = instanceRotation(file, c, i, p);
+    const dvec3 s = instanceScale(file, c, i);
+    return glm::translate(dmat4(1.0), p) * dmat4(rot) * glm::scale(dmat4(1.0), s);
+}
+
 }  // namespace
 
 ContentKind sniffContent(const unsigned char* data, size_t size) {
@@ -335,14 +466,7 @@ I3dm parseI3dm(const std::string& file, const unsigned char* data, size_t size) 
     const Sections s = readSections(file, data, size, 32);
     const FeatureTable& ft = s.featureTable;
     I3dm r;
-    if (gltfFormat == 1) {
-        r.glb = embeddedGlb(file, s.body);
-    } else {
-        size_t n = s.body.size;
-        while (n > 0 && (s.body.data[n - 1] == ' ' || s.body.data[n - 1] == '\0')) --n;
-        if (n == 0) fail(file, "glbUri", "gltfFormat 0 with an empty glTF URI");
-        r.glbUri.assign(reinterpret_cast<const char*>(s.body.data), n);
-    }
+    readGltf(file, gltfFormat, s.body, r);
 
     const std::optional<uint32_t> count = ft.globalUint("INSTANCES_LENGTH");
     if (!count) fail(file, FeatureTable::path("INSTANCES_LENGTH"), "is missing (required)");
@@ -350,87 +474,15 @@ I3dm parseI3dm(const std::string& file, const unsigned char* data, size_t size) 
     const dvec3 rtc = ft.globalVec3("RTC_CENTER").value_or(dvec3(0.0));
 
     // Each array is checked to hold INSTANCES_LENGTH elements before anything is allocated for them.
-    const unsigned char* pos = ft.perInstance("POSITION", "FLOAT", 4, 3, n);
-    const unsigned char* quantized = pos ? nullptr : ft.perInstance("POSITION_QUANTIZED", "UNSIGNED_SHORT", 2, 3, n);
-    if (!pos && !quantized) fail(file, FeatureTable::path("POSITION"), "neither POSITION nor POSITION_QUANTIZED");
-    dvec3 qOffset(0.0), qScale(0.0);
-    if (quantized) {
-        for (const char* name : {"QUANTIZED_VOLUME_OFFSET", "QUANTIZED_VOLUME_SCALE"})
-            if (!ft.find(name)) fail(file, FeatureTable::path(name), "is missing (POSITION_QUANTIZED needs it)");
-        qOffset = *ft.globalVec3("QUANTIZED_VOLUME_OFFSET");
-        qScale = *ft.globalVec3("QUANTIZED_VOLUME_SCALE");
-    }
+    InstanceColumns columns;
+    readPositions(ft, n, columns);
+    readOrientations(ft, n, columns);
+    columns.scale = ft.perInstance("SCALE", "FLOAT", 4, 1, n);
+    columns.scale3 = ft.perInstance("SCALE_NON_UNIFORM", "FLOAT", 4, 3, n);
+    checkBatchIds(ft, n);
 
-    // Orientation: float normals win over oct-encoded ones (the spec's "higher precision"); each needs its pair.
-    auto pair = [&](const char* upName, const char* rightName, const char* type, size_t size, size_t comps) {
-        const unsigned char* up = ft.perInstance(upName, type, size, comps, n);
-        const unsigned char* right = ft.perInstance(rightName, type, size, comps, n);
-        if (!up != !right)
-            fail(file, FeatureTable::path(up ? rightName : upName), "is missing (the other normal is given)");
-        return std::make_pair(up, right);
-    };
-    const auto [up, right] = pair("NORMAL_UP", "NORMAL_RIGHT", "FLOAT", 4, 3);
-    const auto [upOct, rightOct] =
-        up ? std::make_pair(nullptr, nullptr) : pair("NORMAL_UP_OCT32P", "NORMAL_RIGHT_OCT32P", "UNSIGNED_SHORT", 2, 2);
-    bool enu = false;
-    if (const json* e = ft.find("EAST_NORTH_UP")) {
-        if (!e->is_boolean()) fail(file, FeatureTable::path("EAST_NORTH_UP"), "must be true or false");
-        enu = e->get<bool>();
-    }
-    const unsigned char* scale = ft.perInstance("SCALE", "FLOAT", 4, 1, n);
-    const unsigned char* scale3 = ft.perInstance("SCALE_NON_UNIFORM", "FLOAT", 4, 3, n);
-    if (const json* b = ft.find("BATCH_ID")) {  // not returned, but a reader of the batch table relies on it
-        if (!b->is_object()) fail(file, FeatureTable::path("BATCH_ID"), "must refer to the binary body");
-        const auto t = b->find("componentType");
-        const std::string type = t == b->end() ? "UNSIGNED_SHORT" : t->is_string() ? t->get<std::string>() : "";
-        const size_t bytes = type == "UNSIGNED_BYTE"    ? 1
-                             : type == "UNSIGNED_SHORT" ? 2
-                             : type == "UNSIGNED_INT"   ? 4
-                                                        : 0;
-        if (bytes == 0)
-            fail(file, FeatureTable::path("BATCH_ID.componentType"),
-                 "must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-        ft.binaryRef("BATCH_ID", *b, bytes, 1, n);
-    }
-
-    auto finite = [&](const char* name, uint32_t i, dvec3 v) {
-        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-            fail(file, FeatureTable::path(name), "instance " + str(i) + ": not finite");
-        return v;
-    };
     r.instances.reserve(n);
-    for (uint32_t i = 0; i < n; ++i) {
-        dvec3 p;
-        if (pos) {
-            const unsigned char* q = pos + 12 * size_t(i);
-            p = dvec3(f32(q), f32(q + 4), f32(q + 8));
-        } else {
-            const unsigned char* q = quantized + 6 * size_t(i);
-            p = dvec3(le16(q), le16(q + 2), le16(q + 4)) * qScale / 65535.0 + qOffset;
-        }
-        p = finite(pos ? "POSITION" : "POSITION_QUANTIZED", i, p + rtc);
-        dmat3 rot(1.0);
-        if (up) {
-            const unsigned char* u = up + 12 * size_t(i);
-            const unsigned char* rt = right + 12 * size_t(i);
-            rot = basis(file, "NORMAL_UP", i, dvec3(f32(rt), f32(rt + 4), f32(rt + 8)),
-                        dvec3(f32(u), f32(u + 4), f32(u + 8)));
-        } else if (upOct) {
-            const unsigned char* u = upOct + 4 * size_t(i);
-            const unsigned char* rt = rightOct + 4 * size_t(i);
-            rot =
-                basis(file, "NORMAL_UP_OCT32P", i, octDecode(le16(rt), le16(rt + 2)), octDecode(le16(u), le16(u + 2)));
-        } else if (enu) {
-            rot = eastNorthUp(p);
-        }
-        dvec3 s(1.0);
-        if (scale) s *= finite("SCALE", i, dvec3(f32(scale + 4 * size_t(i))));
-        if (scale3) {
-            const unsigned char* q = scale3 + 12 * size_t(i);
-            s *= finite("SCALE_NON_UNIFORM", i, dvec3(f32(q), f32(q + 4), f32(q + 8)));
-        }
-        r.instances.push_back(glm::translate(dmat4(1.0), p) * dmat4(rot) * glm::scale(dmat4(1.0), s));
-    }
+    for (uint32_t i = 0; i < n; ++i) r.instances.push_back(instanceMatrix(file, columns, rtc, i));
     return r;
 }
 

@@ -171,6 +171,97 @@ struct Reader {
     }
 };
 
+// The root of the subtree holding implicit tile d: its level and coordinates in that level, and d's depth in it.
+struct SubtreeRoot {
+    uint32_t level, depth, x, y, z;
+
+    explicit SubtreeRoot(const TileDesc& d)
+        : level(d.level / d.implicit->subtreeLevels * d.implicit->subtreeLevels),
+          depth(d.level - level),
+          x(d.x >> depth),
+          y(d.y >> depth),
+          z(d.z >> depth) {}
+
+    // Tile d's bit in the subtree's tile availability: its level's offset + its Morton index within the level.
+    uint64_t slot(const TileDesc& d, bool octree) const {
+        return levelOffset(depth, octree) + morton(d.x - (x << depth), d.y - (y << depth), d.z - (z << depth), octree);
+    }
+};
+
+// The tile's own volume and error where its subtree's metadata gives them (over the implied ones).
+struct TileMetadata {
+    std::optional<Sphere> sphere;
+    std::optional<double> error;
+};
+
+TileMetadata tileMetadata(const Subtree& sub, uint64_t at) {
+    TileMetadata m;
+    if ((sub.volume != Subtree::Volume::None || !sub.errors.empty()) && sub.tiles[at]) {
+        const uint64_t row = sub.tiles.rank(at);
+        const double* v = sub.volumes.data();
+        switch (sub.volume) {
+            case Subtree::Volume::None: break;
+            case Subtree::Volume::Box: m.sphere = boxSphere(v + 12 * row); break;
+            case Subtree::Volume::Region:
+                m.sphere = regionSphere(std::vector<double>(v + 6 * row, v + 6 * row + 6));
+                break;
+            case Subtree::Volume::Sphere:
+                m.sphere = Sphere{dvec3(v[4 * row], v[4 * row + 1], v[4 * row + 2]), v[4 * row + 3]};
+                break;
+        }
+        if (!sub.errors.empty()) m.error = sub.errors[size_t(row)];
+    }
+    return m;
+}
+
+// The URIs of the contents the subtree marks available for tile d (bit `at`).
+std::vector<std::string> availableContents(const TileDesc& d, const Subtree& sub, uint64_t at) {
+    const ImplicitTiling& t = *d.implicit;
+    std::vector<std::string> contents;
+    for (size_t c = 0; c < t.contents.size(); ++c)
+        if (sub.contents[c][at]) contents.push_back(expandTemplate(t.contents[c], d.level, d.x, d.y, d.z));
+    return contents;
+}
+
+// Child (cx, cy, cz) of tile d (table index i), pending until it is resolved in turn.
+TileDesc childTile(const TileDesc& d, uint32_t i, uint32_t cx, uint32_t cy, uint32_t cz) {
+    const ImplicitTiling& t = *d.implicit;
+    TileDesc k;
+    k.parent = i;
+    k.level = d.level + 1;
+    k.x = cx;
+    k.y = cy;
+    k.z = cz;
+    k.sphere = implicitSphere(t, k.level, cx, cy, cz);
+    k.region = t.region;
+    k.geometricError = t.geometricError / std::ldexp(1.0, int(k.level));
+    k.add = d.add;
+    k.file = d.file;
+    k.path = d.path + " (implicit tile " + std::to_string(k.level) + "/" + std::to_string(cx) + "/" +
+             std::to_string(cy) + (t.octree ? "/" + std::to_string(cz) : "") + ")";
+    k.source = d.source;
+    k.depth = d.depth + 1;
+    k.implicit = d.implicit;
+    k.pending = true;
+    return k;
+}
+
+// The children of tile d (table index i) that its subtree marks available.
+std::vector<TileDesc> availableChildren(const TileDesc& d, uint32_t i, const Subtree& sub, const SubtreeRoot& root) {
+    const ImplicitTiling& t = *d.implicit;
+    const uint32_t levels = t.subtreeLevels, r = root.depth, sx = root.x, sy = root.y, sz = root.z;
+    std::vector<TileDesc> kids;
+    for (uint32_t c = 0; d.level + 1 < t.availableLevels && c < (t.octree ? 8u : 4u); ++c) {
+        const uint32_t cx = 2 * d.x + (c & 1), cy = 2 * d.y + (c >> 1 & 1), cz = t.octree ? 2 * d.z + (c >> 2 & 1) : 0;
+        // In this subtree, or the root of one below it.
+        const uint32_t below = r + 1;
+        const uint64_t m = morton(cx - (sx << below), cy - (sy << below), cz - (sz << below), t.octree);
+        if (!(below < levels ? sub.tiles[levelOffset(below, t.octree) + m] : sub.children[m])) continue;
+        kids.push_back(childTile(d, i, cx, cy, cz));
+    }
+    return kids;
+}
+
 }  // namespace
 
 uint64_t Availability::countBits(uint64_t n) {
@@ -273,81 +364,36 @@ TileDesc TilesetState::resolve(uint32_t i) {
     TileDesc d = tile(i);
     if (!d.pending) return d;
     const ImplicitTiling& t = *d.implicit;
-    const uint32_t levels = t.subtreeLevels, rootLevel = d.level / levels * levels, r = d.level - rootLevel;
-    const uint32_t sx = d.x >> r, sy = d.y >> r, sz = d.z >> r;  // the subtree's root, in its level
+    const SubtreeRoot root(d);
 
     std::shared_ptr<const Subtree> sub;
-    const auto key = std::make_tuple(d.implicit.get(), rootLevel, sx, sy, sz);
+    const auto key = std::make_tuple(d.implicit.get(), root.level, root.x, root.y, root.z);
     {
         std::lock_guard<std::mutex> lock(mutex_);
         auto it = subtrees_.find(key);
         if (it != subtrees_.end()) sub = it->second;
     }
     if (!sub) {  // read outside the lock: other loads go on meanwhile
-        const std::string uri = expandTemplate(t.subtrees, rootLevel, sx, sy, sz);
+        const std::string uri = expandTemplate(t.subtrees, root.level, root.x, root.y, root.z);
         auto read = [this](const std::string& u) { return readResource(u, options.resource); };
         sub = std::make_shared<const Subtree>(parseSubtree(uri, read(uri), t, read));
         std::lock_guard<std::mutex> lock(mutex_);
         subtrees_.emplace(key, sub);
     }
 
-    const uint64_t at = levelOffset(r, t.octree) + morton(d.x - (sx << r), d.y - (sy << r), d.z - (sz << r), t.octree);
-    // The tile's own volume and error where its subtree's metadata gives them (over the implied ones).
-    std::optional<Sphere> sphere;
-    std::optional<double> error;
-    if ((sub->volume != Subtree::Volume::None || !sub->errors.empty()) && sub->tiles[at]) {
-        const uint64_t row = sub->tiles.rank(at);
-        const double* v = sub->volumes.data();
-        switch (sub->volume) {
-            case Subtree::Volume::None: break;
-            case Subtree::Volume::Box: sphere = boxSphere(v + 12 * row); break;
-            case Subtree::Volume::Region:
-                sphere = regionSphere(std::vector<double>(v + 6 * row, v + 6 * row + 6));
-                break;
-            case Subtree::Volume::Sphere:
-                sphere = Sphere{dvec3(v[4 * row], v[4 * row + 1], v[4 * row + 2]), v[4 * row + 3]};
-                break;
-        }
-        if (!sub->errors.empty()) error = sub->errors[size_t(row)];
-    }
-    std::vector<std::string> contents;
-    for (size_t c = 0; c < t.contents.size(); ++c)
-        if (sub->contents[c][at]) contents.push_back(expandTemplate(t.contents[c], d.level, d.x, d.y, d.z));
-    std::vector<TileDesc> kids;
-    for (uint32_t c = 0; d.level + 1 < t.availableLevels && c < (t.octree ? 8u : 4u); ++c) {
-        const uint32_t cx = 2 * d.x + (c & 1), cy = 2 * d.y + (c >> 1 & 1), cz = t.octree ? 2 * d.z + (c >> 2 & 1) : 0;
-        // In this subtree, or the root of one below it.
-        const uint32_t below = r + 1;
-        const uint64_t m = morton(cx - (sx << below), cy - (sy << below), cz - (sz << below), t.octree);
-        if (!(below < levels ? sub->tiles[levelOffset(below, t.octree) + m] : sub->children[m])) continue;
-        TileDesc k;
-        k.parent = i;
-        k.level = d.level + 1;
-        k.x = cx;
-        k.y = cy;
-        k.z = cz;
-        k.sphere = implicitSphere(t, k.level, cx, cy, cz);
-        k.region = t.region;
-        k.geometricError = t.geometricError / std::ldexp(1.0, int(k.level));
-        k.add = d.add;
-        k.file = d.file;
-        k.path = d.path + " (implicit tile " + std::to_string(k.level) + "/" + std::to_string(cx) + "/" +
-                 std::to_string(cy) + (t.octree ? "/" + std::to_string(cz) : "") + ")";
-        k.source = d.source;
-        k.depth = d.depth + 1;
-        k.implicit = d.implicit;
-        k.pending = true;
-        kids.push_back(std::move(k));
-    }
+    const uint64_t at = root.slot(d, t.octree);
+    const TileMetadata own = tileMetadata(*sub, at);
+    std::vector<std::string> contents = availableContents(d, *sub, at);
+    std::vector<TileDesc> kids = availableChildren(d, i, *sub, root);
 
     std::lock_guard<std::mutex> lock(mutex_);
     if (tiles_[i].pending) {  // another load may have resolved it meanwhile
         tiles_[i].contents = std::move(contents);
-        if (sphere) {
-            tiles_[i].sphere = *sphere;
+        if (own.sphere) {
+            tiles_[i].sphere = *own.sphere;
             tiles_[i].region = sub->volume == Subtree::Volume::Region;
         }
-        if (error) tiles_[i].geometricError = *error;
+        if (own.error) tiles_[i].geometricError = *own.error;
         for (TileDesc& k : kids) {
             tiles_[i].children.push_back(uint32_t(tiles_.size()));
             tiles_.push_back(std::move(k));

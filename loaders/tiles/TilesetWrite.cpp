@@ -99,6 +99,23 @@ private:
         double error = 0.0;
         Proxy proxy;  // Simplified only: what the parent merges
     };
+    // What the units of a tile hold together: their box, triangles and largest reach.
+    struct Extent {
+        Box box;
+        uint64_t triangles = 0;
+        double reach = 0.0;
+    };
+    // What an inner tile's children hand up: their largest error and (Simplified only) their proxies.
+    struct ChildrenBuilt {
+        double error = 0.0;
+        std::vector<Proxy> proxies;
+    };
+    // A tile's content before it is queued: the graph (turned to +Y up), whether it draws, its triangles.
+    struct Content {
+        ref_ptr<Transform> graph;
+        bool present = false;
+        uint64_t triangles = 0;
+    };
 
     void stage(const std::string& what, double fraction) {
         if (options_.progress) options_.progress(fraction, what);
@@ -109,126 +126,165 @@ private:
     // The tile of units order_[b, e) in `rect`, at quadtree `level` and position (x, y); `parentCentre` is the
     // parent tile's frame.
     Built tile(size_t b, size_t e, const Rect& rect, int level, uint64_t x, uint64_t y, const dvec3& parentCentre) {
-        Box box;
-        uint64_t triangles = 0;
-        double reach = 0.0;
-        for (size_t i = b; i < e; ++i) {
-            box.expand(unit(i).box);
-            triangles += unit(i).triangles;
-            reach = std::max(reach, unit(i).reach);
-        }
-        if (box.empty()) box = Box{dvec3(rect.min, 0.0), dvec3(rect.max, 0.0)};
-        const dvec3 centre = box.center();
+        const Extent extent = extentOf(b, e, rect);
+        const dvec3 centre = extent.box.center();
         if (level == 0) rootCentre_ = centre;
-        const bool leaf = triangles <= options_.maxTrianglesPerTile || e - b <= 1 || level >= kMaxDepth;
-        if (leaf && triangles > options_.maxTrianglesPerTile && e - b > 1)
-            report_->warnings.push_back("tile " + name(level, x, y) + " holds " + std::to_string(triangles) +
-                                        " triangles: its units do not separate");
+        const bool leaf = isLeaf(b, e, extent.triangles, level, x, y);
 
         Built out;
-        std::vector<Proxy> childProxies;
-        double childError = 0.0;
-        if (!leaf) {
-            // Quadrants by unit centre; empty ones get no tile.
-            const glm::dvec2 mid = (rect.min + rect.max) * 0.5;
-            auto cx = [&](uint32_t u) { return units_.units[u].box.empty() ? mid.x : units_.units[u].box.center().x; };
-            auto cy = [&](uint32_t u) { return units_.units[u].box.empty() ? mid.y : units_.units[u].box.center().y; };
-            const auto first = order_.begin() + std::ptrdiff_t(b), last = order_.begin() + std::ptrdiff_t(e);
-            const auto xs = std::partition(first, last, [&](uint32_t u) { return cx(u) < mid.x; });
-            const auto y0 = std::partition(first, xs, [&](uint32_t u) { return cy(u) < mid.y; });
-            const auto y1 = std::partition(xs, last, [&](uint32_t u) { return cy(u) < mid.y; });
-            const decltype(first) cuts[5] = {first, y0, xs, y1, last};
-            json children = json::array();
-            for (int q = 0; q < 4; ++q) {
-                if (cuts[q] == cuts[q + 1]) continue;
-                const int qx = q / 2, qy = q % 2;
-                const Rect r{glm::dvec2(qx ? mid.x : rect.min.x, qy ? mid.y : rect.min.y),
-                             glm::dvec2(qx ? rect.max.x : mid.x, qy ? rect.max.y : mid.y)};
-                Built c = tile(size_t(cuts[q] - order_.begin()), size_t(cuts[q + 1] - order_.begin()), r, level + 1,
-                               x * 2 + uint64_t(qx), y * 2 + uint64_t(qy), centre);
-                childError = std::max(childError, c.error);
-                children.push_back(std::move(c.tile));
-                if (options_.proxies == TileWriteOptions::Proxies::Simplified)
-                    childProxies.push_back(std::move(c.proxy));
-            }
-            if (!options_.implicit) out.tile["children"] = std::move(children);
-        }
+        ChildrenBuilt children;
+        if (!leaf) children = buildChildren(b, e, rect, level, x, y, centre, out);
 
         // The content and the error.
-        auto content = make<Transform>(kZupToYup);
+        Content content{make<Transform>(kZupToYup)};
         const dmat4 toTile = glm::translate(dmat4(1.0), -centre);
-        bool hasContent = false;
-        uint64_t contentTriangles = 0;
-        if (leaf) {
-            for (size_t i = b; i < e; ++i)
-                tiles::addUnit(*content, *unit(i).node, units_.matrices[unit(i).above], toTile, tiles::kKeepAll);
-            hasContent = e > b;
-            contentTriangles = triangles;
-            out.error = 0.0;
-            if (options_.proxies == TileWriteOptions::Proxies::Simplified) {
-                out.proxy.centre = centre;
-                for (size_t i = b; i < e; ++i)
-                    tiles::addFinest(out.proxy, *unit(i).node, units_.matrices[unit(i).above], billboardsSkipped_);
-            }
-        } else if (options_.proxies == TileWriteOptions::Proxies::Exact) {
-            // No content where no exact reduction exists (no distance LOD, or one reaching beyond the far
-            // distance) or where it would exceed the limit: the tile then refines wherever it can be seen.
-            const uint64_t limit = options_.maxTrianglesPerTile;
-            if (reach > 0.0 && reach < options_.farDistance) {
-                for (size_t i = b; i < e && contentTriangles <= limit; ++i)
-                    contentTriangles += tiles::reducedTriangles(*unit(i).node, reach, limit - contentTriangles);
-                hasContent = contentTriangles <= limit;
-            }
-            if (hasContent)
-                for (size_t i = b; i < e; ++i)
-                    tiles::addUnit(*content, *unit(i).node, units_.matrices[unit(i).above], toTile, reach);
-            out.error = std::max(childError, errorPerMetre_ * (hasContent ? reach : options_.farDistance));
-        } else {
-            uint64_t merged = 0;
-            for (const Proxy& p : childProxies) merged += p.triangles();
-            out.proxy = tiles::simplifyMerged(childProxies, centre,
-                                              std::min<uint64_t>(merged / 2, options_.maxTrianglesPerTile));
-            tiles::addProxy(*content, out.proxy);
-            contentTriangles = out.proxy.triangles();
-            hasContent = contentTriangles > 0;
-            out.error = std::max(childError, out.proxy.error);
-        }
+        if (leaf)
+            leafContent(b, e, extent.triangles, centre, toTile, content, out);
+        else if (options_.proxies == TileWriteOptions::Proxies::Exact)
+            exactContent(b, e, extent.reach, toTile, children.error, content, out);
+        else
+            simplifiedContent(children, centre, content, out);
 
-        const dvec3 half = box.halfExtent() + dvec3(pad_);
-        if (hasContent && options_.instancing) tiles::instanceRepeats(*content);
-        if (options_.implicit) {
-            implicitTiles_.push_back({uint32_t(level), x, y, centre, half, out.error, hasContent});
-            if (hasContent) {
-                // No per-tile transforms in implicit tiling: the content's root node holds its offset from the
-                // root's centre (glTF's doubles), the rest of it stays small and relative to its own centre.
-                auto placed =
-                    make<Transform>(glm::translate(dmat4(1.0), dvec3(kZupToYup * dvec4(centre - rootCentre_, 0.0))));
-                placed->addChild(content);
-                const std::string folder = dir_ + "/tiles/" + std::to_string(level) + "/" + std::to_string(x);
-                std::error_code ec;
-                fs::create_directories(folder, ec);
-                if (ec) throw std::runtime_error("writeTileset(): " + folder + ": cannot be created: " + ec.message());
-                queue(Pending{placed, folder + "/" + std::to_string(y) + ".glb", contentTriangles});
-            }
-        } else {
-            json& t = out.tile;
-            t["boundingVolume"]["box"] = {0, 0, 0, half.x, 0, 0, 0, half.y, 0, 0, 0, half.z};
-            const dvec3 shift = centre - parentCentre;  // 3D Tiles transforms are relative to the parent's frame
-            t["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, shift.x, shift.y, shift.z, 1};
-            t["geometricError"] = out.error;
-            t["refine"] = "REPLACE";
-            if (hasContent) {
-                const std::string uri = "tiles/" + name(level, x, y) + ".glb";
-                t["content"]["uri"] = uri;
-                queue(Pending{content, dir_ + "/" + uri, contentTriangles});
-            }
-        }
+        const dvec3 half = extent.box.halfExtent() + dvec3(pad_);
+        if (content.present && options_.instancing) tiles::instanceRepeats(*content.graph);
+        if (options_.implicit)
+            placeImplicit(level, x, y, centre, half, out.error, content);
+        else
+            describeExplicit(level, x, y, centre - parentCentre, half, content, out);
         ++report_->tiles;
         if (leaf) {
             unitsDone_ += e - b;
             stage("writing tiles", double(unitsDone_) / double(std::max<size_t>(1, order_.size())));
         }
         return out;
+    }
+
+    // What the units order_[b, e) hold together; an empty box becomes the rect's, flat.
+    Extent extentOf(size_t b, size_t e, const Rect& rect) const {
+        Extent out;
+        for (size_t i = b; i < e; ++i) {
+            out.box.expand(unit(i).box);
+            out.triangles += unit(i).triangles;
+            out.reach = std::max(out.reach, unit(i).reach);
+        }
+        if (out.box.empty()) out.box = Box{dvec3(rect.min, 0.0), dvec3(rect.max, 0.0)};
+        return out;
+    }
+
+    // A leaf holds few enough triangles, a single unit, or is as deep as the quadtree goes (warned: its units
+    // do not separate).
+    bool isLeaf(size_t b, size_t e, uint64_t triangles, int level, uint64_t x, uint64_t y) {
+        const bool leaf = triangles <= options_.maxTrianglesPerTile || e - b <= 1 || level >= kMaxDepth;
+        if (leaf && triangles > options_.maxTrianglesPerTile && e - b > 1)
+            report_->warnings.push_back("tile " + name(level, x, y) + " holds " + std::to_string(triangles) +
+                                        " triangles: its units do not separate");
+        return leaf;
+    }
+
+    // The child tiles of an inner tile, written depth first; their JSON goes into out.tile (explicit tiling).
+    ChildrenBuilt buildChildren(size_t b, size_t e, const Rect& rect, int level, uint64_t x, uint64_t y,
+                                const dvec3& centre, Built& out) {
+        ChildrenBuilt built;
+        // Quadrants by unit centre; empty ones get no tile.
+        const glm::dvec2 mid = (rect.min + rect.max) * 0.5;
+        auto cx = [&](uint32_t u) { return units_.units[u].box.empty() ? mid.x : units_.units[u].box.center().x; };
+        auto cy = [&](uint32_t u) { return units_.units[u].box.empty() ? mid.y : units_.units[u].box.center().y; };
+        const auto first = order_.begin() + std::ptrdiff_t(b), last = order_.begin() + std::ptrdiff_t(e);
+        const auto xs = std::partition(first, last, [&](uint32_t u) { return cx(u) < mid.x; });
+        const auto y0 = std::partition(first, xs, [&](uint32_t u) { return cy(u) < mid.y; });
+        const auto y1 = std::partition(xs, last, [&](uint32_t u) { return cy(u) < mid.y; });
+        const decltype(first) cuts[5] = {first, y0, xs, y1, last};
+        json children = json::array();
+        for (int q = 0; q < 4; ++q) {
+            if (cuts[q] == cuts[q + 1]) continue;
+            const int qx = q / 2, qy = q % 2;
+            const Rect r{glm::dvec2(qx ? mid.x : rect.min.x, qy ? mid.y : rect.min.y),
+                         glm::dvec2(qx ? rect.max.x : mid.x, qy ? rect.max.y : mid.y)};
+            Built c = tile(size_t(cuts[q] - order_.begin()), size_t(cuts[q + 1] - order_.begin()), r, level + 1,
+                           x * 2 + uint64_t(qx), y * 2 + uint64_t(qy), centre);
+            built.error = std::max(built.error, c.error);
+            children.push_back(std::move(c.tile));
+            if (options_.proxies == TileWriteOptions::Proxies::Simplified) built.proxies.push_back(std::move(c.proxy));
+        }
+        if (!options_.implicit) out.tile["children"] = std::move(children);
+        return built;
+    }
+
+    // A leaf's content: its units whole; its error 0.
+    void leafContent(size_t b, size_t e, uint64_t triangles, const dvec3& centre, const dmat4& toTile, Content& content,
+                     Built& out) {
+        for (size_t i = b; i < e; ++i)
+            tiles::addUnit(*content.graph, *unit(i).node, units_.matrices[unit(i).above], toTile, tiles::kKeepAll);
+        content.present = e > b;
+        content.triangles = triangles;
+        out.error = 0.0;
+        if (options_.proxies == TileWriteOptions::Proxies::Simplified) {
+            out.proxy.centre = centre;
+            for (size_t i = b; i < e; ++i)
+                tiles::addFinest(out.proxy, *unit(i).node, units_.matrices[unit(i).above], billboardsSkipped_);
+        }
+    }
+
+    // An inner tile's exact content: its units with their distance LODs reduced at `reach`.
+    void exactContent(size_t b, size_t e, double reach, const dmat4& toTile, double childError, Content& content,
+                      Built& out) {
+        // No content where no exact reduction exists (no distance LOD, or one reaching beyond the far
+        // distance) or where it would exceed the limit: the tile then refines wherever it can be seen.
+        const uint64_t limit = options_.maxTrianglesPerTile;
+        if (reach > 0.0 && reach < options_.farDistance) {
+            for (size_t i = b; i < e && content.triangles <= limit; ++i)
+                content.triangles += tiles::reducedTriangles(*unit(i).node, reach, limit - content.triangles);
+            content.present = content.triangles <= limit;
+        }
+        if (content.present)
+            for (size_t i = b; i < e; ++i)
+                tiles::addUnit(*content.graph, *unit(i).node, units_.matrices[unit(i).above], toTile, reach);
+        out.error = std::max(childError, errorPerMetre_ * (content.present ? reach : options_.farDistance));
+    }
+
+    // An inner tile's simplified content: its children's proxies merged and simplified to half their triangles.
+    void simplifiedContent(const ChildrenBuilt& children, const dvec3& centre, Content& content, Built& out) {
+        uint64_t merged = 0;
+        for (const Proxy& p : children.proxies) merged += p.triangles();
+        out.proxy = tiles::simplifyMerged(children.proxies, centre,
+                                          std::min<uint64_t>(merged / 2, options_.maxTrianglesPerTile));
+        tiles::addProxy(*content.graph, out.proxy);
+        content.triangles = out.proxy.triangles();
+        content.present = content.triangles > 0;
+        out.error = std::max(children.error, out.proxy.error);
+    }
+
+    // Implicit tiling: the tile recorded for the subtree files, its content queued as tiles/{level}/{x}/{y}.glb.
+    void placeImplicit(int level, uint64_t x, uint64_t y, const dvec3& centre, const dvec3& half, double error,
+                       const Content& content) {
+        implicitTiles_.push_back({uint32_t(level), x, y, centre, half, error, content.present});
+        if (!content.present) return;
+        // No per-tile transforms in implicit tiling: the content's root node holds its offset from the
+        // root's centre (glTF's doubles), the rest of it stays small and relative to its own centre.
+        auto placed = make<Transform>(glm::translate(dmat4(1.0), dvec3(kZupToYup * dvec4(centre - rootCentre_, 0.0))));
+        placed->addChild(content.graph);
+        const std::string folder = dir_ + "/tiles/" + std::to_string(level) + "/" + std::to_string(x);
+        std::error_code ec;
+        fs::create_directories(folder, ec);
+        if (ec) throw std::runtime_error("writeTileset(): " + folder + ": cannot be created: " + ec.message());
+        queue(Pending{placed, folder + "/" + std::to_string(y) + ".glb", content.triangles});
+    }
+
+    // Explicit tiling: the tile's JSON in out.tile, its content queued as tiles/{level}_{x}_{y}.glb. `shift`: the
+    // tile's centre in its parent's frame.
+    void describeExplicit(int level, uint64_t x, uint64_t y, const dvec3& shift, const dvec3& half,
+                          const Content& content, Built& out) {
+        json& t = out.tile;
+        t["boundingVolume"]["box"] = {0, 0, 0, half.x, 0, 0, 0, half.y, 0, 0, 0, half.z};
+        // 3D Tiles transforms are relative to the parent's frame.
+        t["transform"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, shift.x, shift.y, shift.z, 1};
+        t["geometricError"] = out.error;
+        t["refine"] = "REPLACE";
+        if (content.present) {
+            const std::string uri = "tiles/" + name(level, x, y) + ".glb";
+            t["content"]["uri"] = uri;
+            queue(Pending{content.graph, dir_ + "/" + uri, content.triangles});
+        }
     }
 
     static std::string name(int level, uint64_t x, uint64_t y) {
