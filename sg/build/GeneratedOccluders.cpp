@@ -72,71 +72,84 @@ struct Generator {
         }
     }
 
-    // Occluders inside every level of an LOD whose levels are all opaque Geometry: boxes inside every level (when all
-    // have boxes, closed or capped), or else the parts of the first level's polygons that every open level's polygons
-    // cover too.
-    void lod(LOD& l, std::vector<ref_ptr<Occluder>>& add) {
-        std::vector<Box> common;
-        std::vector<std::vector<dvec3>> polys;
+    // An LOD's levels' shapes, whether any level is one-sided, and the levels' bound.
+    struct Levels {
+        std::vector<const MeshOccluders*> shapes;
         bool oneSided = false;
         Box bound;
+    };
+
+    // The shapes of an LOD's levels; false when a level is not an opaque Geometry with a mesh, shown always.
+    bool levelsOf(LOD& l, Levels& lv) {
         const size_t levels = l.numChildren();
-        std::vector<const MeshOccluders*> shapesOf;
         for (size_t c = 0; c < levels; ++c) {
             const Node* ch = l.child(c);
-            if (ch->kind() != NodeKind::Geometry || ch->nodeMask() != 0xffffffffu) return;
+            if (ch->kind() != NodeKind::Geometry || ch->nodeMask() != 0xffffffffu) return false;
             const auto& g = static_cast<const Geometry&>(*ch);
-            if (!g.mesh()) return;
+            if (!g.mesh()) return false;
             st.sceneTriangles += g.mesh()->triangleCount();
             if (!opaque(g)) {
                 st.skipped++;
-                return;
+                return false;
             }
-            oneSided = oneSided || (g.material() && !g.material()->doubleSided);
-            shapesOf.push_back(&shapes(*g.mesh()));
-            bound.expand(g.mesh()->box());
+            lv.oneSided = lv.oneSided || (g.material() && !g.material()->doubleSided);
+            lv.shapes.push_back(&shapes(*g.mesh()));
+            lv.bound.expand(g.mesh()->box());
         }
-        if (shapesOf.empty()) return;
-        // Boxes when every level has some (inside its solid, or inside it with its openings capped: then used beyond
-        // every level's openings' planes).
-        auto boxesOf = [](const MeshOccluders* m) { return m->closed ? &m->boxes : &m->cappedBoxes; };
+        return true;
+    }
+
+    static const std::vector<Box>* boxesOf(const MeshOccluders* m) { return m->closed ? &m->boxes : &m->cappedBoxes; }
+
+    // Boxes when every level has some (inside its solid, or inside it with its openings capped: then used beyond
+    // every level's openings' planes, gathered in `openings`).
+    static std::vector<Box> commonBoxes(const std::vector<const MeshOccluders*>& shapesOf,
+                                        std::vector<Plane>& openings) {
         const bool solid =
             std::all_of(shapesOf.begin(), shapesOf.end(), [&](const MeshOccluders* m) { return !boxesOf(m)->empty(); });
-        const bool open =
-            std::none_of(shapesOf.begin(), shapesOf.end(), [](const MeshOccluders* m) { return m->closed; });
-        std::vector<Plane> openings;
-        if (solid) {
-            common = *boxesOf(shapesOf[0]);
-            for (const MeshOccluders* m : shapesOf)
-                openings.insert(openings.end(), m->openings.begin(), m->openings.end());
-            for (size_t c = 1; c < levels; ++c) {
-                std::vector<Box> next;
-                for (const Box& a : common)
-                    for (const Box& b : *boxesOf(shapesOf[c])) {
-                        const Box x{glm::max(a.min, b.min), glm::min(a.max, b.max)};
-                        if (x.min.x < x.max.x && x.min.y < x.max.y && x.min.z < x.max.z) next.push_back(x);
-                    }
-                common = std::move(next);
-            }
-        }
-        if (common.empty() && open) {
-            const double tol = occluders::flatTolerance(bound);
-            for (const auto& p0 : shapesOf[0]->polygons) {
-                std::vector<dvec3> p = p0;
-                const dvec3 n = occluders::polygonNormal(p0);
-                for (size_t c = 1; c < levels && !p.empty(); ++c) {
-                    std::vector<dvec3> best;
-                    for (const auto& q : shapesOf[c]->polygons) {
-                        std::vector<dvec3> x = occluders::clipConvex(p, q, n, tol);
-                        if (!x.empty() && (best.empty() || occluders::polygonArea(x) > occluders::polygonArea(best)))
-                            best = std::move(x);
-                    }
-                    p = std::move(best);
+        std::vector<Box> common;
+        if (!solid) return common;
+        common = *boxesOf(shapesOf[0]);
+        for (const MeshOccluders* m : shapesOf) openings.insert(openings.end(), m->openings.begin(), m->openings.end());
+        for (size_t c = 1; c < shapesOf.size(); ++c) {
+            std::vector<Box> next;
+            for (const Box& a : common)
+                for (const Box& b : *boxesOf(shapesOf[c])) {
+                    const Box x{glm::max(a.min, b.min), glm::min(a.max, b.max)};
+                    if (x.min.x < x.max.x && x.min.y < x.max.y && x.min.z < x.max.z) next.push_back(x);
                 }
-                if (!p.empty() && occluders::polygonArea(p) >= s.minPolygonShare * occluders::polygonArea(p0))
-                    polys.push_back(std::move(p));
-            }
+            common = std::move(next);
         }
+        return common;
+    }
+
+    // The parts of the first level's polygons that every level's polygons cover too, those keeping enough of their
+    // area.
+    std::vector<std::vector<dvec3>> commonPolygons(const std::vector<const MeshOccluders*>& shapesOf,
+                                                   const Box& bound) {
+        std::vector<std::vector<dvec3>> polys;
+        const double tol = occluders::flatTolerance(bound);
+        for (const auto& p0 : shapesOf[0]->polygons) {
+            std::vector<dvec3> p = p0;
+            const dvec3 n = occluders::polygonNormal(p0);
+            for (size_t c = 1; c < shapesOf.size() && !p.empty(); ++c) {
+                std::vector<dvec3> best;
+                for (const auto& q : shapesOf[c]->polygons) {
+                    std::vector<dvec3> x = occluders::clipConvex(p, q, n, tol);
+                    if (!x.empty() && (best.empty() || occluders::polygonArea(x) > occluders::polygonArea(best)))
+                        best = std::move(x);
+                }
+                p = std::move(best);
+            }
+            if (!p.empty() && occluders::polygonArea(p) >= s.minPolygonShare * occluders::polygonArea(p0))
+                polys.push_back(std::move(p));
+        }
+        return polys;
+    }
+
+    // The largest of an LOD's common boxes, shown with it.
+    void addLevelBoxes(LOD& l, std::vector<Box>& common, const Box& bound, const std::vector<Plane>& openings,
+                       std::vector<ref_ptr<Occluder>>& add) {
         using occluders::volume;
         std::stable_sort(common.begin(), common.end(),
                          [](const Box& p, const Box& q) { return volume(p) > volume(q); });
@@ -146,6 +159,11 @@ struct Generator {
             o->setShownWith(&l);
             add.push_back(o);
         }
+    }
+
+    // An LOD's common polygons, shown with it.
+    static void addLevelPolygons(LOD& l, std::vector<std::vector<dvec3>>& polys, bool oneSided,
+                                 std::vector<ref_ptr<Occluder>>& add) {
         for (auto& p : polys) {
             auto o = make<Occluder>();
             try {
@@ -158,6 +176,22 @@ struct Generator {
             o->setShownWith(&l);
             add.push_back(o);
         }
+    }
+
+    // Occluders inside every level of an LOD whose levels are all opaque Geometry: boxes inside every level (when all
+    // have boxes, closed or capped), or else the parts of the first level's polygons that every open level's polygons
+    // cover too.
+    void lod(LOD& l, std::vector<ref_ptr<Occluder>>& add) {
+        Levels lv;
+        if (!levelsOf(l, lv) || lv.shapes.empty()) return;
+        const bool open =
+            std::none_of(lv.shapes.begin(), lv.shapes.end(), [](const MeshOccluders* m) { return m->closed; });
+        std::vector<Plane> openings;
+        std::vector<Box> common = commonBoxes(lv.shapes, openings);
+        std::vector<std::vector<dvec3>> polys;
+        if (common.empty() && open) polys = commonPolygons(lv.shapes, lv.bound);
+        addLevelBoxes(l, common, lv.bound, openings, add);
+        addLevelPolygons(l, polys, lv.oneSided, add);
     }
 
     // The Geometry nodes in a subtree left without occluders (an LOD's levels counted as one).

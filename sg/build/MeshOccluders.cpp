@@ -112,10 +112,9 @@ struct Grid {
     double corner(int axis, int i) const { return lo[axis] + double(i) * cell[axis]; }
 };
 
-// Inside cells of a closed mesh's grid (1: inside).
-std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, double clear) {
-    const size_t nc = g.size();
-    std::vector<uint8_t> blocked(nc, 0);
+// Cells that a triangle meets or comes within `clear` of (1: blocked); the others are clear.
+std::vector<uint8_t> blockedCells(const std::vector<Tri>& tris, const Grid& g, double clear) {
+    std::vector<uint8_t> blocked(g.size(), 0);
     for (const Tri& t : tris) {
         int lo[3], hi[3];
         for (int a = 0; a < 3; ++a) {
@@ -136,8 +135,75 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
                     if (!separated(t, (mn + mx) * 0.5, (mx - mn) * 0.5 + clear, clear)) blocked[c] = 1;
                 }
     }
+    return blocked;
+}
+
+// The crossings of each column's vertical ray through (ox, oy) of its cells: (height, +1 down-facing or -1 up-facing),
+// into `hits`, for the columns not yet done; a column whose ray meets a triangle unsurely is marked in `unsure`.
+void columnCrossings(const std::vector<Tri>& tris, const Grid& g, double ox, double oy,
+                     const std::vector<uint8_t>& done, std::vector<uint8_t>& unsure,
+                     std::vector<std::vector<std::pair<double, int>>>& hits) {
+    for (const Tri& t : tris) {
+        const double mnx = std::min({t.a.x, t.b.x, t.c.x}), mxx = std::max({t.a.x, t.b.x, t.c.x});
+        const double mny = std::min({t.a.y, t.b.y, t.c.y}), mxy = std::max({t.a.y, t.b.y, t.c.y});
+        const int i0 = std::max(0, int(std::floor((mnx - g.lo.x) / g.cell.x)) - 1),
+                  i1 = std::min(g.n[0] - 1, int(std::floor((mxx - g.lo.x) / g.cell.x)) + 1);
+        const int j0 = std::max(0, int(std::floor((mny - g.lo.y) / g.cell.y)) - 1),
+                  j1 = std::min(g.n[1] - 1, int(std::floor((mxy - g.lo.y) / g.cell.y)) + 1);
+        for (int j = j0; j <= j1; ++j)
+            for (int i = i0; i <= i1; ++i) {
+                const size_t col = size_t(j) * size_t(g.n[0]) + size_t(i);
+                if (done[col] || unsure[col]) continue;
+                const double px = g.corner(0, i) + ox * g.cell.x, py = g.corner(1, j) + oy * g.cell.y;
+                // Off the triangle's xy bound (compared exactly): surely outside it.
+                if (px < mnx || px > mxx || py < mny || py > mxy) continue;
+                const int f = footprint(t, px, py);
+                if (f == 0) continue;
+                if (f == 2) {
+                    unsure[col] = 1;
+                    continue;
+                }
+                // The plane's height at the point, from the barycentric weights.
+                auto e = [&](const dvec3& u, const dvec3& v) {
+                    return (v.x - u.x) * (py - u.y) - (v.y - u.y) * (px - u.x);
+                };
+                const double wa = e(t.b, t.c), wb = e(t.c, t.a), wc = e(t.a, t.b);
+                const double z = (wa * t.a.z + wb * t.b.z + wc * t.c.z) / (wa + wb + wc);
+                hits[col].push_back({z, f > 0 ? -1 : 1});  // facing up: leaving a solid going up
+            }
+    }
+}
+
+// The inside cells of column (i, j) from its crossings `h` (sorted here), marked in `inside`: none when the count
+// does not end at 0 or a crossing lies within a clear cell.
+void insideOfColumn(std::vector<std::pair<double, int>>& h, int i, int j, const Grid& g,
+                    const std::vector<uint8_t>& blocked, double clear, std::vector<uint8_t>& inside) {
+    std::sort(h.begin(), h.end());
+    int w = 0;
+    bool ok = true;
+    for (const auto& x : h) w += x.second;
+    if (!ok || w != 0) return;
+    size_t next = 0;
+    std::vector<size_t> found;
+    for (int k = 0; k < g.n[2]; ++k) {
+        const double z0 = g.corner(2, k), z1 = g.corner(2, k + 1), zc = 0.5 * (z0 + z1);
+        while (next < h.size() && h[next].first < zc) w += h[next++].second;
+        const size_t c = g.at(i, j, k);
+        if (blocked[c]) continue;
+        // A crossing within a clear cell would contradict its clearance: trust nothing in this column.
+        for (const auto& x : h)
+            if (x.first > z0 - clear && x.first < z1 + clear) ok = false;
+        if (w > 0) found.push_back(c);
+    }
+    if (ok)
+        for (size_t c : found) inside[c] = 1;
+}
+
+// Inside cells of a closed mesh's grid (1: inside).
+std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, double clear) {
+    const std::vector<uint8_t> blocked = blockedCells(tris, g, clear);
     // Winding numbers up each column, at two points inside its cells; a column unsure at both has no inside cells.
-    std::vector<uint8_t> inside(nc, 0);
+    std::vector<uint8_t> inside(g.size(), 0);
     const size_t columns = size_t(g.n[0]) * size_t(g.n[1]);
     std::vector<std::vector<std::pair<double, int>>> hits(columns);
     std::vector<uint8_t> done(columns, 0);
@@ -145,59 +211,12 @@ std::vector<uint8_t> insideCells(const std::vector<Tri>& tris, const Grid& g, do
         const double ox = attempt == 0 ? 0.6234567 : 0.2281719, oy = attempt == 0 ? 0.4268941 : 0.6414213;
         std::vector<uint8_t> unsure(columns, 0);
         for (size_t c = 0; c < columns; ++c) hits[c].clear();
-        for (const Tri& t : tris) {
-            const double mnx = std::min({t.a.x, t.b.x, t.c.x}), mxx = std::max({t.a.x, t.b.x, t.c.x});
-            const double mny = std::min({t.a.y, t.b.y, t.c.y}), mxy = std::max({t.a.y, t.b.y, t.c.y});
-            const int i0 = std::max(0, int(std::floor((mnx - g.lo.x) / g.cell.x)) - 1),
-                      i1 = std::min(g.n[0] - 1, int(std::floor((mxx - g.lo.x) / g.cell.x)) + 1);
-            const int j0 = std::max(0, int(std::floor((mny - g.lo.y) / g.cell.y)) - 1),
-                      j1 = std::min(g.n[1] - 1, int(std::floor((mxy - g.lo.y) / g.cell.y)) + 1);
-            for (int j = j0; j <= j1; ++j)
-                for (int i = i0; i <= i1; ++i) {
-                    const size_t col = size_t(j) * size_t(g.n[0]) + size_t(i);
-                    if (done[col] || unsure[col]) continue;
-                    const double px = g.corner(0, i) + ox * g.cell.x, py = g.corner(1, j) + oy * g.cell.y;
-                    // Off the triangle's xy bound (compared exactly): surely outside it.
-                    if (px < mnx || px > mxx || py < mny || py > mxy) continue;
-                    const int f = footprint(t, px, py);
-                    if (f == 0) continue;
-                    if (f == 2) {
-                        unsure[col] = 1;
-                        continue;
-                    }
-                    // The plane's height at the point, from the barycentric weights.
-                    auto e = [&](const dvec3& u, const dvec3& v) {
-                        return (v.x - u.x) * (py - u.y) - (v.y - u.y) * (px - u.x);
-                    };
-                    const double wa = e(t.b, t.c), wb = e(t.c, t.a), wc = e(t.a, t.b);
-                    const double z = (wa * t.a.z + wb * t.b.z + wc * t.c.z) / (wa + wb + wc);
-                    hits[col].push_back({z, f > 0 ? -1 : 1});  // facing up: leaving a solid going up
-                }
-        }
+        columnCrossings(tris, g, ox, oy, done, unsure, hits);
         for (size_t col = 0; col < columns; ++col) {
             if (done[col] || unsure[col]) continue;  // an unsure column is tried again, then left with no cell
             done[col] = 1;
-            auto& h = hits[col];
-            std::sort(h.begin(), h.end());
-            int w = 0;
-            bool ok = true;
-            for (const auto& x : h) w += x.second;
-            if (!ok || w != 0) continue;
             const int i = int(col % size_t(g.n[0])), j = int(col / size_t(g.n[0]));
-            size_t next = 0;
-            std::vector<size_t> found;
-            for (int k = 0; k < g.n[2]; ++k) {
-                const double z0 = g.corner(2, k), z1 = g.corner(2, k + 1), zc = 0.5 * (z0 + z1);
-                while (next < h.size() && h[next].first < zc) w += h[next++].second;
-                const size_t c = g.at(i, j, k);
-                if (blocked[c]) continue;
-                // A crossing within a clear cell would contradict its clearance: trust nothing in this column.
-                for (const auto& x : h)
-                    if (x.first > z0 - clear && x.first < z1 + clear) ok = false;
-                if (w > 0) found.push_back(c);
-            }
-            if (ok)
-                for (size_t c : found) inside[c] = 1;
+            insideOfColumn(hits[col], i, j, g, blocked, clear, inside);
         }
     }
     return inside;
@@ -208,11 +227,9 @@ struct CellBox {
     size_t volume() const { return size_t(hi[0] - lo[0]) * size_t(hi[1] - lo[1]) * size_t(hi[2] - lo[2]); }
 };
 
-// Boxes grown over the inside cells, largest new volume first.
-std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g, uint32_t maxBoxes, size_t minCells) {
-    const int nx = g.n[0], ny = g.n[1], nz = g.n[2];
-    // Depth of each inside cell: the fewest inside cells from it to the grid's edge or an outside cell along the three
-    // axes (seeds deep inside grow the largest boxes).
+// Depth of each inside cell: the fewest inside cells from it to the grid's edge or an outside cell along the three
+// axes (seeds deep inside grow the largest boxes).
+std::vector<uint16_t> cellDepths(const std::vector<uint8_t>& inside, const Grid& g) {
     std::vector<uint16_t> depth(inside.size(), 0);
     for (size_t c = 0; c < inside.size(); ++c) depth[c] = inside[c] ? uint16_t(0xffff) : 0;
     for (int a = 0; a < 3; ++a) {
@@ -233,11 +250,18 @@ std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g
                 }
             }
     }
-    std::vector<uint8_t> covered(inside.size(), 0);
-    std::vector<CellBox> out;
-    // Covered cells in any box in O(1): prefix sums of the covered cells, summed again after each box taken.
-    std::vector<uint32_t> cs(size_t(nx + 1) * size_t(ny + 1) * size_t(nz + 1), 0);
-    auto sumOf = [&](std::vector<uint32_t>& t, const std::vector<uint8_t>& cells) {
+    return depth;
+}
+
+// Marked cells in any box in O(1): the prefix sums of a grid's marked cells.
+struct CellCounts {
+    int nx, ny, nz;
+    std::vector<uint32_t> t;
+
+    explicit CellCounts(const Grid& g)
+        : nx(g.n[0]), ny(g.n[1]), nz(g.n[2]), t(size_t(nx + 1) * size_t(ny + 1) * size_t(nz + 1), 0) {}
+
+    void sumOf(const std::vector<uint8_t>& cells, const Grid& g) {
         auto T = [&](int i, int j, int k) -> uint32_t& {
             return t[(size_t(k) * size_t(ny + 1) + size_t(j)) * size_t(nx + 1) + size_t(i)];
         };
@@ -246,55 +270,81 @@ std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g
                 for (int i = 1; i <= nx; ++i)
                     T(i, j, k) = cells[g.at(i - 1, j - 1, k - 1)] + T(i - 1, j, k) + T(i, j - 1, k) + T(i, j, k - 1) -
                                  T(i - 1, j - 1, k) - T(i - 1, j, k - 1) - T(i, j - 1, k - 1) + T(i - 1, j - 1, k - 1);
-    };
-    auto countIn = [&](const std::vector<uint32_t>& t, const CellBox& b) {
+    }
+
+    size_t countIn(const CellBox& b) const {
         auto T = [&](int i, int j, int k) {
             return size_t(t[(size_t(k) * size_t(ny + 1) + size_t(j)) * size_t(nx + 1) + size_t(i)]);
         };
         return T(b.hi[0], b.hi[1], b.hi[2]) - T(b.lo[0], b.hi[1], b.hi[2]) - T(b.hi[0], b.lo[1], b.hi[2]) -
                T(b.hi[0], b.hi[1], b.lo[2]) + T(b.lo[0], b.lo[1], b.hi[2]) + T(b.lo[0], b.hi[1], b.lo[2]) +
                T(b.hi[0], b.lo[1], b.lo[2]) - T(b.lo[0], b.lo[1], b.lo[2]);
-    };
-    auto coveredIn = [&](const CellBox& b) { return countIn(cs, b); };
-    std::vector<uint32_t> is(cs.size(), 0);  // the same for the inside cells
-    sumOf(is, inside);
-    auto count = [&](const CellBox& b) { return countIn(is, b); };
+    }
+};
+
+// Seeds: the deepest uncovered inside cells, at most 24, as (-depth, cell), deepest first.
+std::vector<std::pair<int, size_t>> deepestSeeds(const std::vector<uint8_t>& inside,
+                                                 const std::vector<uint8_t>& covered,
+                                                 const std::vector<uint16_t>& depth) {
+    std::vector<std::pair<int, size_t>> seeds;
+    for (size_t c = 0; c < inside.size(); ++c)
+        if (inside[c] && !covered[c]) seeds.push_back({-int(depth[c]), c});
+    const size_t keep = std::min<size_t>(seeds.size(), 24);
+    std::partial_sort(seeds.begin(), seeds.begin() + ptrdiff_t(keep), seeds.end());
+    seeds.resize(keep);
+    return seeds;
+}
+
+// The box grown from cell `c` a face at a time while it holds inside cells only (`inside`, their counts).
+CellBox grownBox(size_t c, const Grid& g, const CellCounts& inside) {
+    const int nx = g.n[0], ny = g.n[1];
+    const int i = int(c % size_t(nx)), j = int((c / size_t(nx)) % size_t(ny)), k = int(c / (size_t(nx) * ny));
+    CellBox b{{i, j, k}, {i + 1, j + 1, k + 1}};
+    for (bool grew = true; grew;) {
+        grew = false;
+        for (int face = 0; face < 6; ++face) {
+            CellBox t = b;
+            const int a = face / 2;
+            if (face % 2 ? t.hi[a] >= g.n[a] : t.lo[a] <= 0) continue;
+            (face % 2 ? t.hi[a] : t.lo[a]) += face % 2 ? 1 : -1;
+            if (inside.countIn(t) == t.volume()) {
+                b = t;
+                grew = true;
+            }
+        }
+    }
+    return b;
+}
+
+void cover(const CellBox& b, const Grid& g, std::vector<uint8_t>& covered) {
+    for (int z = b.lo[2]; z < b.hi[2]; ++z)
+        for (int y = b.lo[1]; y < b.hi[1]; ++y)
+            for (int x = b.lo[0]; x < b.hi[0]; ++x) covered[g.at(x, y, z)] = 1;
+}
+
+// Boxes grown over the inside cells, largest new volume first.
+std::vector<CellBox> growBoxes(const std::vector<uint8_t>& inside, const Grid& g, uint32_t maxBoxes, size_t minCells) {
+    const std::vector<uint16_t> depth = cellDepths(inside, g);
+    std::vector<uint8_t> covered(inside.size(), 0);
+    std::vector<CellBox> out;
+    // Covered cells in any box in O(1): prefix sums of the covered cells, summed again after each box taken.
+    CellCounts coveredCounts(g);
+    CellCounts insideCounts(g);  // the same for the inside cells
+    insideCounts.sumOf(inside, g);
     while (out.size() < maxBoxes) {
-        // Seeds: the deepest uncovered inside cells.
-        std::vector<std::pair<int, size_t>> seeds;
-        for (size_t c = 0; c < inside.size(); ++c)
-            if (inside[c] && !covered[c]) seeds.push_back({-int(depth[c]), c});
+        const std::vector<std::pair<int, size_t>> seeds = deepestSeeds(inside, covered, depth);
         if (seeds.empty()) break;
-        const size_t keep = std::min<size_t>(seeds.size(), 24);
-        std::partial_sort(seeds.begin(), seeds.begin() + ptrdiff_t(keep), seeds.end());
         CellBox best{};
         size_t bestNew = 0;
-        for (size_t q = 0; q < keep; ++q) {
-            const size_t c = seeds[q].second;
-            const int i = int(c % size_t(nx)), j = int((c / size_t(nx)) % size_t(ny)), k = int(c / (size_t(nx) * ny));
-            CellBox b{{i, j, k}, {i + 1, j + 1, k + 1}};
-            for (bool grew = true; grew;) {
-                grew = false;
-                for (int face = 0; face < 6; ++face) {
-                    CellBox t = b;
-                    const int a = face / 2;
-                    if (face % 2 ? t.hi[a] >= g.n[a] : t.lo[a] <= 0) continue;
-                    (face % 2 ? t.hi[a] : t.lo[a]) += face % 2 ? 1 : -1;
-                    if (count(t) == t.volume()) {
-                        b = t;
-                        grew = true;
-                    }
-                }
-            }
-            const size_t fresh = b.volume() - coveredIn(b);
+        for (const auto& seed : seeds) {
+            const CellBox b = grownBox(seed.second, g, insideCounts);
+            const size_t fresh = b.volume() - coveredCounts.countIn(b);
             if (fresh > bestNew) bestNew = fresh, best = b;
         }
         if (bestNew == 0 || bestNew < minCells) break;
-        for (int z = best.lo[2]; z < best.hi[2]; ++z)
-            for (int y = best.lo[1]; y < best.hi[1]; ++y)
-                for (int x = best.lo[0]; x < best.hi[0]; ++x) covered[g.at(x, y, z)] = 1;
+        cover(best, g, covered);
         out.push_back(best);
-        sumOf(cs, covered);
+        coveredCounts.sumOf(covered, g);
     }
     return out;
 }

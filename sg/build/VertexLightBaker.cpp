@@ -136,10 +136,9 @@ void writeCache(const std::string& path, uint64_t hash, const std::vector<std::v
     if (ec) std::filesystem::remove(tmp, ec);
 }
 
-}  // namespace
-
-std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std::vector<BakeTarget>& targets,
-                                                   const VertexLightParams& p) {
+// Throws std::invalid_argument naming VertexLightBaker::compute for a null mesh, a zero or non-finite sun direction,
+// negative counts or distances.
+void checkComputeArgs(const std::vector<BakeTarget>& targets, const VertexLightParams& p) {
     const char* fn = "VertexLightBaker::compute(): ";
     for (const BakeTarget& t : targets)
         if (!t.mesh) throw std::invalid_argument(std::string(fn) + "null mesh in the targets");
@@ -152,10 +151,137 @@ std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std
         throw std::invalid_argument(
             std::string(fn) +
             "negative sample count, distance, radius, offset or inset (or an inset fraction above 1)");
-    const dvec3 L = p.sunDirection / sunLen;
+}
+
+// Each vertex's triangles (CSR): the inset point is kept on or above them.
+struct VertexTriangles {
+    std::vector<uint32_t> first, tris;
+
+    VertexTriangles(const Mesh& m, const std::vector<uint32_t>& count)
+        : first(m.positions().size() + 1, 0), tris(3 * size_t(m.triangleCount())) {
+        for (size_t v = 0; v < count.size(); ++v) first[v + 1] = first[v] + count[v];
+        std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+        for (uint32_t t = 0; t < m.triangleCount(); ++t)
+            for (int k = 0; k < 3; ++k) tris[fill[m.index(3 * t + k)]++] = t;
+    }
+};
+
+// Lifts `point` by `up` onto the first of vertex v's triangles that the ray up from it meets within `len`.
+void liftOntoTriangles(const Mesh& m, const VertexTriangles& vt, size_t v, const dvec3& up, double len, dvec3& point) {
+    for (uint32_t k = vt.first[v]; k < vt.first[v + 1]; ++k) {
+        const uint32_t t = vt.tris[k];
+        MeshBvh::RayHit h;
+        const dvec3 a(m.positions()[m.index(3 * t)]), b(m.positions()[m.index(3 * t + 1)]),
+            c(m.positions()[m.index(3 * t + 2)]);
+        if (MeshBvh::rayTriangle(point, up, len, a, b, c, h) && h.t > 0.0) {
+            point += up * h.t;
+            break;
+        }
+    }
+}
+
+// Where each vertex samples the light: moved toward the mean centroid of its triangles, since a corner
+// of a large face (at the foot of a wall, beside a parapet) would otherwise darken the whole face.
+std::vector<dvec3> insetPoints(const Mesh& m, const VertexLightParams& p) {
+    std::vector<dvec3> sum(m.positions().size(), dvec3(0.0));
+    std::vector<uint32_t> count(m.positions().size(), 0);
+    for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+        const uint32_t a = m.index(3 * t), b = m.index(3 * t + 1), c = m.index(3 * t + 2);
+        const dvec3 centroid = (dvec3(m.positions()[a]) + dvec3(m.positions()[b]) + dvec3(m.positions()[c])) / 3.0;
+        for (uint32_t v : {a, b, c}) {
+            sum[v] += centroid;
+            ++count[v];
+        }
+    }
+    const VertexTriangles vt(m, count);
+    std::vector<dvec3> inset(sum.size());
+    for (size_t v = 0; v < sum.size(); ++v) {
+        const dvec3 pos = dvec3(m.positions()[v]);
+        dvec3 d = count[v] ? (sum[v] / double(count[v]) - pos) * p.insetFraction : dvec3(0.0);
+        double len = glm::length(d);
+        if (!std::isfinite(len))
+            d = dvec3(0.0), len = 0.0;
+        else if (len > p.insetMax)
+            d *= p.insetMax / len, len = p.insetMax;
+        inset[v] = pos + d;
+        // The mean centroid of a convex bend's triangles (the edge of a bank, a ridge) lies under them, by
+        // more than the offset where the bend is sharp: rays from there start under the surface and the
+        // vertex comes out black. Lifted along the normal onto its triangle that covers it.
+        const dvec3 n = v < m.normals().size() ? dvec3(m.normals()[v]) : dvec3(0.0);
+        if (!(len > 0.0) || !(glm::length(n) > 0.0)) continue;
+        const dvec3 up = glm::normalize(n);
+        liftOntoTriangles(m, vt, v, up, len, inset[v]);
+    }
+    return inset;
+}
+
+// What every vertex's sampling shares: the scene, the parameters, the sun's unit direction L, a frame (lt, lb)
+// across it and the tangent of its angular radius.
+struct LightSampler {
+    const Scene& scene;
+    const VertexLightParams& p;
+    dvec3 L, lt, lb;
+    double coneTan;
+
+    // Of the sun rays from O, jittered over the sun's disc by (r1, r2), those that nothing blocks.
+    int freeSunRays(IntersectTraversal& it, Hit& hit, const dvec3& O, double r1, double r2) const {
+        int free = 0;
+        for (int s = 0; s < p.sunSamples; ++s) {
+            const double u1 = std::fmod((s + 0.5) / p.sunSamples + r1, 1.0);
+            const double u2 = std::fmod(s * 0.618033988749895 + r2, 1.0);
+            const double rad = coneTan * std::sqrt(u1), phi = 2.0 * M_PI * u2;
+            const dvec3 d = glm::normalize(L + rad * (std::cos(phi) * lt + std::sin(phi) * lb));
+            if (!it.intersect(scene, Ray{O, d, p.sunDistance}, p.query, hit)) ++free;
+        }
+        return free;
+    }
+
+    // Of the cosine-weighted rays from O over N's hemisphere, jittered by (r3, r4), those that meet nothing within
+    // aoDistance.
+    int freeSkyRays(IntersectTraversal& it, Hit& hit, const dvec3& O, const dvec3& N, double r3, double r4) const {
+        dvec3 t, b;
+        frame(N, t, b);
+        int free = 0;
+        for (int s = 0; s < p.aoSamples; ++s) {
+            const double u1 = std::fmod((s + 0.5) / p.aoSamples + r3, 1.0);
+            const double u2 = std::fmod(s * 0.618033988749895 + r4, 1.0);
+            const double rad = std::sqrt(u1), phi = 2.0 * M_PI * u2;
+            const dvec3 d = rad * std::cos(phi) * t + rad * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u1)) * N;
+            if (!it.intersect(scene, Ray{O, d, p.aoDistance}, p.query, hit)) ++free;
+        }
+        return free;
+    }
+
+    // The sun and sky of vertex v of target ti (placed by `target`, its normals by `normalMat`), sampled from its
+    // inset point, into `out`.
+    void bake(IntersectTraversal& it, Hit& hit, const BakeTarget& target, const glm::dmat3& normalMat,
+              const dvec3& inset, size_t ti, size_t v, VertexLight& out) const {
+        const Mesh& m = *target.mesh;
+        const dvec3 P = dvec3(target.world * dvec4(inset, 1.0));
+        dvec3 N = v < m.normals().size() ? normalMat * dvec3(m.normals()[v]) : dvec3(0.0);
+        const double nl = glm::length(N);
+        N = nl > 0.0 && std::isfinite(nl) ? N / nl : dvec3(0, 0, 1);
+        const dvec3 O = P + N * p.offset;
+        const uint64_t seed = mix64(uint64_t(ti) * 0x100000001b3ull ^ mix64(v));
+        // Stratified samples, rotated per vertex (Cranley-Patterson): even coverage, no shared pattern.
+        const double r1 = unit(mix64(seed ^ 1)), r2 = unit(mix64(seed ^ 2));
+        const double r3 = unit(mix64(seed ^ 3)), r4 = unit(mix64(seed ^ 4));
+        const double cosL = glm::dot(N, L);
+        if (cosL > 0.0 && p.sunSamples > 0) out.sun[v] = float(freeSunRays(it, hit, O, r1, r2)) / float(p.sunSamples);
+        if (p.aoSamples > 0 && p.aoDistance > 0.0)
+            out.ao[v] = float(freeSkyRays(it, hit, O, N, r3, r4)) / float(p.aoSamples);
+    }
+};
+
+}  // namespace
+
+std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std::vector<BakeTarget>& targets,
+                                                   const VertexLightParams& p) {
+    checkComputeArgs(targets, p);
+    const dvec3 L = p.sunDirection / glm::length(p.sunDirection);
     dvec3 lt, lb;
     frame(L, lt, lb);
-    const double coneTan = std::tan(p.sunAngularRadius);
+    const LightSampler sampler{scene, p, L, lt, lb, std::tan(p.sunAngularRadius)};
 
     std::vector<VertexLight> result(targets.size());
     std::vector<size_t> start(targets.size() + 1, 0);
@@ -167,55 +293,8 @@ std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std
         start[i + 1] = start[i] + n;
         normalMats[i] = glm::transpose(glm::inverse(glm::dmat3(targets[i].world)));
     }
-    // Where each vertex samples the light: moved toward the mean centroid of its triangles, since a corner
-    // of a large face (at the foot of a wall, beside a parapet) would otherwise darken the whole face.
     std::vector<std::vector<dvec3>> inset(targets.size());
-    for (size_t i = 0; i < targets.size(); ++i) {
-        const Mesh& m = *targets[i].mesh;
-        std::vector<dvec3> sum(m.positions().size(), dvec3(0.0));
-        std::vector<uint32_t> count(m.positions().size(), 0);
-        for (uint32_t t = 0; t < m.triangleCount(); ++t) {
-            const uint32_t a = m.index(3 * t), b = m.index(3 * t + 1), c = m.index(3 * t + 2);
-            const dvec3 centroid = (dvec3(m.positions()[a]) + dvec3(m.positions()[b]) + dvec3(m.positions()[c])) / 3.0;
-            for (uint32_t v : {a, b, c}) {
-                sum[v] += centroid;
-                ++count[v];
-            }
-        }
-        // Each vertex's triangles (CSR): the inset point is kept on or above them.
-        std::vector<uint32_t> first(m.positions().size() + 1, 0), tris(3 * size_t(m.triangleCount()));
-        for (size_t v = 0; v < count.size(); ++v) first[v + 1] = first[v] + count[v];
-        std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-        for (uint32_t t = 0; t < m.triangleCount(); ++t)
-            for (int k = 0; k < 3; ++k) tris[fill[m.index(3 * t + k)]++] = t;
-        inset[i].resize(sum.size());
-        for (size_t v = 0; v < sum.size(); ++v) {
-            const dvec3 pos = dvec3(m.positions()[v]);
-            dvec3 d = count[v] ? (sum[v] / double(count[v]) - pos) * p.insetFraction : dvec3(0.0);
-            double len = glm::length(d);
-            if (!std::isfinite(len))
-                d = dvec3(0.0), len = 0.0;
-            else if (len > p.insetMax)
-                d *= p.insetMax / len, len = p.insetMax;
-            inset[i][v] = pos + d;
-            // The mean centroid of a convex bend's triangles (the edge of a bank, a ridge) lies under them, by
-            // more than the offset where the bend is sharp: rays from there start under the surface and the
-            // vertex comes out black. Lifted along the normal onto its triangle that covers it.
-            const dvec3 n = v < m.normals().size() ? dvec3(m.normals()[v]) : dvec3(0.0);
-            if (!(len > 0.0) || !(glm::length(n) > 0.0)) continue;
-            const dvec3 up = glm::normalize(n);
-            for (uint32_t k = first[v]; k < first[v + 1]; ++k) {
-                const uint32_t t = tris[k];
-                MeshBvh::RayHit h;
-                const dvec3 a(m.positions()[m.index(3 * t)]), b(m.positions()[m.index(3 * t + 1)]),
-                    c(m.positions()[m.index(3 * t + 2)]);
-                if (MeshBvh::rayTriangle(inset[i][v], up, len, a, b, c, h) && h.t > 0.0) {
-                    inset[i][v] += up * h.t;
-                    break;
-                }
-            }
-        }
-    }
+    for (size_t i = 0; i < targets.size(); ++i) inset[i] = insetPoints(*targets[i].mesh, p);
     const size_t total = start.back();
 
     // Work is handed out in chunks so that both threads finish together whatever the meshes' sizes.
@@ -233,42 +312,7 @@ std::vector<VertexLight> VertexLightBaker::compute(const Scene& scene, const std
                 while (g >= start[ti + 1]) ++ti;
                 while (g < start[ti]) --ti;
                 const size_t v = g - start[ti];
-                const Mesh& m = *targets[ti].mesh;
-                const dvec3 P = dvec3(targets[ti].world * dvec4(inset[ti][v], 1.0));
-                dvec3 N = v < m.normals().size() ? normalMats[ti] * dvec3(m.normals()[v]) : dvec3(0.0);
-                const double nl = glm::length(N);
-                N = nl > 0.0 && std::isfinite(nl) ? N / nl : dvec3(0, 0, 1);
-                const dvec3 O = P + N * p.offset;
-                const uint64_t seed = mix64(uint64_t(ti) * 0x100000001b3ull ^ mix64(v));
-                // Stratified samples, rotated per vertex (Cranley-Patterson): even coverage, no shared pattern.
-                const double r1 = unit(mix64(seed ^ 1)), r2 = unit(mix64(seed ^ 2));
-                const double r3 = unit(mix64(seed ^ 3)), r4 = unit(mix64(seed ^ 4));
-                const double cosL = glm::dot(N, L);
-                if (cosL > 0.0 && p.sunSamples > 0) {
-                    int free = 0;
-                    for (int s = 0; s < p.sunSamples; ++s) {
-                        const double u1 = std::fmod((s + 0.5) / p.sunSamples + r1, 1.0);
-                        const double u2 = std::fmod(s * 0.618033988749895 + r2, 1.0);
-                        const double rad = coneTan * std::sqrt(u1), phi = 2.0 * M_PI * u2;
-                        const dvec3 d = glm::normalize(L + rad * (std::cos(phi) * lt + std::sin(phi) * lb));
-                        if (!it.intersect(scene, Ray{O, d, p.sunDistance}, p.query, hit)) ++free;
-                    }
-                    result[ti].sun[v] = float(free) / float(p.sunSamples);
-                }
-                if (p.aoSamples > 0 && p.aoDistance > 0.0) {
-                    dvec3 t, b;
-                    frame(N, t, b);
-                    int free = 0;
-                    for (int s = 0; s < p.aoSamples; ++s) {
-                        const double u1 = std::fmod((s + 0.5) / p.aoSamples + r3, 1.0);
-                        const double u2 = std::fmod(s * 0.618033988749895 + r4, 1.0);
-                        const double rad = std::sqrt(u1), phi = 2.0 * M_PI * u2;
-                        const dvec3 d =
-                            rad * std::cos(phi) * t + rad * std::sin(phi) * b + std::sqrt(std::max(0.0, 1.0 - u1)) * N;
-                        if (!it.intersect(scene, Ray{O, d, p.aoDistance}, p.query, hit)) ++free;
-                    }
-                    result[ti].ao[v] = float(free) / float(p.aoSamples);
-                }
+                sampler.bake(it, hit, targets[ti], normalMats[ti], inset[ti][v], ti, v, result[ti]);
             }
         }
     };

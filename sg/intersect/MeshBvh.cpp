@@ -14,6 +14,98 @@ constexpr int kMaxSahDepth = 40;  // below this depth, median splits: the traver
 constexpr int kStack = 128;
 
 inline dvec3 inverseDir(const dvec3& d) { return dvec3(1.0 / d.x, 1.0 / d.y, 1.0 / d.z); }
+
+// Half a box's surface area: the heuristic's weight of a side.
+double area(const Box& b) {
+    if (b.empty()) return 0.0;
+    const dvec3 e = b.max - b.min;
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+}
+
+// The bin of a triangle's centroid along `axis`, kBins over the centroids' extent from `lo`.
+struct Binner {
+    const std::vector<dvec3>& centroids;
+    int axis;
+    double lo, scale;
+    int operator()(uint32_t k) const { return std::min(kBins - 1, int((centroids[k][axis] - lo) * scale)); }
+};
+
+// The boxes' bound and the centroids' bound over [first, first + count).
+void boundsOf(const std::vector<Box>& boxes, const std::vector<dvec3>& centroids, uint32_t first, uint32_t count,
+              Box& bound, Box& cb) {
+    for (uint32_t k = first; k < first + count; ++k) {
+        bound.expand(boxes[k]);
+        cb.expand(centroids[k]);
+    }
+}
+
+// The last bin on the left of the cheapest binned split of [first, first + count) (bound `bound`); -1 when none
+// costs less than a leaf.
+int sahSplit(const Binner& bin, const std::vector<Box>& boxes, const Box& bound, uint32_t first, uint32_t count) {
+    Box binBox[kBins];
+    uint32_t binCount[kBins] = {};
+    for (uint32_t k = first; k < first + count; ++k) {
+        const int b = bin(k);
+        binCount[b]++;
+        binBox[b].expand(boxes[k]);
+    }
+    double rightArea[kBins];
+    uint32_t rightCount[kBins];
+    Box acc;
+    uint32_t cnt = 0;
+    for (int b = kBins - 1; b > 0; --b) {
+        acc.expand(binBox[b]);
+        cnt += binCount[b];
+        rightArea[b] = area(acc);
+        rightCount[b] = cnt;
+    }
+    double best = double(count) * area(bound);  // the cost of a leaf
+    int split = -1;
+    acc = Box{};
+    cnt = 0;
+    for (int b = 0; b < kBins - 1; ++b) {
+        acc.expand(binBox[b]);
+        cnt += binCount[b];
+        const double cost = area(acc) * cnt + rightArea[b + 1] * rightCount[b + 1];
+        if (cnt && rightCount[b + 1] && cost < best) best = cost, split = b;
+    }
+    return split;
+}
+
+// Moves the triangles of [first, first + count) in bins up to `split` before the others; returns where the others
+// begin.
+uint32_t partitionAtBin(const Binner& bin, int split, std::vector<uint32_t>& prims, std::vector<Box>& boxes,
+                        std::vector<dvec3>& centroids, uint32_t first, uint32_t count) {
+    uint32_t i = first, j = first + count;
+    while (i < j) {
+        if (bin(i) <= split) {
+            ++i;
+        } else {
+            --j;
+            std::swap(prims[i], prims[j]);
+            std::swap(boxes[i], boxes[j]);
+            std::swap(centroids[i], centroids[j]);
+        }
+    }
+    return i;
+}
+
+// Orders [first, first + count) so that its first half holds the triangles with the lower centroids along `axis`.
+void medianSplit(std::vector<uint32_t>& prims, std::vector<Box>& boxes, std::vector<dvec3>& centroids, uint32_t first,
+                 uint32_t count, int axis) {
+    std::vector<uint32_t> order(count);
+    std::iota(order.begin(), order.end(), first);
+    std::nth_element(order.begin(), order.begin() + count / 2, order.end(),
+                     [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
+    std::vector<uint32_t> p(count);
+    std::vector<Box> bx(count);
+    std::vector<dvec3> c(count);
+    for (uint32_t k = 0; k < count; ++k) p[k] = prims[order[k]], bx[k] = boxes[order[k]], c[k] = centroids[order[k]];
+    std::copy(p.begin(), p.end(), prims.begin() + first);
+    std::copy(bx.begin(), bx.end(), boxes.begin() + first);
+    std::copy(c.begin(), c.end(), centroids.begin() + first);
+}
+
 }  // namespace
 
 MeshBvh::MeshBvh(const Mesh& mesh) : mesh_(&mesh) {
@@ -54,20 +146,12 @@ uint32_t MeshBvh::build(uint32_t first, uint32_t count, std::vector<Box>& boxes,
     };
     std::vector<Item> work{{first, count, 0, 0}};
     nodes_.push_back({});
-    auto area = [](const Box& b) {
-        if (b.empty()) return 0.0;
-        const dvec3 e = b.max - b.min;
-        return e.x * e.y + e.y * e.z + e.z * e.x;
-    };
     while (!work.empty()) {
         const Item it = work.back();
         work.pop_back();
         SG_ASSERT(it.count > 0, "MeshBvh::build(): empty subtree");
         Box bound, cb;
-        for (uint32_t k = it.first; k < it.first + it.count; ++k) {
-            bound.expand(boxes[k]);
-            cb.expand(centroids[k]);
-        }
+        boundsOf(boxes, centroids, it.first, it.count, bound, cb);
         Node& nd = nodes_[it.node];
         for (int a = 0; a < 3; ++a) {
             // Float bounds rounded outward: they still contain the float vertices exactly.
@@ -84,50 +168,10 @@ uint32_t MeshBvh::build(uint32_t first, uint32_t count, std::vector<Box>& boxes,
         uint32_t mid = it.first + it.count / 2;
         bool sah = false;
         if (it.depth < kMaxSahDepth) {
-            Box binBox[kBins];
-            uint32_t binCount[kBins] = {};
-            const double scale = kBins / ext[axis];
-            auto bin = [&](uint32_t k) {
-                return std::min(kBins - 1, int((centroids[k][axis] - cb.min[axis]) * scale));
-            };
-            for (uint32_t k = it.first; k < it.first + it.count; ++k) {
-                const int b = bin(k);
-                binCount[b]++;
-                binBox[b].expand(boxes[k]);
-            }
-            double rightArea[kBins];
-            uint32_t rightCount[kBins];
-            Box acc;
-            uint32_t cnt = 0;
-            for (int b = kBins - 1; b > 0; --b) {
-                acc.expand(binBox[b]);
-                cnt += binCount[b];
-                rightArea[b] = area(acc);
-                rightCount[b] = cnt;
-            }
-            double best = double(it.count) * area(bound);  // the cost of a leaf
-            int split = -1;
-            acc = Box{};
-            cnt = 0;
-            for (int b = 0; b < kBins - 1; ++b) {
-                acc.expand(binBox[b]);
-                cnt += binCount[b];
-                const double cost = area(acc) * cnt + rightArea[b + 1] * rightCount[b + 1];
-                if (cnt && rightCount[b + 1] && cost < best) best = cost, split = b;
-            }
+            const Binner bin{centroids, axis, cb.min[axis], kBins / ext[axis]};
+            const int split = sahSplit(bin, boxes, bound, it.first, it.count);
             if (split >= 0) {
-                uint32_t i = it.first, j = it.first + it.count;
-                while (i < j) {
-                    if (bin(i) <= split) {
-                        ++i;
-                    } else {
-                        --j;
-                        std::swap(prims_[i], prims_[j]);
-                        std::swap(boxes[i], boxes[j]);
-                        std::swap(centroids[i], centroids[j]);
-                    }
-                }
-                mid = i;
+                mid = partitionAtBin(bin, split, prims_, boxes, centroids, it.first, it.count);
                 sah = true;
             } else if (it.count <= 16) {
                 nd.index = it.first;
@@ -135,20 +179,7 @@ uint32_t MeshBvh::build(uint32_t first, uint32_t count, std::vector<Box>& boxes,
                 continue;
             }
         }
-        if (!sah) {  // median on the longest axis
-            std::vector<uint32_t> order(it.count);
-            std::iota(order.begin(), order.end(), it.first);
-            std::nth_element(order.begin(), order.begin() + it.count / 2, order.end(),
-                             [&](uint32_t a, uint32_t b) { return centroids[a][axis] < centroids[b][axis]; });
-            std::vector<uint32_t> p(it.count);
-            std::vector<Box> bx(it.count);
-            std::vector<dvec3> c(it.count);
-            for (uint32_t k = 0; k < it.count; ++k)
-                p[k] = prims_[order[k]], bx[k] = boxes[order[k]], c[k] = centroids[order[k]];
-            std::copy(p.begin(), p.end(), prims_.begin() + it.first);
-            std::copy(bx.begin(), bx.end(), boxes.begin() + it.first);
-            std::copy(c.begin(), c.end(), centroids.begin() + it.first);
-        }
+        if (!sah) medianSplit(prims_, boxes, centroids, it.first, it.count, axis);  // median on the longest axis
         SG_ASSERT(mid > it.first && mid < it.first + it.count, "MeshBvh::build(): a split left one side empty");
         SG_ASSERT(nodes_.size() + 2 <= UINT32_MAX, "MeshBvh::build(): node index overflow");
         // The two children side by side.

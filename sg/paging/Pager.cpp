@@ -305,7 +305,21 @@ void Pager::update(const FrameInfo& frame) {
         std::lock_guard<std::mutex> lock(mutex_);
         results_.swap(done_);
     }
-    // Loaded details are attached (or wait for the prepare function); failures are kept on their node.
+    takeResults(now, frame);
+    queuePosted(frame);
+    // Requests not renewed are dropped before their load; details not needed for a while are unloaded; nodes
+    // whose detail was removed by other means are forgotten.
+    std::vector<const PagedLOD*> gone;
+    findUnneeded(now, frame, gone);
+    dropUnneeded();
+    releaseGone(gone);
+    if (prepare_) runPrepare(now, frame);
+    evict(now);
+    handOver();
+}
+
+// Loaded details are attached (or wait for the prepare function); failures are kept on their node.
+void Pager::takeResults(uint64_t now, const FrameInfo& frame) {
     for (Result& r : results_) {
         stats_.lastLoadMs = r.ms;
         stats_.maxLoadMs = std::max(stats_.maxLoadMs, r.ms);
@@ -330,8 +344,10 @@ void Pager::update(const FrameInfo& frame) {
         }
     }
     results_.clear();
+}
 
-    // New requests from the cull, with their priorities (a failed node posted once its back-off has passed).
+// New requests from the cull, with their priorities (a failed node posted once its back-off has passed).
+void Pager::queuePosted(const FrameInfo& frame) {
     scene_.pageRequests().take(posted_, postedPriorities_, postedFrames_);
     for (size_t k = 0; k < posted_.size(); ++k) {
         auto* p = static_cast<PagedLOD*>(posted_[k].get());
@@ -340,11 +356,10 @@ void Pager::update(const FrameInfo& frame) {
             queue(*p, frame, postedPriorities_[k], postedFrames_[k]);
     }
     posted_.clear();
+}
 
-    // Requests not renewed are dropped before their load; details not needed for a while are unloaded; nodes
-    // whose detail was removed by other means are forgotten.
+void Pager::findUnneeded(uint64_t now, const FrameInfo& frame, std::vector<const PagedLOD*>& gone) {
     scratch_.clear();
-    std::vector<const PagedLOD*> gone;
     for (auto& [key, a] : active_) {
         PagedLOD& p = *a.node;
         if (p.lastNeeded() > a.seenUpdate) {  // renewed by the cull: its priority too
@@ -363,6 +378,9 @@ void Pager::update(const FrameInfo& frame) {
             gone.push_back(key);
         }
     }
+}
+
+void Pager::dropUnneeded() {
     for (const PagedLOD* key : scratch_) {
         auto it = active_.find(key);
         if (it == active_.end()) continue;  // released with its owner
@@ -376,6 +394,9 @@ void Pager::update(const FrameInfo& frame) {
             forget(key);
         }  // else loading: its result comes (and is attached if still needed by then)
     }
+}
+
+void Pager::releaseGone(const std::vector<const PagedLOD*>& gone) {
     for (const PagedLOD* key : gone) {
         auto it = active_.find(key);
         if (it == active_.end()) continue;
@@ -387,9 +408,6 @@ void Pager::update(const FrameInfo& frame) {
         }
         releaseTree(key);
     }
-    if (prepare_) runPrepare(now, frame);
-    evict(now);
-    handOver();
 }
 
 // The pending details, the most needed first, while the budget lasts.

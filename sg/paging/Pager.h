@@ -212,6 +212,14 @@ private:
     void attach(Active& a, ref_ptr<Node> detail, size_t bytes, uint64_t now, const FrameInfo& frame,
                 std::shared_ptr<FlatImage> image = {}, const dmat4& imageFrame = dmat4(1.0));
     void fail(Active& a, const std::string& error, const FrameInfo& frame);
+    // The steps of update(), in its order, after the loaders' results are taken from done_ into results_.
+    void takeResults(uint64_t now, const FrameInfo& frame);  // results_: attached, kept pending, or failed
+    void queuePosted(const FrameInfo& frame);                // the cull's new requests
+    // Renews what the cull still needs; the requests and details no longer needed into scratch_, the entries whose
+    // node lost its detail by other means into `gone`.
+    void findUnneeded(uint64_t now, const FrameInfo& frame, std::vector<const PagedLOD*>& gone);
+    void dropUnneeded();  // scratch_: requests dropped before their load, details released
+    void releaseGone(const std::vector<const PagedLOD*>& gone);
     void runPrepare(uint64_t now, const FrameInfo& frame);
     void evict(uint64_t now);
     bool dropJob(uint64_t id);  // true when the job was still queued
