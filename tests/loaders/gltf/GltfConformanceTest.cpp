@@ -58,7 +58,8 @@ struct Verdict {
 std::map<std::string, Verdict> validate(const std::vector<std::string>& files) {
     const std::string out =
         (fs::temp_directory_path() / ("sgkit_validate_" + std::to_string(::getpid()) + ".txt")).string();
-    std::string cmd = "node '" SGKIT_SOURCE_DIR "/tests/loaders/validate_gltf.mjs' '" + npmModules().string() + "'";
+    std::string cmd =
+        "node '" SGKIT_SOURCE_DIR "/tests/loaders/gltf/validate_gltf.mjs' '" + npmModules().string() + "'";
     for (const std::string& f : files) cmd += " '" + f + "'";
     cmd += " > '" + out + "' 2>&1";
     const int status = std::system(cmd.c_str());

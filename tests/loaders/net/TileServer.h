@@ -1,4 +1,4 @@
-// tile_server.py (tests/loaders) run by a test as a local HTTP server on 127.0.0.1, well-behaved or not by path.
+// tile_server.py (tests/loaders/net) run by a test as a local HTTP server on 127.0.0.1, well-behaved or not by path.
 #pragma once
 #include <fcntl.h>
 #include <poll.h>

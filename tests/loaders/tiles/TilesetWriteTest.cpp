@@ -459,8 +459,8 @@ TEST(TilesetWrite, ThirdPartyToolsReadItAndTheGltfValidatorFindsNoError) {
         options.implicit = implicit;
         const TileWriteReport r = writeTileset(*city, dir, options);
         const std::string out = dir + "_check.txt";
-        const std::string cmd = "node '" SGKIT_SOURCE_DIR "/tests/loaders/check_tileset.mjs' '" + modules.string() +
-                                "' '" + dir + "/tileset.json' > '" + out + "' 2>&1";
+        const std::string cmd = "node '" SGKIT_SOURCE_DIR "/tests/loaders/tiles/check_tileset.mjs' '" +
+                                modules.string() + "' '" + dir + "/tileset.json' > '" + out + "' 2>&1";
         const int status = std::system(cmd.c_str());
         std::ifstream in(out);
         const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
