@@ -79,7 +79,7 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
 void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
-    if (!d.mesh || set_->prefetchOnly) return;
+    if (!d.mesh || prefetchOnly_) return;
     // The rejection's path is its own function: the usual path stays as short as without the option.
     if (screenRect_ && !inside) return emitTrimmed(c, i, m);
     // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds

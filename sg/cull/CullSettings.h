@@ -89,7 +89,7 @@ struct OcclusionSettings {
 
 class PvsTable;
 
-// How far a look-ahead cull's requests rank below a drawing cull's (CullSettings::prefetchOnly): a drawing cull's
+// How far a look-ahead cull's requests rank below a drawing cull's (CullControls::prefetchOnly): a drawing cull's
 // priorities lie in (-depth, 1] (CullTraversal::pagedPriority), depth below this.
 constexpr float kPrefetchPriorityDrop = 256.0f;
 
@@ -104,18 +104,7 @@ struct CullSettings {
     // off; >= 0. At 1 it is the terrain paper's screen-radius test r = wR / (2 d tan(theta / 2)) < 1 pixel.
     double smallFeaturePixels = 0.0;
     uint32_t traversalMask = 0xffffffffu;
-    // The application may be changing the graph while this cull runs (a viewer's app stage running beside the
-    // cull): cull the image of the scene's last update() without checking that the graph is unchanged since,
-    // a check that reads the root node. The cull reads no node state the application writes per frame (switch
-    // bits, node masks and matrices are copies in the image), but a node it removes must outlive the cull
-    // (sg::DeferredRelease). Off: a scene changed since its update() is refused.
-    bool imageOfLastUpdate = false;
     bool sort = true;  // sort the draw list by state, then front to back
-    // A cull that only looks ahead for the pager (View::prefetchSeconds): nothing is drawn (the draw list stays
-    // empty), and each paged detail this camera would want is marked needed and asked for below every request a
-    // drawing cull makes (its priority lowered by kPrefetchPriorityDrop), so that what a view will soon need loads
-    // in the time the loaders have left, and stays while it is still predicted.
-    bool prefetchOnly = false;
     // LOD hysteresis: the child an LOD showed last frame stays while the distance (or pixel size) is within
     // its range widened by this fraction at both ends, so an eye hovering at a boundary does not make the
     // level flicker. 0: off (the plain ranges, frame by frame, as OpenSceneGraph and Performer). It needs

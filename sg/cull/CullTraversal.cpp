@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace sg {
@@ -53,12 +54,30 @@ void CullTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t, bool 
     }
 }
 
-void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettings& set, DrawList& out,
-                         CullStats& stats) {
+namespace {
+// A look-ahead's settings (CullControls::prefetchOnly): frustum and LOD ranges only, unsorted (nothing is drawn).
+CullSettings lookAhead(const CullSettings& s) {
+    CullSettings a = s;
+    a.sort = false;
+    a.occlusion.mode = OcclusionMode::Off;
+    a.pvs = nullptr;
+    a.lodBudget.enabled = false;
+    a.lodHysteresis = 0.0;
+    a.screenRect = false;
+    return a;
+}
+}  // namespace
+
+void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettings& settings, DrawList& out,
+                         CullStats& stats, const CullControls& controls) {
     constexpr const char* fn = "CullTraversal::cull()";
     const auto t0 = std::chrono::steady_clock::now();
-    if (!set.imageOfLastUpdate) checkUpdated(scene, fn, true);
-    set.validate(fn);
+    if (!controls.imageOfLastUpdate) checkUpdated(scene, fn, true);
+    settings.validate(fn);
+    std::optional<CullSettings> ahead;
+    if (controls.prefetchOnly) ahead = lookAhead(settings);
+    const CullSettings& set = ahead ? *ahead : settings;
+    prefetchOnly_ = controls.prefetchOnly;
     scene_ = &scene;
     cam_ = &cam;
     set_ = &set;
@@ -79,7 +98,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     clusters_.nextFrame();  // every frame: clusters of meshes no longer drawn (or of the option off) age out
     const LodBudgetSettings& lb = set.lodBudget;
     if (set.lodHysteresis > 0.0 || lb.enabled) lodHistory_.track(img, scene.structureVersion());
-    if (img.size() && !(set.prefetchOnly && img.paged.empty())) {  // a look-ahead has nothing to ask for there
+    if (img.size() && !(prefetchOnly_ && img.paged.empty())) {  // a look-ahead has nothing to ask for there
         Ctx c;
         setupCtx(c, img, glm::translate(dmat4(1.0), img.origin - cam.eye()));
         c.originRel = img.origin - cam.eye();

@@ -21,6 +21,24 @@ namespace sg {
 class LodChooser;
 class PvsTable;
 
+// How a frame loop runs a cull, beside what the application set (CullSettings, left as it was set): sg::Viewer's
+// controls of its views' culls.
+struct CullControls {
+    // The application may be changing the graph while this cull runs (a viewer's app stage running beside the
+    // cull): cull the image of the scene's last update() without checking that the graph is unchanged since,
+    // a check that reads the root node. The cull reads no node state the application writes per frame (switch
+    // bits, node masks and matrices are copies in the image), but a node it removes must outlive the cull
+    // (sg::DeferredRelease). Off: a scene changed since its update() is refused.
+    bool imageOfLastUpdate = false;
+    // A cull that only looks ahead for the pager (View::prefetchSeconds): it tests frustum and LOD ranges alone (no
+    // occlusion: an occluder may have moved out of the way by then; no PVS, no budget or hysteresis: the plain
+    // ranges say what will be wanted there; no screen rectangles), draws nothing (the draw list stays empty), and
+    // marks each paged detail this camera would want as needed, asking for it below every request a drawing cull
+    // makes (its priority lowered by kPrefetchPriorityDrop), so that what a view will soon need loads in the time
+    // the loaders have left, and stays while it is still predicted.
+    bool prefetchOnly = false;
+};
+
 class CullTraversal {
 public:
     // A bound that straddles the frustum and has at most this many entries below has them classified by
@@ -28,8 +46,9 @@ public:
     static constexpr uint32_t kBatch = 1024;
 
     // Throws std::logic_error when the scene changed since its last update() (the image would be stale), unless
-    // CullSettings::imageOfLastUpdate.
-    void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out, CullStats& stats);
+    // CullControls::imageOfLastUpdate.
+    void cull(const Scene& scene, const Camera& camera, const CullSettings& settings, DrawList& out, CullStats& stats,
+              const CullControls& controls = {});
 
     // This frame's occlusion tree (empty when the pass did not run). The traversal also keeps the Adaptive
     // mode's state from frame to frame: use one traversal per view.
@@ -69,6 +88,7 @@ private:
     const Scene* scene_ = nullptr;
     const Camera* cam_ = nullptr;
     const CullSettings* set_ = nullptr;
+    bool prefetchOnly_ = false;  // CullControls::prefetchOnly
     DrawList* out_ = nullptr;
     CullStats* stats_ = nullptr;
     std::vector<uint8_t> cls_;  // batch classifications, used as a stack

@@ -95,7 +95,7 @@ void CullTraversal::billboard(Ctx& c, uint32_t i, const dmat4& m) {
 void CullTraversal::instance(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m) {
     const FlatImage::Placement& place = c.img->placements[c.img->aux[i]];
     const FlatImage* p = place.proto;
-    if (!p || p->size() == 0 || (set_->prefetchOnly && p->paged.empty())) return;
+    if (!p || p->size() == 0 || (prefetchOnly_ && p->paged.empty())) return;
     stats_->instancesVisited++;
     const dmat4 pm =
         place.matrix != FlatImage::kNone ? m * c.img->matrices[place.matrix] : glm::translate(m, place.translation);
@@ -178,7 +178,7 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
     if (wanted && node->trigger() == PagedLOD::Trigger::Range) {
         stats_->pagedWanted++;
         if (node->markNeeded(scene_->updateCount())) {
-            const float priority = pagedPriority(c, i) - (set_->prefetchOnly ? kPrefetchPriorityDrop : 0.0f);
+            const float priority = pagedPriority(c, i) - (prefetchOnly_ ? kPrefetchPriorityDrop : 0.0f);
             node->setNeedPriority(priority);  // a request queued already takes it at the pager's update
             const PagedLOD::State st = node->state();
             // A failed node is asked for again once its back-off has passed (the pager sets retryTime()).
@@ -193,7 +193,7 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
         // The detail's image is in this image's frame, shifted to its own origin: the same planes (and the
         // plane mask), the same occlusion tree.
         const FlatImage& d = *p.detail;
-        if (d.size() == 0 || (set_->prefetchOnly && d.paged.empty())) return;  // nothing to look ahead for there
+        if (d.size() == 0 || (prefetchOnly_ && d.paged.empty())) return;  // nothing to look ahead for there
         Ctx sub;
         setupCtx(sub, d, c.imgToEye * glm::translate(dmat4(1.0), d.origin - img.origin));
         sub.originRel = c.originRel + (d.origin - img.origin);
@@ -203,8 +203,8 @@ void CullTraversal::pagedLod(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, 
     }
     if (wanted) stats_->pagedCoarse++;
     // A look-ahead walks the coarse level only for the paged nodes in it (a tile's content holds none).
-    if (set_->prefetchOnly && std::find(img.kind.begin() + i + 1, img.kind.begin() + img.end[i], NodeKind::PagedLOD) ==
-                                  img.kind.begin() + img.end[i])
+    if (prefetchOnly_ && std::find(img.kind.begin() + i + 1, img.kind.begin() + img.end[i], NodeKind::PagedLOD) ==
+                             img.kind.begin() + img.end[i])
         return;
     children(c, i, mask, m, occ);
 }

@@ -39,7 +39,7 @@ public:
     bool enabled = true;  // a disabled view is neither culled nor drawn, and its policies learn nothing
     // Paging ahead, when the viewer has a pager: the camera carried this many seconds ahead by its motion over the
     // last frames (sg::CameraMotion) is culled as well, after the view's own cull, and the paged details it would
-    // want are asked for below everything the view itself needs (CullSettings::prefetchOnly), so that the detail
+    // want are asked for below everything the view itself needs (CullControls::prefetchOnly), so that the detail
     // ahead of a moving camera is loading before it shows (a flight over the tiled city: 7-9 frames differing from
     // the city in memory on the way instead of 43-56, for a twentieth more cull; docs/benchmarks.md). Not while
     // the pager is over its byte budget, nor for a camera at rest. 0 (or a negative or NaN value): off (a pager of

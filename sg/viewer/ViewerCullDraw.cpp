@@ -21,10 +21,11 @@ void Viewer::cullViews(Packet& p, bool parallel) {
         const auto at = Clock::now();
         vf.cullThread = std::this_thread::get_id();
         try {
-            vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats);
+            vf.view->traversal_.cull(*scene_, vf.camera, vf.settings, vf.list, vf.stats, vf.controls);
             vf.aheadStats = CullStats{};
             if (vf.ahead)
-                vf.view->prefetch_.cull(*scene_, *vf.ahead, vf.aheadSettings, vf.view->prefetchList_, vf.aheadStats);
+                vf.view->prefetch_.cull(*scene_, *vf.ahead, vf.settings, vf.view->prefetchList_, vf.aheadStats,
+                                        CullControls{vf.controls.imageOfLastUpdate, true});
         } catch (...) {
             fail("cull", p.info.frame);
             ok = false;

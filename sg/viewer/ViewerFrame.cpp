@@ -151,7 +151,7 @@ void Viewer::cullSetup(Packet& p) {
         vf.settings = v->frameSettings(periodMs(), spent, held);
         // AppCullDraw: Scene::update() ran just before this cull is handed over (the image is current), and the
         // next app stage may write the graph's dirty marks while it runs: the cull must not read them.
-        vf.settings.imageOfLastUpdate = running_ == ThreadingModel::AppCullDraw && threaded_;
+        vf.controls.imageOfLastUpdate = running_ == ThreadingModel::AppCullDraw && threaded_;
         vf.viewport = v->viewport;
         vf.clear = v->clearColor;
         vf.finished = v->lod != LodPolicy::Static || settings_.finish;

@@ -45,10 +45,9 @@ void Viewer::pagerStage(Packet& p) {
     if (wire) pager_->setPrepare({});
 }
 
-// The view's camera observed, and carried ahead for the look-ahead cull when the view asks for one, the viewer has a
-// pager with room in its byte budget, and the camera moves. That cull draws nothing and tests only frustum and LOD:
-// no occlusion (an occluder may have moved out of the way by then), no PVS, no budget or hysteresis (the plain
-// ranges say what will be wanted there), no screen rectangles.
+// The view's camera observed, and carried ahead for the look-ahead cull (CullControls::prefetchOnly: frustum and
+// LOD ranges only, nothing drawn) when the view asks for one, the viewer has a pager with room in its byte budget,
+// and the camera moves.
 void Viewer::lookAhead(Packet& p, size_t k) {
     Packet::ViewFrame& vf = p.views[k];
     View& v = *vf.view;
@@ -56,16 +55,6 @@ void Viewer::lookAhead(Packet& p, size_t k) {
     vf.ahead.reset();
     if (!(v.prefetchSeconds > 0.0) || !pager_ || pager_->stats().overBudget) return;
     vf.ahead = v.motion_.predict(vf.camera, v.prefetchSeconds);
-    if (!vf.ahead) return;
-    CullSettings& s = vf.aheadSettings;
-    s = vf.settings;
-    s.prefetchOnly = true;
-    s.sort = false;
-    s.occlusion.mode = OcclusionMode::Off;
-    s.pvs = nullptr;
-    s.lodBudget.enabled = false;
-    s.lodHysteresis = 0.0;
-    s.screenRect = false;
 }
 
 bool Viewer::prepareOnDraw(Node& detail, PrepareBudget& budget) {

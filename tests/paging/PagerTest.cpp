@@ -458,7 +458,7 @@ TEST(Pager, RequestsAreLoadedMostNeededFirstAndCommandsBeforeThem) {
     EXPECT_EQ(rec.loaded(), (std::vector<std::string>{"block.glb", "command.glb", "near.glb", "mid.glb", "far.glb"}));
 }
 
-// A look-ahead cull (CullSettings::prefetchOnly) from an eye 40 m further on: it draws nothing, and asks for the
+// A look-ahead cull (CullControls::prefetchOnly) from an eye 40 m further on: it draws nothing, and asks for the
 // tile only it wants (80 m ahead of the view, wanted within 50 m) below the tile the view itself wants, even a
 // hardly needed one at its range's edge: the loader takes the view's first.
 TEST(Pager, ALookAheadCullDrawsNothingAndAsksBelowEveryRequestOfTheView) {
@@ -477,12 +477,11 @@ TEST(Pager, ALookAheadCullDrawsNothingAndAsksBelowEveryRequestOfTheView) {
     Camera further = f.cam;
     further.setLookAt(dvec3(0, 40, 0), dvec3(0, 41, 0), dvec3(0, 0, 1));
     CullSettings set;
-    set.prefetchOnly = true;
     for (int k = 0; k < 2; ++k) {  // posted, then queued
         f.run();
         DrawList list;
         CullStats stats;
-        lookAhead.cull(scene, further, set, list, stats);
+        lookAhead.cull(scene, further, set, list, stats, CullControls{false, true});
         EXPECT_TRUE(list.items.empty());
         EXPECT_EQ(stats.pagedWanted, 2u);  // both, from 40 m on: the edge tile too, asked for by the view already
         EXPECT_EQ(stats.pagedRequested, k == 0 ? 1u : 0u);
@@ -511,10 +510,9 @@ TEST(Pager, ALookAheadFindsATileInAnotherTilesCoarseLevel) {
     Camera further = testutil::lookingAlongY();
     further.setLookAt(dvec3(0, 40, 0), dvec3(0, 41, 0), dvec3(0, 0, 1));
     CullSettings set;
-    set.prefetchOnly = true;
     DrawList list;
     CullStats stats;
-    lookAhead.cull(scene, further, set, list, stats);
+    lookAhead.cull(scene, further, set, list, stats, CullControls{false, true});
     EXPECT_TRUE(list.items.empty());
     EXPECT_EQ(stats.pagedRequested, 1u);
     EXPECT_NE(inner->lastNeeded(), 0u);

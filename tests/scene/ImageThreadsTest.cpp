@@ -91,14 +91,15 @@ struct Row {
 CullSettings settingsBeside() {
     CullSettings set;
     set.traversalMask = 0x1;
-    set.imageOfLastUpdate = true;  // the graph may be changing while it runs
     return set;
 }
 
 DrawList cullOnce(CullTraversal& cull, const Scene& s, const CullSettings& set) {
     DrawList l;
     CullStats st;
-    cull.cull(s, viewOfTheRow(), set, l, st);
+    CullControls beside;
+    beside.imageOfLastUpdate = true;  // the graph may be changing while it runs
+    cull.cull(s, viewOfTheRow(), set, l, st, beside);
     return l;
 }
 

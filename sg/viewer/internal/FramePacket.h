@@ -20,7 +20,8 @@ struct Viewer::Packet {
     struct ViewFrame {
         View* view = nullptr;
         Camera camera;
-        CullSettings settings;
+        CullSettings settings;  // the view's, as frameSettings() makes them of what the application set
+        CullControls controls;  // the viewer's: the image of the last update, under AppCullDraw
         Renderer::Viewport viewport{};
         vec4 clear{0.0f};
         bool finished = false;  // finished after its draw (timed)
@@ -28,7 +29,6 @@ struct Viewer::Packet {
         CullStats stats;
         // The look-ahead cull, when View::prefetchSeconds asks for one and the camera moves.
         std::optional<Camera> ahead;
-        CullSettings aheadSettings;
         CullStats aheadStats;
         RenderStats render;
         double cullMs = 0.0, drawMs = 0.0, gpuMs = -1.0;
