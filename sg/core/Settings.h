@@ -58,11 +58,10 @@ std::string unknownName(const char* caller, const std::string& name, const char*
 // The value named `name`; throws std::invalid_argument with unknownName's message.
 template <class E, size_t N>
 E parseEnum(const EnumName<E> (&names)[N], const std::string& name, const char* caller, const char* what) {
-    const char* all[N];
-    for (size_t i = 0; i < N; ++i) {
-        if (name == names[i].name) return names[i].value;
-        all[i] = names[i].name;
-    }
+    for (const EnumName<E>& n : names)
+        if (name == n.name) return n.value;
+    const char* all[N];  // the names listed only when the name is unknown
+    for (size_t i = 0; i < N; ++i) all[i] = names[i].name;
     throw std::invalid_argument(unknownName(caller, name, what, all, N));
 }
 

@@ -1,8 +1,6 @@
 #include "sg/cull/CullSettings.h"
 
-#include <cmath>
-#include <cstdio>
-#include <stdexcept>
+#include <string>
 
 namespace sg {
 

@@ -2,8 +2,6 @@
 
 #include "sg/core/Settings.h"
 
-#include <stdexcept>
-
 namespace sg {
 
 namespace {
