@@ -45,6 +45,7 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
     colors_ = std::move(colors);
     tangents_.clear();
     uvs1_.clear();
+    features_ = nullptr;
     indices16_.clear();
     indices32_.clear();
     if (maxIndex < 65536) {
@@ -67,6 +68,27 @@ void Mesh::setSurface(std::vector<vec4> tangents, std::vector<vec2> uvs1) {
     tangents_ = std::move(tangents);
     uvs1_ = std::move(uvs1);
     ++version_;
+}
+
+void Mesh::setFeatures(ref_ptr<const MeshFeatures> features) {
+    const size_t n = positions_.size();
+    auto fail = [](const std::string& what) { throw std::invalid_argument("Mesh::setFeatures(): " + what); };
+    if (features) {
+        for (size_t s = 0; s < features->sets.size(); ++s) {
+            const FeatureIdSet& f = features->sets[s];
+            const std::string set = "sets[" + std::to_string(s) + "]";
+            if (f.source == FeatureIdSet::Source::Attribute && f.ids.size() != n)
+                fail(set + " has " + std::to_string(f.ids.size()) + " ids, positions has " + std::to_string(n));
+            if (f.source == FeatureIdSet::Source::Texture && (!f.texture || f.channels.empty()))
+                fail(set + " reads a texture but has no texture or no channels");
+        }
+        for (size_t a = 0; a < features->propertyAttributes.size(); ++a)
+            for (const auto& c : features->propertyAttributes[a].columns)
+                if (c.stride == 0 || c.bytes.size() != size_t(c.stride) * n)
+                    fail("propertyAttributes[" + std::to_string(a) + "] has " + std::to_string(c.bytes.size()) +
+                         " bytes, not " + std::to_string(n) + " vertices of " + std::to_string(c.stride));
+    }
+    features_ = std::move(features);
 }
 
 // Two threads asking at once may both work it out: the same answer, stored twice.

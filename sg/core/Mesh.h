@@ -1,14 +1,22 @@
 // Mesh: shared triangle data (positions, normals, optional UVs and colours, 16- or 32-bit indices).
 #pragma once
 #include "sg/core/Assert.h"
+#include "sg/core/Features.h"
 #include "sg/core/Math.h"
 #include "sg/core/Ref.h"
 
 #include <atomic>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace sg {
+
+// Where a mesh was read from, for a pick to say: the file or URL, and the glTF mesh and primitive (-1: not glTF).
+struct MeshSource {
+    std::string file;
+    int gltfMesh = -1, gltfPrimitive = -1;
+};
 
 class Mesh : public Referenced {
 public:
@@ -23,6 +31,14 @@ public:
     // handedness of the bitangent, glTF's TANGENT) for normal maps and a second UV set. Each is empty or has
     // an element per position; throws std::invalid_argument otherwise. Call after set() (which clears them).
     void setSurface(std::vector<vec4> tangents, std::vector<vec2> uvs1);
+
+    // What its features are (feature ID sets, property attributes: sg/core/Features.h). Throws
+    // std::invalid_argument when an attribute set or a property attribute has not one value per vertex, or a texture
+    // set has no texture. Call after set() (which clears them).
+    void setFeatures(ref_ptr<const MeshFeatures> features);
+    const MeshFeatures* features() const { return features_.get(); }
+    void setSource(MeshSource source) { source_ = std::move(source); }
+    const MeshSource& source() const { return source_; }
 
     const std::vector<vec3>& positions() const { return positions_; }
     const std::vector<vec3>& normals() const { return normals_; }
@@ -43,7 +59,8 @@ public:
     size_t bytes() const {
         return positions_.size() * sizeof(vec3) + normals_.size() * sizeof(vec3) + uvs_.size() * sizeof(vec2) +
                colors_.size() * sizeof(vec4) + tangents_.size() * sizeof(vec4) + uvs1_.size() * sizeof(vec2) +
-               indices16_.size() * sizeof(uint16_t) + indices32_.size() * sizeof(uint32_t);
+               indices16_.size() * sizeof(uint16_t) + indices32_.size() * sizeof(uint32_t) +
+               (features_ ? features_->bytes() : 0);
     }
 
     // Local bound; `validBound()` is false when a position is NaN or infinite.
@@ -68,6 +85,8 @@ private:
     std::vector<vec2> uvs1_;
     std::vector<uint16_t> indices16_;
     std::vector<uint32_t> indices32_;
+    ref_ptr<const MeshFeatures> features_;
+    MeshSource source_;
     Box box_;
     bool valid_ = true;
     mutable std::atomic<int8_t> closed_{-1};  // closed(): -1 until worked out
