@@ -86,6 +86,8 @@ Options parseOptions(int argc, const char* const* argv) {
             o.help = true;
         else if (a == "--headless")
             o.headless = true;
+        else if (a == "--json")
+            o.json = true;
         else if (a == "--info")
             o.info = true;
         else if (a == "--refine-all")
@@ -154,6 +156,7 @@ Options parseOptions(int argc, const char* const* argv) {
     if (!o.save.empty() && (o.headless || o.info))
         throw UsageError("--save writes the scene and exits: drop --headless and --info");
     if (!o.picks.empty() && !o.headless) throw UsageError("--pick is for --headless (in the window, click)");
+    if (o.json && o.picks.empty()) throw UsageError("--json prints picks as JSON: give --pick X,Y too");
     for (const auto& [x, y] : o.picks)
         if (x < 0 || y < 0 || x >= o.width || y >= o.height)
             bad("--pick", std::to_string(int(x)) + "," + std::to_string(int(y)), "the pixel is outside the picture");
@@ -167,7 +170,7 @@ Options parseOptions(int argc, const char* const* argv) {
 
 const char* usageText() {
     return "usage: sgview FILE... | --scene city|office|factory|materials [--n N]\n"
-           "              [--headless [--overlay] [--pick X,Y]] [--frames K [--out frame.png]] [--info]\n"
+           "              [--headless [--overlay] [--pick X,Y [--json]]] [--frames K [--out frame.png]] [--info]\n"
            "              [--refine-all] [--auto-occluders]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "              [--threading MODEL]\n"
@@ -189,7 +192,9 @@ const char* usageText() {
            "  --occlusion M      when occlusion culling runs: off, every-frame, adaptive (default)\n"
            "  --threading MODEL  the viewer's threads: single (default), draw (a draw thread), cull-per-view,\n"
            "                     app-cull-draw (sg::ThreadingModel)\n"
-           "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable)\n"
+           "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable), and\n"
+           "                     the features there with their properties\n"
+           "  --json             print each pick as one JSON object on its own line\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"

@@ -37,6 +37,7 @@ struct Options {
     sg::ThreadingModel threading = sg::ThreadingModel::SingleThreaded;  // the viewer's threads (--threading)
     std::string save;                              // write the scene as glTF here and exit (--save)
     std::vector<std::pair<double, double>> picks;  // headless: pixels to pick in the last frame (--pick X,Y)
+    bool json = false;                             // picks as JSON lines (--json)
 };
 
 // Throws UsageError for an unknown option, a missing or malformed value, or a contradictory combination.
