@@ -1,7 +1,6 @@
 // Instance: places a shared prototype subgraph with its own matrix; the prototype is stored (and its
 // flat image built) once however often it is placed, and every placement is culled on its own.
 #pragma once
-#include "sg/core/Features.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 
@@ -22,15 +21,6 @@ public:
     void setMatrix(const dmat4& m);
     const dmat4& matrix() const noexcept { return matrix_; }
 
-    // Which features this placement is (EXT_instance_features, an i3dm's batch table): sets of Source::Instance
-    // shared by the placements of one node or tile, and this one's index in their ids.
-    void setFeatures(ref_ptr<const MeshFeatures> features, uint32_t index) {
-        features_ = std::move(features);
-        featureIndex_ = index;
-    }
-    const MeshFeatures* features() const noexcept { return features_.get(); }
-    uint32_t featureIndex() const noexcept { return featureIndex_; }
-
     size_t numChildren() const noexcept override { return proto_ ? 1 : 0; }
     Node* child(size_t i) const noexcept override { return i == 0 ? proto_.get() : nullptr; }
     void accept(NodeVisitor& v) override;
@@ -38,8 +28,6 @@ public:
 private:
     ref_ptr<Node> proto_;
     dmat4 matrix_{1.0};
-    ref_ptr<const MeshFeatures> features_;
-    uint32_t featureIndex_ = 0;
 };
 
 }  // namespace sg

@@ -1,6 +1,6 @@
 // Feature ID sets: which feature of a file's property store each vertex, texel or instance belongs to (glTF
 // EXT_mesh_features and EXT_instance_features, a 3D Tiles 1.0 tile's BATCH_ID), and the per-vertex values of
-// property attributes. A Mesh or a group of Instances carries them; a pick reads them (sg/intersect/HitFeatures.h).
+// property attributes. A Mesh carries them, or nodes that are one feature each (Node::setFeatures); a pick reads them (sg/intersect/HitFeatures.h).
 #pragma once
 #include "sg/core/Properties.h"
 
@@ -12,7 +12,8 @@ namespace sg {
 
 struct FeatureIdSet {
     // Attribute: ids[vertex]. Implicit: the vertex index is the id. Texture: channels of a texture at a UV set,
-    // nearest texel. Instance: ids[instance].
+    // nearest texel. Instance: ids[index] of a node that names its index (Node::setFeatures: an instance, a
+    // building, a machine).
     enum class Source : uint8_t { Attribute, Implicit, Texture, Instance };
     Source source = Source::Attribute;
     std::string label;             // empty when the file gives none

@@ -1,5 +1,6 @@
 #include "sg/core/Node.h"
 
+#include "sg/core/Features.h"
 #include "sg/core/NodeVisitor.h"
 
 #include <algorithm>
@@ -11,6 +12,8 @@ struct Node::Extras {
     std::string name;
     UpdateCallback callback;
     std::vector<Node*> moreParents;  // parents after the first (DAG)
+    ref_ptr<const MeshFeatures> features;
+    uint32_t featureIndex = 0;
 };
 
 const char* kindName(NodeKind k) {
@@ -68,6 +71,22 @@ const std::string& Node::name() const {
 }
 
 void Node::setName(std::string name) { extras().name = std::move(name); }
+
+void Node::setFeatures(ref_ptr<const MeshFeatures> features, uint32_t index) {
+    Extras& e = extras();
+    e.features = std::move(features);
+    e.featureIndex = index;
+}
+
+const MeshFeatures* Node::features() const {
+    const Extras* e = findExtras();
+    return e ? e->features.get() : nullptr;
+}
+
+uint32_t Node::featureIndex() const {
+    const Extras* e = findExtras();
+    return e ? e->featureIndex : 0;
+}
 
 std::string Node::describe() const {
     std::string s = kindName();

@@ -10,6 +10,8 @@
 
 namespace sg {
 
+class MeshFeatures;  // sg/core/Features.h
+
 class NodeVisitor;
 
 enum class NodeKind : uint8_t {
@@ -57,6 +59,13 @@ public:
 
     const std::string& name() const;
     void setName(std::string name);
+    // Which feature this node is, for the nodes a file or program makes one per feature (an instance of
+    // EXT_instance_features or of an i3dm, a building, a machine, a map's region): sets of
+    // FeatureIdSet::Source::Instance shared by such nodes, and this node's index in their ids. A pick reads them
+    // on the hit's path (sg/intersect/HitFeatures.h). Kept with the name: plain nodes pay nothing.
+    void setFeatures(ref_ptr<const MeshFeatures> features, uint32_t index);
+    const MeshFeatures* features() const;
+    uint32_t featureIndex() const;
     // "Transform 'crane'" or "Transform" when unnamed: for error messages.
     std::string describe() const;
 

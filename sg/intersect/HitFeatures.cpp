@@ -1,7 +1,6 @@
 #include "sg/intersect/HitFeatures.h"
 
 #include "nodes/Geometry.h"
-#include "nodes/Instance.h"
 
 namespace sg {
 namespace {
@@ -103,10 +102,12 @@ HitFeatures featuresAt(const Hit& hit) {
     HitFeatures out;
     const Mesh* mesh = hit.geometry ? hit.geometry->mesh() : nullptr;
     if (mesh && mesh->features()) meshFeatures(*mesh, hit, out);
-    if (hit.instance && hit.instance->features()) {
-        const MeshFeatures& f = *hit.instance->features();
-        for (size_t s = 0; s < f.sets.size(); ++s)
-            out.features.push_back(feature(f, s, f.idAt(s, hit.instance->featureIndex()), true));
+    // The nodes that are one feature each, innermost first: the instance or the part before the whole.
+    for (auto n = hit.path.rbegin(); n != hit.path.rend(); ++n) {
+        const MeshFeatures* f = (*n)->features();
+        if (!f) continue;
+        for (size_t s = 0; s < f->sets.size(); ++s)
+            out.features.push_back(feature(*f, s, f->idAt(s, (*n)->featureIndex()), true));
     }
     return out;
 }

@@ -1,5 +1,5 @@
-// What a hit says about the features it struck: for each feature ID set of the hit mesh (and of the instance that
-// placed it) the feature's id and its properties, and the property textures and attributes evaluated at the hit.
+// What a hit says about the features it struck: for each feature ID set of the hit mesh (and of the nodes on its path
+// that are one feature each: an instance, a building) the feature's id and its properties, and the property textures and attributes evaluated at the hit.
 #pragma once
 #include "sg/core/Properties.h"
 #include "sg/intersect/Intersect.h"
@@ -13,8 +13,8 @@ namespace sg {
 using PropertyList = std::vector<std::pair<std::string, PropertyValue>>;  // by the property's id in the schema
 
 struct FeatureAtHit {
-    size_t set = 0;         // the set's index in the mesh's MeshFeatures (or the instance's)
-    bool instance = false;  // a set of the placing Instance (EXT_instance_features, an i3dm's batch table)
+    size_t set = 0;         // the set's index in the mesh's MeshFeatures (or the node's)
+    bool instance = false;  // a set of a node on the path (Node::setFeatures: EXT_instance_features, an i3dm)
     std::string label;
     int64_t featureId = -1;  // -1: no feature (the set's null id, or nothing readable at the hit)
     int propertyTable = -1;
@@ -35,7 +35,8 @@ struct HitFeatures {
 
 // Feature ids at the hit: an attribute's (or the implicit vertex index) at the vertex of the hit triangle nearest
 // the hit point (all three agree on a feature's own triangles); a texture's at the nearest texel of the hit's
-// interpolated UV; an instance's for the placing Instance. Property attributes likewise at the nearest vertex.
+// interpolated UV; a node's (Node::setFeatures) for each node on the path that has them, innermost first. Property
+// attributes likewise at the nearest vertex.
 HitFeatures featuresAt(const Hit& hit);
 
 }  // namespace sg
