@@ -17,11 +17,12 @@ FeatureIdSet idsSet(FeatureIdSet::Source source, std::vector<uint32_t> ids) {
 
 // A 2 x 2 texture whose texel (x, y) has R = 10 * y + x, G = 100 + R, B = 0, A = 255.
 ref_ptr<Texture> quad() {
-    std::vector<uint8_t> rgba;
+    std::vector<uint8_t> rgba(16);
     for (int y = 0; y < 2; ++y)
         for (int x = 0; x < 2; ++x) {
             const uint8_t r = uint8_t(10 * y + x);
-            rgba.insert(rgba.end(), {r, uint8_t(100 + r), 0, 255});
+            uint8_t* px = &rgba[size_t(y * 2 + x) * 4];
+            px[0] = r, px[1] = uint8_t(100 + r), px[2] = 0, px[3] = 255;
         }
     return make<Texture>(2, 2, std::move(rgba));
 }
