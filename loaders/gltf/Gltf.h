@@ -5,6 +5,7 @@
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
+#include "sg/core/Properties.h"
 
 #include <functional>
 #include <map>
@@ -45,6 +46,9 @@ struct GltfLoadOptions {
     // occlusion pass: a file with sgkit's own authored occluders keeps them where they are.
     bool generateOccluders = false;
     OccluderGenSettings occluders;
+    // A 3D Tiles 1.0 tile's batch table as a store (table 0): a primitive with a _BATCHID (or BATCH_ID) attribute
+    // and no EXT_mesh_features gets a feature ID set of those ids over table 0 of it.
+    ref_ptr<const PropertyStore> batchTable;
 };
 
 // An application's data in a glTF node's or scene's `extras`, beside sgkit's own key: strings and numbers by
@@ -63,6 +67,9 @@ struct GltfSaveOptions {
     // of that one level), whose matrices are translation * rotation * scale in float go out as one node with
     // EXT_mesh_gpu_instancing; an LOD's in the node's sgkit extras (other readers draw the level everywhere).
     bool gpuInstancing = true;
+    // What was left out (feature properties of a second property store: a glTF file holds one), each naming the
+    // part; null: not reported.
+    std::vector<std::string>* warnings = nullptr;
 };
 
 struct GltfScene {

@@ -140,6 +140,8 @@ void Converter::addMesh(int i, const std::string& kind, const Value* sx, const s
     if (instancing(gn) && !instanced)
         warn(path + ".extensions." + kInstancing,
              gn.mesh < 0 ? "needs a mesh to instance, ignored" : "on an sgkit " + kind + " node is ignored");
+    if (gn.extensions.count(kInstanceFeatures) && !instanced)
+        warn(path + ".extensions." + kInstanceFeatures, "without instances (EXT_mesh_gpu_instancing), ignored");
     if (instanced) {
         if (lodPrototype) levelOfInstancedLod(*lodPrototype, gn, *sx, xp, path);
         instances(i, static_cast<Group*>(inner), world, path, lodPrototype);
@@ -240,6 +242,7 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
             c.warn(at("extensionsUsed", i), "extension '" + model.extensionsUsed[i] + "' is not supported, ignored");
     if (!model.animations.empty()) c.warn("animations", "animations are not loaded");
     if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
+    c.readMetadata();
     progress.report(0.6, "converting");
     for (int r : roots)
         if (ref_ptr<Node> n = c.build(r, dmat4(1.0))) root->addChild(n);

@@ -1,6 +1,6 @@
 // EXT_mesh_gpu_instancing: a node's per-instance translation, rotation and scale read into matrices, its
-// instances built as Instances of one prototype, and instance matrices split back into float translation,
-// rotation and scale for writing.
+// instances built as Instances of one prototype (with the node's EXT_instance_features), and instance matrices split
+// back into float translation, rotation and scale for writing.
 #include "loaders/gltf/internal/GltfConverter.h"
 
 #include "nodes/Instance.h"
@@ -107,11 +107,14 @@ void Converter::instances(int i, Group* into, const dmat4& world, const std::str
         proto = group;
     }
     const std::string scale = instancing(gn)->Get("attributes").Has("SCALE") ? xp + ".SCALE" : xp;
+    const ref_ptr<const MeshFeatures> features = instanceFeatures(i, placements.size(), path);
     std::vector<ref_ptr<Node>> placed;
     std::vector<dvec3> where;
     for (size_t k = 0; k < placements.size(); ++k) {
         try {
-            placed.push_back(make<Instance>(proto, placements[k]));
+            auto in = make<Instance>(proto, placements[k]);
+            if (features) in->setFeatures(features, uint32_t(k));
+            placed.push_back(in);
             where.push_back(dvec3(placements[k][3]));
         } catch (const std::invalid_argument& e) {  // a singular matrix: rotations are not, so the scale
             bad(scale, "instance " + std::to_string(k) + " cannot be placed (" + e.what() + ")");

@@ -148,6 +148,8 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
     FsContext ctx{allowFiles};
     parser.SetFsCallbacks({&fileExists, &expandPath, &readWholeFile, &writeWholeFile, &ctx});
     parser.SetImageLoader(&keepEncoded, nullptr);
+    // The feature extensions' JSON as written: tinygltf's own values cut integers to int (GltfMetadata.h).
+    parser.SetStoreOriginalJSONForExtrasAndExtensions(true);
     tinygltf::Model model;
     std::string err, warn;
     auto parse = [&](const unsigned char* bytes, size_t n) {

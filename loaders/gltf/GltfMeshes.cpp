@@ -1,5 +1,6 @@
 // glTF mesh primitives to shared Meshes and Geometries: one Mesh per distinct primitive (strips and fans made
-// triangles), tangents made for normal maps, classic materials' UV transforms applied to a copy.
+// triangles; its source and features set), tangents made for normal maps, classic materials' UV transforms applied
+// to a copy.
 #include "loaders/gltf/internal/GltfConverter.h"
 
 #include <cmath>
@@ -19,14 +20,14 @@ void Converter::toTriangles(int mode, std::vector<uint32_t>& idx) {
     idx = std::move(t);
 }
 
-ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& path) {
+ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& path, int gm, int prim) {
     auto attr = [&](const char* name) {
         auto it = p.attributes.find(name);
         return it == p.attributes.end() ? -1 : it->second;
     };
     const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0"),
               tan = attr("TANGENT"), uv1 = attr("TEXCOORD_1");
-    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1);
+    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1, featureKey(p));
     auto found = meshes.find(key);
     if (found != meshes.end()) return found->second;
 
@@ -52,6 +53,14 @@ ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& p
                                                std::to_string(ps[i].x) + ", " + std::to_string(ps[i].y) + ", " +
                                                std::to_string(ps[i].z) + ")");
     }
+    mesh->setSource({file, gm, prim});
+    if (ref_ptr<MeshFeatures> f = primitiveFeatures(p, n, path)) {
+        try {
+            mesh->setFeatures(std::move(f));
+        } catch (const std::invalid_argument& e) {  // what primitiveFeatures checked: a count it missed
+            bad(path + ".extensions", e.what());
+        }
+    }
     meshes[key] = mesh;
     return mesh;
 }
@@ -75,6 +84,8 @@ ref_ptr<Mesh> Converter::withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int
     out = make<Mesh>();
     out->set(mesh->positions(), mesh->normals(), std::move(idx), std::move(uvs), mesh->colors());
     out->setSurface(mesh->tangents(), std::move(uvs1));
+    out->setFeatures(ref_ptr<const MeshFeatures>(mesh->features()));
+    out->setSource(mesh->source());
     return out;
 }
 
@@ -93,7 +104,7 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
             warn(path, "no POSITION attribute, primitive skipped");
             gs.push_back({});
         } else {
-            ref_ptr<Mesh> mh = mesh(p, path);
+            ref_ptr<Mesh> mh = mesh(p, path, i, int(k));
             ref_ptr<Material> mat = material(p.material);
             if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
             withTangents(*mh, mat.get());

@@ -1,6 +1,8 @@
 // saveGltf: an sgkit graph to a tinygltf model (one buffer; meshes, materials and textures stored once;
-// sgkit's node kinds in `extras`), written by tinygltf as .glb or .gltf with embedded buffers.
+// sgkit's node kinds in `extras`; features through GltfWriteMetadata.cpp), written by tinygltf as .glb or .gltf with
+// embedded buffers.
 #include "loaders/gltf/internal/GltfDetail.h"
+#include "loaders/gltf/internal/GltfWriteMetadata.h"
 
 #include "nodes/Billboard.h"
 #include "nodes/Geometry.h"
@@ -38,7 +40,11 @@ void addProperties(Value::Object& extras, const GltfProperties& p) {
 }
 
 struct Writer {
-    Writer(const GltfSaveOptions& o, bool binary) : options(o), glb(binary) {}
+    Writer(const GltfSaveOptions& o, bool binary)
+        : options(o),
+          glb(binary),
+          metadata(
+              m, [this](const Texture& t) { return texture(t); }, o.warnings) {}
     const GltfSaveOptions& options;
     const bool glb;  // writing a .glb: images go into the binary chunk
     tinygltf::Model m;
@@ -51,6 +57,7 @@ struct Writer {
     double extent = 0.0;  // the diagonal of the scene's box: float instance translations are held to 1e-6 of it
     std::map<const Node*, Box> bounds;  // subtree boxes in the parent's frame, by node
     bool instanced = false;             // a node with EXT_mesh_gpu_instancing was written
+    gltf::MetadataWriter metadata;      // feature ID sets and their property store
 
     std::vector<unsigned char>& bytes() { return m.buffers[0].data; }
 
@@ -253,6 +260,7 @@ struct Writer {
                 p.attributes[name] = acc;
         }
         p.material = material(g.material());
+        if (const MeshFeatures* f = g.mesh()->features()) metadata.primitive(*f, p);
         tinygltf::Mesh gm;
         gm.primitives.push_back(std::move(p));
         m.meshes.push_back(std::move(gm));
@@ -361,6 +369,7 @@ struct Writer {
         attributes["TRANSLATION"] = Value(accessor(t, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 0));
         if (rotated) attributes["ROTATION"] = Value(accessor(q, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 0));
         if (scaled) attributes["SCALE"] = Value(accessor(s, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 0));
+        metadata.instances(b.members, attributes, gn);
         gn.extensions[gltf::kInstancing] = Value(Value::Object{{"attributes", Value(std::move(attributes))}});
         instanced = true;
     }
@@ -525,6 +534,7 @@ void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& 
         w.m.extensionsUsed.push_back(gltf::kInstancing);
         w.m.extensionsRequired.push_back(gltf::kInstancing);
     }
+    w.metadata.finish();
     if (!options.sceneProperties.empty()) {
         Value::Object extras;
         addProperties(extras, options.sceneProperties);

@@ -55,7 +55,8 @@ struct Converter {
     // with it applied to their UVs, by mesh and material.
     std::map<int, mat3> classicUv;
     std::map<std::pair<const Mesh*, int>, ref_ptr<Mesh>> classicUvMeshes;
-    std::map<std::tuple<int, int, int, int, int, int, int, int>, ref_ptr<Mesh>> meshes;  // mode, indices, attributes
+    // Mode, indices, attributes, and featureKey(): primitives with other features do not share a Mesh.
+    std::map<std::tuple<int, int, int, int, int, int, int, int, std::string>, ref_ptr<Mesh>> meshes;
     std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
     std::vector<bool> sharedDone;
     std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
@@ -97,7 +98,8 @@ struct Converter {
 
     // --- meshes (GltfMeshes.cpp)
     static void toTriangles(int mode, std::vector<uint32_t>& idx);
-    ref_ptr<Mesh> mesh(const tinygltf::Primitive& p, const std::string& path);
+    // Primitive `prim` of glTF mesh `gm`, its source and features set.
+    ref_ptr<Mesh> mesh(const tinygltf::Primitive& p, const std::string& path, int gm, int prim);
     // A normal map over a mesh without TANGENT: tangents made by MikkTSpace's rules, as glTF asks (once per mesh).
     static void withTangents(Mesh& mesh, const Material* mat);
     // A copy of `mesh` whose UV set `set` has material `mat`'s classicUv applied (once per mesh and material).
@@ -145,6 +147,19 @@ struct Converter {
     // Node i's mesh placed once per instance (the node's own matrix outside them), by Instances of one prototype,
     // the mesh's Geometry (a Group of them for a mesh of several primitives).
     void instances(int i, Group* into, const dmat4& world, const std::string& path, ref_ptr<LOD> lodPrototype);
+
+    // --- EXT_mesh_features, EXT_structural_metadata, EXT_instance_features (GltfMetadata.cpp)
+    ref_ptr<PropertyStore> store;  // the file's root EXT_structural_metadata; null without it
+    bool externalSchema = false;   // the root extension names its schema by URI: ignored, tables dropped
+    // Reads the root EXT_structural_metadata into `store`, before any mesh is made.
+    void readMetadata();
+    // What primitive p's EXT_mesh_features and EXT_structural_metadata say about its n vertices (or, with
+    // GltfLoadOptions::batchTable, its batch ids); null when nothing.
+    ref_ptr<MeshFeatures> primitiveFeatures(const tinygltf::Primitive& p, size_t n, const std::string& path);
+    // The part of a Mesh's key that the features make: their extensions and the accessors of "_" attributes.
+    static std::string featureKey(const tinygltf::Primitive& p);
+    // Node i's EXT_instance_features over its n EXT_mesh_gpu_instancing instances; null without it.
+    ref_ptr<MeshFeatures> instanceFeatures(int i, size_t n, const std::string& path);
 
     // --- cameras (GltfCameras.cpp)
     void camera(int c, const dmat4& world, const std::string& nodeName);

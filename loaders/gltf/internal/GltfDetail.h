@@ -31,6 +31,9 @@ constexpr long long kMaxImagePixels = 1ll << 26;
 constexpr size_t kMaxInstances = size_t(1) << 21;
 constexpr const char* kInstancing = "EXT_mesh_gpu_instancing";
 constexpr const char* kQuantization = "KHR_mesh_quantization";
+constexpr const char* kMeshFeatures = "EXT_mesh_features";
+constexpr const char* kStructuralMetadata = "EXT_structural_metadata";
+constexpr const char* kInstanceFeatures = "EXT_instance_features";
 // Bytes that EXT_meshopt_compression and sparse accessors may expand to in one file: a few bytes of compressed
 // data or of sparse values can claim gigabytes.
 constexpr size_t kMaxExpandedBytes = size_t(1) << 29;
@@ -170,6 +173,7 @@ class Progress {
 public:
     explicit Progress(const GltfLoadOptions& o) : opt_(o), start_(std::chrono::steady_clock::now()) {}
     void report(double fraction, const char* stage);
+    const GltfLoadOptions& options() const { return opt_; }
 
 private:
     const GltfLoadOptions& opt_;
