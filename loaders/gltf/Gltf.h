@@ -5,6 +5,7 @@
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
+#include "sg/core/Properties.h"
 
 #include <functional>
 #include <map>
@@ -45,6 +46,7 @@ struct GltfLoadOptions {
     // occlusion pass: a file with sgkit's own authored occluders keeps them where they are.
     bool generateOccluders = false;
     OccluderGenSettings occluders;
+    ref_ptr<const PropertyStore> batchTable;
 };
 
 // An application's data in a glTF node's or scene's `extras`, beside sgkit's own key: strings and numbers by
