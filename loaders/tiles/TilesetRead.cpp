@@ -81,6 +81,24 @@ std::string badRegion(const double* r) {
     return "";
 }
 
+bool transformComponents(const json& v, uint32_t n, std::vector<double>& out) {
+    out.clear();
+    if (n == 1 && v.is_number()) out.push_back(v.get<double>());
+    if (n > 1 && v.is_array() && v.size() == n)
+        for (const json& e : v)
+            if (e.is_number()) out.push_back(e.get<double>());
+    if (out.size() != n) out.clear();
+    for (double x : out)
+        if (!std::isfinite(x)) out.clear();
+    return out.size() == n;
+}
+
+namespace {
+std::string transformShape(uint32_t n) {
+    return n == 1 ? "a finite number" : "an array of " + std::to_string(n) + " finite numbers";
+}
+}  // namespace
+
 MetadataSchema readSchema(const std::string& file, const json& tileset, const ResourceOptions& options) {
     std::string from = file, path = "schema";
     json schema;
@@ -110,6 +128,7 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
                                                       {"TILE_BOUNDING_SPHERE", 4},
                                                       {"TILE_GEOMETRIC_ERROR", 1}};
     MetadataSchema out;
+    std::vector<double> unused;
     for (const auto& [name, cls] : classes.items()) {
         TileSemantics& sem = out[name];
         const json props = cls.is_object() ? cls.value("properties", json::object()) : json::object();
@@ -137,10 +156,16 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
                 problem(pp + ".array", what + " is a single number, not an array");
             } else if (k->second > 1 && (!array || count != k->second)) {
                 problem(pp + ".count", what + " must be an array of " + std::to_string(k->second) + " numbers");
-            } else if (p.contains("offset") || p.contains("scale") || p.value("normalized", json(false)) == true) {
-                problem(pp, what + ": offset, scale and normalized values are not supported");
+            } else if (p.value("normalized", json(false)) == true) {
+                problem(pp + ".normalized", what + " is a float: normalized applies to integer types only");
+            } else if (p.contains("offset") && !transformComponents(p["offset"], k->second, unused)) {
+                problem(pp + ".offset", what + "'s offset must be " + transformShape(k->second));
+            } else if (p.contains("scale") && !transformComponents(p["scale"], k->second, unused)) {
+                problem(pp + ".scale", what + "'s scale must be " + transformShape(k->second));
             } else {
                 SemanticProperty sp{key, component == "FLOAT64", k->second};
+                if (p.contains("offset")) transformComponents(p["offset"], k->second, sp.offset);
+                if (p.contains("scale")) transformComponents(p["scale"], k->second, sp.scale);
                 (k->second == 12  ? sem.box
                  : k->second == 6 ? sem.region
                  : k->second == 4 ? sem.sphere

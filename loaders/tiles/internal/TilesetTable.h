@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace sg::tiles {
@@ -25,10 +26,17 @@ struct Sphere {
 // A tile metadata property whose semantic the reader applies (3D Tiles 1.1 metadata semantics): its name in its
 // class and its FLOAT32 or FLOAT64 components (12 for a box, 6 a region, 4 a sphere, 1 a geometric error).
 struct SemanticProperty {
+    SemanticProperty(std::string n = "", bool f64 = true, uint32_t c = 1)
+        : name(std::move(n)), float64(f64), components(c) {}
     std::string name;
     bool float64 = true;
     uint32_t components = 1;
+    // The class's offset and scale, one per component (empty: 0 and 1); a property table may override them.
+    std::vector<double> offset, scale;
 };
+// An offset or scale of `n` components (a number for 1, an array of n numbers otherwise) into `out`; false when
+// `v` is neither.
+bool transformComponents(const nlohmann::json& v, uint32_t n, std::vector<double>& out);
 // A metadata class's properties that give a tile's volume and geometric error, and what is wrong with them if
 // anything (raised when a subtree uses the class: file, JSON path, reason).
 struct TileSemantics {
