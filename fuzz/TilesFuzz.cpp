@@ -3,8 +3,8 @@
 // as local and as remote documents (the origin rule), and data: URIs (loaders/net/Resource.h): any bytes either parse
 // or throw sg::LoadError. Anything else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak)
 // is a finding. The seed corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles (b3dm and
-// i3dm with batch tables, one with a hierarchy), tilesets and subtrees (one with tile metadata, as writeTileset
-// writes implicit tiling).
+// i3dm with batch tables, one with a hierarchy), tilesets (one with a schema and tile, content, group and tileset
+// metadata) and subtrees (one with tile metadata, as writeTileset writes implicit tiling).
 #include "loaders/net/Resource.h"
 #include "loaders/tiles/internal/BatchTable.h"
 #include "loaders/tiles/internal/TileFormats.h"

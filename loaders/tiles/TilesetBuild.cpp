@@ -196,7 +196,11 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
     ref_ptr<Group> content;
     for (const std::string& uri : d.contents)
         if (ref_ptr<Node> n = loadContent(s, t, uri, world, budget)) {
-            if (!content) content = make<Group>();
+            if (!content) {  // a TileContent: what a pick finds the tile's metadata by
+                auto c = make<TileContent>();
+                c->metadata = d.metadata;
+                content = c;
+            }
             content->addChild(n);
         }
     if (d.children.empty()) {
@@ -242,6 +246,9 @@ PageLoadFunction Tileset::loadFunction() const {
 
 std::vector<std::string> Tileset::warnings() const { return state_->warnings(); }
 TilesetCounts Tileset::counts() const { return state_->counts(); }
+std::shared_ptr<const Schema> Tileset::schema() const { return state_->top.schema; }
+const std::optional<MetadataEntity>& Tileset::metadata() const { return state_->top.metadata; }
+std::shared_ptr<const std::vector<MetadataEntity>> Tileset::groups() const { return state_->top.groups; }
 
 Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options) {
     if (!(options.maximumScreenSpaceError > 0.0) || !std::isfinite(options.maximumScreenSpaceError))
