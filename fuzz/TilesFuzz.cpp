@@ -2,9 +2,11 @@
 // (loaders/tiles/internal/TileFormats.h), tileset.json and subtree files (loaders/tiles/internal/TilesetTable.h), read
 // as local and as remote documents (the origin rule), and data: URIs (loaders/net/Resource.h): any bytes either parse
 // or throw sg::LoadError. Anything else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak)
-// is a finding. The seed corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles, tilesets and
-// subtrees (one with tile metadata, as writeTileset writes implicit tiling).
+// is a finding. The seed corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles (b3dm and
+// i3dm with batch tables, one with a hierarchy), tilesets (one with a schema and tile, content, group and tileset
+// metadata) and subtrees (one with tile metadata, as writeTileset writes implicit tiling).
 #include "loaders/net/Resource.h"
+#include "loaders/tiles/internal/BatchTable.h"
 #include "loaders/tiles/internal/TileFormats.h"
 #include "loaders/tiles/internal/TilesetTable.h"
 
@@ -37,10 +39,19 @@ void subtree(const std::vector<unsigned char>& bytes) {
 
 void parse(const unsigned char* data, size_t size) {
     using namespace sg::tiles;
+    std::vector<std::string> warnings;
     try {
         switch (sniffContent(data, size)) {
-            case ContentKind::B3dm: parseB3dm("fuzz.b3dm", data, size); break;
-            case ContentKind::I3dm: parseI3dm("fuzz.i3dm", data, size); break;
+            case ContentKind::B3dm: {  // and its batch table, as the tileset reader takes it
+                const B3dm b = parseB3dm("fuzz.b3dm", data, size);
+                readBatchTable("fuzz.b3dm", b.batchJson, b.batchBinary, b.batchLength, warnings);
+                break;
+            }
+            case ContentKind::I3dm: {
+                const I3dm in = parseI3dm("fuzz.i3dm", data, size);
+                readBatchTable("fuzz.i3dm", in.batchJson, in.batchBinary, uint32_t(in.instances.size()), warnings);
+                break;
+            }
             case ContentKind::Pnts: pntsPointCount("fuzz.pnts", data, size); break;
             case ContentKind::Cmpt:
                 // The inner tiles as the tileset reader would take them.

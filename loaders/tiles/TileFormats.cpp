@@ -1,6 +1,6 @@
 // The 3D Tiles 1.0 binary formats: header, feature table (JSON and binary body) and the payload after the
 // batch table. Every length and offset read from the file is checked against the bytes before use; the
-// batch table is only bounded (its properties are not read).
+// batch table is bounded here and read by BatchTable.cpp.
 #include "loaders/tiles/internal/TileFormats.h"
 
 #include "loaders/gltf/internal/GltfDetail.h"  // kMaxJsonDepth, at(), fail()
@@ -177,6 +177,7 @@ struct FeatureTable {
 struct Sections {
     FeatureTable featureTable;
     Bytes body;
+    Bytes batchJson, batchBinary;
 };
 
 Sections readSections(const std::string& file, const unsigned char* data, size_t size, size_t headerSize) {
@@ -193,7 +194,7 @@ Sections readSections(const std::string& file, const unsigned char* data, size_t
         offset += len[i];
     }
     Sections s{FeatureTable{file, parseFeatureJson(file, data + start[0], len[0]), Bytes{data + start[1], len[1]}},
-               Bytes{data + offset, size - offset}};
+               Bytes{data + offset, size - offset}, Bytes{data + start[2], len[2]}, Bytes{data + start[3], len[3]}};
     return s;
 }
 
@@ -349,10 +350,10 @@ void readOrientations(const FeatureTable& ft, uint32_t n, InstanceColumns& c) {
     }
 }
 
-// BATCH_ID is not returned, but a reader of the batch table relies on it: its type and extent are checked.
-void checkBatchIds(const FeatureTable& ft, uint32_t n) {
+// BATCH_ID per instance (UNSIGNED_SHORT unless its componentType says otherwise); empty when absent.
+std::vector<uint32_t> readBatchIds(const FeatureTable& ft, uint32_t n) {
     const json* b = ft.find("BATCH_ID");
-    if (!b) return;
+    if (!b) return {};
     if (!b->is_object()) fail(ft.file, FeatureTable::path("BATCH_ID"), "must refer to the binary body");
     const auto t = b->find("componentType");
     const std::string type = t == b->end() ? "UNSIGNED_SHORT" : t->is_string() ? t->get<std::string>() : "";
@@ -360,7 +361,13 @@ void checkBatchIds(const FeatureTable& ft, uint32_t n) {
     if (bytes == 0)
         fail(ft.file, FeatureTable::path("BATCH_ID.componentType"),
              "must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-    ft.binaryRef("BATCH_ID", *b, bytes, 1, n);
+    const unsigned char* p = ft.binaryRef("BATCH_ID", *b, bytes, 1, n);
+    std::vector<uint32_t> ids(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        const unsigned char* q = p + size_t(i) * bytes;
+        ids[i] = bytes == 1 ? q[0] : bytes == 2 ? le16(q) : le32(q);
+    }
+    return ids;
 }
 
 // v, checked finite: the error names the property and the instance.
@@ -456,6 +463,8 @@ B3dm parseB3dm(const std::string& file, const unsigned char* data, size_t size) 
         b.rtcCenter = *rtc;
     }
     b.glb = embeddedGlb(file, s.body);
+    b.batchJson = s.batchJson;
+    b.batchBinary = s.batchBinary;
     return b;
 }
 
@@ -479,7 +488,9 @@ I3dm parseI3dm(const std::string& file, const unsigned char* data, size_t size) 
     readOrientations(ft, n, columns);
     columns.scale = ft.perInstance("SCALE", "FLOAT", 4, 1, n);
     columns.scale3 = ft.perInstance("SCALE_NON_UNIFORM", "FLOAT", 4, 3, n);
-    checkBatchIds(ft, n);
+    r.batchIds = readBatchIds(ft, n);
+    r.batchJson = s.batchJson;
+    r.batchBinary = s.batchBinary;
 
     r.instances.reserve(n);
     for (uint32_t i = 0; i < n; ++i) r.instances.push_back(instanceMatrix(file, columns, rtc, i));

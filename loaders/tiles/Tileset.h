@@ -5,11 +5,13 @@
 #pragma once
 #include "loaders/gltf/Gltf.h"
 #include "loaders/net/Resource.h"
+#include "loaders/tiles/TileMetadata.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 #include "sg/paging/Pager.h"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +62,11 @@ public:
     std::vector<std::string> warnings() const;
     TilesetCounts counts() const;
     const std::string& file() const { return file_; }
+    // The tileset's 3D Tiles 1.1 schema (null without one), its own metadata and its groups (which a content's
+    // TileMetadata::Content::group indexes). A tile's metadata: tileMetadataOf() on a node of its content.
+    std::shared_ptr<const Schema> schema() const;
+    const std::optional<MetadataEntity>& metadata() const;
+    std::shared_ptr<const std::vector<MetadataEntity>> groups() const;
 
 private:
     friend Tileset loadTileset(const std::string&, const TilesetOptions&);

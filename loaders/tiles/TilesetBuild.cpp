@@ -3,6 +3,7 @@
 // children (a REPLACE tile's content) until the whole detail is attached, so no tile leaves a hole; an ADD tile's
 // content sits beside the PagedLOD and stays.
 #include "loaders/gltf/internal/GltfDetail.h"
+#include "loaders/tiles/internal/BatchTable.h"
 #include "loaders/tiles/internal/TileFormats.h"
 #include "loaders/tiles/internal/TilesetTable.h"
 #include "nodes/Geometry.h"
@@ -12,11 +13,14 @@
 #include "nodes/PagedLOD.h"
 #include "nodes/Transform.h"
 #include "sg/build/GeneratedOccluders.h"
+#include "sg/core/Features.h"
 #include "sg/core/NodeVisitor.h"
 
 #include <nlohmann/json.hpp>
 
 #include <sys/stat.h>
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <unordered_set>
@@ -28,12 +32,47 @@ namespace {
 // A glTF (binary, or JSON from a file so that its external buffers are found) turned +Z up. One read over the
 // network or from a data: URI is parsed from memory, where no external file is read.
 ref_ptr<Node> gltfContent(const std::shared_ptr<TilesetState>& s, const std::string& uri, const unsigned char* data,
-                          size_t size, bool binary, const dmat4& place) {
-    GltfScene g = binary || isUrl(uri) || isDataUri(uri) ? loadGltfFromMemory(uri, data, size) : loadGltf(uri);
+                          size_t size, bool binary, const dmat4& place, const GltfLoadOptions& options = {}) {
+    GltfScene g =
+        binary || isUrl(uri) || isDataUri(uri) ? loadGltfFromMemory(uri, data, size, options) : loadGltf(uri, options);
     for (const std::string& w : g.warnings) s->warn(uri + ": " + w);
     auto t = make<Transform>(place * yUpToZUp());
     t->addChild(g.root);
     return t;
+}
+
+// A tile's batch table as a property store (null when it has none), its warnings named by the tile's URI.
+ref_ptr<const PropertyStore> batchTable(const std::shared_ptr<TilesetState>& s, const std::string& uri, Bytes json,
+                                        Bytes binary, uint32_t batchLength) {
+    std::vector<std::string> warnings;
+    ref_ptr<const PropertyStore> store = readBatchTable(uri, json, binary, batchLength, warnings);
+    for (const std::string& w : warnings) s->warn(uri + ": " + w);
+    return store;
+}
+
+// An i3dm's features: one set of Source::Instance over its batch table, an instance's id its BATCH_ID or its
+// index. Null when the tile has neither.
+ref_ptr<const MeshFeatures> instanceFeatures(const std::shared_ptr<TilesetState>& s, const std::string& uri,
+                                             const I3dm& in) {
+    const uint32_t n = uint32_t(in.instances.size());
+    ref_ptr<const PropertyStore> store = batchTable(s, uri, in.batchJson, in.batchBinary, n);
+    if (!store && in.batchIds.empty()) return nullptr;
+    FeatureIdSet set;
+    set.source = FeatureIdSet::Source::Instance;
+    set.propertyTable = store ? 0 : -1;
+    set.ids = in.batchIds;
+    if (set.ids.empty())
+        for (uint32_t i = 0; i < n; ++i) set.ids.push_back(i);
+    uint64_t count = 0;
+    for (uint32_t id : set.ids) count = std::max(count, uint64_t(id) + 1);
+    set.featureCount = uint32_t(std::min<uint64_t>(count, UINT32_MAX));
+    if (store && count > n)
+        s->warn(uri + ": featureTable.BATCH_ID: ids up to " + std::to_string(count - 1) + " past the batch table's " +
+                std::to_string(n) + " rows read as no properties");
+    auto f = make<MeshFeatures>();
+    f->sets.push_back(std::move(set));
+    f->store = store;
+    return f;
 }
 
 ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
@@ -43,7 +82,9 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
         case ContentKind::B3dm: {
             const B3dm b = parseB3dm(uri, data, size);
             const dmat4 rtc = b.hasRtcCenter ? glm::translate(dmat4(1.0), b.rtcCenter) : dmat4(1.0);
-            return gltfContent(s, uri, b.glb.data, b.glb.size, true, rtc);
+            GltfLoadOptions options;  // the glb's _BATCHID attributes become feature ids into the batch table
+            options.batchTable = batchTable(s, uri, b.batchJson, b.batchBinary, b.batchLength);
+            return gltfContent(s, uri, b.glb.data, b.glb.size, true, rtc, options);
         }
         case ContentKind::I3dm: {
             const I3dm in = parseI3dm(uri, data, size);
@@ -56,8 +97,13 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
                 proto = gltfContent(s, model, bytes.data(), bytes.size(),
                                     sniffContent(bytes.data(), bytes.size()) == ContentKind::Glb, dmat4(1.0));
             }
+            const ref_ptr<const MeshFeatures> features = instanceFeatures(s, uri, in);
             auto g = make<Group>();
-            for (const dmat4& m : in.instances) g->addChild(make<Instance>(proto, m));
+            for (uint32_t k = 0; k < uint32_t(in.instances.size()); ++k) {
+                auto instance = make<Instance>(proto, in.instances[k]);
+                if (features) instance->setFeatures(features, k);
+                g->addChild(instance);
+            }
             return g;
         }
         case ContentKind::Cmpt: {
@@ -150,7 +196,11 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
     ref_ptr<Group> content;
     for (const std::string& uri : d.contents)
         if (ref_ptr<Node> n = loadContent(s, t, uri, world, budget)) {
-            if (!content) content = make<Group>();
+            if (!content) {  // a TileContent: what a pick finds the tile's metadata by
+                auto c = make<TileContent>();
+                c->metadata = d.metadata;
+                content = c;
+            }
             content->addChild(n);
         }
     if (d.children.empty()) {
@@ -196,6 +246,9 @@ PageLoadFunction Tileset::loadFunction() const {
 
 std::vector<std::string> Tileset::warnings() const { return state_->warnings(); }
 TilesetCounts Tileset::counts() const { return state_->counts(); }
+std::shared_ptr<const Schema> Tileset::schema() const { return state_->top.schema; }
+const std::optional<MetadataEntity>& Tileset::metadata() const { return state_->top.metadata; }
+std::shared_ptr<const std::vector<MetadataEntity>> Tileset::groups() const { return state_->top.groups; }
 
 Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options) {
     if (!(options.maximumScreenSpaceError > 0.0) || !std::isfinite(options.maximumScreenSpaceError))

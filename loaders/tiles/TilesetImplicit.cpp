@@ -87,6 +87,20 @@ struct Reader {
         return {buffers[size_t(b)].data() + off, len};
     }
 
+    // A semantic property's offset and scale: the table's where it gives them, else the class's.
+    std::pair<std::vector<double>, std::vector<double>> transform(const SemanticProperty& sp, const json& prop,
+                                                                  const std::string& path) const {
+        std::pair<std::vector<double>, std::vector<double>> r{sp.offset, sp.scale};
+        for (const char* key : {"offset", "scale"}) {
+            if (!prop.is_object() || !prop.contains(key)) continue;
+            if (!transformComponents(prop[key], sp.components, key[0] == 'o' ? r.first : r.second))
+                fail(file, path + "." + key,
+                     sp.components == 1 ? "must be a finite number"
+                                        : "must be an array of " + std::to_string(sp.components) + " finite numbers");
+        }
+        return r;
+    }
+
     // Tile metadata (3D Tiles 1.1): the rows of the semantics the reader applies, checked. `rows`: the subtree's
     // available tiles, each with a row in availability order.
     void tileMetadata(const ImplicitTiling& tiling, uint64_t rows, Subtree& s) const {
@@ -125,6 +139,7 @@ struct Reader {
                      "holds " + std::to_string(len) + " bytes, fewer than the " + std::to_string(need) + " of " +
                          std::to_string(rows) + " rows of " + std::to_string(sp.components) + " " +
                          (sp.float64 ? "FLOAT64" : "FLOAT32"));
+            const auto [offset, scale] = transform(sp, props[sp.name], pp);
             out.resize(size_t(rows * sp.components));
             for (size_t i = 0; i < out.size(); ++i) {
                 if (sp.float64) {
@@ -134,6 +149,8 @@ struct Reader {
                     std::memcpy(&f, p + 4 * i, 4);
                     out[i] = f;
                 }
+                const size_t c = i % sp.components;
+                out[i] = out[i] * (scale.empty() ? 1.0 : scale[c]) + (offset.empty() ? 0.0 : offset[c]);
                 if (!std::isfinite(out[i]))
                     fail(file, pp,
                          "row " + std::to_string(i / sp.components) + ": value " + std::to_string(i % sp.components) +

@@ -1,6 +1,7 @@
 // tileset.json read into the tile table: every field the graph relies on checked, each error naming the file,
 // the JSON path and the reason.
 #include "loaders/gltf/internal/GltfDetail.h"
+#include "loaders/metadata/internal/MetadataJson.h"
 #include "loaders/tiles/internal/TilesetTable.h"
 
 #include <nlohmann/json.hpp>
@@ -81,7 +82,26 @@ std::string badRegion(const double* r) {
     return "";
 }
 
-MetadataSchema readSchema(const std::string& file, const json& tileset, const ResourceOptions& options) {
+bool transformComponents(const json& v, uint32_t n, std::vector<double>& out) {
+    out.clear();
+    if (n == 1 && v.is_number()) out.push_back(v.get<double>());
+    if (n > 1 && v.is_array() && v.size() == n)
+        for (const json& e : v)
+            if (e.is_number()) out.push_back(e.get<double>());
+    if (out.size() != n) out.clear();
+    for (double x : out)
+        if (!std::isfinite(x)) out.clear();
+    return out.size() == n;
+}
+
+namespace {
+std::string transformShape(uint32_t n) {
+    return n == 1 ? "a finite number" : "an array of " + std::to_string(n) + " finite numbers";
+}
+}  // namespace
+
+MetadataSchema readSchema(const std::string& file, const json& tileset, const ResourceOptions& options,
+                          std::shared_ptr<const Schema>* full, std::vector<std::string>* warnings) {
     std::string from = file, path = "schema";
     json schema;
     if (tileset.contains("schema")) {
@@ -102,6 +122,12 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
     }
     auto at = [&](const std::string& p) { return path.empty() ? p : path + "." + p; };
     if (!schema.is_object()) fail(from, path, "a schema must be an object");
+    if (full) {
+        std::vector<std::string> w;
+        *full = std::make_shared<const Schema>(metadata::parseSchema(schema, metadata::Context{from, &w}, path));
+        if (warnings)
+            for (const std::string& x : w) warnings->push_back(from + ": " + x);
+    }
     const json classes = schema.value("classes", json::object());
     if (!classes.is_object()) fail(from, at("classes"), "must be an object");
     // The semantics the reader applies, with their components; any other property is ignored.
@@ -110,6 +136,7 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
                                                       {"TILE_BOUNDING_SPHERE", 4},
                                                       {"TILE_GEOMETRIC_ERROR", 1}};
     MetadataSchema out;
+    std::vector<double> unused;
     for (const auto& [name, cls] : classes.items()) {
         TileSemantics& sem = out[name];
         const json props = cls.is_object() ? cls.value("properties", json::object()) : json::object();
@@ -137,10 +164,16 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
                 problem(pp + ".array", what + " is a single number, not an array");
             } else if (k->second > 1 && (!array || count != k->second)) {
                 problem(pp + ".count", what + " must be an array of " + std::to_string(k->second) + " numbers");
-            } else if (p.contains("offset") || p.contains("scale") || p.value("normalized", json(false)) == true) {
-                problem(pp, what + ": offset, scale and normalized values are not supported");
+            } else if (p.value("normalized", json(false)) == true) {
+                problem(pp + ".normalized", what + " is a float: normalized applies to integer types only");
+            } else if (p.contains("offset") && !transformComponents(p["offset"], k->second, unused)) {
+                problem(pp + ".offset", what + "'s offset must be " + transformShape(k->second));
+            } else if (p.contains("scale") && !transformComponents(p["scale"], k->second, unused)) {
+                problem(pp + ".scale", what + "'s scale must be " + transformShape(k->second));
             } else {
                 SemanticProperty sp{key, component == "FLOAT64", k->second};
+                if (p.contains("offset")) transformComponents(p["offset"], k->second, sp.offset);
+                if (p.contains("scale")) transformComponents(p["scale"], k->second, sp.scale);
                 (k->second == 12  ? sem.box
                  : k->second == 6 ? sem.region
                  : k->second == 4 ? sem.sphere
@@ -185,8 +218,8 @@ Sphere volume(const std::string& file, const json& tile, const std::string& tile
 class Reader {
 public:
     Reader(const std::string& file, std::deque<TileDesc>& tiles, std::vector<std::string>& warnings, uint32_t source,
-           const MetadataSchema& schema)
-        : file_(file), tiles_(tiles), warnings_(warnings), source_(source), schema_(schema) {}
+           const MetadataSchema& schema, const FileMetadata& meta)
+        : file_(file), tiles_(tiles), warnings_(warnings), source_(source), schema_(schema), meta_(meta) {}
 
     uint32_t tile(const json& j, const std::string& path, int64_t parent, bool inheritedAdd, uint32_t depth) {
         if (!j.is_object()) fail(file_, path, "a tile must be an object");
@@ -225,11 +258,21 @@ public:
             std::vector<double> unused;
             d.request = volume(file_, j, path, d.requestRegion, unused, "viewerRequestVolume");
         }
-        if (j.contains("content")) content(j["content"], path + ".content", d);
+        auto meta = make<TileMetadata>();  // kept when the tile or a content has metadata or a group
+        if (j.contains("metadata"))
+            meta->tile = readEntity(file_, j["metadata"], meta_.schema.get(), path + ".metadata", warnings_);
+        if (j.contains("content")) content(j["content"], path + ".content", d, *meta);
         if (j.contains("contents")) {
             const json& cs = j["contents"];
             if (!cs.is_array()) fail(file_, path + ".contents", "must be an array");
-            for (size_t i = 0; i < cs.size(); ++i) content(cs[i], path + ".contents[" + std::to_string(i) + "]", d);
+            for (size_t i = 0; i < cs.size(); ++i)
+                content(cs[i], path + ".contents[" + std::to_string(i) + "]", d, *meta);
+        }
+        if (meta->tile || std::any_of(meta->contents.begin(), meta->contents.end(),
+                                      [](const TileMetadata::Content& c) { return c.metadata || c.group >= 0; })) {
+            meta->schema = meta_.schema;
+            meta->groups = meta_.groups;
+            d.metadata = meta;
         }
         if (j.contains("implicitTiling")) implicit(j, path, raw, d);
         const uint32_t index = uint32_t(tiles_.size());
@@ -281,12 +324,23 @@ private:
         d.pending = true;
     }
 
-    void content(const json& c, const std::string& path, TileDesc& d) {
+    void content(const json& c, const std::string& path, TileDesc& d, TileMetadata& meta) {
         if (!c.is_object()) fail(file_, path, "must be an object");
         const char* key = c.contains("uri") ? "uri" : "url";  // "url": 3D Tiles 1.0 before its release
         if (!c.contains(key) || !c[key].is_string() || c[key].get<std::string>().empty())
             fail(file_, path + ".uri", "missing or not a non-empty string");
         d.contents.push_back(resolveReference(file_, c[key].get<std::string>(), path + "." + key));
+        TileMetadata::Content m;
+        if (c.contains("metadata"))
+            m.metadata = readEntity(file_, c["metadata"], meta_.schema.get(), path + ".metadata", warnings_);
+        if (c.contains("group")) {
+            const json& g = c["group"];
+            if (!g.is_number_unsigned() || g.get<uint64_t>() >= meta_.groups->size())
+                fail(file_, path + ".group",
+                     "must be an index into the tileset's " + std::to_string(meta_.groups->size()) + " groups");
+            m.group = int(g.get<uint64_t>());
+        }
+        meta.contents.push_back(std::move(m));
     }
 
     const std::string& file_;
@@ -294,6 +348,7 @@ private:
     std::vector<std::string>& warnings_;
     uint32_t source_;
     const MetadataSchema& schema_;
+    const FileMetadata& meta_;
 };
 
 }  // namespace
@@ -326,7 +381,9 @@ uint32_t TilesetState::addTileset(const std::string& file, const std::vector<uns
         }
     }
 
-    const MetadataSchema schema = readSchema(file, j, options.resource);
+    std::shared_ptr<const Schema> full;
+    const MetadataSchema schema = readSchema(file, j, options.resource, &full, &warnings);
+    FileMetadata meta = readFileMetadata(file, j, std::move(full), warnings);
 
     std::lock_guard<std::mutex> lock(mutex_);
     // An external tileset naming one of the files that lead to it would be read forever.
@@ -345,8 +402,9 @@ uint32_t TilesetState::addTileset(const std::string& file, const std::vector<uns
         depth = tiles_[size_t(parentTile)].depth + 1;
     }
     try {
-        Reader reader(file, tiles_, warnings, source, schema);
+        Reader reader(file, tiles_, warnings, source, schema, meta);
         const uint32_t root = reader.tile(j["root"], "root", -1, add, depth);
+        if (parentSource < 0) top = std::move(meta);
         counts_.tiles += tiles_.size() - before;
         if (parentTile >= 0) counts_.externalTilesets++;
         warnings_.insert(warnings_.end(), warnings.begin(), warnings.end());

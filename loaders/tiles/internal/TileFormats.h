@@ -26,6 +26,7 @@ struct B3dm {
     bool hasRtcCenter = false;
     dvec3 rtcCenter{0.0};  // feature table RTC_CENTER
     uint32_t batchLength = 0;
+    Bytes batchJson, batchBinary;  // the batch table's sections (empty when absent; see BatchTable.h)
 };
 
 struct I3dm {
@@ -37,6 +38,10 @@ struct I3dm {
     // the 3D Tiles spec defines it), identity otherwise. Scale: SCALE or SCALE_NON_UNIFORM.
     // Positions: POSITION (float32 vec3) or POSITION_QUANTIZED (uint16 vec3) with QUANTIZED_VOLUME_OFFSET/SCALE.
     std::vector<dmat4> instances;
+    // BATCH_ID per instance (empty when absent: an instance's index is its batch id); the batch table has
+    // INSTANCES_LENGTH rows, as CesiumJS reads it.
+    std::vector<uint32_t> batchIds;
+    Bytes batchJson, batchBinary;
 };
 
 struct Cmpt {

@@ -3,6 +3,7 @@
 #pragma once
 #include "loaders/tiles/Tileset.h"
 #include "loaders/tiles/internal/SharedMeshes.h"
+#include "loaders/tiles/internal/TilesetMetadata.h"
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -13,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace sg::tiles {
@@ -25,10 +27,17 @@ struct Sphere {
 // A tile metadata property whose semantic the reader applies (3D Tiles 1.1 metadata semantics): its name in its
 // class and its FLOAT32 or FLOAT64 components (12 for a box, 6 a region, 4 a sphere, 1 a geometric error).
 struct SemanticProperty {
+    SemanticProperty(std::string n = "", bool f64 = true, uint32_t c = 1)
+        : name(std::move(n)), float64(f64), components(c) {}
     std::string name;
     bool float64 = true;
     uint32_t components = 1;
+    // The class's offset and scale, one per component (empty: 0 and 1); a property table may override them.
+    std::vector<double> offset, scale;
 };
+// An offset or scale of `n` components (a number for 1, an array of n numbers otherwise) into `out`; false when
+// `v` is neither.
+bool transformComponents(const nlohmann::json& v, uint32_t n, std::vector<double>& out);
 // A metadata class's properties that give a tile's volume and geometric error, and what is wrong with them if
 // anything (raised when a subtree uses the class: file, JSON path, reason).
 struct TileSemantics {
@@ -86,8 +95,10 @@ Sphere implicitSphere(const ImplicitTiling& t, uint32_t level, uint32_t x, uint3
 Sphere boxSphere(const double* box);
 Sphere regionSphere(const std::vector<double>& region);
 std::string badRegion(const double* region);
-// The tile metadata classes of a tileset's `schema` (or the file its `schemaUri` names, read with `options`).
-MetadataSchema readSchema(const std::string& file, const nlohmann::json& tileset, const ResourceOptions& options);
+// The tile metadata classes of a tileset's `schema` (or the file its `schemaUri` names, read with `options`);
+// with `full`, the whole schema too (null without one), its warnings added to `warnings`.
+MetadataSchema readSchema(const std::string& file, const nlohmann::json& tileset, const ResourceOptions& options,
+                          std::shared_ptr<const Schema>* full = nullptr, std::vector<std::string>* warnings = nullptr);
 
 // One tile of a tileset.json, as read: its volume in its own frame (after its transform), or in the
 // Earth-centred frame for a region (which no transform moves, as the specification says).
@@ -104,11 +115,12 @@ struct TileDesc {
     // region's bounding sphere), in the tile's frame, or Earth-centred for a region.
     std::optional<Sphere> request;
     bool requestRegion = false;
-    std::vector<std::string> contents;  // resolved URIs
-    std::string file, path;             // the tileset.json holding it and its JSON path, for messages
-    uint32_t source = 0;                // the tileset file (TilesetState's sources), for cycles
-    uint32_t depth = 0;                 // below the root of the whole tileset
-    std::optional<dmat4> world;         // its frame in the graph's, set when its node is built
+    std::vector<std::string> contents;     // resolved URIs
+    ref_ptr<const TileMetadata> metadata;  // its and its contents' 3D Tiles 1.1 metadata; null when none
+    std::string file, path;                // the tileset.json holding it and its JSON path, for messages
+    uint32_t source = 0;                   // the tileset file (TilesetState's sources), for cycles
+    uint32_t depth = 0;                    // below the root of the whole tileset
+    std::optional<dmat4> world;            // its frame in the graph's, set when its node is built
     // An implicit tile: its tiling and coordinates; `pending` until its contents and children are read from its
     // subtree (TilesetState::resolve).
     std::shared_ptr<const ImplicitTiling> implicit;
@@ -139,6 +151,8 @@ public:
     void countPoints();
     // Equal meshes of different loads made one (TilesetOptions::shareMeshes).
     SharedMeshes meshes;
+    // The top tileset file's schema, metadata and groups (set by its addTileset, read-only after).
+    FileMetadata top;
 
 private:
     struct Source {

@@ -207,6 +207,46 @@ TEST(TilesetMetadata, NanOrNegativeErrorsAndNanBoxesAreRefusedByName) {
                   f / "subtrees/0/0/0.subtree", "propertyTables[0].properties.box", "row 0: value 7 is not finite");
 }
 
+// The class's offset and scale apply to a semantic's values, and a property table's offset overrides the class's:
+// the root's error 33 * 2 + 3; its box's centre moved by the class's offset of 5 along x.
+TEST(TilesetMetadata, OffsetAndScaleAreApplied) {
+    TempDir d;
+    Tileset ts = loadTileset(metadataTileset(d, "0/0/0", [](json& tileset, json& sub, Rows&) {
+        json& props = tileset["schema"]["classes"]["tile"]["properties"];
+        props["error"]["scale"] = 2.0;
+        props["error"]["offset"] = 1.0;
+        props["box"]["offset"] = json::array({5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+        sub["propertyTables"][0]["properties"]["error"]["offset"] = 3.0;
+    }));
+    const std::vector<PagedLOD*> lods = pagedLods(*ts.root());
+    ASSERT_EQ(lods.size(), 1u);
+    EXPECT_DOUBLE_EQ(lods[0]->geometricError(), 69.0);
+    EXPECT_NEAR(lods[0]->center().x, 55.0, 1e-9);
+    EXPECT_NEAR(lods[0]->center().y, 50.0, 1e-9);
+}
+
+// A scale that is not per component, normalized on a float: refused at their paths (by the schema reader or by the
+// semantics' check, whichever sees them first: the reason is not checked).
+TEST(TilesetMetadata, BadOffsetScaleOrNormalizedAreRefusedByName) {
+    TempDir d;
+    expectRefused(metadataTileset(d, "0/0/0",
+                                  [](json& tileset, json&, Rows&) {
+                                      tileset["schema"]["classes"]["tile"]["properties"]["box"]["scale"] = 2.0;
+                                  }),
+                  d / "tileset.json", "schema.classes.tile.properties.box.scale", "");
+    TempDir e;
+    expectRefused(metadataTileset(e, "0/0/0",
+                                  [](json& tileset, json&, Rows&) {
+                                      tileset["schema"]["classes"]["tile"]["properties"]["error"]["normalized"] = true;
+                                  }),
+                  e / "tileset.json", "schema.classes.tile.properties.error.normalized", "");
+    TempDir f;
+    expectRefused(metadataTileset(
+                      f, "0/0/0",
+                      [](json&, json& sub, Rows&) { sub["propertyTables"][0]["properties"]["error"]["scale"] = "x"; }),
+                  f / "subtrees/0/0/0.subtree", "propertyTables[0].properties.error.scale", "a finite number");
+}
+
 // A child's bad subtree fails the load of the root's children (the root stays drawn), named; the rest works.
 TEST(TilesetMetadata, ABadChildSubtreeFailsItsLoadOnly) {
     TempDir d;
