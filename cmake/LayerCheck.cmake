@@ -4,15 +4,16 @@
 # it fails at once.
 set(_below_core core)
 set(_below_nodes core nodes)
+set(_below_style core style)
 set(_below_scene core nodes scene)
 set(_below_lod core nodes scene lod)
 set(_below_cull core nodes scene lod cull)
-set(_below_intersect core nodes scene lod intersect)
+set(_below_intersect core nodes scene lod style intersect)
 set(_below_io io)
 set(_below_paging core nodes scene paging)
-set(_below_gl core nodes scene lod cull io gl)
-set(_below_viewer core nodes scene lod cull intersect io gl paging viewer)
-set(_below_build core nodes scene lod cull intersect io paging build)
+set(_below_gl core nodes scene lod cull io style gl)
+set(_below_viewer core nodes scene lod cull intersect io gl paging style viewer)
+set(_below_build core nodes scene lod cull intersect io paging style build)
 
 # Internal headers sit in an internal/ folder of their layer (sg/cull/internal/FrustumKernel.h) or loader
 # (loaders/tiles/internal/TileFormats.h): kernels and helpers

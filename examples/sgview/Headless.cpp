@@ -19,7 +19,7 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     view.settings.strategy = o.strategy;
     view.settings.occlusion.mode = o.occlusion;
     const Camera camera = startCamera(o, sceneBound(scene), loaded.up);
-    const FrameStats fs{"headless"};
+    const FrameStats fs{"headless", ""};
     double cullMs = 0.0, drawMs = 0.0;
     if (loaded.pageLoad) view.enablePaging(loaded.pageLoad);
     int frames = 0;
@@ -50,7 +50,7 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     }
     savePng(o.out, view.read());
     IntersectTraversal picker;
-    for (const auto& [x, y] : o.picks) std::printf("%s\n", pickReport(picker, scene, camera, x, y, o.json).c_str());
+    for (const auto& [x, y] : o.picks) std::printf("%s\n", pickReport(picker, scene, camera, x, y, o.json, &view.featureStyle()).c_str());
     const dvec3 e = camera.eye();
     // The threading model the viewer ran and what occlusion culled in the last frame: what --threading and
     // --auto-occluders changed, where the picture must not change.

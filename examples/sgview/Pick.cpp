@@ -65,16 +65,23 @@ std::string featuresJson(const sg::HitFeatures& f) {
            ", \"property_attributes\": " + atJson(f.propertyAttributes);
 }
 
-std::string pickReport(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera, double x,
-                       double y, bool json) {
+Pick pickAt(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera, double x, double y,
+            sg::FeatureStyle* style) {
     // No objects registered: the path itself is the answer, down to the geometry that was hit.
-    const sg::PickSet::Result r = sg::PickSet().pick(traversal, scene, camera, x, y);
+    sg::QueryOptions options;
+    options.style = style;
+    const sg::PickSet::Result r = sg::PickSet().pick(traversal, scene, camera, x, y, options);
+    Pick p{x, y, r.hit, r.nearest, {}};
+    if (p.hit) p.features = sg::featuresAt(p.nearest);
+    return p;
+}
+
+std::string pickReport(const Pick& p, bool json) {
     char head[64];
-    std::snprintf(head, sizeof head, "pick (%g, %g): ", x, y);
-    const std::string pixel = number(x) + ", " + number(y);
-    if (!r.hit) return json ? "{\"pixel\": [" + pixel + "], \"hit\": false}" : head + std::string("nothing");
-    const sg::Hit& h = r.nearest;
-    const sg::HitFeatures features = sg::featuresAt(h);
+    std::snprintf(head, sizeof head, "pick (%g, %g): ", p.x, p.y);
+    const std::string pixel = number(p.x) + ", " + number(p.y);
+    if (!p.hit) return json ? "{\"pixel\": [" + pixel + "], \"hit\": false}" : head + std::string("nothing");
+    const sg::Hit& h = p.nearest;
     const sg::Mesh* mesh = h.geometry ? h.geometry->mesh() : nullptr;
     if (json) {
         std::string path = "[";
@@ -85,12 +92,27 @@ std::string pickReport(sg::IntersectTraversal& traversal, const sg::Scene& scene
                ", \"gltf_primitive\": " + orNull(src.gltfPrimitive) + ", \"triangle\": " +
                std::to_string(h.primitive) + ", \"distance\": " + number(h.distance) + ", \"point\": [" +
                number(h.point.x) + ", " + number(h.point.y) + ", " + number(h.point.z) + "], " +
-               featuresJson(features) + "}";
+               featuresJson(p.features) + "}";
     }
     char tail[160];
     std::snprintf(tail, sizeof tail, ", triangle %u, distance %.3f, at (%.3f, %.3f, %.3f)", unsigned(h.primitive),
                   h.distance, h.point.x, h.point.y, h.point.z);
-    return head + sg::pathString(h.path) + tail + featuresText(features);
+    return head + sg::pathString(h.path) + tail + featuresText(p.features);
+}
+
+std::string pickReport(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera, double x,
+                       double y, bool json, sg::FeatureStyle* style) {
+    return pickReport(pickAt(traversal, scene, camera, x, y, style), json);
+}
+
+std::string featurePanel(const Pick& p) {
+    for (const sg::FeatureAtHit& f : p.features.features) {
+        if (f.featureId < 0 || f.properties.empty()) continue;
+        std::string s = f.classId + " " + std::to_string(f.featureId);
+        for (const auto& [id, v] : f.properties) s += "\n" + id + " " + v.toString();
+        return s;
+    }
+    return {};
 }
 
 }  // namespace sgview

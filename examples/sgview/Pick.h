@@ -16,8 +16,21 @@ namespace sgview {
 // JSON (`json`): one line, {"pixel": [x, y], "hit": false} or {"pixel", "hit": true, "node_path", "source",
 // "gltf_mesh", "gltf_primitive", "triangle", "distance", "point", "features", "property_textures",
 // "property_attributes"} (docs/guide.md).
+// Hidden features of `style` (when given) are not picked.
+struct Pick {
+    double x = 0.0, y = 0.0;
+    bool hit = false;
+    sg::Hit nearest;
+    sg::HitFeatures features;
+};
+Pick pickAt(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera, double x, double y,
+            sg::FeatureStyle* style = nullptr);
+std::string pickReport(const Pick& pick, bool json = false);
 std::string pickReport(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg::Camera& camera, double x,
-                       double y, bool json = false);
+                       double y, bool json = false, sg::FeatureStyle* style = nullptr);
+// The window's panel: the first feature with properties, a line each ("building 12", "height 54.5", ...); empty
+// when the pick has none.
+std::string featurePanel(const Pick& pick);
 
 // The JSON object of one pick's features (the "features" array and the property arrays), for other programs.
 std::string featuresJson(const sg::HitFeatures& f);

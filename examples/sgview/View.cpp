@@ -21,6 +21,7 @@ View::View(Scene& scene, std::string title, ThreadingModel threading, std::funct
       view_(viewer_.view()),
       title_(std::move(title)) {
     viewer_.overlayText = [this] { return statsText(fs_); };  // on this thread, as the frame is culled
+    viewer_.renderer().setFeatureStyle(style_);
     viewer_.onDrawn([this](const FrameInfo& fi) {
         Picture picture;
         {
@@ -74,7 +75,7 @@ std::string View::statsText(const FrameStats& fs) const {
                   (unsigned long long)culledCount(c), (unsigned long long)r.triangles, (unsigned long long)r.instances,
                   (unsigned long long)r.drawCalls, strategyName(settings.strategy),
                   occlusionModeName(settings.occlusion.mode), occ);
-    return buf;
+    return fs.panel.empty() ? std::string(buf) : buf + std::string("\n\n") + fs.panel;
 }
 
 const char* nextName(CullStrategy& s) {

@@ -12,7 +12,8 @@
 namespace sgview {
 
 struct FrameStats {
-    std::string mode;  // navigation mode, or "headless"
+    std::string mode;   // navigation mode, or "headless"
+    std::string panel;  // the picked feature's properties, a line each (shown under the stats)
 };
 
 class View {
@@ -57,10 +58,14 @@ public:
         viewer_.enablePaging(std::move(load), ps);
     }
     sg::Pager* pager() const { return viewer_.pager(); }
+    // The per-feature colours the view is drawn with (sg::Renderer::setFeatureStyle): a style's rule, a click's
+    // highlight. Thread-safe: any thread may change it between or during frames.
+    sg::FeatureStyle& featureStyle() const { return *style_; }
     // The overlay's lines for the last frame (the viewer's stage times follow them).
     std::string statsText(const FrameStats& fs) const;
 
 private:
+    sg::ref_ptr<sg::FeatureStyle> style_ = sg::make<sg::FeatureStyle>();
     sg::View& view_;
     std::string title_;
     FrameStats fs_;

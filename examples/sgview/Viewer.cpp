@@ -73,6 +73,7 @@ private:
     double pressX_ = 0.0, pressY_ = 0.0;
     bool dragged_ = false;       // moved since the press: a drag, not a click
     IntersectTraversal picker_;  // keeps its per-mesh BVHs between clicks
+    std::string panel_;          // the clicked feature's properties, on the overlay
 };
 
 int Viewer::run() {
@@ -92,6 +93,7 @@ int Viewer::run() {
         }
         nav_.move(keys_, dt);
         fs.mode = navModeName(nav_.mode());
+        fs.panel = panel_;
         // The pictures are read where the frame is drawn, before its swap (after it the back buffer is undefined).
         View::Picture picture;
         if (wantShot_) {
@@ -168,17 +170,24 @@ void Viewer::screenshot(const std::string& name, const Image& img) {
     std::fflush(stdout);
 }
 
-// ---- Picking: where the intersection traversal plugs in. ------------------------------------------------
-// Called for a left click (press and release without a drag) at window coordinates (x, y), origin top left.
-// To do: cast the ray through (x, y) from nav_.camera(w, h) into scene_ with the intersection traversal and
-// print the path of the nearest hit ("city/Group/Transform/LOD/Geometry").
+// A left click (press and release without a drag) at window coordinates (x, y), origin top left: prints what is
+// there, highlights the feature it struck (every triangle with its id) and shows its properties on the overlay.
 void Viewer::onPick(double x, double y) {
     // Cursor positions are in window coordinates; the camera's viewport is the framebuffer (HiDPI differs).
     const int w = window_.width(), h = window_.height(), ww = window_.windowWidth(), wh = window_.windowHeight();
     if (w <= 0 || h <= 0 || ww <= 0 || wh <= 0) return;
     const double fx = x * w / ww, fy = y * h / wh;
-    std::printf("%s\n", pickReport(picker_, scene_, nav_.camera(w, h), fx, fy).c_str());
+    FeatureStyle& style = view_.featureStyle();
+    const Pick pick = pickAt(picker_, scene_, nav_.camera(w, h), fx, fy, &style);
+    std::printf("%s\n", pickReport(pick).c_str());
     std::fflush(stdout);
+    style.setHighlight(nullptr, -1, -1, vec4(1.0f));
+    for (const FeatureAtHit& f : pick.features.features)
+        if (f.store && !f.instance && f.featureId >= 0) {
+            style.setHighlight(f.store, f.propertyTable, f.featureId, vec4(1.0f, 0.85f, 0.1f, 1.0f));
+            break;
+        }
+    panel_ = featurePanel(pick);
 }
 
 }  // namespace

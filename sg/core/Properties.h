@@ -5,6 +5,7 @@
 #include "sg/core/Material.h"
 #include "sg/core/Ref.h"
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -146,6 +147,10 @@ struct PropertyAttributeDef {
 // built) by the meshes and instances of a file or tile. Every view is checked when the table is added.
 class PropertyStore : public Referenced {
 public:
+    PropertyStore() : serial_(nextSerial()) {}
+    // Distinct for every store made in the process (a cache keyed by it never mistakes a new store for a freed one
+    // at the same address).
+    uint64_t serial() const { return serial_; }
     Schema schema;
     std::vector<PropertyTextureDef> propertyTextures;
     std::vector<PropertyAttributeDef> propertyAttributes;
@@ -175,6 +180,11 @@ public:
     size_t bytes() const;
 
 private:
+    static uint64_t nextSerial() {
+        static std::atomic<uint64_t> n{0};
+        return ++n;
+    }
+    uint64_t serial_;
     std::vector<std::vector<uint8_t>> buffers_;
     std::vector<PropertyTable> tables_;
 };

@@ -37,17 +37,21 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
     g.colors = m->colors().size() == n;
     g.tangents = m->tangents().size() == n && n > 0;
     g.uvs1 = m->uvs1().size() == n && n > 0;
+    const MeshFeatures* f = m->features();
+    g.featureIds = f && !f->sets.empty() && (f->sets[0].source == FeatureIdSet::Source::Attribute ||
+                                              f->sets[0].source == FeatureIdSet::Source::Implicit);
     // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
     const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
                  uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0,
                  tanBytes = g.tangents ? n * sizeof(vec4) : 0, uv1Bytes = g.uvs1 ? n * sizeof(vec2) : 0;
+    const size_t fidBytes = g.featureIds ? n * sizeof(float) : 0;
     const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes, tanOff = colOff + colBytes,
-                 uv1Off = tanOff + tanBytes;
+                 uv1Off = tanOff + tanBytes, fidOff = uv1Off + uv1Bytes;
     glGenVertexArrays(1, &g.vao);
     glBindVertexArray(g.vao);
     glGenBuffers(1, &g.vbo);
     glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(uv1Off + uv1Bytes), nullptr, GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(fidOff + fidBytes), nullptr, GL_STATIC_DRAW);
     glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
     glEnableVertexAttribArray(kPositionLocation);
     glVertexAttribPointer(kPositionLocation, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
@@ -75,6 +79,13 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
         glBufferSubData(GL_ARRAY_BUFFER, GLintptr(uv1Off), GLsizeiptr(uv1Bytes), m->uvs1().data());
         glEnableVertexAttribArray(kUv1Location);
         glVertexAttribPointer(kUv1Location, 2, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(uv1Off));
+    }
+    if (g.featureIds) {
+        std::vector<float> ids(n);
+        for (size_t i = 0; i < n; ++i) ids[i] = float(f->idAt(0, i));  // -1 for the null feature
+        glBufferSubData(GL_ARRAY_BUFFER, GLintptr(fidOff), GLsizeiptr(fidBytes), ids.data());
+        glEnableVertexAttribArray(kFeatureIdLocation);
+        glVertexAttribPointer(kFeatureIdLocation, 1, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(fidOff));
     }
     glGenBuffers(1, &g.ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
@@ -165,9 +176,39 @@ void GpuCache::releaseUnused() {
             glDeleteTextures(1, &it->second.id);
             it = cache.erase(it);
         }
+    for (auto it = featureTables_.begin(); it != featureTables_.end();) {
+        if (it->second.lastFrame == frame_) {
+            ++it;
+            continue;
+        }
+        glDeleteTextures(1, &it->second.id);
+        it = featureTables_.erase(it);
+    }
+}
+
+unsigned GpuCache::featureColors(const std::pair<uint64_t, int>& key, uint64_t version,
+                                 const std::vector<uint8_t>& rgba) {
+    FeatureTable& t = featureTables_[key];
+    t.lastFrame = frame_;
+    if (t.id && t.version == version) return t.id;
+    // Rows of at most 4096 texels: GL 3.3 guarantees textures of 4096 x 4096 (16 million features).
+    const size_t n = std::max<size_t>(1, rgba.size() / 4);
+    const int w = int(std::min<size_t>(n, 4096)), h = int((n + 4095) / 4096);
+    std::vector<uint8_t> px(size_t(w) * size_t(h) * 4, 255);
+    std::copy(rgba.begin(), rgba.end(), px.begin());
+    if (!t.id) glGenTextures(1, &t.id);
+    glBindTexture(GL_TEXTURE_2D, t.id);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, px.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    t.version = version;
+    return t.id;
 }
 
 void GpuCache::clear() {
+    for (auto& [k, t] : featureTables_) glDeleteTextures(1, &t.id);
+    featureTables_.clear();
     for (auto& [m, g] : meshes_) destroy(g);
     meshes_.clear();
     for (auto& cache : textures_) {

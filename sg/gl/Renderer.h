@@ -9,6 +9,7 @@
 #include "sg/core/Ref.h"
 #include "sg/cull/DrawList.h"
 #include "sg/io/ImageIO.h"
+#include "sg/style/FeatureStyle.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -135,6 +136,12 @@ public:
     // the light and the field).
     static constexpr size_t kMaxLights = 8;
     void setPunctualLights(std::vector<PunctualLight> lights);
+    // Per-feature colours (a style, a highlighted feature): meshes whose first feature ID set is per vertex (an
+    // attribute or implicit, with a property table) are drawn with their features' colours multiplying the base
+    // colour, and without the features the style hides; null: no styling. The style is read at each draw, so a
+    // restyle (FeatureStyle::setRule) shows in the next frame. ShaderMode::OneProgram draws unstyled.
+    void setFeatureStyle(ref_ptr<FeatureStyle> style) { featureStyle_ = std::move(style); }
+    FeatureStyle* featureStyle() const { return featureStyle_.get(); }
     const std::vector<PunctualLight>& punctualLights() const { return punctual_; }
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
@@ -184,6 +191,7 @@ private:
         // whose factors and texture transforms its uniforms get.
         uint32_t pbr = 0;
         const Material* material = nullptr;
+        bool features = false;  // per-feature colours (kShadeFeature)
     };
     // A linked program, the locations of its uniforms (-1: not in this program) and the values they hold.
     struct Program {
@@ -213,6 +221,7 @@ private:
         unsigned pbrTextures[4] = {};  // a physical material's others, by unit from kMetallicRoughnessUnit
         Program* program = nullptr;    // set with gpu
         Shading shading;               // set with gpu: what picked the program and what its uniforms get
+        unsigned featureColors = 0;    // the per-feature colour table's texture (kFeatureUnit), 0 without
     };
     static constexpr uint32_t kWhole = ~0u;
     // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
@@ -244,6 +253,8 @@ private:
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
     // A physical material's textures into the run, and its features into the shading.
     void physicalTextures(Run& r);
+    // The run's per-feature colour table (setFeatureStyle), when its mesh has per-vertex feature ids.
+    void featureColors(Run& r);
     // The run's program: the one program, or the variant of the features it uses (compiled on first use).
     Program& programFor(const Shading& s);
     static Program link(const char* vertexSource, const char* fragmentSource, const char* who);
@@ -269,6 +280,7 @@ private:
     bool lastReverseZ_ = false;  // whether the last draw went to the renderer's framebuffer
     DirectionalLight light_;
     std::vector<PunctualLight> punctual_;
+    ref_ptr<FeatureStyle> featureStyle_;
     vec4 punctualPos_[kMaxLights], punctualDir_[kMaxLights];  // the frame's uniforms for them (ShadersPbr.cpp)
     vec3 punctualE_[kMaxLights];
     vec2 punctualCone_[kMaxLights];

@@ -69,6 +69,11 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
             }
         glActiveTexture(GL_TEXTURE0);
     }
+    if (r.featureColors) {
+        glActiveTexture(GLenum(GL_TEXTURE0 + kFeatureUnit));
+        glBindTexture(GL_TEXTURE_2D, r.featureColors);
+        glActiveTexture(GL_TEXTURE0);
+    }
     use(*r.program);
     setShading(*r.program, r.shading);
     if (r.part == kWhole) {

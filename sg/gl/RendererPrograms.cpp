@@ -53,6 +53,7 @@ Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentS
         p.uSet[u] = at((std::string(names[u]) + "Set").c_str());
         glUniform1i(at(samplers[u]), u);  // units: Shaders.h
     }
+    glUniform1i(at("uFeatureColors"), kFeatureUnit);
     glUseProgram(0);
     return p;
 }
@@ -69,6 +70,7 @@ Renderer::Program& Renderer::programFor(const Shading& s) {
     if (s.alphaCutoff > 0.0f) f |= kShadeAlphaCut;
     if (s.fade < 1.0f) f |= kShadeFade;
     if (s.material && s.material->physical) f |= kShadePbr | s.pbr | (punctual_.empty() ? 0u : kShadePunctual);
+    if (s.features) f |= kShadeFeature;
     f = canonicalFeatures(f);
     const auto it = variants_.find(f);
     if (it != variants_.end()) return it->second;
@@ -132,6 +134,17 @@ void Renderer::physicalTextures(Run& r) {
         r.shading.pbr |= kShadePbrOrm;
 }
 
+void Renderer::featureColors(Run& r) {
+    r.featureColors = 0;
+    const MeshFeatures* f = r.gpu->featureIds ? r.mesh->features() : nullptr;
+    if (!featureStyle_ || shaderMode_ == ShaderMode::OneProgram || !f || !f->store || f->sets[0].propertyTable < 0)
+        return;
+    const int table = f->sets[0].propertyTable;
+    const std::shared_ptr<const FeatureStyle::Colors> c = featureStyle_->colors(*f->store, table);
+    r.featureColors = cache_->featureColors({f->store->serial(), table}, c->version, c->rgba);
+    r.shading.features = true;
+}
+
 // Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
 // draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
 void Renderer::upload() {
@@ -141,6 +154,7 @@ void Renderer::upload() {
         r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
         r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
         if (r.material && r.material->physical) physicalTextures(r);
+        featureColors(r);
         r.program = &programFor(r.shading);
     }
 }

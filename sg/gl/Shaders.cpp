@@ -207,7 +207,8 @@ std::string variantSource(bool vertex, uint32_t features) {
                                                       {kShadeFlat, "FLAT"},
                                                       {kShadeBlend, "BLEND"},
                                                       {kShadePunctual, "PUNCTUAL"},
-                                                      {kShadePbrOrm, "PBR_ORM"}};
+                                                      {kShadePbrOrm, "PBR_ORM"},
+                                                      {kShadeFeature, "FEATURE"}};
     for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
     if (vertex) return s + variantVertexSource((f & kShadePbr) != 0);
     return s + ((f & kShadePbr) ? kPbrFragmentShader : kVariantFragmentShader);

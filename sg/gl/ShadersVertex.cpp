@@ -41,6 +41,10 @@ out vec2 vUv1;
 layout(location = 3) in vec4 aColor;
 out vec4 vColor;
 #endif
+#if FEATURE
+layout(location = 11) in float aFeatureId;
+uniform sampler2D uFeatureColors;
+#endif
 void main() {
     vec4 world = aModel * vec4(aPosition, 1.0);
     gl_Position = uViewProj * world;
@@ -68,6 +72,18 @@ void main() {
     vColor = aColor;
 #endif
     vBaseColor = aBaseColor;
+#if FEATURE
+    // The feature's colour multiplies the base colour (3D Tiles styles' HIGHLIGHT blending); alpha 0 hides the
+    // feature: its vertices go beyond the far plane, where clipping drops its triangles (a feature's triangles
+    // have all three corners in it). An id outside the table (the null feature) keeps the base colour.
+    ivec2 size = textureSize(uFeatureColors, 0);
+    int id = int(aFeatureId);
+    if (id >= 0 && id < size.x * size.y) {
+        vec4 fc = texelFetch(uFeatureColors, ivec2(id % size.x, id / size.x), 0);
+        vBaseColor.rgb *= fc.rgb;
+        if (fc.a == 0.0) gl_Position = vec4(0.0, 0.0, 2.0, 1.0);
+    }
+#endif
 }
 )";
 

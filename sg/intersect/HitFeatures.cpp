@@ -39,6 +39,7 @@ FeatureAtHit feature(const MeshFeatures& f, size_t s, int64_t id, bool instance)
     out.label = set.label;
     out.featureId = id;
     out.propertyTable = set.propertyTable;
+    out.store = f.store.get();
     if (!f.store || set.propertyTable < 0 || size_t(set.propertyTable) >= f.store->tables().size()) return out;
     const PropertyTable& table = f.store->tables()[size_t(set.propertyTable)];
     out.classId = f.store->schema.classes[size_t(table.classIndex)].id;

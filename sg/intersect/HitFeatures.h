@@ -20,6 +20,7 @@ struct FeatureAtHit {
     int propertyTable = -1;
     std::string classId;     // the table's class; empty without a table
     PropertyList properties;
+    const PropertyStore* store = nullptr;  // the set's (FeatureStyle::setHighlight names a feature by it)
 };
 
 struct PropertiesAtHit {

@@ -8,6 +8,7 @@
 namespace sg {
 
 class Camera;
+class FeatureStyle;
 class Node;
 class Geometry;
 class Instance;
@@ -27,6 +28,9 @@ struct QueryOptions {
     // the query's origin (the ray's or sphere's start) and AsDrawn measures the distance from it.
     const Camera* camera = nullptr;
     double lodScale = 1.0;  // CullSettings::lodScale of that view
+    // The features this style hides (sg/style/FeatureStyle.h: the one the view is drawn with) are not hit: a ray
+    // passes through them as the picture shows. Per-vertex feature ids of a mesh's first set, as the renderer.
+    FeatureStyle* style = nullptr;
 };
 
 // A ray origin + t * direction for t in [0, tMax]; a segment from a to b is {a, b - a, 1}.

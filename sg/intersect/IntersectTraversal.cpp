@@ -11,6 +11,7 @@
 #include "sg/intersect/internal/IntersectPrimitives.h"
 #include "sg/lod/internal/LodChooser.h"
 #include "sg/scene/internal/ImageWalk.h"
+#include "sg/style/FeatureStyle.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -289,6 +290,58 @@ void IntersectTraversal::children(Ctx& c, uint32_t i, Node* n, const dmat4& m) {
     order_.resize(base);
 }
 
+// The ray's hits on one geometry: the nearest (or all) of its triangles that the query's style shows.
+void IntersectTraversal::rayGeometry(Node* n, const MeshBvh& bvh, const glm::dmat3& inv, const dvec3& t) {
+    const Mesh& mesh = *static_cast<Geometry*>(n)->mesh();
+    dvec3 p0, p1, p2;
+    // The ray in the geometry's frame; its parameter t is the same in every frame (affine maps keep it).
+    const dvec3 oL = inv * (o_ - t), dL = inv * d_;
+    auto fill = [&](Hit& h, const MeshBvh::RayHit& r) {
+        h.t = r.t;
+        h.point = q_ + (o_ + d_ * r.t);
+        h.distance = r.t * glm::length(d_);
+        bvh.triangle(r.primitive, p0, p1, p2);
+        const dvec3 nw = glm::transpose(inv) * glm::cross(p1 - p0, p2 - p0);
+        const double len = glm::length(nw);
+        h.normal = len > 0.0 ? nw / len : dvec3(0.0);
+        h.primitive = r.primitive;
+        h.u = r.u, h.v = r.v;
+        h.path = path_;
+        h.geometry = static_cast<const Geometry*>(n);
+        h.instance = instance_;
+        h.placement = placement_;
+    };
+    const MeshFeatures* f = opt_->style ? mesh.features() : nullptr;
+    const bool styled = f && !f->sets.empty() && f->sets[0].source != FeatureIdSet::Source::Texture;
+    auto shown = [&](const MeshBvh::RayHit& r) {
+        return !styled || opt_->style->shown(*f, 0, f->idAt(0, mesh.index(size_t(r.primitive) * 3)));
+    };
+    if (mode_ == Mode::Nearest && !styled) {
+        MeshBvh::RayHit r;
+        if (bvh.nearest(oL, dL, found_ ? best_->t : tMax_, r) && (!found_ || r.t < best_->t)) {
+            fill(*best_, r);
+            found_ = true;
+        }
+        return;
+    }
+    rayHits_.clear();
+    bvh.all(oL, dL, mode_ == Mode::Nearest && found_ ? best_->t : tMax_, rayHits_);
+    const MeshBvh::RayHit* nearest = nullptr;
+    for (const auto& r : rayHits_) {
+        if (!shown(r)) continue;
+        if (mode_ == Mode::All) {
+            all_->emplace_back();
+            fill(all_->back(), r);
+        } else if ((!nearest || r.t < nearest->t) && (!found_ || r.t < best_->t)) {
+            nearest = &r;
+        }
+    }
+    if (nearest) {
+        fill(*best_, *nearest);
+        found_ = true;
+    }
+}
+
 void IntersectTraversal::geometry(Node* n, const dmat4& m) {
     const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
     if (!mesh || mesh->triangleCount() == 0) return;
@@ -299,37 +352,7 @@ void IntersectTraversal::geometry(Node* n, const dmat4& m) {
     const dvec3 t(m[3]);
     dvec3 p0, p1, p2;
     if (mode_ == Mode::Nearest || mode_ == Mode::All) {
-        // The ray in the geometry's frame; its parameter t is the same in every frame (affine maps keep it).
-        const dvec3 oL = inv * (o_ - t), dL = inv * d_;
-        auto fill = [&](Hit& h, const MeshBvh::RayHit& r) {
-            h.t = r.t;
-            h.point = q_ + (o_ + d_ * r.t);
-            h.distance = r.t * glm::length(d_);
-            bvh.triangle(r.primitive, p0, p1, p2);
-            const dvec3 nw = glm::transpose(inv) * glm::cross(p1 - p0, p2 - p0);
-            const double len = glm::length(nw);
-            h.normal = len > 0.0 ? nw / len : dvec3(0.0);
-            h.primitive = r.primitive;
-            h.u = r.u, h.v = r.v;
-            h.path = path_;
-            h.geometry = static_cast<const Geometry*>(n);
-            h.instance = instance_;
-            h.placement = placement_;
-        };
-        if (mode_ == Mode::Nearest) {
-            MeshBvh::RayHit r;
-            if (bvh.nearest(oL, dL, found_ ? best_->t : tMax_, r) && (!found_ || r.t < best_->t)) {
-                fill(*best_, r);
-                found_ = true;
-            }
-        } else {
-            rayHits_.clear();
-            bvh.all(oL, dL, tMax_, rayHits_);
-            for (const auto& r : rayHits_) {
-                all_->emplace_back();
-                fill(all_->back(), r);
-            }
-        }
+        rayGeometry(n, bvh, inv, t);
         return;
     }
     // Sphere modes: the triangles whose boxes meet the region, tested exactly in relative coordinates.

@@ -54,6 +54,7 @@ private:
     void visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool tested);
     void children(Ctx& c, uint32_t i, Node* n, const dmat4& m);
     void geometry(Node* n, const dmat4& m);
+    void rayGeometry(Node* n, const MeshBvh& bvh, const glm::dmat3& inv, const dvec3& t);
 
     // The query, in coordinates relative to `q_` (the camera's eye, or the query's origin): matrices map
     // a node's frame there, so that a scene far from the world origin keeps its precision.

@@ -8,7 +8,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace sg {
 
@@ -19,6 +22,7 @@ struct GpuMesh {
     unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT
     int indexCount = 0;
     bool normals = false, uvs = false, colors = false, tangents = false, uvs1 = false;
+    bool featureIds = false;  // its first feature ID set's ids, per vertex (kFeatureIdLocation)
     uint64_t lastFrame = 0;
     uint64_t keepUntil = 0;  // uploaded ahead of its first draw (prepare): kept until this frame, used or not
 };
@@ -53,6 +57,11 @@ public:
     bool prepareMesh(const Mesh* m);
     bool prepareTexture(const Texture* t, bool cut, bool srgb = false);
 
+    // A feature colour table (Renderer::setFeatureStyle) as an RGBA8 texture, feature i at texel (i % width,
+    // i / width), uploaded again when `version` changes; `key` names the table (a store's serial and a table).
+    unsigned featureColors(const std::pair<uint64_t, int>& key, uint64_t version, const std::vector<uint8_t>& rgba);
+    size_t featureTableCount() const { return featureTables_.size(); }
+
     // Frees the copies the frame since the last nextFrame() did not use; clear() frees all of them.
     void releaseUnused();
     void clear();
@@ -78,6 +87,11 @@ private:
     uint64_t frame_ = 0;
     std::unordered_map<const Mesh*, GpuMesh> meshes_;
     std::unordered_map<const Texture*, GpuTexture> textures_[4];  // by kind(cut, srgb)
+    struct FeatureTable {
+        unsigned id = 0;
+        uint64_t version = 0, lastFrame = 0;
+    };
+    std::map<std::pair<uint64_t, int>, FeatureTable> featureTables_;
 };
 
 }  // namespace sg

@@ -40,6 +40,9 @@ enum ShadeFeature : uint32_t {
     // The occlusion map is the metallic-roughness texture (glTF's common "ORM" packing: occlusion in R), read with
     // the same UVs: its sample is taken once (with kShadePbrMr and kShadePbrOcclusion).
     kShadePbrOrm = 1u << 18,
+    // Per-feature colours (Renderer::setFeatureStyle): the vertex's feature id reads the feature's colour from a
+    // table, which multiplies the base colour; alpha 0 hides the feature. Both families.
+    kShadeFeature = 1u << 19,
 };
 // Punctual lights a physical draw receives at most.
 constexpr int kMaxPunctualLights = 8;
@@ -53,8 +56,12 @@ std::string variantSource(bool vertex, uint32_t features);
 constexpr unsigned kPositionLocation = 0, kNormalLocation = 1, kUvLocation = 2, kColorLocation = 3;
 // Read by physical materials' programs only, after the item attributes (locations 4 to 8).
 constexpr unsigned kTangentLocation = 9, kUv1Location = 10;
+// A mesh's feature ids of its first feature ID set, as floats (exact below 2^24), for kShadeFeature.
+constexpr unsigned kFeatureIdLocation = 11;
 // The texture units of a physical material's textures (the classic programs read unit 0 only).
 constexpr int kBaseColorUnit = 0, kMetallicRoughnessUnit = 1, kNormalUnit = 2, kOcclusionUnit = 3, kEmissiveUnit = 4;
+// The per-feature colour table's unit (kShadeFeature): RGBA8, feature id i at texel (i % width, i / width).
+constexpr int kFeatureUnit = 5;
 // The variants' vertex stage, one source for both families (ShadersVertex.cpp), after the #defines variantSource()
 // writes; physical: as the physical fragment stage reads it.
 std::string variantVertexSource(bool physical);
