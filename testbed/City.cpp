@@ -4,8 +4,12 @@
 #include "nodes/LOD.h"
 #include "nodes/Occluder.h"
 #include "nodes/Transform.h"
+#include "sg/core/PropertyTableBuilder.h"
 
 #include <cmath>
+#include <iterator>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace scenes {
@@ -19,8 +23,43 @@ uint64_t cityNodeCount(int n) {
     return 7ull * uint64_t(n) * uint64_t(n) + tiles + 1;
 }
 
+CityBuilding cityBuilding(int n, uint32_t i, uint32_t j) {
+    CityBuilding b;
+    b.id = i * uint32_t(n) + j;
+    b.height = double(cityHeight(i, j));
+    b.floors = uint16_t(cityHeight(i, j) / 3u);
+    b.use = kCityUses[(((i * 2654435761u) ^ (j * 40503u)) >> 13) & 3u];
+    return b;
+}
+
+namespace {
+
+// One row per building, i-major: the set's index of building (i, j) is its id.
+ref_ptr<MeshFeatures> buildingFeatures(int n) {
+    PropertyTableBuilder b("building", "buildings");
+    b.addScalar("id", ComponentType::UInt32);
+    b.addScalar("height", ComponentType::Float64);
+    b.addScalar("floors", ComponentType::UInt16);
+    b.addEnum("use", "use", {std::begin(kCityUses), std::end(kCityUses)});
+    for (uint32_t i = 0; i < uint32_t(n); ++i)
+        for (uint32_t j = 0; j < uint32_t(n); ++j) {
+            const CityBuilding c = cityBuilding(n, i, j);
+            b.addRow({PropertyValue::ofUInt(c.id), PropertyValue::ofNumber(c.height), PropertyValue::ofUInt(c.floors),
+                      PropertyValue::ofString(c.use)});
+        }
+    auto store = make<PropertyStore>();
+    const int table = b.finish(*store);
+    return rowFeatures(store, table, "building");
+}
+
+}  // namespace
+
 ref_ptr<Group> buildCity(const CityOptions& opt) {
     const int n = opt.n;
+    if (opt.features && (n < 1 || n > 65535))
+        throw std::invalid_argument("buildCity(): features want 1 to 65535 cells a side (32-bit ids), not " +
+                                    std::to_string(n));
+    const ref_ptr<MeshFeatures> features = opt.features ? buildingFeatures(n) : nullptr;
     std::vector<ref_ptr<Mesh>> detailed(61), coarse(61);
     for (int h = 10; h <= 60; ++h) {
         detailed[size_t(h)] = makeBoxMesh(dvec3(-6, -6, 0), dvec3(6, 6, h), 10);
@@ -41,6 +80,7 @@ ref_ptr<Group> buildCity(const CityOptions& opt) {
                     auto cell = make<Group>();
                     auto place = make<Transform>();
                     place->setTranslation(dvec3(20.0 * i + 10, 20.0 * j + 10, 0));
+                    if (features) place->setFeatures(features, uint32_t(i) * uint32_t(n) + uint32_t(j));
                     auto lod = make<LOD>();
                     lod->setCenter(dvec3(0, 0, h / 2.0));
                     lod->addChild(make<Geometry>(detailed[h], buildingMat), 0.0f, 250.0f);

@@ -10,7 +10,22 @@ namespace scenes {
 struct CityOptions {
     int n = 100;             // N x N cells
     bool occluders = false;  // a box Occluder per building (occlusion benchmarks only)
+    // Each building a feature of class `building` (id, height, floors, use) on its Transform, for picks that say
+    // what they struck. Off by default: the binding is an extras block per building, which the benchmarks'
+    // memory figures do not count.
+    bool features = false;
 };
+
+// Building (i, j)'s properties with CityOptions::features: id i * n + j (its row), height cityHeight(i, j), a floor
+// every 3 m, a use by a hash of the cell (one of kCityUses).
+struct CityBuilding {
+    uint32_t id = 0;
+    double height = 0.0;
+    uint16_t floors = 0;
+    const char* use = "";
+};
+constexpr const char* kCityUses[4] = {"residential", "office", "retail", "industrial"};
+CityBuilding cityBuilding(int n, uint32_t i, uint32_t j);
 
 uint32_t cityHeight(uint32_t i, uint32_t j);
 sg::ref_ptr<sg::Group> buildCity(const CityOptions& opt);

@@ -103,6 +103,7 @@ Factory buildFactory(const FactoryParams& prm) {
     factory::addTrees(site);
     factory::addCars(site);
     factory::addWorkshops(site);
+    factory::addFeatures(site);
 
     TriangleCount tc;
     tc.walk(*f.root);

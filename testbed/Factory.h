@@ -9,6 +9,7 @@
 #include "nodes/Transform.h"
 #include "sg/build/LevelReshade.h"
 #include "sg/core/Camera.h"
+#include "sg/core/Features.h"
 #include "sg/core/Mesh.h"
 
 #include <cstdint>
@@ -69,6 +70,10 @@ struct Factory {
     uint64_t storedTriangles = 0;  // every distinct mesh once, at its finest level (what memory holds)
     uint64_t drawnTriangles = 0;   // every placement, all switches on, finest levels (what a full view draws)
     int machines = 0, trees = 0, cars = 0;
+    // The feature ID sets the buildings' and machines' nodes name (Node::setFeatures), over one property store:
+    // class `building` (name, kind), row b for buildings[b], bound to its Transform and, for a workshop, its
+    // interior; class `machine` (name, kind, line), one row per machine Instance in workshop order.
+    sg::ref_ptr<sg::MeshFeatures> buildingFeatures, machineFeatures;
 };
 
 // Throws std::invalid_argument naming the function and the value for a site size that is not finite or
@@ -94,6 +99,9 @@ void shareTerrainColors(Factory& f);
 // faces behind the detailed walls, in the dark. Throws std::invalid_argument naming the function for a building
 // whose coarseColors do not match its levels.
 void shareBuildingColors(Factory& f);
+
+// Machine k (0-based, in placing order) of workshop w (0-based): "machine 2.05" for k = 4 of w = 1.
+std::string factoryMachineName(int workshop, int k);
 
 // The workshop whose box holds `eye`, or -1.
 int factoryWorkshopAt(const Factory& f, const sg::dvec3& eye);

@@ -159,5 +159,6 @@ void addBuildings(FactorySite& site);  // FactoryBuildings.cpp
 void addTrees(FactorySite& site);      // FactoryGrounds.cpp
 void addCars(FactorySite& site);       // FactoryGrounds.cpp
 void addWorkshops(FactorySite& site);  // FactoryMachines.cpp
+void addFeatures(FactorySite& site);   // FactoryFeatures.cpp: after the buildings and workshops
 
 }  // namespace scenes::factory

@@ -1,6 +1,7 @@
 #include "map/Atlas.h"
 
 #include "loaders/gltf/Gltf.h"
+#include "map/RegionFeatures.h"
 #include "map/data/MapProjection.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
@@ -214,6 +215,7 @@ std::shared_ptr<Level> Atlas::readLevel(const std::string& file, const Request* 
         }
     }
     for (size_t i = 0; i < level->regions.size(); ++i) level->byNode[level->regions[i].node] = i;
+    bindRegionFeatures(*level);
     const bool plain = std::none_of(level->regions.begin(), level->regions.end(),
                                     [](const Region& r) { return r.paged || r.geometries.size() != 1; });
     if (plain) mergeLevel(*level, static_cast<Group&>(*g.root));

@@ -5,6 +5,7 @@
 #pragma once
 #include "nodes/Geometry.h"
 #include "nodes/PagedLOD.h"
+#include "sg/core/Features.h"
 #include "sg/intersect/PickSet.h"
 #include "sg/paging/Pager.h"
 #include "sg/scene/Scene.h"
@@ -49,7 +50,10 @@ struct Level {
     // first draw of each vertex array and keeps tens of kilobytes per draw: 254 counties as 254 meshes made
     // the level's first frame 3-4 times the next and took 17 MB.
     sg::Geometry* merged = nullptr;
-    std::vector<sg::vec4> mergedColors;       // its colours unhighlighted
+    std::vector<sg::vec4> mergedColors;  // its colours unhighlighted
+    // The regions as features of class `region`, row i for regions[i], each Region::node bound to its row
+    // (map/RegionFeatures.h): a pick's sg::featuresAt names the region, and in a level entered, its parent too.
+    sg::ref_ptr<sg::MeshFeatures> features;
     int findId(const std::string& id) const;  // index of the region with that id, or -1
 };
 

@@ -1,9 +1,11 @@
 // sgtile: writes a scene as an OGC 3D Tiles 1.1 tile pyramid (tileset.json and tiles/*.glb).
 //
-//   sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit]
+//   sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit] [--features]
 //   sgtile INPUT.glb|.gltf --out DIR [...]
 //
 // --implicit writes the same tiles as implicit tiling (subtree files; tileset.json is one tile).
+// --features makes the city's buildings features (class `building`: id, height, floors, use) that the tiles carry,
+// so that a pick on the tiles names the building; without it the city is the benchmarks' (docs/scenes.md).
 //
 // Prints what was written. Exit 2, naming the problem, on bad arguments or an unreadable input.
 #include "loaders/gltf/Gltf.h"
@@ -23,7 +25,8 @@ namespace {
 int usage(const std::string& problem) {
     std::fprintf(stderr,
                  "sgtile: %s\n"
-                 "usage: sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit]\n"
+                 "usage: sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit] "
+                 "[--features]\n"
                  "       sgtile INPUT.glb|.gltf --out DIR [--max-triangles T] [--proxies exact|simplified] "
                  "[--implicit]\n",
                  problem.c_str());
@@ -43,6 +46,7 @@ long long positive(const char* s) {
 int main(int argc, char** argv) {
     std::string input, out;
     long long city = 0;
+    bool features = false;
     sg::TileWriteOptions options;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -69,6 +73,8 @@ int main(int argc, char** argv) {
             }
         } else if (a == "--implicit") {
             options.implicit = true;
+        } else if (a == "--features") {
+            features = true;
         } else if (!a.empty() && a[0] == '-') {
             return usage("unknown option " + a);
         } else if (input.empty()) {
@@ -80,11 +86,13 @@ int main(int argc, char** argv) {
     if (out.empty()) return usage("--out DIR is required");
     if (city > 0 && !input.empty()) return usage("--city and an input file are alternatives");
     if (city == 0 && input.empty()) return usage("no scene: give --city N or an input file");
+    if (features && city == 0) return usage("--features is for --city (a file's features are its own)");
+    if (features && city > 65535) return usage("--features wants --city of at most 65535 (a building's id is 32-bit)");
 
     const auto start = std::chrono::steady_clock::now();
     sg::ref_ptr<sg::Node> scene;
     if (city > 0) {
-        scene = scenes::buildCity({int(city), false});
+        scene = scenes::buildCity({int(city), false, features});
     } else {
         try {
             // glTF is +Y up; the tiler wants +Z up (it turns its contents back to +Y).

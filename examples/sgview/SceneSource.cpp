@@ -66,7 +66,7 @@ LoadedScene loadScene(const Options& o) {
 namespace {
 LoadedScene loadSources(const Options& o) {
     const std::string size = std::to_string(o.n) + "x" + std::to_string(o.n);
-    if (o.scene == "city") return {scenes::buildCity({o.n, false}), {}, {0.0, 0.0, 1.0}, "city " + size};
+    if (o.scene == "city") return {scenes::buildCity({o.n, false, true}), {}, {0.0, 0.0, 1.0}, "city " + size};
     if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
     if (o.scene == "materials") return {scenes::buildMaterials(), {}, {0.0, 1.0, 0.0}, "materials"};
     if (o.scene == "factory") return {scenes::buildFactory().root, {}, {0.0, 0.0, 1.0}, "factory"};

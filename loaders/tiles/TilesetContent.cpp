@@ -10,6 +10,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 #include "sg/build/LodGenerator.h"
+#include "sg/core/Features.h"
 
 #include <algorithm>
 #include <cmath>
@@ -117,7 +118,8 @@ double reachBelow(const Node& n) {
 }
 
 void collect(Units& u, const Node& n, uint32_t above, uint64_t unitTriangles) {
-    const bool splittable = n.kind() == NodeKind::Group || n.kind() == NodeKind::Transform;
+    // A feature (Node::setFeatures) stays one unit: split, its parts would be copied without its binding.
+    const bool splittable = (n.kind() == NodeKind::Group || n.kind() == NodeKind::Transform) && !n.features();
     if (splittable && n.numChildren() > 0 && finestTriangles(n) > unitTriangles) {
         uint32_t frame = above;
         if (n.kind() == NodeKind::Transform) {
@@ -148,9 +150,11 @@ ref_ptr<Node> copyNode(const Node& n, const dmat4& world, const dmat4& pending, 
         t->addChild(std::move(node));
         return t;
     };
+    // What the node says of itself goes with the copy: its name, mask and feature binding (a building's).
     auto named = [&](Node& c) {
         if (!n.name().empty()) c.setName(n.name());
         if (n.nodeMask() != 0xffffffffu) c.setNodeMask(n.nodeMask());
+        if (n.features()) c.setFeatures(ref_ptr<const MeshFeatures>(n.features()), n.featureIndex());
     };
     switch (n.kind()) {
         case NodeKind::Transform: {

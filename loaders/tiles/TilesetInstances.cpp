@@ -7,6 +7,7 @@
 #include "nodes/Instance.h"
 #include "nodes/LOD.h"
 #include "nodes/Transform.h"
+#include "sg/core/Features.h"
 
 #include <map>
 #include <set>
@@ -16,6 +17,9 @@ namespace sg::tiles {
 namespace {
 
 bool plain(const Node& n) { return n.name().empty() && n.nodeMask() == 0xffffffffu; }
+// A node whose feature binding (Node::setFeatures: a building) the Instance placing it cannot take over: one
+// inside the shared prototype would name one feature for every placement.
+bool bare(const Node& n) { return plain(n) && !n.features(); }
 
 bool drawnGeometry(const Node* n) {
     if (!n || n->kind() != NodeKind::Geometry || !plain(*n)) return false;
@@ -31,7 +35,7 @@ using Key =
 bool instancable(const Node* n) {
     if (drawnGeometry(n)) return true;
     if (!n || n->kind() != NodeKind::LOD || !plain(*n) || n->numChildren() != 1) return false;
-    return static_cast<const LOD*>(n)->userCenter() && drawnGeometry(n->child(0));
+    return static_cast<const LOD*>(n)->userCenter() && drawnGeometry(n->child(0)) && bare(*n->child(0));
 }
 
 Key keyOf(const Node& n) {
@@ -63,22 +67,29 @@ struct Leaf {
     Group* parent;  // holds `node`, which goes
     Node* node;     // the leaf, or a Transform over it
     const Node* drawn;
-    dmat4 place;  // the leaf's frame in the content's
+    dmat4 place;          // the leaf's frame in the content's
+    const Node* feature;  // `node` or `drawn` when it is a feature (Node::setFeatures); the Instance becomes it
 };
+
+// A leaf, unless both its Transform and what it places are features: an Instance is one feature.
+void addLeaf(Group& parent, Node* node, const Node* drawn, const dmat4& place, std::vector<Leaf>& out) {
+    if (node != drawn && node->features() && drawn->features()) return;
+    out.push_back({&parent, node, drawn, place, node->features() ? node : drawn->features() ? drawn : nullptr});
+}
 
 void collect(Group& n, const dmat4& m, std::vector<Leaf>& out) {
     for (size_t i = 0; i < n.numChildren(); ++i) {
         Node* c = n.child(i);
         if (!c || !plain(*c)) continue;
         if (instancable(c)) {
-            out.push_back({&n, c, c, m});
+            addLeaf(n, c, c, m, out);
         } else if (c->kind() == NodeKind::Transform) {
             const dmat4 cm = m * static_cast<const Transform*>(c)->matrix();
             if (c->numChildren() == 1 && instancable(c->child(0)))
-                out.push_back({&n, c, c->child(0), cm});
-            else
+                addLeaf(n, c, c->child(0), cm, out);
+            else if (!c->features())  // a feature of many parts stays whole, its binding with it
                 collect(*static_cast<Group*>(c), cm, out);
-        } else if (c->kind() == NodeKind::Group) {
+        } else if (c->kind() == NodeKind::Group && !c->features()) {
             collect(*static_cast<Group*>(c), m, out);
         }
     }
@@ -117,7 +128,10 @@ size_t instanceRepeats(Group& content) {
         if (same.size() < 2) continue;
         const ref_ptr<Node> proto = prototypeOf(*same.front()->drawn);
         for (const Leaf* l : same) {
-            placed.push_back(make<Instance>(proto, l->place));
+            auto instance = make<Instance>(proto, l->place);
+            if (l->feature)
+                instance->setFeatures(ref_ptr<const MeshFeatures>(l->feature->features()), l->feature->featureIndex());
+            placed.push_back(std::move(instance));
             gone.insert(l->node);
         }
     }

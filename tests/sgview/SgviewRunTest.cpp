@@ -58,7 +58,7 @@ size_t nonBackground(const Image& img) {
 }
 
 struct City8 {
-    City8() : scene(scenes::buildCity({8, false})) { scene.update(); }
+    City8() : scene(scenes::buildCity({8, false, true})) { scene.update(); }  // as sgview builds it: with features
     Scene scene;
 };
 

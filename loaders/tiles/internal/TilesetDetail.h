@@ -31,7 +31,8 @@ struct Units {
     std::vector<Unit> units;
 };
 
-// The units of the scene: split while a Group or Transform counts more than `unitTriangles`.
+// The units of the scene: split while a Group or Transform counts more than `unitTriangles` (one that is a feature,
+// Node::setFeatures, never: its copy keeps the binding).
 Units collectUnits(const Node& root, uint64_t unitTriangles);
 
 // Triangles of `n` written with its distance LODs reduced to the children reaching beyond `d` (kKeepAll: none
@@ -45,7 +46,8 @@ void addUnit(Group& content, const Node& unit, const dmat4& world, const dmat4& 
 
 // Places the leaves of `content` that repeat (a Geometry, or an LOD of one Geometry level, alone or under a
 // Transform, below Groups and Transforms only) as Instances of one prototype per kind of leaf, children of
-// `content`, and drops the nodes they leave empty; returns how many Instances it made.
+// `content`, and drops the nodes they leave empty; returns how many Instances it made. A leaf that is a feature
+// (its Transform's or its own Node::setFeatures) gives its Instance that binding; a Group that is one stays whole.
 size_t instanceRepeats(Group& content);
 
 // A simplified proxy in a tile's frame: one triangle list per material.
