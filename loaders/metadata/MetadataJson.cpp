@@ -201,7 +201,8 @@ PropertyTable parsePropertyTable(const json& j, const Schema& schema, const View
     if (t.classIndex < 0) fail(c, path + ".class", "no class '" + cls + "' in the schema");
     const json* count = member(j, "count");
     if (!count) fail(c, path + ".count", "missing");
-    if (!count->is_number_unsigned()) fail(c, path + ".count", "not a count");
+    if (!count->is_number_unsigned() && !(count->is_number_integer() && count->get<int64_t>() >= 0))
+        fail(c, path + ".count", "not a count");
     t.count = count->get<uint64_t>();
 
     const ClassDef& def = schema.classes[size_t(t.classIndex)];

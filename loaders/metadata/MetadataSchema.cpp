@@ -91,7 +91,9 @@ void parseArray(const json& j, ClassProperty& p, const Context& c, const std::st
         c.warn(path + ".count", "count without array: left out");
         return;
     }
-    if (!count->is_number_unsigned() || count->get<uint64_t>() < 2 || count->get<uint64_t>() > UINT32_MAX)
+    // A signed integer (a document built in code rather than parsed) counts as well as an unsigned one.
+    const bool integer = count->is_number_unsigned() || (count->is_number_integer() && count->get<int64_t>() >= 0);
+    if (!integer || count->get<uint64_t>() < 2 || count->get<uint64_t>() > UINT32_MAX)
         fail(c, path + ".count", "not an integer of at least 2");
     p.count = uint32_t(count->get<uint64_t>());
 }

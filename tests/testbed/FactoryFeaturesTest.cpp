@@ -1,6 +1,7 @@
 // The factory's buildings and machines as features: a pick on a machine names the machine (name, kind, production
 // line) and then its workshop; a pick on a roof names the building.
 #include "nodes/Instance.h"
+#include "nodes/Transform.h"
 #include "sg/intersect/HitFeatures.h"
 #include "sg/intersect/IntersectTraversal.h"
 #include "testbed/Factory.h"
@@ -46,10 +47,20 @@ TEST(FactoryFeatures, APickOnAMachineNamesItAndThenItsWorkshop) {
         if (ws.interiorGroup->child(i)->kind() == NodeKind::Instance && k++ == 4)
             target = static_cast<const Instance*>(ws.interiorGroup->child(i));
     ASSERT_NE(target, nullptr);
-    // Straight down through the middle of its bound, from just above it.
-    const dmat4 world = f.buildings[size_t(ws.building)].place->matrix() * target->matrix();
-    const Box box = f.machineMesh->box();
-    const dvec3 top(world * dvec4(box.center().x, box.center().y, box.max.z + 0.3, 1.0));
+    // Straight down onto the centre of the machine's largest upward face (a machine is several parts: the middle
+    // of its bound may be a gap), from just above the machine.
+    const dmat4 world = static_cast<const Transform*>(ws.interiorGroup->parent(0))->matrix() * target->matrix();
+    const Mesh& mesh = *f.machineMesh;
+    dvec3 aim(0.0);
+    double best = 0.0;
+    for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        const dvec3 a(mesh.positions()[mesh.index(3 * t)]), b(mesh.positions()[mesh.index(3 * t + 1)]),
+            c(mesh.positions()[mesh.index(3 * t + 2)]);
+        const dvec3 n = glm::cross(b - a, c - a);
+        if (n.z > best) best = n.z, aim = (a + b + c) / 3.0;
+    }
+    ASSERT_GT(best, 0.0);
+    const dvec3 top(world * dvec4(aim.x, aim.y, mesh.box().max.z + 0.3, 1.0));
     IntersectTraversal it;
     std::vector<Hit> hits;
     it.intersectAll(scene, Ray{top, dvec3(0, 0, -1)}, {}, hits);
