@@ -2,11 +2,17 @@
 #include "sgview/LoadScene.h"
 
 #include "loaders/gltf/Gltf.h"
+#include "loaders/tiles/StyleJson.h"
 #include "loaders/tiles/Tileset.h"
+#include "sg/style/StyleTable.h"
 #include "nodes/Transform.h"
 #include "sg/gl/Renderer.h"
 
+#include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <set>
 
 namespace sgview {
 
@@ -33,6 +39,24 @@ LoadedScene loadTilesetFile(const std::string& path, bool refineAll, bool autoOc
 }
 
 }  // namespace
+
+sg::FeatureStyle::Rule loadStyleFile(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw sg::LoadError(path, "", "cannot be read");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::string> warnings;
+    auto style = std::make_shared<const sg::Style>(sg::parseStyleJson(path, text, &warnings));
+    for (const std::string& w : warnings) std::fprintf(stderr, "sgview: %s: %s\n", path.c_str(), w.c_str());
+    auto reported = std::make_shared<std::set<std::string>>();  // the rule runs under the style's lock
+    return [style, reported, path](const sg::PropertyStore& store, int table, std::vector<uint8_t>& rgba) {
+        try {
+            rgba = sg::styleTable(*style, store, table).rgba;
+        } catch (const std::exception& e) {
+            if (reported->insert(e.what()).second)
+                std::fprintf(stderr, "sgview: --style %s: %s (the table is drawn unstyled)\n", path.c_str(), e.what());
+        }
+    };
+}
 
 LoadedScene loadSceneFile(const std::string& path, bool refineAll, bool autoOccluders) {
     if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, refineAll, autoOccluders);

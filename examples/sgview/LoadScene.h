@@ -4,6 +4,7 @@
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 #include "sg/paging/Pager.h"
+#include "sg/style/FeatureStyle.h"
 #include "sgview/Options.h"
 
 #include <functional>
@@ -22,12 +23,19 @@ struct LoadedScene {
     // contents loaded); empty for glTF files and built-in scenes.
     sg::PageLoadFunction pageLoad = {};
     std::function<std::string()> tilesReport = {};
+    sg::FeatureStyle::Rule styleRule = {};  // --style: the features' colours and visibility
 };
 
 // One glTF file or 3D Tiles tileset (LoadScene.cpp; a path or, for a tileset, a URL), every tile loaded with
 // `refineAll`; a tileset's tiles make their occluders as they are read with `autoOccluders`
 // (sg::TilesetOptions::generateOccluders). Throws sg::LoadError naming the file, the JSON path and the reason.
 LoadedScene loadSceneFile(const std::string& path, bool refineAll = false, bool autoOccluders = false);
+
+// A 3D Tiles style file (--style) as a rule for the view's FeatureStyle: evaluated for each property table as it is
+// first drawn. Throws sg::LoadError for a file that cannot be read or an expression that does not parse (its JSON
+// path, the expression and the position); an expression that cannot read a table's properties (a property of the
+// wrong type) is printed on stderr once, naming the expression and the position, and leaves that table as it is.
+sg::FeatureStyle::Rule loadStyleFile(const std::string& path);
 
 // Writes the scene as glTF (.glb or .gltf), turned to glTF's +Y up when its up axis is +Z.
 void saveSceneFile(const LoadedScene& scene, const std::string& path);

@@ -115,6 +115,9 @@ Options parseOptions(int argc, const char* const* argv) {
             const size_t dot = o.save.rfind('.');
             const std::string ext = dot == std::string::npos ? "" : o.save.substr(dot);
             if (ext != ".glb" && ext != ".gltf") bad(a, o.save, "expected a .glb or .gltf file name");
+        } else if (a == "--style") {
+            o.style = value();
+            if (o.style.empty()) bad(a, o.style, "expected a style file (JSON)");
         } else if (a == "--pick") {
             const std::string v = value();
             const std::vector<double> xy = parseNumbers(a, v, 2, "X,Y (a pixel, y down)");
@@ -173,7 +176,7 @@ const char* usageText() {
            "              [--headless [--overlay] [--pick X,Y [--json]]] [--frames K [--out frame.png]] [--info]\n"
            "              [--refine-all] [--auto-occluders]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
-           "              [--threading MODEL]\n"
+           "              [--threading MODEL] [--style STYLE.json]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
            "or\n"
            "                     an http(s) URL): its tiles load as the view needs them\n"
@@ -195,6 +198,7 @@ const char* usageText() {
            "  --pick X,Y         headless: print the node path of what is at pixel (X, Y) (y down; repeatable), and\n"
            "                     the features there with their properties\n"
            "  --json             print each pick as one JSON object on its own line\n"
+           "  --style FILE.json  a 3D Tiles style (show, color, conditions over the features' properties)\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"

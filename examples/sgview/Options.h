@@ -38,6 +38,7 @@ struct Options {
     std::string save;                              // write the scene as glTF here and exit (--save)
     std::vector<std::pair<double, double>> picks;  // headless: pixels to pick in the last frame (--pick X,Y)
     bool json = false;                             // picks as JSON lines (--json)
+    std::string style;                             // a 3D Tiles style file (--style)
 };
 
 // Throws UsageError for an unknown option, a missing or malformed value, or a contradictory combination.

@@ -21,6 +21,9 @@ LoadedScene loadSceneFile(const std::string& path, bool, bool) {
         "'" + path +
         "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory|materials works");
 }
+sg::FeatureStyle::Rule loadStyleFile(const std::string& path) {
+    throw UsageError("--style '" + path + "': sgview was built without the loaders (sgkit::loaders)");
+}
 void saveSceneFile(const LoadedScene&, const std::string& path) {
     throw UsageError("--save '" + path + "': sgview was built without the glTF loader (sgkit::loaders)");
 }
@@ -47,6 +50,7 @@ LoadedScene loadSources(const Options& o);
 // theirs as they are read: loadSceneFile).
 LoadedScene loadScene(const Options& o) {
     LoadedScene s = loadSources(o);
+    if (!o.style.empty()) s.styleRule = loadStyleFile(o.style);
     if (!o.autoOccluders || !s.root) return s;
     if (s.pageLoad) {
         s.warnings.push_back("--auto-occluders: made in each tile as it is read");

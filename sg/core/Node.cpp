@@ -76,6 +76,7 @@ void Node::setFeatures(ref_ptr<const MeshFeatures> features, uint32_t index) {
     Extras& e = extras();
     e.features = std::move(features);
     e.featureIndex = index;
+    markDirty(kDirtyBound);  // the image holds a copy
 }
 
 const MeshFeatures* Node::features() const {

@@ -55,6 +55,13 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
             !occlusion_.test(img, c.originRel, i, occ, *stats_, k == NodeKind::Geometry ? &m : nullptr))
             return;
     }
+    // A feature node: the items below it are noted with it, until the walk leaves its subtree.
+    struct FeatureScope {
+        const FlatImage::FeatureRef*& at;
+        const FlatImage::FeatureRef* const outer;
+        ~FeatureScope() { at = outer; }
+    } featureScope{feature_, feature_};
+    if (fl & FlatImage::kFeature) feature_ = img.featureOf(i);
     switch (img.kind[i]) {
         case NodeKind::Geometry:
             // (the centre-box test clears the mask without the bound being inside)

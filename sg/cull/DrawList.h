@@ -48,12 +48,21 @@ public:
     };
     std::vector<Part> parts;
     std::vector<IndexRange> ranges;
+    // Items below a node that is a feature (Node::setFeatures), by item index in emission order: the innermost
+    // such node's sets and index (a style colours or hides the item by them). Items not listed: no such node.
+    struct Feature {
+        uint32_t item;
+        const MeshFeatures* features;
+        uint32_t index;
+    };
+    std::vector<Feature> features;
 
     void clear() {
         items.clear();
         order.clear();
         fades.clear();
         parts.clear();
+        features.clear();
         ranges.clear();
         keys_.clear();
     }

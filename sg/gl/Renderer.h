@@ -240,6 +240,9 @@ private:
     void buildRuns(const DrawList& list, const Camera& camera);
     void addItem(const DrawList& list, uint32_t i, double reach);
     void indexFades(const DrawList& list);
+    // With a feature style: the colour of each item below a feature node (DrawList::features), alpha 0 for a
+    // hidden one; filled only in frames that have such items.
+    void indexFeatures(const DrawList& list);
     void indexParts(const DrawList& list);
     void upload();
     bool wantsReverseZ(const Camera& camera) const;
@@ -304,6 +307,7 @@ private:
     std::vector<ItemAttributes> items_;         // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
     std::vector<float> fades_;     // per item, filled only in frames with dissolving items
+    std::vector<vec4> itemFeatureColors_;  // per item, filled only in frames with feature nodes and a style
     std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts
     std::vector<int> rangeCounts_;
     std::vector<const void*> rangeOffsets_;

@@ -20,6 +20,30 @@ void Renderer::indexFades(const DrawList& list) {
         if (i < fades_.size() && f > -1.0f && f < 1.0f) fades_[i] = f;
 }
 
+void Renderer::indexFeatures(const DrawList& list) {
+    itemFeatureColors_.clear();
+    if (list.features.empty() || !featureStyle_) return;
+    itemFeatureColors_.assign(list.items.size(), vec4(1.0f));
+    // Items of one table come in runs: its colours are asked for once per run, not per item.
+    const PropertyStore* store = nullptr;
+    int table = -1;
+    std::shared_ptr<const FeatureStyle::Colors> colors;
+    for (const DrawList::Feature& f : list.features) {
+        if (f.item >= list.items.size() || !f.features || f.features->sets.empty() || !f.features->store) continue;
+        const int t = f.features->sets[0].propertyTable;
+        if (t < 0) continue;
+        if (f.features->store.get() != store || t != table) {
+            store = f.features->store.get();
+            table = t;
+            colors = featureStyle_->colors(*store, table);
+        }
+        const int64_t id = f.features->idAt(0, f.index);
+        if (id < 0 || size_t(id) * 4 + 3 >= colors->rgba.size()) continue;
+        const uint8_t* px = &colors->rgba[size_t(id) * 4];
+        itemFeatureColors_[f.item] = vec4(px[0], px[1], px[2], px[3]) / 255.0f;
+    }
+}
+
 // Like fades: a dense copy of DrawList::parts only in frames that draw items in part, each part checked.
 void Renderer::indexParts(const DrawList& list) {
     parts_.clear();
@@ -53,6 +77,7 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
     blended_.clear();
     indexFades(list);
     indexParts(list);
+    indexFeatures(list);
     const vec3 view(camera.viewDirection());
     for (size_t k = 0; k < n; ++k) {
         const uint32_t i = list.order.empty() ? uint32_t(k) : list.order[k];
@@ -61,6 +86,7 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
                                     " is past the " + std::to_string(list.items.size()) + " items");
         const DrawItem& it = list.items[i];
         if (!it.mesh || it.mesh->indexCount() == 0) continue;
+        if (!itemFeatureColors_.empty() && itemFeatureColors_[i].a == 0.0f) continue;  // a hidden feature
         if (it.material && it.material->blend) {
             const float depth = glm::dot(view, it.model * vec4(vec3(it.mesh->box().center()), 1.0f));
             blended_.push_back({std::isfinite(depth) ? depth : 0.0f, i});
@@ -102,7 +128,9 @@ void Renderer::addItem(const DrawList& list, uint32_t i, double reach) {
                             {}});
     }
     runs_.back().count++;
-    items_.push_back(ItemAttributes{it.matrix(), mat ? mat->baseColor : vec4(1.0f)});
+    vec4 base = mat ? mat->baseColor : vec4(1.0f);
+    if (!itemFeatureColors_.empty()) base *= vec4(vec3(itemFeatureColors_[i]), 1.0f);  // its feature's colour
+    items_.push_back(ItemAttributes{it.matrix(), base});
 }
 
 }  // namespace sg

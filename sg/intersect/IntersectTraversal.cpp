@@ -170,6 +170,10 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
     const uint8_t fl = img.flags[i];
     if (fl & FlatImage::kEmpty) return;
     if ((fl & FlatImage::kMasked) && !(n->nodeMask() & opt_->traversalMask)) return;
+    if ((fl & FlatImage::kFeature) && opt_->style) {  // a feature the style hides is not there to hit
+        const FlatImage::FeatureRef* f = img.featureOf(i);
+        if (f && f->features && !opt_->style->shown(*f->features, 0, f->features->idAt(0, f->index))) return;
+    }
     double tNear;
     if (!tested && !test(c, i, tNear)) return;
     stats_.entriesVisited++;

@@ -27,7 +27,7 @@ size_t FlatImage::bytes() const {
     for (const auto& p : prototypes) owned += p.second->bytes() + sizeof(p) + 2 * sizeof(void*);
     return owned + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
            matrices.capacity() * sizeof(dmat4) + switchOn.capacity() + nodes.capacity() * sizeof(void*) +
-           masked.capacity() * 8 + lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) +
+           masked.capacity() * 8 + featured.capacity() * sizeof(featured[0]) + lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) +
            ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
            placements.capacity() * sizeof(Placement) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +
            occluders.capacity() * sizeof(OccluderRef) + occluderMatrices.capacity() * sizeof(dmat4) +
@@ -84,6 +84,12 @@ uint32_t FlatImage::maskOf(uint32_t i) const {
     const bool listed = it != masked.end() && it->first == i;
     SG_ASSERT(listed || !(flags[i] & kMasked), "FlatImage::maskOf(): a kMasked entry is not in `masked`");
     return listed ? it->second : 0xffffffffu;
+}
+
+const FlatImage::FeatureRef* FlatImage::featureOf(uint32_t i) const {
+    auto it = std::lower_bound(featured.begin(), featured.end(), i,
+                               [](const std::pair<uint32_t, FeatureRef>& e, uint32_t k) { return e.first < k; });
+    return it != featured.end() && it->first == i ? &it->second : nullptr;
 }
 
 void FlatImage::setInvalid(size_t i) {

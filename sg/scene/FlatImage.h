@@ -1,6 +1,7 @@
 // FlatImage: the pre-order, structure-of-arrays image of a graph that the cull walks instead of pointers.
 #pragma once
 #include "sg/core/Assert.h"
+#include "sg/core/Features.h"
 #include "sg/core/Material.h"
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
@@ -24,7 +25,8 @@ struct FlatImage {
         kMasked = 4,    // node mask is not all ones: the cull reads it
         kNoTest = 8,    // below a Billboard: orientation changes per frame, the billboard's own test covers it
         kGeneral = 16,  // a Transform whose matrix is not a translation
-        kSlowPath = kInvalid | kEmpty | kMasked | kNoTest,  // the cull's fast paths skip these entries
+        kFeature = 32,  // the node is a feature (Node::setFeatures): the cull notes it on the draw items below
+        kSlowPath = kInvalid | kEmpty | kMasked | kNoTest | kFeature,  // the cull's fast paths skip these entries
     };
 
     dvec3 origin{0.0};
@@ -88,6 +90,14 @@ struct FlatImage {
     // i's mask there (all ones when it is not listed, never for a kMasked entry).
     std::vector<std::pair<uint32_t, uint32_t>> masked;
     uint32_t maskOf(uint32_t i) const;
+    // Entries whose node is a feature (kFeature), sorted, with its feature as of the last update (held: the
+    // application may set another while a cull reads this image); featureOf(i) finds entry i's.
+    struct FeatureRef {
+        ref_ptr<const MeshFeatures> features;
+        uint32_t index = 0;
+    };
+    std::vector<std::pair<uint32_t, FeatureRef>> featured;
+    const FeatureRef* featureOf(uint32_t i) const;
     std::vector<Lod> lods;
     std::vector<Range> ranges;
     // PagedLOD entries (their aux indexes `paged`): the LOD value's centre and mode as an LOD's (lod.firstRange

@@ -30,6 +30,23 @@ inline void Scene::Builder::setMasked(uint32_t i, const Node* n) {
     }
 }
 
+// The feature binding, held like the mask: Node::setFeatures() marks kDirtyBound, which rewrites the entry.
+inline void Scene::Builder::setFeatured(uint32_t i, const Node* n) {
+    auto& v = img.featured;
+    auto it = std::lower_bound(v.begin(), v.end(), i, [](const auto& e, uint32_t k) { return e.first < k; });
+    const bool present = it != v.end() && it->first == i;
+    if (const MeshFeatures* f = n->features()) {
+        img.flags[i] |= FlatImage::kFeature;
+        FlatImage::FeatureRef ref{ref_ptr<const MeshFeatures>(f), n->featureIndex()};
+        if (present)
+            it->second = std::move(ref);
+        else
+            v.insert(it, {i, std::move(ref)});
+    } else if (present) {
+        v.erase(it);
+    }
+}
+
 // Copies the parameters the cull reads into the kind's table: a handler per kind.
 inline void Scene::Builder::params(uint32_t i, Node* n) {
     switch (n->kind()) {
@@ -134,6 +151,7 @@ void Scene::Builder::write(Node* n, const dmat4& m) {
     img.kind[i] = n->kind();
     img.flags[i] &= fresh ? 0 : FlatImage::kGeneral;  // a refit needs to know the transform's old table
     setMasked(i, n);
+    setFeatured(i, n);
     params(i, n);
     scene.stats_.entriesWritten++;
     if (collect && n->updateCallback()) scene.callbacks_.push_back(n);

@@ -150,3 +150,47 @@ TEST_F(FeatureStyleTest, APickPassesThroughAHiddenFeatureToWhatIsBehindIt) {
     ASSERT_TRUE(it.intersect(scene, Ray{dvec3(xMid, 0, 4), dvec3(0, 0, -1)}, o, h));
     EXPECT_EQ(h.geometry, front.get());  // without the style the hidden feature is there
 }
+
+TEST_F(FeatureStyleTest, NodesThatAreFeaturesAreColouredAndHiddenByTheirRow) {
+    // Three Transforms over one shared quad mesh, each a feature (Node::setFeatures): the mesh cannot say which
+    // feature it is, the node does (a city's buildings).
+    auto sets = make<MeshFeatures>();
+    FeatureIdSet set;
+    set.source = FeatureIdSet::Source::Instance;
+    set.featureCount = 3;
+    set.propertyTable = 0;
+    set.ids = {2, 0, 1};  // node k is feature ids[k]
+    sets->sets.push_back(set);
+    sets->store = store;
+    const ref_ptr<Mesh> quad = Quads({0}, 3).mesh();
+    auto mat = make<Material>();
+    auto root = make<Group>();
+    for (int k = 0; k < 3; ++k) {
+        auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(k, 0, 0)));
+        t->addChild(make<Geometry>(quad, mat));
+        t->setFeatures(sets, uint32_t(k));
+        root->addChild(t);
+    }
+    style->setRule([](const PropertyStore&, int, std::vector<uint8_t>& rgba) {
+        rgba[0 * 4 + 1] = 0, rgba[0 * 4 + 2] = 0;  // feature 0 (node 1) red
+        rgba[2 * 4 + 3] = 0;                       // feature 2 (node 0) hidden
+    });
+    renderer.setFeatureStyle(style);
+    const Image got = draw(root);
+    // Quads({i}) sits at x = i - 1.5: node k's quad is Quads({k}).
+    const Image want = expected({{1, vec3(1, 0, 0)}, {2, vec3(1)}});
+    EXPECT_EQ(differing(got, want), 0u);
+    // Picks pass through the hidden node as through a hidden vertex feature.
+    Scene scene(root);
+    scene.update();
+    IntersectTraversal it;
+    QueryOptions o;
+    Hit h;
+    const Ray ray{dvec3(-1.5 + 0.45, 0, 4), dvec3(0, 0, -1)};
+    EXPECT_TRUE(it.intersect(scene, ray, o, h));
+    o.style = style.get();
+    EXPECT_FALSE(it.intersect(scene, ray, o, h));
+    // A new binding shows at the next update: node 0 becomes feature 0 (red).
+    root->child(0)->setFeatures(sets, 1);
+    EXPECT_EQ(differing(draw(root), expected({{0, vec3(1, 0, 0)}, {1, vec3(1, 0, 0)}, {2, vec3(1)}})), 0u);
+}

@@ -138,6 +138,7 @@ struct Scene::Builder {
     // An entry written (ImageWrite.cpp).
     void write(Node* n, const dmat4& m);
     void setMasked(uint32_t i, const Node* n);
+    void setFeatured(uint32_t i, const Node* n);
     void params(uint32_t i, Node* n);
     void writeTransform(uint32_t i, Node* n);
     void writeGeometry(uint32_t i, Node* n);
