@@ -50,7 +50,15 @@ LoadedScene loadSources(const Options& o);
 // theirs as they are read: loadSceneFile).
 LoadedScene loadScene(const Options& o) {
     LoadedScene s = loadSources(o);
-    if (!o.style.empty()) s.styleRule = loadStyleFile(o.style);
+    if (!o.style.empty()) {
+        try {
+            s.styleRule = loadStyleFile(o.style);
+        } catch (const UsageError&) {
+            throw;
+        } catch (const std::exception& e) {  // sg::LoadError names the file, the JSON path and the expression
+            throw UsageError(std::string("--style: ") + e.what());
+        }
+    }
     if (!o.autoOccluders || !s.root) return s;
     if (s.pageLoad) {
         s.warnings.push_back("--auto-occluders: made in each tile as it is read");
