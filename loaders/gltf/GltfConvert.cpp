@@ -130,6 +130,7 @@ void Converter::label(Node& inner, const tinygltf::Node& gn, const Value* sx, co
             bad(xp + ".mask", "must be a 32-bit unsigned integer");
         inner.setNodeMask(uint32_t(mask));
     }
+    if (sx && sx->Has("feature")) nodeFeature(inner, sx->Get("feature"), xp + ".feature");
 }
 
 void Converter::addMesh(int i, const std::string& kind, const Value* sx, const std::string& xp, Node* inner,

@@ -247,4 +247,36 @@ void Converter::readMetadata() {
     store = s;
 }
 
+void Converter::nodeFeature(Node& inner, const Value& feature, const std::string& path) {
+    if (!feature.IsObject()) bad(path, "must be an object");
+    auto whole = [&](const char* key, double hi) {
+        const double v = number(feature, key, path, -1.0);
+        if (v < 0 || v > hi || v != std::floor(v)) bad(path + "." + key, "must be a whole number in [0, " + std::to_string((long long)hi) + "]");
+        return v;
+    };
+    const uint32_t id = uint32_t(whole("id", 4294967295.0)), count = uint32_t(whole("count", 4294967295.0));
+    int table = -1;
+    if (feature.Has("table")) {
+        table = int(whole("table", 1e9));
+        if (!store || size_t(table) >= store->tables().size()) {
+            warn(path + ".table", "names no property table of the file, the feature has no properties");
+            table = -1;
+        }
+    }
+    const std::string label = string(feature, "label", path, "");
+    ref_ptr<MeshFeatures>& f = nodeFeatureSets[{table, count, label}];
+    if (!f) {
+        // Implicit: the node's index is its id (Node::setFeatures), as the writer resolved it.
+        FeatureIdSet s;
+        s.source = FeatureIdSet::Source::Implicit;
+        s.label = label;
+        s.featureCount = count;
+        s.propertyTable = table;
+        f = make<MeshFeatures>();
+        f->sets.push_back(std::move(s));
+        if (table >= 0) f->store = store;
+    }
+    inner.setFeatures(f, id);
+}
+
 }  // namespace sg::gltf

@@ -479,6 +479,7 @@ struct Writer {
             x["id"] = num(double(it->second));
         }
         if (n.nodeMask() != 0xffffffffu) x["mask"] = num(n.nodeMask());
+        if (Value f = metadata.nodeFeature(n); f.IsObject()) x["feature"] = std::move(f);
         kindExtras(n, gn, x);
         const Node* detail = n.kind() == NodeKind::PagedLOD ? static_cast<const PagedLOD&>(n).detail() : nullptr;
         const dmat4 inner = n.kind() == NodeKind::Transform  ? world * static_cast<const Transform&>(n).matrix()

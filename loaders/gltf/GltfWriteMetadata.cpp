@@ -131,6 +131,17 @@ void MetadataWriter::instances(const std::vector<const Node*>& members, tinygltf
     instanceFeatures_ = true;
 }
 
+tinygltf::Value MetadataWriter::nodeFeature(const Node& n) {
+    const MeshFeatures* f = n.features();
+    if (!f || f->sets.empty()) return {};
+    if (f->sets.size() > 1) warn("saveGltf(): a node's feature ID sets after its first are not written");
+    const FeatureIdSet& s = f->sets[0];
+    json j = {{"id", f->idAt(0, n.featureIndex())}, {"count", s.featureCount}};
+    if (s.propertyTable >= 0 && keepTable(f->store.get())) j["table"] = s.propertyTable;
+    if (!s.label.empty()) j["label"] = s.label;
+    return toValue(j);
+}
+
 void MetadataWriter::finish() {
     auto use = [&](const char* x) {
         if (std::find(m_.extensionsUsed.begin(), m_.extensionsUsed.end(), x) == m_.extensionsUsed.end())

@@ -153,6 +153,10 @@ struct Converter {
     bool externalSchema = false;   // the root extension names its schema by URI: ignored, tables dropped
     // Reads the root EXT_structural_metadata into `store`, before any mesh is made.
     void readMetadata();
+    // A node that sgkit wrote as a feature (MetadataWriter::nodeFeature): its binding, over sets shared by every
+    // node of the same table, count and label.
+    void nodeFeature(Node& inner, const Value& feature, const std::string& path);
+    std::map<std::tuple<int, uint32_t, std::string>, ref_ptr<MeshFeatures>> nodeFeatureSets;
     // What primitive p's EXT_mesh_features and EXT_structural_metadata say about its n vertices (or, with
     // GltfLoadOptions::batchTable, its batch ids); null when nothing.
     ref_ptr<MeshFeatures> primitiveFeatures(const tinygltf::Primitive& p, size_t n, const std::string& path);

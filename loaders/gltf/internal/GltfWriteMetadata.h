@@ -25,6 +25,10 @@ public:
     // EXT_instance_features on gn, whose EXT_mesh_gpu_instancing `attributes` place `members` (Instances) in that
     // order: written when they all share one MeshFeatures (else a warning), ids as _FEATURE_ID_n attributes.
     void instances(const std::vector<const Node*>& members, tinygltf::Value::Object& attributes, tinygltf::Node& gn);
+    // A node that is a feature (Node::setFeatures) and not written as an instance: its first set's feature in
+    // sgkit's extras, {"table", "id", "count", "label"} (glTF has no node-level feature IDs outside instancing; other
+    // readers ignore it). Null when the node is none.
+    tinygltf::Value nodeFeature(const Node& n);
     // The root EXT_structural_metadata (schema and property tables) and the extensions used; once, at the end.
     void finish();
 
