@@ -47,7 +47,11 @@ int runAccuracy(const Args& a);
 int runOcclusion(const Args& a);
 int runLod(const Args& a);
 int runPick(const Args& a);
+// sgbench pick --features: picks that read the hit's features against bare picks (PickFeaturesBench.cpp).
+int runPickFeatures(const Args& a);
 int runLoad(const Args& a);
+// sgbench load --features: a tile with a property table against the same without (LoadFeaturesBench.cpp).
+int runLoadFeatures(const Args& a);
 int runPvs(const Args& a);
 int runTerrain(const Args& a);
 int runPcvr(const Args& a);
@@ -55,6 +59,7 @@ int runPareto(const Args& a);
 int runDepth(const Args& a);
 int runTiles(const Args& a);
 int runFrame(const Args& a);
+int runStyle(const Args& a);
 // The PVS grid around city's street path (n) or office's walk (n rooms a side), computed only at the
 // cameras' eyes, for their near planes.
 sg::PvsBuilder::Options pvsPathOptions(bool city, int n, const std::vector<sg::Camera>& cams);

@@ -44,6 +44,7 @@ sg::ref_ptr<sg::Group> buildScene(size_t bytes, size_t& meshes, size_t& triangle
 }  // namespace
 
 int runLoad(const Args& a) {
+    if (a.flag("features")) return runLoadFeatures(a);
     const long sizeMb = a.num("size-mb", 100), runs = a.num("runs", 5);
     if (sizeMb < 1 || runs < 1) throw std::invalid_argument("sgbench load: --size-mb and --runs must be at least 1");
     const std::string path = a.str("file", "/tmp/sgbench_load_" + std::to_string(sizeMb) + "mb.glb");

@@ -20,6 +20,7 @@ double usSince(Clock::time_point t) { return std::chrono::duration<double, std::
 }  // namespace
 
 int runPick(const Args& a) {
+    if (a.flag("features")) return runPickFeatures(a);
     const std::string sceneName = a.str("scene", "city");
     if (sceneName != "city")
         throw std::invalid_argument("sgbench pick: --scene must be city (got '" + sceneName + "')");

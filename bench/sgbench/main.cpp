@@ -107,7 +107,9 @@ static void usage() {
         "[--no-drop] [--guess-accuracy] [--same-view] [--every K]\n"
         "                [--background-load none|spin] [--jitter-draws 60] [--depth classic|reverse-z] [--json]\n"
         "       sgbench pick --scene city [--n N] [--rays-per-frame K] [--steps S] [--agreement-views V] [--json]\n"
+        "       sgbench pick --features [--n 316] [--rays-per-frame K] [--rounds R] [--json]\n"
         "       sgbench load [--size-mb 100] [--runs 5] [--file PATH.glb] [--json]\n"
+        "       sgbench load --features [--count 100000] [--runs 5] [--dir /tmp] [--json]\n"
         "       sgbench pvs [--scene city|office|both] [--n N] [--r R] [--sweep cells|occluders|both] [--cell-size M]\n"
         "                [--max-occluders K] [--resolution P] [--json]\n"
         "       sgbench terrain [--sizes 1025,2049,4097] [--fov 60,90,120] [--frames 5] [--reps 100] [--tile 33]\n"
@@ -127,6 +129,7 @@ static void usage() {
         "draw|cull-per-view|app-cull-draw]\n"
         "                [--frames F] [--rounds R] [--views 1|2] [--lod static|stress|budget] [--budget-ms B]\n"
         "                [--collide none|sync|async] [--app-ms MS] [--cull-only] [--width W --height H] [--json]\n"
+        "       sgbench style [--n 100] [--frames F] [--restyles K] [--width W --height H] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -147,6 +150,7 @@ int main(int argc, char** argv) {
         if (a.command == "tiles") return bench::runTiles(a);
         if (a.command == "frame") return bench::runFrame(a);
         if (a.command == "depth") return bench::runDepth(a);
+        if (a.command == "style") return bench::runStyle(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
