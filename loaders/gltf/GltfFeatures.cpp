@@ -44,6 +44,18 @@ std::vector<uint32_t> readIds(const std::string& file, const tinygltf::Model& m,
                        a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ||
                        a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
     std::vector<uint32_t> ids(n);
+    if (c == TINYGLTF_COMPONENT_TYPE_FLOAT && r.base) {
+        // The common case (ids written as floats, as the extension suggests), read straight: a tile's millions of
+        // vertices are read here.
+        bool ok = true;
+        for (size_t i = 0; i < n; ++i) {
+            float v;
+            std::memcpy(&v, r.base + i * r.stride, sizeof v);
+            ok &= v >= 0.0f && v <= 4294967040.0f && v == std::floor(v);
+            ids[i] = ok ? uint32_t(v) : 0u;
+        }
+        if (ok) return ids;  // else the loop below finds the first bad id and names it
+    }
     for (size_t i = 0; i < n; ++i) {
         if (whole) {
             ids[i] = r.index(i);
