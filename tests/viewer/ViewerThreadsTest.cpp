@@ -492,3 +492,50 @@ TEST(ViewerThreads, IsectAnswersAFrameLaterWhatTheSynchronousQueryAnswers) {
 }
 
 }  // namespace
+
+// A feature style is changed by the application while frames are culled and drawn on other threads (a click's
+// highlight, a restyle): every model draws safely (ThreadSanitizer in CI), and once the changes stop, the last
+// frame shows the last style as SingleThreaded does.
+TEST(ViewerThreads, AStyleChangedEveryFrameByTheApplicationIsDrawnSafelyAndTheLastOneShows) {
+    constexpr int kN = 10, kW = 160, kH = 90, kFrames = 12;
+    OsmesaContext ctx(kW, kH);
+    scenes::CityOptions opt;
+    opt.n = kN;
+    opt.features = true;
+    Scene scene(scenes::buildCity(opt));
+    const PropertyStore* store = nullptr;
+    std::function<void(Node&)> findStore = [&](Node& n) {
+        if (!store && n.features()) store = n.features()->store.get();
+        for (size_t i = 0; i < n.numChildren() && !store; ++i) findStore(*n.child(i));
+    };
+    findStore(*scene.root());
+    ASSERT_NE(store, nullptr);
+    auto last = [&](ThreadingModel m) {
+        auto style = make<FeatureStyle>();
+        Viewer viewer(scene, settingsFor(m, ctx));
+        viewer.addView();
+        viewer.view().camera = scenes::cityOrbitCamera(kN, 3, kW, kH);
+        viewer.renderer().setFeatureStyle(style);
+        Image picture;
+        viewer.onDrawn([&](const FrameInfo&) { picture = viewer.renderer().readColor(); });
+        for (int i = 0; i < kFrames; ++i) {
+            style->setHighlight(store, 0, i % (kN * kN), vec4(1, 0, 0, 1));
+            if (i % 3 == 0)
+                style->setRule([i](const PropertyStore&, int, std::vector<uint8_t>& rgba) {
+                    for (size_t k = size_t(i) % 7; k * 4 + 3 < rgba.size(); k += 7) rgba[k * 4 + 3] = 0;
+                });
+            viewer.frame();
+        }
+        viewer.flush();
+        viewer.frame();  // no change since the last: every model draws the same
+        viewer.flush();
+        return picture;
+    };
+    const Image single = last(ThreadingModel::SingleThreaded);
+    ASSERT_GT(single.width, 0);
+    for (ThreadingModel m : kModels) {
+        if (m != ThreadingModel::SingleThreaded) {
+            EXPECT_EQ(countDifferingPixels(last(m), single), 0u) << threadingModelName(m);
+        }
+    }
+}

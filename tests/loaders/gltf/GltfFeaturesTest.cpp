@@ -4,7 +4,10 @@
 
 #include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
+#include "nodes/Group.h"
 #include "nodes/Instance.h"
+#include "nodes/Transform.h"
+#include "sg/core/PropertyTableBuilder.h"
 #include "sg/io/ImageIO.h"
 
 #include <gtest/gtest.h>
@@ -443,4 +446,46 @@ TEST(GltfFeatures, BadInputNamesItsPath) {
             EXPECT_EQ(e.jsonPath(), path) << e.what();
         }
     }
+}
+
+// Nodes that are features over a shared mesh (a city's buildings): saveGltf keeps each binding (sgkit's extras:
+// glTF has none for a plain node), and the nodes read back name the same rows of the same values.
+TEST(GltfFeatures, NodesThatAreFeaturesKeepTheirRowsThroughARoundTrip) {
+    auto store = make<PropertyStore>();
+    PropertyTableBuilder b("building", "buildings");
+    b.addScalar("height", ComponentType::Float64);
+    b.addString("name");
+    for (int i = 0; i < 5; ++i)
+        b.addRow({PropertyValue::ofNumber(10.0 + i), PropertyValue::ofString("house " + std::to_string(i))});
+    const int table = b.finish(*store);
+    const ref_ptr<MeshFeatures> sets = rowFeatures(store, table, "building");
+    auto mesh = makeBoxMesh(dvec3(-1), dvec3(1));
+    auto root = make<Group>();
+    for (uint32_t i : {3u, 0u, 4u}) {  // rows out of order
+        auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(3.0 * i, 0, 0)));
+        t->addChild(make<Geometry>(mesh, make<Material>()));
+        t->setFeatures(sets, i);
+        root->addChild(t);
+    }
+    const std::string path = tempPath("node_features.glb");
+    saveGltf(*root, path);
+    const GltfScene back = loadGltf(path);
+    std::vector<std::pair<double, std::string>> got;  // each feature node's row: height and name, by x
+    std::function<void(const Node&)> walk = [&](const Node& n) {
+        if (const MeshFeatures* f = n.features()) {
+            ASSERT_TRUE(f->store);
+            const int64_t id = f->idAt(0, n.featureIndex());
+            EXPECT_EQ(f->sets[0].label, "building");
+            const int t = f->sets[0].propertyTable;
+            const ClassDef& cls = f->store->schema.classes[size_t(f->store->tables()[size_t(t)].classIndex)];
+            got.emplace_back(f->store->value(t, uint64_t(id), cls.find("height")).number,
+                             f->store->value(t, uint64_t(id), cls.find("name")).string);
+        }
+        for (size_t i = 0; i < n.numChildren(); ++i) walk(*n.child(i));
+    };
+    walk(*back.root);
+    ASSERT_EQ(got.size(), 3u);
+    EXPECT_EQ(got[0], std::make_pair(13.0, std::string("house 3")));
+    EXPECT_EQ(got[1], std::make_pair(10.0, std::string("house 0")));
+    EXPECT_EQ(got[2], std::make_pair(14.0, std::string("house 4")));
 }
