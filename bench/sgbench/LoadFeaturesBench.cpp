@@ -1,8 +1,8 @@
 // sgbench load --features: what a tile's features cost to load. One mesh of --count boxes (12 triangles each, a
 // feature each: a per-vertex _FEATURE_ID_0 of EXT_mesh_features) whose ids point into a property table of as many
 // rows (FLOAT64 height, STRING name, UINT16 floors, ENUM use: EXT_structural_metadata), written by saveGltf; and the
-// same mesh without features or table. The two .glb files are loaded alternately (A B A B ...) in one process:
-// medians, and the median of the pairs' ratios.
+// same mesh without features or table, and with the ids but no table. The .glb files are loaded in turn (A B C A B C
+// ...) in one process: medians, and the medians of the ratios of each turn.
 #include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
@@ -119,7 +119,8 @@ int runLoadFeatures(const Args& a) {
     if (runs < 1) throw std::invalid_argument("sgbench load --features: --runs must be at least 1");
     const std::string dir = a.str("dir", "/tmp");
     const std::string base = dir + "/sgbench_load_" + std::to_string(count);
-    const std::string plainPath = base + "_plain.glb", featurePath = base + "_features.glb";
+    const std::string plainPath = base + "_plain.glb", featurePath = base + "_features.glb",
+                      idsPath = base + "_ids.glb";
 
     const auto tw = Clock::now();
     size_t storeBytes = 0, triangles = 0;
@@ -137,6 +138,12 @@ int runLoadFeatures(const Args& a) {
         set.featureCount = uint32_t(count);
         set.propertyTable = t;
         set.ids = std::move(ids);
+        // The same feature ids without their table: what the table alone costs.
+        auto bare = sg::make<sg::MeshFeatures>();
+        bare->sets.push_back(set);
+        bare->sets[0].propertyTable = -1;
+        mesh->setFeatures(bare);
+        write(mesh, idsPath);
         f->sets.push_back(std::move(set));
         f->store = store;
         mesh->setFeatures(f);
@@ -144,7 +151,7 @@ int runLoadFeatures(const Args& a) {
     }
     const double writeMs = msSince(tw);
 
-    std::vector<double> plainMs, featureMs, ratio;
+    std::vector<double> plainMs, featureMs, idsMs, ratio, tableRatio;
     for (long r = 0; r < runs; ++r) {
         auto t0 = Clock::now();
         const sg::GltfScene plain = sg::loadGltf(plainPath);
@@ -153,6 +160,10 @@ int runLoadFeatures(const Args& a) {
         const sg::GltfScene featured = sg::loadGltf(featurePath);
         featureMs.push_back(msSince(t0));
         ratio.push_back(featureMs.back() / plainMs.back());
+        t0 = Clock::now();
+        const sg::GltfScene ids = sg::loadGltf(idsPath);
+        idsMs.push_back(msSince(t0));
+        tableRatio.push_back(featureMs.back() / idsMs.back());
         check(plain, false, uint32_t(count));
         check(featured, true, uint32_t(count));
     }
@@ -165,6 +176,9 @@ int runLoadFeatures(const Args& a) {
     j.add("load_ratio", median(ratio));
     j.add("load_ratio_min", *std::min_element(ratio.begin(), ratio.end()));
     j.add("load_ratio_max", *std::max_element(ratio.begin(), ratio.end()));
+    // Against the same tile with its feature ids but no table: the table's own cost.
+    j.add("file_mb_ids", fileMb(idsPath)).add("load_ms_median_ids", median(idsMs));
+    j.add("load_ratio_table", median(tableRatio));
     j.print(a);
     return 0;
 }
