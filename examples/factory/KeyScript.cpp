@@ -26,11 +26,11 @@ int repeat(const std::string& token, const std::string& tail) {
     return int(n);
 }
 
-double number(const std::string& token, const std::string& v) {
+double number(const std::string& token, const std::string& v, const char* form) {
     errno = 0;
     char* end = nullptr;
     const double x = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x)) bad(token, "expected drag:DX,DY");
+    if (v.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(x)) bad(token, form);
     return x;
 }
 }  // namespace
@@ -42,13 +42,16 @@ std::vector<ScriptFrame> parseKeyScript(const std::string& text) {
     while (in >> token) {
         std::string up = token;
         std::transform(up.begin(), up.end(), up.begin(), [](unsigned char c) { return char(std::toupper(c)); });
-        if (up.rfind("DRAG:", 0) == 0) {
-            const std::string v = token.substr(5);
+        const bool drag = up.rfind("DRAG:", 0) == 0, click = up.rfind("CLICK:", 0) == 0;
+        if (drag || click) {
+            const std::string v = token.substr(drag ? 5 : 6);
             const size_t comma = v.find(',');
-            if (comma == std::string::npos) bad(token, "expected drag:DX,DY");
+            const char* form = drag ? "expected drag:DX,DY" : "expected click:X,Y";
+            if (comma == std::string::npos) bad(token, form);
             ScriptFrame f;
-            f.dragX = number(token, v.substr(0, comma));
-            f.dragY = number(token, v.substr(comma + 1));
+            (drag ? f.dragX : f.clickX) = number(token, v.substr(0, comma), form);
+            (drag ? f.dragY : f.clickY) = number(token, v.substr(comma + 1), form);
+            f.click = click;
             out.push_back(f);
             continue;
         }
@@ -66,7 +69,8 @@ std::vector<ScriptFrame> parseKeyScript(const std::string& text) {
         };
         const auto* it =
             std::find_if(std::begin(kNames), std::end(kNames), [&](const auto& k) { return name == k.first; });
-        if (it == std::end(kNames)) bad(token, "not a key (W A S D F M O P F12 H Esc), drag:DX,DY or wait*N");
+        if (it == std::end(kNames))
+            bad(token, "not a key (W A S D F M O P F12 H Esc), drag:DX,DY, click:X,Y or wait*N");
         const size_t first = out.size();
         out.resize(first + size_t(n));
         const Key k = it->second;

@@ -44,9 +44,10 @@ const char* usage() {
            "                     each frame is compared at full detail, so the stages of a frame never overlap\n"
            "  --camera E,C       window: start at eye E looking at centre C (+Z up; default: the walk's start)\n"
            "  --keys \"...\"       window: keys replayed, a token a frame: W A S D (W*30: held 30 frames), F M O P\n"
-           "                     H Esc, drag:DX,DY, wait*N\n"
+           "                     H Esc, drag:DX,DY, click:X,Y, wait*N\n"
            "keys in the window:\n"
-           "  W/A/S/D move, mouse drag looks   F walk (collisions, 1.7 m over the ground) / fly\n"
+           "  W/A/S/D move, mouse drag looks, a click shows the building or machine there (highlighted)\n"
+           "  F walk (collisions, 1.7 m over the ground) / fly\n"
            "  M LOD: static / budget / stress   O occlusion on/off   P or F12 screenshot   H overlay   Esc quits\n"
            "  Q/E down/up (flying), shift runs, the mouse wheel sets the speed\n";
 }

@@ -10,7 +10,10 @@
 #include "sg/gl/GlfwWindow.h"
 #include "sg/gl/KeepFreedMemory.h"
 #include "sg/gl/TextOverlay.h"
+#include "sg/intersect/HitFeatures.h"
+#include "sg/intersect/PickSet.h"
 #include "sg/io/ImageIO.h"
+#include "sg/style/FeatureStyle.h"
 #include "testbed/FactoryLighting.h"
 #include "testbed/LodRun.h"
 
@@ -18,6 +21,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -55,10 +59,19 @@ public:
         occlusion_ = set0_.occlusion.mode;
         window_.setKeyCallback([this](int key, int action, int) { onKey(key, action); });
         window_.setMouseButtonCallback([this](int button, int action, int) {
-            if (button == GLFW_MOUSE_BUTTON_LEFT) dragging_ = action == GLFW_PRESS;
+            if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+            if (action == GLFW_PRESS) {
+                pressX_ = x_, pressY_ = y_;
+                moved_ = false;
+            } else if (dragging_ && !moved_ && window_.windowWidth() > 0 && window_.windowHeight() > 0) {
+                // A click (no drag): cursor positions are in window coordinates, the camera's in the framebuffer's.
+                click(x_ * window_.width() / window_.windowWidth(), y_ * window_.height() / window_.windowHeight());
+            }
+            dragging_ = action == GLFW_PRESS;
         });
         window_.setCursorCallback([this](double x, double y) {
             if (dragging_) nav_.drag(Navigator::kLeft, x - x_, y - y_, window_.height());
+            if (std::abs(x - pressX_) + std::abs(y - pressY_) > 3.0) moved_ = true;  // a click may jitter a pixel
             x_ = x;
             y_ = y;
         });
@@ -79,6 +92,9 @@ private:
     std::string statsText() const;
     void screenshot(const std::string& name, const sg::Image& img);
     void shootAt(uint64_t frame, std::string name);  // frame's picture to outDir/name once it is drawn
+    // A click at framebuffer pixel (x, y): the feature there (a machine, a building) highlighted, its properties on
+    // the overlay and printed.
+    void click(double x, double y);
 
     const Options& o_;
     scenes::Factory& f_;
@@ -88,8 +104,12 @@ private:
     sg::ViewpointCollider collider_;
     std::vector<ScriptFrame> script_;
     common::MoveKeys keys_;
-    bool dragging_ = false, overlay_ = true, wantShot_ = false;
-    double x_ = 0.0, y_ = 0.0;
+    bool dragging_ = false, overlay_ = true, wantShot_ = false, moved_ = false;
+    double x_ = 0.0, y_ = 0.0, pressX_ = 0.0, pressY_ = 0.0;
+    sg::Camera camera_;  // the last frame's, which a click picks through
+    sg::ref_ptr<sg::FeatureStyle> style_ = sg::make<sg::FeatureStyle>();  // the clicked feature's highlight
+    sg::IntersectTraversal picker_;
+    std::string picked_;  // the clicked feature's lines on the overlay
     double walkSpeed_ = kWalkSpeed, flySpeed_ = kFlySpeed;
     sg::LodPolicy mode_ = sg::LodPolicy::Static;
     sg::CullSettings set0_;  // the walkthrough's settings: what occlusion "on" is
@@ -176,7 +196,29 @@ std::string FactoryWindow::statsText() const {
                   common::navModeName(nav_.mode()), where, fps, frameMs_, cullMs_, drawMs_,
                   (unsigned long long)stats_.triangles, (unsigned long long)stats_.geometries, sg::lodPolicyName(mode_),
                   o_.budgetMs, occlusion_ == sg::OcclusionMode::Off ? "off" : "on");
-    return buf;
+    return picked_.empty() ? std::string(buf) : buf + ("\n\n" + picked_);
+}
+
+void FactoryWindow::click(double x, double y) {
+    if (camera_.width() <= 0) return;  // no frame drawn yet
+    sg::QueryOptions options;
+    options.style = style_.get();
+    const sg::PickSet::Result r = sg::PickSet().pick(picker_, scene_, camera_, x, y, options);
+    style_->setHighlight(nullptr, -1, -1, sg::vec4(1.0f));
+    picked_.clear();
+    if (r.hit) {
+        // Each feature on the hit's path, innermost first: the machine, then the workshop it stands in.
+        for (const sg::FeatureAtHit& f : sg::featuresAt(r.nearest).features) {
+            if (f.featureId < 0 || f.classId.empty()) continue;
+            if (picked_.empty() && f.store) style_->setHighlight(f.store, f.propertyTable, f.featureId, {1, 0.85f, 0.1f, 1});
+            picked_ += (picked_.empty() ? "picked: " : "in: ") + f.classId;
+            for (const auto& [id, v] : f.properties) picked_ += ", " + id + " " + v.toString();
+            picked_ += "\n";
+        }
+        if (!picked_.empty()) picked_.pop_back();
+    }
+    std::printf("%s\n", picked_.empty() ? "picked: nothing" : picked_.c_str());
+    std::fflush(stdout);
 }
 
 void FactoryWindow::screenshot(const std::string& name, const sg::Image& img) {
@@ -198,6 +240,7 @@ void FactoryWindow::shootAt(uint64_t frame, std::string name) {
 int FactoryWindow::run() {
     sg::Renderer renderer;
     if (renderer.softwareRasterizer()) sg::keepFreedMemory();  // as a frame loop does (sg/gl/KeepFreedMemory.h)
+    renderer.setFeatureStyle(style_);
     sg::TextOverlay overlay;
     renderer.setLight(scenes::factoryLight(workshop_));
     // The walkthrough's LOD choice (the same frame loop as the headless run), switched by the M key.
@@ -247,6 +290,7 @@ int FactoryWindow::run() {
             keys_.left = s.left;
             keys_.right = s.right;
             if (s.dragX != 0.0 || s.dragY != 0.0) nav_.drag(Navigator::kLeft, s.dragX, s.dragY, window_.height());
+            if (s.click) click(s.clickX, s.clickY);
         } else if (size_t(shown) == script_.size() && !script_.empty()) {
             keys_ = common::MoveKeys{};
         }
@@ -263,6 +307,7 @@ int FactoryWindow::run() {
         view.target = nav_.eye() + 10.0 * nav_.forward();
         view.walking = nav_.mode() == NavMode::Walk;
         const sg::Camera cam = scenes::pathCamera(view, w, h);
+        camera_ = cam;
 
         lod.settings().method = mode_;
         lod.settings().limitRate = !o_.freeRun && mode_ != sg::LodPolicy::Static;  // as the headless run

@@ -10,7 +10,10 @@
 #include "sg/cull/CullTraversal.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
+#include "sg/intersect/HitFeatures.h"
+#include "sg/intersect/PickSet.h"
 #include "sg/io/ImageIO.h"
+#include "sg/style/FeatureStyle.h"
 #include "testbed/FactoryLighting.h"
 #include "testbed/FactoryWalk.h"
 
@@ -42,6 +45,12 @@ TEST(FactoryKeyScript, TokensBecomeFrames) {
     EXPECT_EQ(s[8].pressed, std::vector<Key>{Key::Quit});
     EXPECT_EQ(s[9].pressed, std::vector<Key>{Key::Screenshot});
     EXPECT_TRUE(parseKeyScript("  ").empty());
+    const std::vector<ScriptFrame> c = parseKeyScript("click:200,150.5");
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_TRUE(c[0].click);
+    EXPECT_EQ(c[0].clickX, 200.0);
+    EXPECT_EQ(c[0].clickY, 150.5);
+    EXPECT_FALSE(s[4].click);  // a drag is not a click
     // A toggle held: pressed once, then frames of nothing.
     const std::vector<ScriptFrame> held = parseKeyScript("O*3");
     ASSERT_EQ(held.size(), 3u);
@@ -50,7 +59,7 @@ TEST(FactoryKeyScript, TokensBecomeFrames) {
 }
 
 TEST(FactoryKeyScript, BadTokensAreNamed) {
-    for (const char* bad : {"X", "W*0", "W*", "W*2x", "drag:1", "drag:a,b", "wait*-1", "Shift"}) {
+    for (const char* bad : {"X", "W*0", "W*", "W*2x", "drag:1", "drag:a,b", "wait*-1", "Shift", "click:1", "click:x,2"}) {
         try {
             parseKeyScript(std::string("W ") + bad);
             ADD_FAILURE() << bad << " parsed";
@@ -266,6 +275,53 @@ TEST(FactoryWindow, OverlayShowsTheModeAndPSavesAScreenshot) {
             panel += std::memcmp(&pa.rgba[i], &pb.rgba[i], 3) != 0;
         }
     EXPECT_GT(panel, 20u);
+}
+
+// A click picks: the workshop under the pixel is printed with its properties and drawn highlighted, as the library's
+// own pick and a render with the same highlight say.
+TEST(FactoryWindow, AClickNamesTheBuildingAndHighlightsIt) {
+    Site& s = site();
+    const sg::dvec3 eye(-20.0, -230.0, 60.0), center(-20.0, 20.0, 0.0);
+    const Result r = runWindow(cameraArg(eye, center), 10, "H wait click:200,150");
+    ASSERT_EQ(r.code, 0) << r.err;
+    common::Navigator nav(s.scene.image().box(0), sg::dvec3(0, 0, 1));
+    nav.lookAt(eye, center);
+    scenes::PathFrame p;
+    p.eye = nav.eye();
+    p.target = nav.eye() + 10.0 * nav.forward();
+    p.walking = true;
+    const sg::Camera cam = scenes::pathCamera(p, kW, kH);
+    sg::IntersectTraversal it;
+    const sg::PickSet::Result hit = sg::PickSet().pick(it, s.scene, cam, 200, 150);
+    ASSERT_TRUE(hit.hit);
+    const sg::HitFeatures hf = sg::featuresAt(hit.nearest);
+    ASSERT_FALSE(hf.features.empty());
+    const sg::FeatureAtHit& f = hf.features[0];
+    EXPECT_EQ(f.classId, "building");
+    std::string line = "picked: " + f.classId;
+    for (const auto& [id, v] : f.properties) line += ", " + id + " " + v.toString();
+    EXPECT_NE(r.out.find(line + "\n"), std::string::npos) << line << "\nin\n" << r.out;
+    // The picture: the library's render with that building highlighted.
+    sg::Image want, plain;
+    {
+        sg::OsmesaContext ctx(kW, kH);
+        sg::Renderer renderer;
+        renderer.setLight(scenes::factoryLight(-1));
+        sg::CullTraversal cull;
+        sg::DrawList list;
+        sg::CullStats st;
+        cull.cull(s.scene, cam, sg::CullSettings{}, list, st);
+        renderer.draw(list, cam);
+        plain = renderer.readColor();
+        auto style = sg::make<sg::FeatureStyle>();
+        style->setHighlight(f.store, f.propertyTable, f.featureId, {1, 0.85f, 0.1f, 1});
+        renderer.setFeatureStyle(style);
+        renderer.draw(list, cam);
+        want = renderer.readColor();
+    }
+    const sg::Image got = sg::loadPng((scratch() / "factory-window.png").string());
+    EXPECT_EQ(sg::countDifferingPixels(got, want), 0u);
+    EXPECT_GT(sg::countDifferingPixels(got, plain), 100u);  // the highlight shows
 }
 #else
 TEST(FactoryWindow, NeedsXvfbRun) {
