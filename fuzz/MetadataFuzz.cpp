@@ -15,7 +15,7 @@
 
 namespace {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 // Rows read per table: enough to reach every kind of element, bounded so one input stays fast.
 constexpr uint64_t kMaxRows = 512;

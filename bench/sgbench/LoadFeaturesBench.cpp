@@ -97,7 +97,7 @@ void check(const sg::GltfScene& s, bool features, uint32_t count) {
         throw std::runtime_error("sgbench load --features: the tile loaded without its features or table");
     const int t = f->sets[0].propertyTable;
     const int64_t id = f->idAt(0, m->positions().size() - 1);
-    // By id: a schema reads back in its ids' order.
+    // By id: saveGltf writes a schema's properties in their ids' order.
     const int nameProperty = f->store->schema.classes[size_t(f->store->tables()[size_t(t)].classIndex)].find("name");
     const sg::PropertyValue name = f->store->value(t, uint64_t(std::max<int64_t>(id, 0)), nameProperty);
     if (id != int64_t(count) - 1 || name.string != "Building " + std::to_string(count - 1))

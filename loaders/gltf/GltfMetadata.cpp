@@ -11,7 +11,7 @@
 
 namespace sg::gltf {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 json toJson(const tinygltf::Value& v) {
     switch (v.Type()) {

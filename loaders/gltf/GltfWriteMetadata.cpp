@@ -12,7 +12,7 @@
 
 namespace sg::gltf {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 void MetadataWriter::warn(const std::string& what) {
     if (warnings_) warnings_->push_back(what);

@@ -8,7 +8,7 @@
 
 namespace sg::metadata {
 
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 namespace fields {
 

@@ -18,7 +18,7 @@ namespace batch {
 namespace {
 
 using gltf::fail;
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 // The encoded columns may take this much: a hierarchy repeats an ancestor's values for every feature.
 constexpr uint64_t kMaxEncodedBytes = uint64_t(256) << 20;
@@ -267,15 +267,15 @@ void Columns::addJson(const std::string& id, const std::vector<const json*>& val
 
 namespace {
 
-nlohmann::json parseJson(const std::string& file, Bytes b) {
+nlohmann::ordered_json parseJson(const std::string& file, Bytes b) {
     size_t n = b.size;
     while (n > 0 && (b.data[n - 1] == ' ' || b.data[n - 1] == '\0')) --n;  // padding
-    if (n == 0) return nlohmann::json::object();
-    nlohmann::json j;
+    if (n == 0) return nlohmann::ordered_json::object();
+    nlohmann::ordered_json j;
     try {
         gltf::checkJsonDepth(file, b.data, n);
-        j = nlohmann::json::parse(b.data, b.data + n);
-    } catch (const nlohmann::json::exception& e) {
+        j = nlohmann::ordered_json::parse(b.data, b.data + n);
+    } catch (const nlohmann::ordered_json::exception& e) {
         gltf::fail(file, "batchTable", std::string("JSON: ") + e.what());
     }
     if (!j.is_object()) gltf::fail(file, "batchTable", "the batch table JSON is not an object");
@@ -283,7 +283,7 @@ nlohmann::json parseJson(const std::string& file, Bytes b) {
 }
 
 // A property of the batch table's JSON: an array of batchLength values or a reference into the binary body.
-void addProperty(batch::Columns& c, const std::string& name, const nlohmann::json& v) {
+void addProperty(batch::Columns& c, const std::string& name, const nlohmann::ordered_json& v) {
     const std::string path = "batchTable." + name;
     if (v.is_object()) return c.addBinary(name, v, path);
     if (!v.is_array())
@@ -294,7 +294,7 @@ void addProperty(batch::Columns& c, const std::string& name, const nlohmann::jso
     if (v.size() > c.count)
         c.warn(path, "has " + std::to_string(v.size()) + " values; those past batchLength " + std::to_string(c.count) +
                          " are left out");
-    std::vector<const nlohmann::json*> values;
+    std::vector<const nlohmann::ordered_json*> values;
     values.reserve(c.count);
     for (uint32_t i = 0; i < c.count; ++i) values.push_back(&v[i]);
     c.addJson(name, values, path);
@@ -305,7 +305,7 @@ void addProperty(batch::Columns& c, const std::string& name, const nlohmann::jso
 ref_ptr<PropertyStore> readBatchTable(const std::string& file, Bytes json, Bytes binary, uint32_t batchLength,
                                       std::vector<std::string>& warnings) {
     if (json.size == 0 && binary.size == 0) return nullptr;
-    const nlohmann::json j = parseJson(file, json);
+    const nlohmann::ordered_json j = parseJson(file, json);
     batch::Columns c{file, binary, batchLength, warnings, {}, {}, {}};
     c.cls.id = kBatchTableClass;
     for (const auto& [name, v] : j.items())

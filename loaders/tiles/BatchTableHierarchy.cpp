@@ -19,7 +19,7 @@ namespace {
 
 using gltf::at;
 using gltf::fail;
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 // Instances visited in the walks from all features, at most: a deep hierarchy under many features costs
 // features x depth, which this bounds.

@@ -140,7 +140,7 @@ MetadataEntity readEntityIn(const std::string& file, const json& j, const Schema
 }  // namespace
 
 PropertyValue entityValue(const ClassProperty& p, const json& v) {
-    const PropertyValue raw = metadata::valueOf(v);
+    const PropertyValue raw = metadata::valueOf(nlohmann::ordered_json(v));
     if (!p.noData.isNull() && raw == p.noData) return p.defaultValue;
     if (p.componentType == ComponentType::None || p.type == PropertyType::Enum) return raw;
     return transformed(raw, p.offset, p.scale, p.normalized, p.componentType);

@@ -124,7 +124,8 @@ MetadataSchema readSchema(const std::string& file, const json& tileset, const Re
     if (!schema.is_object()) fail(from, path, "a schema must be an object");
     if (full) {
         std::vector<std::string> w;
-        *full = std::make_shared<const Schema>(metadata::parseSchema(schema, metadata::Context{from, &w}, path));
+        *full = std::make_shared<const Schema>(
+            metadata::parseSchema(nlohmann::ordered_json(schema), metadata::Context{from, &w}, path));
         if (warnings)
             for (const std::string& x : w) warnings->push_back(from + ": " + x);
     }

@@ -166,7 +166,7 @@ TEST(FeaturePick, EachPropertyOfEachFeatureSetIsReadAtItsPixelFromTheFileWritten
             const FeatureAtHit& f = hf.features[size_t(s)];
             EXPECT_EQ(f.classId, "building");
             ASSERT_EQ(f.properties.size(), schema.classes[0].properties.size());
-            // By id: a file's schema reads back in its ids' order, not in the order written.
+            // By id: saveGltf writes a schema's properties in their ids' order, not in the store's.
             for (size_t p = 0; p < f.properties.size(); ++p) {
                 const std::string& id = schema.classes[0].properties[p].id;
                 ASSERT_NE(find(f.properties, id), nullptr) << id;

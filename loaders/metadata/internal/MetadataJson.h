@@ -25,23 +25,23 @@ struct Context {
 // A schema object at `path` ("extensions.EXT_structural_metadata.schema", "schema"): classes, enums, every
 // property's type, componentType, enumType, array, count, normalized, offset, scale, min, max, noData, default
 // checked against the type.
-Schema parseSchema(const nlohmann::json& j, const Context& c, const std::string& path);
+Schema parseSchema(const nlohmann::ordered_json& j, const Context& c, const std::string& path);
 
 // A property table object: its class (which must be in `schema`), count and columns. `view(index, path)` gives
 // the store's span for a bufferView index named at `path` (and throws LoadError for a bad one).
 using ViewLookup = std::function<ByteSpan(int64_t view, const std::string& path)>;
-PropertyTable parsePropertyTable(const nlohmann::json& j, const Schema& schema, const ViewLookup& view,
+PropertyTable parsePropertyTable(const nlohmann::ordered_json& j, const Schema& schema, const ViewLookup& view,
                                  const Context& c, const std::string& path);
 
 // The offset, scale, min and max members of a table's, texture's or attribute's property.
-PropertyOverrides parseOverrides(const nlohmann::json& j, const ClassProperty& p, const Context& c,
+PropertyOverrides parseOverrides(const nlohmann::ordered_json& j, const ClassProperty& p, const Context& c,
                                  const std::string& path);
 
 // A JSON value as a PropertyValue (numbers: integers kept exact; strings; booleans; arrays), and back.
-PropertyValue valueOf(const nlohmann::json& j);
-nlohmann::json jsonOf(const PropertyValue& v);
+PropertyValue valueOf(const nlohmann::ordered_json& j);
+nlohmann::ordered_json jsonOf(const PropertyValue& v);
 
 // A schema as its JSON (what saveGltf and writeTileset write); parseSchema reads it back equal.
-nlohmann::json schemaJson(const Schema& schema);
+nlohmann::ordered_json schemaJson(const Schema& schema);
 
 }  // namespace sg::metadata

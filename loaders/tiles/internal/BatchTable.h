@@ -38,12 +38,12 @@ struct Columns {
 
     // One JSON value per feature (null or a JSON null: no value) as a column of the narrowest type that holds
     // them all (see BatchTable.cpp).
-    void addJson(const std::string& id, const std::vector<const nlohmann::json*>& values, const std::string& path);
+    void addJson(const std::string& id, const std::vector<const nlohmann::ordered_json*>& values, const std::string& path);
     // A {byteOffset, componentType, type} reference to `count` elements of the binary body.
-    void addBinary(const std::string& id, const nlohmann::json& ref, const std::string& path);
+    void addBinary(const std::string& id, const nlohmann::ordered_json& ref, const std::string& path);
     // Where `count` elements of `components` components of type `c` start in the binary body, per `ref`'s
     // byteOffset (at `path`.byteOffset): checked aligned and inside.
-    uint64_t binaryOffset(const nlohmann::json& ref, ComponentType c, int components, uint64_t count,
+    uint64_t binaryOffset(const nlohmann::ordered_json& ref, ComponentType c, int components, uint64_t count,
                           const std::string& path) const;
     // Room for `bytes` more encoded bytes, else LoadError at `path` (values a hierarchy repeats per feature could
     // otherwise grow without bound).
@@ -52,10 +52,10 @@ struct Columns {
 };
 
 // Element i (of `components` components of type c) at `data` as JSON: an integer, a number, or an array of them.
-nlohmann::json jsonElement(const unsigned char* data, ComponentType c, int components, uint64_t i);
+nlohmann::ordered_json jsonElement(const unsigned char* data, ComponentType c, int components, uint64_t i);
 
 // 3DTILES_batch_table_hierarchy flattened into per-feature columns (see BatchTableHierarchy.cpp).
-void addHierarchy(Columns& c, const nlohmann::json& ext, const std::string& path);
+void addHierarchy(Columns& c, const nlohmann::ordered_json& ext, const std::string& path);
 
 }  // namespace batch
 }  // namespace sg::tiles

@@ -11,7 +11,7 @@
 
 using namespace sg;
 using namespace sg::metadata;
-using nlohmann::json;
+using json = nlohmann::ordered_json;  // objects keep their members in the file's order (a schema's properties)
 
 namespace {
 
