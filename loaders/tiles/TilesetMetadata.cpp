@@ -35,51 +35,6 @@ using nlohmann::json;
     throw LoadError(file, path, reason);
 }
 
-// The largest value of an integer component type, as normalization divides by it.
-double integerMax(ComponentType c) {
-    switch (c) {
-        case ComponentType::Int8: return 127.0;
-        case ComponentType::UInt8: return 255.0;
-        case ComponentType::Int16: return 32767.0;
-        case ComponentType::UInt16: return 65535.0;
-        case ComponentType::Int32: return 2147483647.0;
-        case ComponentType::UInt32: return 4294967295.0;
-        case ComponentType::Int64: return 9223372036854775807.0;
-        case ComponentType::UInt64: return 18446744073709551615.0;
-        default: return 0.0;
-    }
-}
-
-bool isSigned(ComponentType c) {
-    return c == ComponentType::Int8 || c == ComponentType::Int16 || c == ComponentType::Int32 ||
-           c == ComponentType::Int64;
-}
-
-// v's numbers normalized, scaled and offset; an offset or scale that is an array goes item by item with v's.
-PropertyValue transformed(const PropertyValue& v, const PropertyValue& offset, const PropertyValue& scale,
-                          bool normalized, ComponentType c) {
-    using Kind = PropertyValue::Kind;
-    if (v.kind == Kind::Array) {
-        auto item = [](const PropertyValue& t, size_t i) {
-            return t.kind != Kind::Array ? t : i < t.items.size() ? t.items[i] : PropertyValue();
-        };
-        PropertyValue r = v;
-        for (size_t i = 0; i < r.items.size(); ++i)
-            r.items[i] = transformed(v.items[i], item(offset, i), item(scale, i), normalized, c);
-        return r;
-    }
-    const bool number = v.kind == Kind::Integer || v.kind == Kind::Unsigned || v.kind == Kind::Number;
-    if (!number || (!normalized && offset.isNull() && scale.isNull())) return v;
-    double x = v.asNumber();
-    if (normalized && integerMax(c) > 0.0) {
-        x /= integerMax(c);
-        if (isSigned(c)) x = std::max(x, -1.0);
-    }
-    if (!scale.isNull()) x *= scale.asNumber();
-    if (!offset.isNull()) x += offset.asNumber();
-    return PropertyValue::ofNumber(x);
-}
-
 // One element (not an array) of the property's type.
 bool elementFits(const ClassProperty& p, const json& v, const Schema* schema) {
     switch (p.type) {
@@ -132,18 +87,18 @@ MetadataEntity readEntityIn(const std::string& file, const json& j, const Schema
             fail(file, pp,
                  std::string("is not a ") + (p.array ? "array of " : "") + propertyTypeName(p.type) +
                      " value of the class");
-        e.properties.emplace_back(p.id, entityValue(p, *v));
+        e.properties.emplace_back(p.id, entityValue(schema, p, *v));
     }
     return e;
 }
 
 }  // namespace
 
-PropertyValue entityValue(const ClassProperty& p, const json& v) {
-    const PropertyValue raw = metadata::valueOf(nlohmann::ordered_json(v));
-    if (!p.noData.isNull() && raw == p.noData) return p.defaultValue;
-    if (p.componentType == ComponentType::None || p.type == PropertyType::Enum) return raw;
-    return transformed(raw, p.offset, p.scale, p.normalized, p.componentType);
+PropertyValue entityValue(const Schema& schema, const ClassProperty& p, const json& v) {
+    PropertyValue raw = metadata::valueOf(nlohmann::ordered_json(v));
+    // JSON names an enum's value (the store's bytes hold its integer).
+    if (p.type == PropertyType::Enum) return !p.noData.isNull() && raw == p.noData ? p.defaultValue : raw;
+    return propertyValueOf(schema, p, std::move(raw));
 }
 
 MetadataEntity readEntity(const std::string& file, const json& j, const Schema* schema, const std::string& path,

@@ -143,6 +143,13 @@ struct PropertyAttributeDef {
     std::vector<Property> properties;
 };
 
+// A raw value of property `p` as a program reads it (the transforms PropertyStore::value() applies): enum values
+// (integers) named, a value equal to noData made the default (Null without one), then numbers normalized, then
+// offset + scale * value, element-wise (`overrides` win over the class's offset and scale). For values that come
+// as JSON (a tile's metadata) as well as for stored bytes.
+PropertyValue propertyValueOf(const Schema& schema, const ClassProperty& p, PropertyValue raw,
+                              const PropertyOverrides& overrides = {});
+
 // A schema, its tables, textures and attribute definitions, and the bytes the tables read; shared (read-only once
 // built) by the meshes and instances of a file or tile. Every view is checked when the table is added.
 class PropertyStore : public Referenced {

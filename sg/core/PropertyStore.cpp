@@ -252,4 +252,9 @@ size_t PropertyStore::bytes() const {
     return n;
 }
 
+PropertyValue propertyValueOf(const Schema& schema, const ClassProperty& p, PropertyValue raw,
+                              const PropertyOverrides& overrides) {
+    return props::finish(schema, p, std::move(raw), overrides);
+}
+
 }  // namespace sg

@@ -31,6 +31,6 @@ MetadataEntity readEntity(const std::string& file, const nlohmann::json& j, cons
 
 // A class property's value as a JSON entity gives it, made final: noData made the default (or Null); normalized,
 // scaled and offset, component by component, for numbers.
-PropertyValue entityValue(const ClassProperty& p, const nlohmann::json& v);
+PropertyValue entityValue(const Schema& schema, const ClassProperty& p, const nlohmann::json& v);
 
 }  // namespace sg::tiles
