@@ -4,12 +4,16 @@
 // store that was written holds it (each value also checked by hand for one row).
 #include "core/PropertyTables.h"
 #include "loaders/gltf/Gltf.h"
+#include "loaders/tiles/Tileset.h"
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "sg/intersect/HitFeatures.h"
 #include "sg/intersect/PickSet.h"
 
 #include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
 
 using namespace sg;
 using sg::test::le;
@@ -189,5 +193,89 @@ TEST(FeaturePick, EachPropertyOfEachFeatureSetIsReadAtItsPixelFromTheFileWritten
         EXPECT_EQ(find(row, "pair")->toJson(), "[3,4]");
         EXPECT_EQ(find(row, "words")->toJson(), "[]");
         EXPECT_EQ(find(row, "age")->integer, 99);  // noData: the default
+    }
+}
+
+namespace {
+
+void put32(std::string& s, size_t at, uint32_t v) {
+    for (int i = 0; i < 4; ++i) s[at + size_t(i)] = char((v >> (8 * i)) & 0xff);
+}
+
+// A glb of two triangles in glTF's XZ plane (+Y up, so +Z up in a tile), side by side along x, whose _BATCHID
+// attribute names batch 0 for x in [0, 1] and 1 for x in [2, 3].
+std::string batchedGlb() {
+    const float pos[18] = {0, 0, 0, 1, 0, 0, 0, 0, -1, 2, 0, 0, 3, 0, 0, 2, 0, -1};
+    const float ids[6] = {0, 0, 0, 1, 1, 1};
+    std::string bin(sizeof pos + sizeof ids, '\0');
+    std::memcpy(&bin[0], pos, sizeof pos);
+    std::memcpy(&bin[sizeof pos], ids, sizeof ids);
+    const std::string json = R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[{"mesh":0}],
+"meshes":[{"primitives":[{"attributes":{"POSITION":0,"_BATCHID":1}}]}],
+"accessors":[{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3","min":[0,0,-1],"max":[3,0,0]},
+{"bufferView":1,"componentType":5126,"count":6,"type":"SCALAR"}],
+"bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":72},{"buffer":0,"byteOffset":72,"byteLength":24}],
+"buffers":[{"byteLength":96}]})";
+    std::string j = json;
+    while (j.size() % 4) j += ' ';
+    std::string glb = "glTF" + std::string(8, '\0') + std::string(8, '\0') + j + std::string(8, '\0') + bin;
+    put32(glb, 4, 2);
+    put32(glb, 8, uint32_t(glb.size()));
+    put32(glb, 12, uint32_t(j.size()));
+    std::memcpy(&glb[16], "JSON", 4);
+    put32(glb, 20 + j.size(), uint32_t(bin.size()));
+    std::memcpy(&glb[24 + j.size()], "BIN\0", 4);
+    return glb;
+}
+
+// A b3dm (28-byte header, sections padded to 8 bytes) holding `glb` with that batch table (JSON only).
+std::string b3dm(const std::string& batchJson, const std::string& glb) {
+    std::string ft = R"({"BATCH_LENGTH":2})", bt = batchJson;
+    while ((28 + ft.size()) % 8) ft += ' ';
+    while ((28 + ft.size() + bt.size()) % 8) bt += ' ';
+    std::string d = "b3dm" + std::string(24, '\0') + ft + bt + glb;
+    while (d.size() % 8) d += '\0';
+    put32(d, 4, 1);
+    put32(d, 8, uint32_t(d.size()));
+    put32(d, 12, uint32_t(ft.size()));
+    put32(d, 20, uint32_t(bt.size()));
+    return d;
+}
+
+}  // namespace
+
+TEST(FeaturePick, ABatchTablesRowIsReadAtEachBatchsPixelThroughATileset) {
+    const std::string dir = ::testing::TempDir();
+    std::ofstream(dir + "sgkit_batched.b3dm", std::ios::binary)
+        << b3dm(R"({"height":[10.5,20],"name":["low","tall"],"tags":[[1,2],[3,4]]})", batchedGlb());
+    std::ofstream(dir + "sgkit_batched.json") << R"({"asset":{"version":"1.0"},"geometricError":1,"root":{
+        "boundingVolume":{"box":[1.5,0.5,0,2,0,0,0,1,0,0,0,1]},"geometricError":0,"refine":"ADD",
+        "content":{"uri":"sgkit_batched.b3dm"}}})";
+    Tileset ts = loadTileset(dir + "sgkit_batched.json");
+    Scene scene(ts.root());
+    scene.update();
+    Camera cam;
+    cam.setViewport(kW, kH);
+    cam.setPerspective(45.0, double(kW) / kH, 0.1, 100.0);
+    cam.setLookAt(dvec3(1.5, 0.5, 6), dvec3(1.5, 0.5, 0), dvec3(0, 1, 0));  // from above: the tile is +Z up
+    IntersectTraversal traversal;
+    const char* names[2] = {"low", "tall"};
+    const double heights[2] = {10.5, 20.0};
+    for (int b = 0; b < 2; ++b) {
+        // Triangle b's centroid, in the tile's +Z-up frame: glTF's (x, 0, z) is (x, -z, 0).
+        const dvec3 c(2.0 * b + 1.0 / 3.0, 1.0 / 3.0, 0.0);
+        const dvec4 clip = cam.projection() * cam.view() * dvec4(c, 1.0);
+        const double x = (clip.x / clip.w * 0.5 + 0.5) * kW, y = (0.5 - clip.y / clip.w * 0.5) * kH;
+        const PickSet::Result r = PickSet().pick(traversal, scene, cam, x, y);
+        ASSERT_TRUE(r.hit) << "batch " << b;
+        const HitFeatures hf = featuresAt(r.nearest);
+        ASSERT_EQ(hf.features.size(), 1u);
+        const FeatureAtHit& f = hf.features[0];
+        EXPECT_EQ(f.featureId, b);
+        EXPECT_EQ(f.set, 0u);
+        EXPECT_EQ(find(f.properties, "name")->string, names[b]);
+        EXPECT_EQ(find(f.properties, "height")->asNumber(), heights[b]);
+        EXPECT_EQ(find(f.properties, "tags")->toJson(), b == 0 ? "[1,2]" : "[3,4]");
+        EXPECT_EQ(r.nearest.geometry->mesh()->source().file, dir + "sgkit_batched.b3dm");
     }
 }
