@@ -210,7 +210,8 @@ void FactoryWindow::click(double x, double y) {
         // Each feature on the hit's path, innermost first: the machine, then the workshop it stands in.
         for (const sg::FeatureAtHit& f : sg::featuresAt(r.nearest).features) {
             if (f.featureId < 0 || f.classId.empty()) continue;
-            if (picked_.empty() && f.store) style_->setHighlight(f.store, f.propertyTable, f.featureId, {1, 0.85f, 0.1f, 1});
+            if (picked_.empty() && f.store)
+                style_->setHighlight(f.store, f.propertyTable, f.featureId, {1, 0.85f, 0.1f, 1});
             picked_ += (picked_.empty() ? "picked: " : "in: ") + f.classId;
             for (const auto& [id, v] : f.properties) picked_ += ", " + id + " " + v.toString();
             picked_ += "\n";

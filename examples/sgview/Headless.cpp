@@ -51,7 +51,8 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     }
     savePng(o.out, view.read());
     IntersectTraversal picker;
-    for (const auto& [x, y] : o.picks) std::printf("%s\n", pickReport(picker, scene, camera, x, y, o.json, &view.featureStyle()).c_str());
+    for (const auto& [x, y] : o.picks)
+        std::printf("%s\n", pickReport(picker, scene, camera, x, y, o.json, &view.featureStyle()).c_str());
     const dvec3 e = camera.eye();
     // The threading model the viewer ran and what occlusion culled in the last frame: what --threading and
     // --auto-occluders changed, where the picture must not change.

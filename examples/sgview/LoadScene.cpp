@@ -4,9 +4,9 @@
 #include "loaders/gltf/Gltf.h"
 #include "loaders/tiles/StyleJson.h"
 #include "loaders/tiles/Tileset.h"
-#include "sg/style/StyleTable.h"
 #include "nodes/Transform.h"
 #include "sg/gl/Renderer.h"
+#include "sg/style/StyleTable.h"
 
 #include <cstdio>
 #include <fstream>

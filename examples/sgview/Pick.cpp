@@ -1,7 +1,7 @@
 #include "sgview/Pick.h"
 
-#include "sg/intersect/PickSet.h"
 #include "nodes/Geometry.h"
+#include "sg/intersect/PickSet.h"
 
 #include <cstdio>
 
@@ -40,7 +40,8 @@ std::string featuresText(const sg::HitFeatures& f) {
         s += ": " + (x.featureId < 0 ? std::string("no feature") : "id " + std::to_string(x.featureId));
         if (!x.classId.empty() && x.featureId >= 0) s += ", class " + x.classId + ": " + propertiesText(x.properties);
     }
-    for (const auto& p : f.propertyTextures) s += "\n  property texture, class " + p.classId + ": " + propertiesText(p.properties);
+    for (const auto& p : f.propertyTextures)
+        s += "\n  property texture, class " + p.classId + ": " + propertiesText(p.properties);
     for (const auto& p : f.propertyAttributes)
         s += "\n  property attribute, class " + p.classId + ": " + propertiesText(p.properties);
     return s;
@@ -56,8 +57,8 @@ std::string featuresJson(const sg::HitFeatures& f) {
         const sg::FeatureAtHit& x = f.features[i];
         s += std::string(i ? ", " : "") + "{\"set\": " + std::to_string(x.set) +
              (x.instance ? ", \"instance\": true" : "") +
-             ", \"label\": " + (x.label.empty() ? "null" : quoted(x.label)) + ", \"feature_id\": " +
-             orNull(x.featureId) + ", \"property_table\": " + orNull(x.propertyTable) +
+             ", \"label\": " + (x.label.empty() ? "null" : quoted(x.label)) +
+             ", \"feature_id\": " + orNull(x.featureId) + ", \"property_table\": " + orNull(x.propertyTable) +
              ", \"class\": " + (x.classId.empty() ? "null" : quoted(x.classId)) +
              ", \"properties\": " + propertiesJson(x.properties) + "}";
     }
@@ -87,11 +88,11 @@ std::string pickReport(const Pick& p, bool json) {
         std::string path = "[";
         for (size_t i = 0; i < h.path.size(); ++i) path += (i ? ", " : "") + quoted(nodeName(*h.path[i]));
         const sg::MeshSource src = mesh ? mesh->source() : sg::MeshSource{};
-        return "{\"pixel\": [" + pixel + "], \"hit\": true, \"node_path\": " + path + "], \"source\": " +
-               (src.file.empty() ? "null" : quoted(src.file)) + ", \"gltf_mesh\": " + orNull(src.gltfMesh) +
-               ", \"gltf_primitive\": " + orNull(src.gltfPrimitive) + ", \"triangle\": " +
-               std::to_string(h.primitive) + ", \"distance\": " + number(h.distance) + ", \"point\": [" +
-               number(h.point.x) + ", " + number(h.point.y) + ", " + number(h.point.z) + "], " +
+        return "{\"pixel\": [" + pixel + "], \"hit\": true, \"node_path\": " + path +
+               "], \"source\": " + (src.file.empty() ? "null" : quoted(src.file)) +
+               ", \"gltf_mesh\": " + orNull(src.gltfMesh) + ", \"gltf_primitive\": " + orNull(src.gltfPrimitive) +
+               ", \"triangle\": " + std::to_string(h.primitive) + ", \"distance\": " + number(h.distance) +
+               ", \"point\": [" + number(h.point.x) + ", " + number(h.point.y) + ", " + number(h.point.z) + "], " +
                featuresJson(p.features) + "}";
     }
     char tail[160];

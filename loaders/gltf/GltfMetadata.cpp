@@ -251,7 +251,8 @@ void Converter::nodeFeature(Node& inner, const Value& feature, const std::string
     if (!feature.IsObject()) bad(path, "must be an object");
     auto whole = [&](const char* key, double hi) {
         const double v = number(feature, key, path, -1.0);
-        if (v < 0 || v > hi || v != std::floor(v)) bad(path + "." + key, "must be a whole number in [0, " + std::to_string((long long)hi) + "]");
+        if (v < 0 || v > hi || v != std::floor(v))
+            bad(path + "." + key, "must be a whole number in [0, " + std::to_string((long long)hi) + "]");
         return v;
     };
     const uint32_t id = uint32_t(whole("id", 4294967295.0)), count = uint32_t(whole("count", 4294967295.0));

@@ -169,7 +169,8 @@ Schema parseSchema(const json& j, const Context& c, const std::string& path) {
     s.id = text(j, "id", c, path);
     s.name = text(j, "name", c, path);
     s.version = text(j, "version", c, path);
-    // Keyed by id; nlohmann::ordered_json keeps keys sorted, so classes, enums and properties come in the order of their ids.
+    // Keyed by id; nlohmann::ordered_json keeps keys sorted, so classes, enums and properties come in the order of
+    // their ids.
     if (const json* enums = member(j, "enums")) {
         if (!enums->is_object()) fail(c, path + ".enums", "not an object");
         for (const auto& [id, e] : enums->items()) s.enums.push_back(parseEnum(id, e, c, path + ".enums." + id));

@@ -1,6 +1,7 @@
 // Feature ID sets: which feature of a file's property store each vertex, texel or instance belongs to (glTF
 // EXT_mesh_features and EXT_instance_features, a 3D Tiles 1.0 tile's BATCH_ID), and the per-vertex values of
-// property attributes. A Mesh carries them, or nodes that are one feature each (Node::setFeatures); a pick reads them (sg/intersect/HitFeatures.h).
+// property attributes. A Mesh carries them, or nodes that are one feature each (Node::setFeatures); a pick reads them
+// (sg/intersect/HitFeatures.h).
 #pragma once
 #include "sg/core/Properties.h"
 
@@ -16,15 +17,15 @@ struct FeatureIdSet {
     // building, a machine).
     enum class Source : uint8_t { Attribute, Implicit, Texture, Instance };
     Source source = Source::Attribute;
-    std::string label;             // empty when the file gives none
-    uint32_t featureCount = 0;     // distinct features the set names (the file's featureCount)
+    std::string label;          // empty when the file gives none
+    uint32_t featureCount = 0;  // distinct features the set names (the file's featureCount)
     bool hasNullFeatureId = false;
-    uint32_t nullFeatureId = 0;    // an id that means "no feature", when hasNullFeatureId
-    int propertyTable = -1;        // into the store's tables; -1: the set has no properties
-    std::vector<uint32_t> ids;     // Attribute, Instance
-    ref_ptr<Texture> texture;      // Texture
-    int texCoord = 0;              // Texture: 0 or 1 (Mesh::uvs(), Mesh::uvs1())
-    std::vector<uint8_t> channels; // Texture: 0..3 (R, G, B, A), little-endian in that order
+    uint32_t nullFeatureId = 0;     // an id that means "no feature", when hasNullFeatureId
+    int propertyTable = -1;         // into the store's tables; -1: the set has no properties
+    std::vector<uint32_t> ids;      // Attribute, Instance
+    ref_ptr<Texture> texture;       // Texture
+    int texCoord = 0;               // Texture: 0 or 1 (Mesh::uvs(), Mesh::uvs1())
+    std::vector<uint8_t> channels;  // Texture: 0..3 (R, G, B, A), little-endian in that order
 };
 
 // One property attribute the mesh's vertices carry: raw bytes, `stride` per vertex, per property of the definition.

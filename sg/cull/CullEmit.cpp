@@ -92,7 +92,8 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     it.material = d.material;
     toFloat(m, it.model);
     if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
-    if (feature_) out_->features.push_back({uint32_t(out_->items.size() - 1), feature_->features.get(), feature_->index});
+    if (feature_)
+        out_->features.push_back({uint32_t(out_->items.size() - 1), feature_->features.get(), feature_->index});
     triangles_ += d.mesh->triangleCount();
     if (invalid) stats_->invalidDrawn++;
 }

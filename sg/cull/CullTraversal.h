@@ -106,9 +106,9 @@ private:
     size_t placementDepth_ = 0;
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
-    float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none
+    float fade_ = 1.0f;                               // the dissolve of what is emitted now (DrawList::fades), 1: none
     const FlatImage::FeatureRef* feature_ = nullptr;  // the innermost feature node above (DrawList::features)
-    bool planning_ = false;  // the walk sets the visible LODs aside for planner_
+    bool planning_ = false;                           // the walk sets the visible LODs aside for planner_
     OcclusionPass occlusion_;
     const Scene* occlusionScene_ = nullptr;  // the scene and version the occlusion pass's back-off saw
     uint64_t occlusionVersion_ = 0;

@@ -38,8 +38,9 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
     g.tangents = m->tangents().size() == n && n > 0;
     g.uvs1 = m->uvs1().size() == n && n > 0;
     const MeshFeatures* f = m->features();
-    g.featureIds = f && !f->sets.empty() && (f->sets[0].source == FeatureIdSet::Source::Attribute ||
-                                              f->sets[0].source == FeatureIdSet::Source::Implicit);
+    g.featureIds =
+        f && !f->sets.empty() &&
+        (f->sets[0].source == FeatureIdSet::Source::Attribute || f->sets[0].source == FeatureIdSet::Source::Implicit);
     // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
     const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
                  uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0,

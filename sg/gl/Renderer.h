@@ -306,9 +306,9 @@ private:
     std::unique_ptr<DepthTarget> depthTarget_;  // ReverseZ's framebuffer
     std::vector<ItemAttributes> items_;         // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
-    std::vector<float> fades_;     // per item, filled only in frames with dissolving items
+    std::vector<float> fades_;             // per item, filled only in frames with dissolving items
     std::vector<vec4> itemFeatureColors_;  // per item, filled only in frames with feature nodes and a style
-    std::vector<uint32_t> parts_;  // per item, its DrawList::parts index; filled only in frames with parts
+    std::vector<uint32_t> parts_;          // per item, its DrawList::parts index; filled only in frames with parts
     std::vector<int> rangeCounts_;
     std::vector<const void*> rangeOffsets_;
     RenderStats stats_;

@@ -1,5 +1,6 @@
 // What a hit says about the features it struck: for each feature ID set of the hit mesh (and of the nodes on its path
-// that are one feature each: an instance, a building) the feature's id and its properties, and the property textures and attributes evaluated at the hit.
+// that are one feature each: an instance, a building) the feature's id and its properties, and the property textures
+// and attributes evaluated at the hit.
 #pragma once
 #include "sg/core/Properties.h"
 #include "sg/intersect/Intersect.h"
@@ -18,7 +19,7 @@ struct FeatureAtHit {
     std::string label;
     int64_t featureId = -1;  // -1: no feature (the set's null id, or nothing readable at the hit)
     int propertyTable = -1;
-    std::string classId;     // the table's class; empty without a table
+    std::string classId;  // the table's class; empty without a table
     PropertyList properties;
     const PropertyStore* store = nullptr;  // the set's (FeatureStyle::setHighlight names a feature by it)
 };

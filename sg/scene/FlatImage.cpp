@@ -27,8 +27,8 @@ size_t FlatImage::bytes() const {
     for (const auto& p : prototypes) owned += p.second->bytes() + sizeof(p) + 2 * sizeof(void*);
     return owned + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
            matrices.capacity() * sizeof(dmat4) + switchOn.capacity() + nodes.capacity() * sizeof(void*) +
-           masked.capacity() * 8 + featured.capacity() * sizeof(featured[0]) + lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) +
-           ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
+           masked.capacity() * 8 + featured.capacity() * sizeof(featured[0]) + lods.capacity() * sizeof(Lod) +
+           paged.capacity() * sizeof(Paged) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
            placements.capacity() * sizeof(Placement) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +
            occluders.capacity() * sizeof(OccluderRef) + occluderMatrices.capacity() * sizeof(dmat4) +
            occluderChunks.capacity() * sizeof(Box) + occluderSwitchBits.capacity() * sizeof(uint32_t);

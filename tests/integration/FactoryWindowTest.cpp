@@ -59,7 +59,8 @@ TEST(FactoryKeyScript, TokensBecomeFrames) {
 }
 
 TEST(FactoryKeyScript, BadTokensAreNamed) {
-    for (const char* bad : {"X", "W*0", "W*", "W*2x", "drag:1", "drag:a,b", "wait*-1", "Shift", "click:1", "click:x,2"}) {
+    for (const char* bad :
+         {"X", "W*0", "W*", "W*2x", "drag:1", "drag:a,b", "wait*-1", "Shift", "click:1", "click:x,2"}) {
         try {
             parseKeyScript(std::string("W ") + bad);
             ADD_FAILURE() << bad << " parsed";

@@ -55,10 +55,10 @@ ref_ptr<PropertyStore> everyKind() {
     t.name = "buildings";
     t.classIndex = 0;
     t.count = kQuads;
-    column(*s, t, prop("height", PropertyType::Scalar, ComponentType::Float64), {le<double>({10.5, 20.25, 30, 45.125})});
+    column(*s, t, prop("height", PropertyType::Scalar, ComponentType::Float64),
+           {le<double>({10.5, 20.25, 30, 45.125})});
     column(*s, t, prop("floors", PropertyType::Scalar, ComponentType::UInt16), {le<uint16_t>({3, 6, 9, 14})});
-    column(*s, t, prop("name", PropertyType::String),
-           {textBytes("ahallz\xc3\xbc"), {}, le<uint32_t>({0, 1, 5, 5, 8})});
+    column(*s, t, prop("name", PropertyType::String), {textBytes("ahallz\xc3\xbc"), {}, le<uint32_t>({0, 1, 5, 5, 8})});
     column(*s, t, prop("tall", PropertyType::Boolean), {{0x0a}});
     ClassProperty use = prop("use", PropertyType::Enum, ComponentType::UInt16);
     use.enumIndex = 0;
@@ -163,9 +163,9 @@ TEST(FeaturePick, EachPropertyOfEachFeatureSetIsReadAtItsPixelFromTheFileWritten
         ASSERT_EQ(hf.features.size(), 3u);
         EXPECT_EQ(hf.features[0].label, "by vertex");
         EXPECT_EQ(hf.features[0].featureId, i);
-        EXPECT_EQ(hf.features[1].featureId, 3 - i);                                  // the texel's
-        EXPECT_EQ(hf.features[2].featureId / 4, i);                                  // one of quad i's vertices
-        EXPECT_TRUE(hf.features[2].properties.empty());                              // no table
+        EXPECT_EQ(hf.features[1].featureId, 3 - i);      // the texel's
+        EXPECT_EQ(hf.features[2].featureId / 4, i);      // one of quad i's vertices
+        EXPECT_TRUE(hf.features[2].properties.empty());  // no table
         for (int s = 0; s < 2; ++s) {
             const FeatureAtHit& f = hf.features[size_t(s)];
             EXPECT_EQ(f.classId, "building");

@@ -128,6 +128,6 @@ TEST(HitFeatures, FeatureNodesOnThePathFollowTheMeshsSetsInnermostFirst) {
     EXPECT_TRUE(f.features[1].instance);
     EXPECT_EQ(f.features[1].featureId, 9);  // inner: ids[2]
     EXPECT_EQ(f.features[1].label, "parts");
-    EXPECT_EQ(f.features[2].featureId, 7);  // outer: ids[0]
+    EXPECT_EQ(f.features[2].featureId, 7);          // outer: ids[0]
     EXPECT_TRUE(f.features[1].properties.empty());  // no table
 }

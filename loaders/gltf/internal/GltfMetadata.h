@@ -23,7 +23,8 @@ tinygltf::Value toValue(const nlohmann::ordered_json& j);
 // Member `key` of object `o`, or null (also when `o` is not an object).
 const nlohmann::ordered_json* member(const nlohmann::ordered_json& o, const char* key);
 // A whole number in [lo, hi]; LoadError(file, path) otherwise.
-int64_t integer(const std::string& file, const nlohmann::ordered_json& j, const std::string& path, int64_t lo, int64_t hi);
+int64_t integer(const std::string& file, const nlohmann::ordered_json& j, const std::string& path, int64_t lo,
+                int64_t hi);
 // A texture's channels (each 0..3), [0] when `j` is null; LoadError(file, path) for anything else.
 std::vector<uint8_t> channels(const std::string& file, const nlohmann::ordered_json* j, const std::string& path);
 // The bytes of one element of a property (a fixed-length array's all): 0 for STRING, BOOLEAN and variable-length

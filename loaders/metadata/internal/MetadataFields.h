@@ -23,6 +23,7 @@ enum class Leaf { Number, String, Boolean };
 Leaf leafOf(const ClassProperty& p);
 // Checks that `v` has the shape the spec gives values of `p`: a leaf for a scalar, an array of N for VECn and
 // N * N for MATn; for an array property an array (of `count` when fixed) of those. LoadError at `path` otherwise.
-void checkShape(const nlohmann::ordered_json& v, const ClassProperty& p, Leaf leaf, const Context& c, const std::string& path);
+void checkShape(const nlohmann::ordered_json& v, const ClassProperty& p, Leaf leaf, const Context& c,
+                const std::string& path);
 
 }  // namespace sg::metadata::fields

@@ -38,7 +38,8 @@ struct Columns {
 
     // One JSON value per feature (null or a JSON null: no value) as a column of the narrowest type that holds
     // them all (see BatchTable.cpp).
-    void addJson(const std::string& id, const std::vector<const nlohmann::ordered_json*>& values, const std::string& path);
+    void addJson(const std::string& id, const std::vector<const nlohmann::ordered_json*>& values,
+                 const std::string& path);
     // A {byteOffset, componentType, type} reference to `count` elements of the binary body.
     void addBinary(const std::string& id, const nlohmann::ordered_json& ref, const std::string& path);
     // Where `count` elements of `components` components of type `c` start in the binary body, per `ref`'s
