@@ -1,5 +1,6 @@
 // The 3D Tiles 1.1 metadata of a tileset's tiles and contents (and of the groups contents belong to), read from
-// tileset.json with the schema's offset, scale and normalized applied, and reachable from a tile's content nodes.
+// tileset.json (or an implicit tile's subtree file) with the schema's offset, scale and normalized applied, and
+// reachable from a tile's content nodes.
 #pragma once
 #include "nodes/Group.h"
 #include "sg/core/Properties.h"

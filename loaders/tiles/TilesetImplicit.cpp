@@ -1,6 +1,7 @@
 // Implicit tiling (3D Tiles 1.1): subtree files read and checked, and an implicit tile's contents and children
 // worked out from them when the tile is first built.
 #include "loaders/gltf/internal/GltfDetail.h"
+#include "loaders/tiles/internal/TilesetImplicitMetadata.h"
 #include "loaders/tiles/internal/TilesetTable.h"
 
 #include <nlohmann/json.hpp>
@@ -34,13 +35,16 @@ uint64_t levelOffset(uint32_t levels, bool octree) {
 
 uint64_t power(bool octree, uint32_t levels) { return uint64_t(1) << ((octree ? 3 : 2) * levels); }
 
+// An unsigned integer `v` (at `at`), at most `most`.
+uint64_t countOf(const std::string& file, const json& v, const std::string& at, uint64_t most) {
+    if (!v.is_number_unsigned() || v.get<uint64_t>() > most)
+        fail(file, at, "missing, or not an integer from 0 to " + std::to_string(most));
+    return v.get<uint64_t>();
+}
+
 // An unsigned integer at `key` of `j`, at most `most`.
 uint64_t count(const std::string& file, const json& j, const char* key, const std::string& path, uint64_t most) {
-    const json v = j.is_object() ? j.value(key, json()) : json();
-    if (!v.is_number_unsigned() || v.get<uint64_t>() > most)
-        fail(file, (path.empty() ? "" : path + ".") + key,
-             "missing, or not an integer from 0 to " + std::to_string(most));
-    return v.get<uint64_t>();
+    return countOf(file, j.is_object() ? j.value(key, json()) : json(), (path.empty() ? "" : path + ".") + key, most);
 }
 
 struct Reader {
@@ -70,10 +74,15 @@ struct Reader {
 
     // The bytes of the buffer view that a[key] names, checked against its buffer.
     std::pair<const unsigned char*, uint64_t> view(const json& a, const char* key, const std::string& path) const {
+        return viewAt(a.is_object() ? a.value(key, json()) : json(), path + "." + key);
+    }
+
+    // The bytes of buffer view `index` (named at `at`), checked against its buffer.
+    std::pair<const unsigned char*, uint64_t> viewAt(const json& index, const std::string& at) const {
         const json views = doc.value("bufferViews", json::array());
         if (!views.is_array()) fail(file, "bufferViews", "must be an array");
-        const uint64_t v = count(file, a, key, path, views.empty() ? 0 : views.size() - 1);
-        if (views.empty()) fail(file, path + "." + key, "names a buffer view, but there are none");
+        const uint64_t v = countOf(file, index, at, views.empty() ? 0 : views.size() - 1);
+        if (views.empty()) fail(file, at, "names a buffer view, but there are none");
         const std::string vp = "bufferViews[" + std::to_string(v) + "]";
         const json& view = views[size_t(v)];
         const uint64_t b = count(file, view, "buffer", vp, buffers.empty() ? 0 : buffers.size() - 1);
@@ -206,13 +215,13 @@ struct SubtreeRoot {
 };
 
 // The tile's own volume and error where its subtree's metadata gives them (over the implied ones).
-struct TileMetadata {
+struct TileSemanticValues {
     std::optional<Sphere> sphere;
     std::optional<double> error;
 };
 
-TileMetadata tileMetadata(const Subtree& sub, uint64_t at) {
-    TileMetadata m;
+TileSemanticValues semanticValues(const Subtree& sub, uint64_t at) {
+    TileSemanticValues m;
     if ((sub.volume != Subtree::Volume::None || !sub.errors.empty()) && sub.tiles[at]) {
         const uint64_t row = sub.tiles.rank(at);
         const double* v = sub.volumes.data();
@@ -374,6 +383,8 @@ Subtree parseSubtree(const std::string& file, const std::vector<unsigned char>& 
                                  ? r.availability(contents[i], "contentAvailability[" + std::to_string(i) + "]", tiles)
                                  : Availability{true, false, {}, {}});  // not given: none
     if (doc.contains("tileMetadata")) r.tileMetadata(tiling, s.tiles.countBits(tiles), s);
+    readSubtreeMetadata(
+        file, doc, tiling, tiles, [&r](const json& index, const std::string& at) { return r.viewAt(index, at); }, s);
     return s;
 }
 
@@ -394,18 +405,21 @@ TileDesc TilesetState::resolve(uint32_t i) {
         const std::string uri = expandTemplate(t.subtrees, root.level, root.x, root.y, root.z);
         auto read = [this](const std::string& u) { return readResource(u, options.resource); };
         sub = std::make_shared<const Subtree>(parseSubtree(uri, read(uri), t, read));
+        for (const std::string& w : sub->warnings) warn(uri + ": " + w);
         std::lock_guard<std::mutex> lock(mutex_);
         subtrees_.emplace(key, sub);
     }
 
     const uint64_t at = root.slot(d, t.octree);
-    const TileMetadata own = tileMetadata(*sub, at);
+    const TileSemanticValues own = semanticValues(*sub, at);
+    const ref_ptr<const TileMetadata> metadata = implicitTileMetadata(t, *sub, at, d.metadata.get());
     std::vector<std::string> contents = availableContents(d, *sub, at);
     std::vector<TileDesc> kids = availableChildren(d, i, *sub, root);
 
     std::lock_guard<std::mutex> lock(mutex_);
     if (tiles_[i].pending) {  // another load may have resolved it meanwhile
         tiles_[i].contents = std::move(contents);
+        tiles_[i].metadata = metadata;
         if (own.sphere) {
             tiles_[i].sphere = *own.sphere;
             tiles_[i].region = sub->volume == Subtree::Volume::Region;

@@ -321,6 +321,11 @@ private:
         t->volume = raw;
         t->geometricError = d.geometricError;
         t->schema = schema_;
+        t->fullSchema = meta_.schema;
+        t->groups = meta_.groups;
+        t->contentGroups.assign(t->contents.size(), -1);
+        for (size_t c = 0; d.metadata && c < d.metadata->contents.size() && c < t->contentGroups.size(); ++c)
+            t->contentGroups[c] = d.metadata->contents[c].group;
         d.implicit = std::move(t);
         d.pending = true;
     }

@@ -57,6 +57,11 @@ struct ImplicitTiling {
     std::vector<double> volume;  // the root's box (12 numbers) or region (6)
     double geometricError = 0.0;
     MetadataSchema schema;  // the tileset's, for the subtrees' tile metadata
+    // The tileset file's whole schema and groups (null without them), for the subtrees' tile and content metadata,
+    // and each content template's group (-1: none).
+    std::shared_ptr<const Schema> fullSchema;
+    std::shared_ptr<const std::vector<MetadataEntity>> groups;
+    std::vector<int> contentGroups;
 };
 
 // A subtree file's availability: of its tiles (levels 0 .. subtreeLevels - 1, Morton order per level), of each
@@ -78,10 +83,17 @@ struct Subtree {
     enum class Volume { None, Box, Region, Sphere } volume = Volume::None;
     std::vector<double> volumes;  // 12, 6 or 4 numbers a row
     std::vector<double> errors;   // empty without TILE_GEOMETRIC_ERROR
+    // Every property of the tile and content metadata (TilesetImplicitMetadata.h): tables of `store` with a row per
+    // available tile, or per available content of each content; -1 where the subtree has none.
+    ref_ptr<const PropertyStore> store;
+    int tileTable = -1;
+    std::vector<int> contentTables;     // one per content of the tiling
+    std::vector<std::string> warnings;  // what was left out, each naming its JSON path
 };
-// Reads a subtree file (binary "subt" or JSON): `readBuffer` reads an external buffer by its resolved URI.
-// Throws LoadError naming the file, the JSON path and the reason (e.g. a bitstream shorter than its level count,
-// a tile metadata table shorter than the available tiles, a negative geometric error).
+// Reads a subtree file (binary "subt" or JSON), its tile and content metadata with it: `readBuffer` reads an
+// external buffer by its resolved URI. Throws LoadError naming the file, the JSON path and the reason (e.g. a
+// bitstream shorter than its level count, a metadata table with other than a row per available tile, a negative
+// geometric error).
 Subtree parseSubtree(const std::string& file, const std::vector<unsigned char>& bytes, const ImplicitTiling& tiling,
                      const std::function<std::vector<unsigned char>(const std::string&)>& readBuffer);
 // Morton index of (x, y) or (x, y, z): bits interleaved, x lowest.
