@@ -92,8 +92,6 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     it.material = d.material;
     toFloat(m, it.model);
     if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
-    if (feature_)
-        out_->features.push_back({uint32_t(out_->items.size() - 1), feature_->features.get(), feature_->index});
     triangles_ += d.mesh->triangleCount();
     if (invalid) stats_->invalidDrawn++;
 }
@@ -127,7 +125,6 @@ void CullTraversal::emitTrimmed(Ctx& c, uint32_t i, const dmat4& m) {
     toFloat(m, it.model);
     const uint32_t item = uint32_t(out_->items.size() - 1);
     if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
-    if (feature_) out_->features.push_back({item, feature_->features.get(), feature_->index});
     out_->parts.push_back({item, uint32_t(firstRange), uint32_t(ranges.size() - firstRange), true});
     triangles_ += kept;
 }

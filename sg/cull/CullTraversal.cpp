@@ -89,7 +89,6 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     scratch_.clear();
     triangles_ = 0;
     fade_ = 1.0f;
-    feature_ = nullptr;
     const FlatImage& img = scene.image();
     const LodChooser chooser({&cam, set.lodScale, set.lodHysteresis, set.lodFade});
     chooser_ = &chooser;

@@ -60,6 +60,8 @@ private:
     // where this entry's test starts; OcclusionTree::kVisible: no occlusion test below (0, the root, is a
     // node like the others: tested against the whole tree, or against the map when the map was built).
     void visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
+    void handle(Ctx& c, uint32_t i, uint32_t mask, uint32_t maskIn, const dmat4& m, int32_t occ);
+    void featureNode(Ctx& c, uint32_t i, uint32_t mask, uint32_t maskIn, const dmat4& m, int32_t occ);
     bool test(Ctx& c, uint32_t i, uint32_t& mask);  // the bound against the planes
     // The handlers, one per kind (Transform's and Occluder's are a line in visit()).
     void group(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int32_t occ);
@@ -106,9 +108,8 @@ private:
     size_t placementDepth_ = 0;
     size_t framesTop_ = 0;
     uint64_t triangles_ = 0;
-    float fade_ = 1.0f;                               // the dissolve of what is emitted now (DrawList::fades), 1: none
-    const FlatImage::FeatureRef* feature_ = nullptr;  // the innermost feature node above (DrawList::features)
-    bool planning_ = false;                           // the walk sets the visible LODs aside for planner_
+    float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none
+    bool planning_ = false;  // the walk sets the visible LODs aside for planner_
     OcclusionPass occlusion_;
     const Scene* occlusionScene_ = nullptr;  // the scene and version the occlusion pass's back-off saw
     uint64_t occlusionVersion_ = 0;

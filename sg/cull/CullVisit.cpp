@@ -55,19 +55,28 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
             !occlusion_.test(img, c.originRel, i, occ, *stats_, k == NodeKind::Geometry ? &m : nullptr))
             return;
     }
-    // A feature node: the items below it are noted with it, until the walk leaves its subtree.
-    struct FeatureScope {
-        const FlatImage::FeatureRef*& at;
-        const FlatImage::FeatureRef* const outer;
-        ~FeatureScope() { at = outer; }
-    } featureScope{feature_, feature_};
-    if (fl & FlatImage::kFeature) feature_ = img.featureOf(i);
-    switch (img.kind[i]) {
+    if (fl & FlatImage::kFeature) return featureNode(c, i, mask, maskIn, m, occ);
+    handle(c, i, mask, maskIn, m, occ);
+}
+
+// A feature node: the items its subtree emits are noted with it as one range once the walk leaves it (emit itself
+// checks nothing, and visit() only the flag: scenes without features pay nothing per item).
+void CullTraversal::featureNode(Ctx& c, uint32_t i, uint32_t mask, uint32_t maskIn, const dmat4& m, int32_t occ) {
+    const size_t first = out_->items.size();
+    handle(c, i, mask, maskIn, m, occ);
+    const FlatImage::FeatureRef* f = c.img->featureOf(i);
+    if (f && out_->items.size() > first)
+        out_->features.push_back({uint32_t(first), uint32_t(out_->items.size()), f->features.get(), f->index});
+}
+
+// Entry i's kind's handler, its tests passed (`maskIn`: the planes' mask before its own test).
+inline void CullTraversal::handle(Ctx& c, uint32_t i, uint32_t mask, uint32_t maskIn, const dmat4& m, int32_t occ) {
+    switch (c.img->kind[i]) {
         case NodeKind::Geometry:
             // (the centre-box test clears the mask without the bound being inside)
             emit(c, i, m, maskIn == 0 || (mask == 0 && set_->strategy != CullStrategy::CenterBox));
             break;
-        case NodeKind::Transform: children(c, i, mask, transformed(img, i, m), occ); break;
+        case NodeKind::Transform: children(c, i, mask, transformed(*c.img, i, m), occ); break;
         case NodeKind::LOD: lod(c, i, mask, occ, m, [&](uint32_t j) { visit(c, j, mask, m, occ); }); break;
         case NodeKind::Switch: switchChildren(c, i, mask, m, occ); break;
         case NodeKind::Billboard: billboard(c, i, m); break;

@@ -48,10 +48,12 @@ public:
     };
     std::vector<Part> parts;
     std::vector<IndexRange> ranges;
-    // Items below a node that is a feature (Node::setFeatures), by item index in emission order: the innermost
-    // such node's sets and index (a style colours or hides the item by them). Items not listed: no such node.
+    // Items below a node that is a feature (Node::setFeatures): items [first, end) in emission order were emitted
+    // below a node whose sets and index these are (a style colours or hides the items by them). A range is added
+    // once the walk leaves the node's subtree, so an inner node's comes before the outer one's that holds it: an
+    // item's feature is that of the first range holding it. Items in no range: no such node.
     struct Feature {
-        uint32_t item;
+        uint32_t first, end;
         const MeshFeatures* features;
         uint32_t index;
     };

@@ -23,25 +23,33 @@ void Renderer::indexFades(const DrawList& list) {
 void Renderer::indexFeatures(const DrawList& list) {
     itemFeatureColors_.clear();
     if (list.features.empty() || !featureStyle_) return;
-    itemFeatureColors_.assign(list.items.size(), vec4(1.0f));
-    // Items of one table come in runs: its colours are asked for once per run, not per item.
+    // Alpha -1: not yet given by a range (the first range holding an item, the innermost node's, gives it).
+    itemFeatureColors_.assign(list.items.size(), vec4(1.0f, 1.0f, 1.0f, -1.0f));
+    // Ranges of one table come one after another: its colours are asked for once per run, not per range.
     const PropertyStore* store = nullptr;
     int table = -1;
     std::shared_ptr<const FeatureStyle::Colors> colors;
     for (const DrawList::Feature& f : list.features) {
-        if (f.item >= list.items.size() || !f.features || f.features->sets.empty() || !f.features->store) continue;
+        if (!f.features || f.features->sets.empty()) continue;
+        vec4 color(1.0f);
         const int t = f.features->sets[0].propertyTable;
-        if (t < 0) continue;
-        if (f.features->store.get() != store || t != table) {
-            store = f.features->store.get();
-            table = t;
-            colors = featureStyle_->colors(*store, table);
+        if (f.features->store && t >= 0) {
+            if (f.features->store.get() != store || t != table) {
+                store = f.features->store.get();
+                table = t;
+                colors = featureStyle_->colors(*store, table);
+            }
+            const int64_t id = f.features->idAt(0, f.index);
+            if (id >= 0 && size_t(id) * 4 + 3 < colors->rgba.size()) {
+                const uint8_t* px = &colors->rgba[size_t(id) * 4];
+                color = vec4(px[0], px[1], px[2], px[3]) / 255.0f;
+            }
         }
-        const int64_t id = f.features->idAt(0, f.index);
-        if (id < 0 || size_t(id) * 4 + 3 >= colors->rgba.size()) continue;
-        const uint8_t* px = &colors->rgba[size_t(id) * 4];
-        itemFeatureColors_[f.item] = vec4(px[0], px[1], px[2], px[3]) / 255.0f;
+        for (size_t k = f.first; k < f.end && k < itemFeatureColors_.size(); ++k)
+            if (itemFeatureColors_[k].a < 0.0f) itemFeatureColors_[k] = color;
     }
+    for (vec4& c : itemFeatureColors_)
+        if (c.a < 0.0f) c = vec4(1.0f);
 }
 
 // Like fades: a dense copy of DrawList::parts only in frames that draw items in part, each part checked.
