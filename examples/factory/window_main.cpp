@@ -213,7 +213,7 @@ void FactoryWindow::click(double x, double y) {
             if (picked_.empty() && f.store)
                 style_->setHighlight(f.store, f.propertyTable, f.featureId, {1, 0.85f, 0.1f, 1});
             picked_ += (picked_.empty() ? "picked: " : "in: ") + f.classId;
-            for (const auto& [id, v] : f.properties) picked_ += ", " + id + " " + v.toString();
+            if (!f.properties.empty()) picked_ += ", " + sg::propertiesText(f.properties);
             picked_ += "\n";
         }
         if (!picked_.empty()) picked_.pop_back();

@@ -18,12 +18,6 @@ std::string propertiesJson(const sg::PropertyList& ps) {
     return s + "}";
 }
 
-std::string propertiesText(const sg::PropertyList& ps) {
-    std::string s;
-    for (size_t i = 0; i < ps.size(); ++i) s += (i ? ", " : "") + ps[i].first + " " + ps[i].second.toString();
-    return s;
-}
-
 std::string atJson(const std::vector<sg::PropertiesAtHit>& list) {
     std::string s = "[";
     for (size_t i = 0; i < list.size(); ++i)
@@ -38,12 +32,13 @@ std::string featuresText(const sg::HitFeatures& f) {
         s += "\n  " + std::string(x.instance ? "instance feature set " : "feature set ") + std::to_string(x.set);
         if (!x.label.empty()) s += " '" + x.label + "'";
         s += ": " + (x.featureId < 0 ? std::string("no feature") : "id " + std::to_string(x.featureId));
-        if (!x.classId.empty() && x.featureId >= 0) s += ", class " + x.classId + ": " + propertiesText(x.properties);
+        if (!x.classId.empty() && x.featureId >= 0)
+            s += ", class " + x.classId + ": " + sg::propertiesText(x.properties);
     }
     for (const auto& p : f.propertyTextures)
-        s += "\n  property texture, class " + p.classId + ": " + propertiesText(p.properties);
+        s += "\n  property texture, class " + p.classId + ": " + sg::propertiesText(p.properties);
     for (const auto& p : f.propertyAttributes)
-        s += "\n  property attribute, class " + p.classId + ": " + propertiesText(p.properties);
+        s += "\n  property attribute, class " + p.classId + ": " + sg::propertiesText(p.properties);
     return s;
 }
 
@@ -110,7 +105,7 @@ std::string featurePanel(const Pick& p) {
     for (const sg::FeatureAtHit& f : p.features.features) {
         if (f.featureId < 0 || f.properties.empty()) continue;
         std::string s = f.classId + " " + std::to_string(f.featureId);
-        for (const auto& [id, v] : f.properties) s += "\n" + id + " " + v.toString();
+        s += "\n" + sg::propertiesText(f.properties, "\n");
         return s;
     }
     return {};

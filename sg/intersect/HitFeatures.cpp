@@ -99,6 +99,13 @@ void meshFeatures(const Mesh& mesh, const Hit& hit, HitFeatures& out) {
 
 }  // namespace
 
+std::string propertiesText(const PropertyList& properties, const char* separator) {
+    std::string s;
+    for (size_t i = 0; i < properties.size(); ++i)
+        s += (i ? separator : "") + properties[i].first + " " + properties[i].second.toString();
+    return s;
+}
+
 HitFeatures featuresAt(const Hit& hit) {
     HitFeatures out;
     const Mesh* mesh = hit.geometry ? hit.geometry->mesh() : nullptr;

@@ -35,6 +35,9 @@ struct HitFeatures {
     bool empty() const { return features.empty() && propertyTextures.empty() && propertyAttributes.empty(); }
 };
 
+// Properties as a viewer prints them: "id value" each (PropertyValue::toString), joined by `separator`.
+std::string propertiesText(const PropertyList& properties, const char* separator = ", ");
+
 // Feature ids at the hit: an attribute's (or the implicit vertex index) at the vertex of the hit triangle nearest
 // the hit point (all three agree on a feature's own triangles); a texture's at the nearest texel of the hit's
 // interpolated UV; a node's (Node::setFeatures) for each node on the path that has them, innermost first. Property
