@@ -24,7 +24,7 @@ bool bare(const Node& n) { return plain(n) && !n.features(); }
 bool drawnGeometry(const Node* n) {
     if (!n || n->kind() != NodeKind::Geometry || !plain(*n)) return false;
     const Mesh* m = static_cast<const Geometry*>(n)->mesh();
-    return m && m->indexCount() > 0;
+    return m && m->primitiveCount() > 0;
 }
 
 // What makes two leaves the same prototype: the mesh and material, and for an LOD of that one level, everything

@@ -2,6 +2,7 @@
 
 #include "sg/core/internal/MeshClosed.h"
 
+#include <algorithm>
 #include <atomic>
 #include <stdexcept>
 #include <string>
@@ -12,23 +13,25 @@ static std::atomic<uint32_t> g_nextMeshId{1};
 
 Mesh::Mesh() : id_(g_nextMeshId++) {}
 
-void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vector<uint32_t> indices,
-               std::vector<vec2> uvs, std::vector<vec4> colors) {
+// The checks and the storing every set*() shares; `what` names the caller in messages.
+void Mesh::store(const char* what, Primitive primitive, std::vector<vec3> positions, std::vector<vec3> normals,
+                 std::vector<uint32_t> indices, std::vector<vec2> uvs, std::vector<vec4> colors) {
     const size_t n = positions.size();
-    auto sizeError = [&](const char* what, size_t got) {
-        throw std::invalid_argument(std::string("Mesh::set(): ") + what + " has " + std::to_string(got) +
+    auto sizeError = [&](const char* array, size_t got) {
+        throw std::invalid_argument(std::string(what) + ": " + array + " has " + std::to_string(got) +
                                     " elements, positions has " + std::to_string(n));
     };
     if (!normals.empty() && normals.size() != n) sizeError("normals", normals.size());
     if (!uvs.empty() && uvs.size() != n) sizeError("uvs", uvs.size());
     if (!colors.empty() && colors.size() != n) sizeError("colors", colors.size());
-    if (indices.size() % 3 != 0)
-        throw std::invalid_argument("Mesh::set(): index count " + std::to_string(indices.size()) +
-                                    " is not a multiple of 3");
+    const size_t group = primitive == Primitive::Triangles ? 3 : 2;
+    if (indices.size() % group != 0)
+        throw std::invalid_argument(std::string(what) + ": index count " + std::to_string(indices.size()) +
+                                    " is not a multiple of " + std::to_string(group));
     uint32_t maxIndex = 0;
     for (size_t i = 0; i < indices.size(); ++i) {
         if (indices[i] >= n)
-            throw std::invalid_argument("Mesh::set(): indices[" + std::to_string(i) +
+            throw std::invalid_argument(std::string(what) + ": indices[" + std::to_string(i) +
                                         "] = " + std::to_string(indices[i]) + " is out of range (" + std::to_string(n) +
                                         " positions)");
         maxIndex = std::max(maxIndex, indices[i]);
@@ -39,12 +42,15 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) valid_ = false;
         box_.expand(dvec3(p));
     }
+    primitive_ = primitive;
     positions_ = std::move(positions);
     normals_ = std::move(normals);
     uvs_ = std::move(uvs);
     colors_ = std::move(colors);
     tangents_.clear();
     uvs1_.clear();
+    intensities_.clear();
+    outline_.clear();
     features_ = nullptr;
     indices16_.clear();
     indices32_.clear();
@@ -54,6 +60,42 @@ void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vect
         indices32_ = std::move(indices);
     }
     closed_.store(-1, std::memory_order_relaxed);
+    ++version_;
+}
+
+void Mesh::set(std::vector<vec3> positions, std::vector<vec3> normals, std::vector<uint32_t> indices,
+               std::vector<vec2> uvs, std::vector<vec4> colors) {
+    store("Mesh::set()", Primitive::Triangles, std::move(positions), std::move(normals), std::move(indices),
+          std::move(uvs), std::move(colors));
+}
+
+void Mesh::setPoints(std::vector<vec3> positions, std::vector<vec4> colors, std::vector<vec3> normals) {
+    store("Mesh::setPoints()", Primitive::Points, std::move(positions), std::move(normals), {}, {}, std::move(colors));
+}
+
+void Mesh::setLines(std::vector<vec3> positions, std::vector<uint32_t> indices, std::vector<vec4> colors) {
+    store("Mesh::setLines()", Primitive::Lines, std::move(positions), {}, std::move(indices), {}, std::move(colors));
+}
+
+void Mesh::setIntensities(std::vector<uint16_t> intensities) {
+    if (!intensities.empty() && intensities.size() != positions_.size())
+        throw std::invalid_argument("Mesh::setIntensities(): " + std::to_string(intensities.size()) +
+                                    " intensities, positions has " + std::to_string(positions_.size()));
+    intensities_ = std::move(intensities);
+    ++version_;
+}
+
+void Mesh::setOutline(std::vector<uint32_t> edges) {
+    if (!edges.empty() && primitive_ != Primitive::Triangles)
+        throw std::invalid_argument("Mesh::setOutline(): the mesh is not triangles");
+    if (edges.size() % 2 != 0)
+        throw std::invalid_argument("Mesh::setOutline(): index count " + std::to_string(edges.size()) + " is odd");
+    for (size_t i = 0; i < edges.size(); ++i)
+        if (edges[i] >= positions_.size())
+            throw std::invalid_argument("Mesh::setOutline(): edges[" + std::to_string(i) +
+                                        "] = " + std::to_string(edges[i]) + " is out of range (" +
+                                        std::to_string(positions_.size()) + " positions)");
+    outline_ = std::move(edges);
     ++version_;
 }
 
@@ -93,6 +135,7 @@ void Mesh::setFeatures(ref_ptr<const MeshFeatures> features) {
 
 // Two threads asking at once may both work it out: the same answer, stored twice.
 bool Mesh::closed() const {
+    if (primitive_ != Primitive::Triangles) return false;
     int8_t c = closed_.load(std::memory_order_acquire);
     if (c < 0) {
         c = boundsSolids(positions_, indices16_.empty() ? nullptr : indices16_.data(),

@@ -1,4 +1,5 @@
-// Mesh: shared triangle data (positions, normals, optional UVs and colours, 16- or 32-bit indices).
+// Mesh: shared geometry (triangles, lines or points: positions, normals, optional UVs and colours, 16- or 32-bit
+// indices).
 #pragma once
 #include "sg/core/Assert.h"
 #include "sg/core/Features.h"
@@ -6,6 +7,7 @@
 #include "sg/core/Ref.h"
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,6 +19,10 @@ struct MeshSource {
     std::string file;
     int gltfMesh = -1, gltfPrimitive = -1;
 };
+
+// What a mesh draws: triangles (three indices a face), line segments (two indices each) or points (one a position,
+// in order: points have no indices). glTF's strips, loops and fans become lists when read.
+enum class Primitive : uint8_t { Triangles, Lines, Points };
 
 class Mesh : public Referenced {
 public:
@@ -31,6 +37,26 @@ public:
     // handedness of the bitangent, glTF's TANGENT) for normal maps and a second UV set. Each is empty or has
     // an element per position; throws std::invalid_argument otherwise. Call after set() (which clears them).
     void setSurface(std::vector<vec4> tangents, std::vector<vec2> uvs1);
+
+    // Points: one at each position, drawn in order; normals and colours empty or one per position (throws
+    // std::invalid_argument otherwise, as set()). Non-finite positions are kept, as set() keeps them.
+    void setPoints(std::vector<vec3> positions, std::vector<vec4> colors = {}, std::vector<vec3> normals = {});
+    // Line segments: indices in pairs (throws std::invalid_argument for an odd count or an index out of range).
+    void setLines(std::vector<vec3> positions, std::vector<uint32_t> indices, std::vector<vec4> colors = {});
+    Primitive primitive() const { return primitive_; }
+    // Per-vertex intensity as a scanner returns it (LAS: 0..65535), empty or one per position (throws
+    // std::invalid_argument otherwise). Call after set*() (which clear it).
+    void setIntensities(std::vector<uint16_t> intensities);
+    const std::vector<uint16_t>& intensities() const { return intensities_; }
+    // The distance between neighbouring points, in the mesh's units (a point tile's geometric error): what sizes
+    // attenuated points on screen. 0: unknown. Kept by set*().
+    void setPointSpacing(float spacing) { pointSpacing_ = spacing > 0.0f && std::isfinite(spacing) ? spacing : 0.0f; }
+    float pointSpacing() const { return pointSpacing_; }
+    // A triangle mesh's outline (glTF CESIUM_primitive_outline): edges in pairs of vertex indices, drawn as lines over
+    // its faces. Throws std::invalid_argument for an odd count, an index out of range or a mesh that is not triangles.
+    // Call after set() (which clears it).
+    void setOutline(std::vector<uint32_t> edges);
+    const std::vector<uint32_t>& outline() const { return outline_; }
 
     // What its features are (feature ID sets, property attributes: sg/core/Features.h). Throws
     // std::invalid_argument when an attribute set or a property attribute has not one value per vertex, or a texture
@@ -54,12 +80,17 @@ public:
         SG_ASSERT(i < indexCount(), "Mesh::index(): index past the index array");
         return indices16_.empty() ? indices32_[i] : indices16_[i];
     }
-    uint32_t triangleCount() const { return indexCount() / 3; }
+    uint32_t triangleCount() const { return primitive_ == Primitive::Triangles ? indexCount() / 3 : 0; }
+    uint32_t lineCount() const { return primitive_ == Primitive::Lines ? indexCount() / 2 : 0; }
+    uint32_t pointCount() const { return primitive_ == Primitive::Points ? uint32_t(positions_.size()) : 0; }
+    // Triangles, segments or points: what it draws (0: nothing).
+    uint32_t primitiveCount() const { return triangleCount() + lineCount() + pointCount(); }
     // The bytes of its arrays (what a pager's memory budget and sgview --info count).
     size_t bytes() const {
         return positions_.size() * sizeof(vec3) + normals_.size() * sizeof(vec3) + uvs_.size() * sizeof(vec2) +
                colors_.size() * sizeof(vec4) + tangents_.size() * sizeof(vec4) + uvs1_.size() * sizeof(vec2) +
                indices16_.size() * sizeof(uint16_t) + indices32_.size() * sizeof(uint32_t) +
+               intensities_.size() * sizeof(uint16_t) + outline_.size() * sizeof(uint32_t) +
                (features_ ? features_->bytes() : 0);
     }
 
@@ -79,12 +110,19 @@ public:
     uint64_t version() const { return version_; }
 
 private:
+    void store(const char* what, Primitive primitive, std::vector<vec3> positions, std::vector<vec3> normals,
+               std::vector<uint32_t> indices, std::vector<vec2> uvs, std::vector<vec4> colors);
+
     std::vector<vec3> positions_, normals_;
     std::vector<vec2> uvs_;
     std::vector<vec4> colors_, tangents_;
     std::vector<vec2> uvs1_;
     std::vector<uint16_t> indices16_;
     std::vector<uint32_t> indices32_;
+    std::vector<uint16_t> intensities_;
+    std::vector<uint32_t> outline_;
+    Primitive primitive_ = Primitive::Triangles;
+    float pointSpacing_ = 0.0f;
     ref_ptr<const MeshFeatures> features_;
     MeshSource source_;
     Box box_;

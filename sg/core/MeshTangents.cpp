@@ -35,7 +35,7 @@ std::vector<vec4> generateTangents(const Mesh& mesh, int texCoord) {
         throw std::invalid_argument("generateTangents(): the mesh needs normals and UV set " +
                                     std::to_string(texCoord));
     std::vector<vec3> t(p.size(), vec3(0.0f)), b(p.size(), vec3(0.0f));
-    for (uint32_t k = 0; k + 2 < mesh.indexCount(); k += 3) {
+    for (uint32_t k = 0; k < 3 * mesh.triangleCount(); k += 3) {
         const uint32_t i[3] = {mesh.index(k), mesh.index(k + 1), mesh.index(k + 2)};
         const vec3 e1 = p[i[1]] - p[i[0]], e2 = p[i[2]] - p[i[0]];
         const vec2 d1 = uv[i[1]] - uv[i[0]], d2 = uv[i[2]] - uv[i[0]];

@@ -10,6 +10,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -84,6 +85,23 @@ void Renderer::setDepthMode(DepthMode mode) {
             "Renderer::setDepthMode(): reverse-Z needs glClipControl (OpenGL 4.5 or GL_ARB_clip_control), which "
             "this context lacks");
     depthMode_ = mode;
+}
+
+void Renderer::setPointShading(const PointShading& shading) {
+    auto positive = [](float v, const char* name) {
+        if (!(v > 0.0f) || !std::isfinite(v))
+            throw std::invalid_argument(std::string("Renderer::setPointShading(): ") + name + " " + std::to_string(v) +
+                                        " is not finite and positive");
+    };
+    positive(shading.pointSize, "pointSize");
+    positive(shading.maxPointSize, "maxPointSize");
+    positive(shading.spacingScale, "spacingScale");
+    positive(shading.lineWidth, "lineWidth");
+    positive(shading.eyeDomeRadius, "eyeDomeRadius");
+    if (!(shading.eyeDomeStrength >= 0.0f) || !std::isfinite(shading.eyeDomeStrength))
+        throw std::invalid_argument("Renderer::setPointShading(): eyeDomeStrength " +
+                                    std::to_string(shading.eyeDomeStrength) + " is not finite and not negative");
+    pointShading_ = shading;
 }
 
 }  // namespace sg

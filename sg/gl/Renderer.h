@@ -8,6 +8,7 @@
 #include "sg/core/PrepareBudget.h"
 #include "sg/core/Ref.h"
 #include "sg/cull/DrawList.h"
+#include "sg/gl/PointShading.h"
 #include "sg/io/ImageIO.h"
 #include "sg/style/FeatureStyle.h"
 
@@ -142,6 +143,10 @@ public:
     // restyle (FeatureStyle::setRule) shows in the next frame. ShaderMode::OneProgram draws unstyled.
     void setFeatureStyle(ref_ptr<FeatureStyle> style) { featureStyle_ = std::move(style); }
     FeatureStyle* featureStyle() const { return featureStyle_.get(); }
+    // How points and lines are drawn (sg/gl/PointShading.h). Throws std::invalid_argument for a size, width, scale,
+    // strength or radius that is not finite and positive (strength: not negative), naming it.
+    void setPointShading(const PointShading& shading);
+    const PointShading& pointShading() const { return pointShading_; }
     const std::vector<PunctualLight>& punctualLights() const { return punctual_; }
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
@@ -284,6 +289,7 @@ private:
     DirectionalLight light_;
     std::vector<PunctualLight> punctual_;
     ref_ptr<FeatureStyle> featureStyle_;
+    PointShading pointShading_;
     vec4 punctualPos_[kMaxLights], punctualDir_[kMaxLights];  // the frame's uniforms for them (ShadersPbr.cpp)
     vec3 punctualE_[kMaxLights];
     vec2 punctualCone_[kMaxLights];

@@ -93,7 +93,7 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
             throw std::out_of_range("Renderer::draw(): order[" + std::to_string(k) + "] = " + std::to_string(i) +
                                     " is past the " + std::to_string(list.items.size()) + " items");
         const DrawItem& it = list.items[i];
-        if (!it.mesh || it.mesh->indexCount() == 0) continue;
+        if (!it.mesh || it.mesh->primitiveCount() == 0) continue;
         if (!itemFeatureColors_.empty() && itemFeatureColors_[i].a == 0.0f) continue;  // a hidden feature
         if (it.material && it.material->blend) {
             const float depth = glm::dot(view, it.model * vec4(vec3(it.mesh->box().center()), 1.0f));

@@ -31,6 +31,10 @@ struct QueryOptions {
     // The features this style hides (sg/style/FeatureStyle.h: the one the view is drawn with) are not hit: a ray
     // passes through them as the picture shows. Per-vertex feature ids of a mesh's first set, as the renderer.
     FeatureStyle* style = nullptr;
+    // Points and lines (Mesh::primitive()) are hit by a ray when they pass within a cone about it: at parameter t of
+    // a unit direction, within coneWidth + t * coneSlope of the ray (the nearest such point or segment along the
+    // ray wins). pickCone() (sg/intersect/PickCone.h) makes it a radius in pixels of a view. Zero: they are not hit.
+    double coneWidth = 0.0, coneSlope = 0.0;
 };
 
 // A ray origin + t * direction for t in [0, tMax]; a segment from a to b is {a, b - a, 1}.
@@ -46,9 +50,12 @@ struct Hit {
     double t = kInf;         // ray parameter of the hit (world distance when the direction is a unit vector)
     double distance = kInf;  // world distance from the query's origin to `point`
     dvec3 point{0.0};
-    dvec3 normal{0.0};        // unit geometric normal of the triangle (its winding's front side)
-    uint32_t primitive = 0;   // triangle index in the mesh
-    double u = 0.0, v = 0.0;  // barycentrics: point = (1-u-v) p0 + u p1 + v p2 in the mesh's frame
+    dvec3 normal{0.0};       // unit geometric normal of the triangle (its winding's front side); zero for points and
+                             // lines
+    uint32_t primitive = 0;  // triangle, line segment or point index in the mesh (Mesh::primitive())
+    // Barycentrics of a triangle: point = (1-u-v) p0 + u p1 + v p2 in the mesh's frame; on a segment, point = (1-u)
+    // p0 + u p1 (v = 0); a point's own position for a point (u = v = 0).
+    double u = 0.0, v = 0.0;
     // From the root to the Geometry; an Instance appears in it followed by its prototype's subgraph.
     std::vector<Node*> path;
     const Geometry* geometry = nullptr;
