@@ -93,6 +93,8 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     toFloat(m, it.model);
     if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
     triangles_ += d.mesh->triangleCount();
+    points_ += d.mesh->pointCount();
+    lines_ += d.mesh->lineCount();
     if (invalid) stats_->invalidDrawn++;
 }
 

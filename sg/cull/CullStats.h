@@ -19,7 +19,8 @@ struct CullStats : LodPlanStats {
     uint64_t instancesVisited = 0;
     uint64_t geometries = 0;
     uint64_t triangles = 0;
-    uint64_t invalidDrawn = 0;  // geometries with a NaN/infinite bound, drawn because never culled
+    uint64_t points = 0, lines = 0;  // points and line segments of the geometries drawn
+    uint64_t invalidDrawn = 0;       // geometries with a NaN/infinite bound, drawn because never culled
     // Occlusion pass
     bool occlusionRan = false;        // the pass ran: a tree or a map was built (occluders in view, not skipped)
     bool occlusionSkipped = false;    // Adaptive mode skipped it this frame

@@ -87,7 +87,7 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     out.clear();
     cls_.clear();
     scratch_.clear();
-    triangles_ = 0;
+    triangles_ = points_ = lines_ = 0;
     fade_ = 1.0f;
     const FlatImage& img = scene.image();
     const LodChooser chooser({&cam, set.lodScale, set.lodHysteresis, set.lodFade});
@@ -127,6 +127,8 @@ void CullTraversal::cull(const Scene& scene, const Camera& cam, const CullSettin
     chooser_ = nullptr;
     stats.geometries = out.items.size();
     stats.triangles = triangles_;
+    stats.points = points_;
+    stats.lines = lines_;
     if (set.sort)
         out.sort();
     else
@@ -176,7 +178,8 @@ void CullTraversal::defer(Ctx& c, uint32_t i, uint32_t mask, int32_t occ, const 
 // context (the scene's, or a prototype's at its placement, set up again).
 void CullTraversal::replayBudget(Ctx& sceneCtx, const LodBudgetSettings& lb) {
     const auto& deferred = planner_.deferred();
-    planner_.plan(places_, scene_->version(), *cam_, lb, {double(triangles_), double(out_->items.size()), 0.0},
+    planner_.plan(places_, scene_->version(), *cam_, lb,
+                  {triangleWork(double(triangles_), double(points_), double(lines_)), double(out_->items.size()), 0.0},
                   *stats_);
     protoShown_.clear();
     for (size_t k = 0; k < deferred.size(); ++k) {

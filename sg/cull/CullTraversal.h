@@ -107,7 +107,7 @@ private:
     std::vector<std::shared_ptr<Ctx>> placementCtx_;
     size_t placementDepth_ = 0;
     size_t framesTop_ = 0;
-    uint64_t triangles_ = 0;
+    uint64_t triangles_ = 0, points_ = 0, lines_ = 0;
     float fade_ = 1.0f;      // the dissolve of what is emitted now (DrawList::fades), 1: none
     bool planning_ = false;  // the walk sets the visible LODs aside for planner_
     OcclusionPass occlusion_;

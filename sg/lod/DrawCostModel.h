@@ -7,17 +7,28 @@
 // ~1 / (1 - forgetting) frames and mixes its parts up when frames repeat (the fixed part and the rates are
 // then told apart by noise); the correction follows a background load within a few frames both ways.
 #pragma once
+#include "sg/core/Mesh.h"
+
 #include <array>
 #include <cstdint>
 
 namespace sg {
 
+// What the model counts as triangles: a point or a line segment is drawn as a quad of two triangles (Mesa's draw
+// module widens each into one; what that costs against triangles is measured in docs/benchmarks.md "Points and
+// lines"), so the budget prices scans and edges with the rate it learns from triangles.
+constexpr double kQuadTriangles = 2.0;
+inline double triangleWork(double triangles, double points, double lines) {
+    return triangles + kQuadTriangles * (points + lines);
+}
+inline double triangleWork(const Mesh& m) { return triangleWork(m.triangleCount(), m.pointCount(), m.lineCount()); }
+
 class DrawCostModel {
 public:
     struct Work {
-        double triangles = 0.0;
-        double items = 0.0;   // draw items (instances)
-        double pixels = 0.0;  // covered pixels, estimated (projected bound areas)
+        double triangles = 0.0;  // with points and line segments as triangleWork() counts them
+        double items = 0.0;      // draw items (instances)
+        double pixels = 0.0;     // covered pixels, estimated (projected bound areas)
     };
     // forgetting in (0, 1]: each frame, older frames' weight is multiplied by it (1: remember all).
     // Throws std::invalid_argument naming the value otherwise.

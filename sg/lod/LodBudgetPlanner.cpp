@@ -48,7 +48,7 @@ uint32_t LodBudgetPlanner::workIndex(const FlatImage& img, std::vector<uint32_t>
         for (uint32_t e = j; e < img.end[j]; ++e) {
             if (img.kind[e] != NodeKind::Geometry || (img.flags[e] & FlatImage::kEmpty)) continue;
             if (const Mesh* mesh = img.draws[img.aux[e]].mesh) {
-                w.child.tris += float(mesh->triangleCount());
+                w.child.tris += float(triangleWork(*mesh));
                 w.child.items += 1.0f;
             }
         }

@@ -48,7 +48,9 @@ CullSettings View::frameSettings(double periodMs, double spentMs, bool held) {
 void View::learn(double workMs, bool timed) {
     if (lod == LodPolicy::Stress) stress_.update(workMs);
     if (!timed) return;
-    model_.update({double(stats_.triangles), double(stats_.geometries), stats_.lodPixels}, drawMs_);
+    model_.update({triangleWork(double(stats_.triangles), double(stats_.points), double(stats_.lines)),
+                   double(stats_.geometries), stats_.lodPixels},
+                  drawMs_);
     // The plan's own prediction against the measured time: the loop closes on what the budget planned (a frame
     // with no LOD in view was not planned).
     if (lod == LodPolicy::Budget && stats_.lodObjects > 0) {

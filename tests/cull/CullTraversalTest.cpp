@@ -421,3 +421,24 @@ TEST(Cull, LodScaleMakesEverythingLookFarther) {
     EXPECT_THROW(shown(0.0), std::invalid_argument);
     EXPECT_THROW(shown(std::nan("")), std::invalid_argument);
 }
+
+// Points and lines are culled by their bounds like triangles, and counted by kind.
+TEST(Cull, PointsAndLinesAreCulledByTheirBoundsAndCounted) {
+    auto points = make<Mesh>();
+    points->setPoints({{-1, -1, -10}, {1, 1, -10}, {0, 0, -11}});
+    auto lines = make<Mesh>();
+    lines->setLines({{-1, 0, -10}, {1, 0, -10}, {1, 1, -10}}, {0, 1, 1, 2});
+    auto behind = make<Mesh>();
+    behind->setPoints({{0, 0, 10}, {1, 0, 10}});
+    auto root = make<Group>();
+    root->addChild(make<Geometry>(points, make<Material>()));
+    root->addChild(make<Geometry>(lines, make<Material>()));
+    root->addChild(make<Geometry>(behind, make<Material>()));
+    Scene s(root);
+    s.update();
+    const Culled c = cullWith(s, lookingDownMinusZ(), CullStrategy::Aabb);
+    EXPECT_EQ(c.list.items.size(), 2u);
+    EXPECT_EQ(c.stats.points, 3u);
+    EXPECT_EQ(c.stats.lines, 2u);
+    EXPECT_EQ(c.stats.triangles, 0u);
+}
