@@ -16,6 +16,7 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     View view(scene, loaded.title, o.threading,
               [&context](bool current) { current ? context.makeCurrent() : context.release(); });
     view.setSceneLights(loaded.up, loaded.lights);
+    view.setPointShading(o.points);
     if (loaded.styleRule) view.featureStyle().setRule(loaded.styleRule);
     view.settings.strategy = o.strategy;
     view.settings.occlusion.mode = o.occlusion;

@@ -21,7 +21,7 @@ using namespace sg;
 namespace {
 
 struct Sums {
-    uint64_t paths = 0, triangles = 0;
+    uint64_t paths = 0, triangles = 0, points = 0, lines = 0;
 };
 
 // The child an LOD shows nearest (distance) or largest (pixel size): its full detail.
@@ -54,7 +54,7 @@ SceneInfo computeInfo(const Node& root, const Scene& scene) {
             continue;
         }
         stack.pop_back();
-        Sums s{1, 0};
+        Sums s{1, 0, 0, 0};
         for (size_t i = 0; i < n->numChildren(); ++i) {
             const Node* c = n->child(i);
             if (!c) continue;
@@ -63,12 +63,18 @@ SceneInfo computeInfo(const Node& root, const Scene& scene) {
             const bool shown = n->kind() == NodeKind::LOD      ? i == finestChild(static_cast<const LOD&>(*n))
                                : n->kind() == NodeKind::Switch ? static_cast<const Switch&>(*n).isOn(i)
                                                                : true;
-            if (shown) s.triangles += cs.triangles;
+            if (shown) {
+                s.triangles += cs.triangles;
+                s.points += cs.points;
+                s.lines += cs.lines;
+            }
         }
         if (n->kind() == NodeKind::Geometry) {
             const auto& g = static_cast<const Geometry&>(*n);
             if (const Mesh* m = g.mesh()) {
                 s.triangles += m->triangleCount();
+                s.points += m->pointCount();
+                s.lines += m->lineCount();
                 if (meshes.insert(m).second) info.meshBytes += m->bytes();
             }
             if (const Material* mat = g.material()) {
@@ -85,6 +91,8 @@ SceneInfo computeInfo(const Node& root, const Scene& scene) {
     info.nodes = done.size();
     info.paths = r.paths;
     info.triangles = r.triangles;
+    info.points = r.points;
+    info.lines = r.lines;
     info.meshes = meshes.size();
     info.materials = materials.size();
     info.textures = textures.size();
@@ -112,6 +120,9 @@ void printInfo(std::FILE* out, const std::string& title, const SceneInfo& i, con
     for (size_t k = 0; k < kNodeKinds; ++k)
         std::fprintf(out, "  %-10s %llu\n", kindName(NodeKind(k)), (unsigned long long)i.kinds[k]);
     std::fprintf(out, "triangles: %llu at full detail, counted per path\n", (unsigned long long)i.triangles);
+    if (i.points || i.lines)
+        std::fprintf(out, "points: %llu, line segments: %llu, at full detail, counted per path\n",
+                     (unsigned long long)i.points, (unsigned long long)i.lines);
     std::fprintf(out, "meshes: %llu, materials: %llu, textures: %llu\n", (unsigned long long)i.meshes,
                  (unsigned long long)i.materials, (unsigned long long)i.textures);
     if (i.boundValid) {

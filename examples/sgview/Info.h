@@ -18,6 +18,7 @@ struct SceneInfo {
     uint64_t nodes = 0;                        // distinct nodes
     uint64_t paths = 0;                        // nodes counted once per path from the root (as drawn)
     uint64_t triangles = 0;  // at full detail (each LOD's finest child, each Switch's children that are on), per path
+    uint64_t points = 0, lines = 0;                    // points and line segments, counted as the triangles
     uint64_t meshes = 0, materials = 0, textures = 0;  // distinct
     size_t meshBytes = 0, textureBytes = 0, nodeBytes = 0, imageBytes = 0;
     sg::Box bound;

@@ -2,12 +2,14 @@
 #include "sgview/LoadScene.h"
 
 #include "loaders/gltf/Gltf.h"
+#include "loaders/points/Scan.h"
 #include "loaders/tiles/StyleJson.h"
 #include "loaders/tiles/Tileset.h"
 #include "nodes/Transform.h"
 #include "sg/gl/Renderer.h"
 #include "sg/style/StyleTable.h"
 
+#include <cctype>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -38,6 +40,14 @@ LoadedScene loadTilesetFile(const std::string& path, bool refineAll, bool autoOc
     return s;
 }
 
+// A laser scan by its name (LAS; a LAZ is named so that openScan says how to convert it; PLY).
+bool isScanFile(const std::string& path) {
+    const size_t dot = path.rfind('.');
+    std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == "las" || ext == "laz" || ext == "ply";
+}
+
 }  // namespace
 
 sg::FeatureStyle::Rule loadStyleFile(const std::string& path) {
@@ -61,6 +71,13 @@ sg::FeatureStyle::Rule loadStyleFile(const std::string& path) {
 LoadedScene loadSceneFile(const std::string& path, bool refineAll, bool autoOccluders) {
     if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, refineAll, autoOccluders);
     if (refineAll) throw sg::LoadError(path, "", "--refine-all: not a 3D Tiles tileset");
+    if (isScanFile(path)) {
+        LoadedScene s;
+        s.root = sg::loadScan(path);
+        s.up = sg::dvec3(0.0, 0.0, 1.0);  // surveys' +Z up
+        s.title = path;
+        return s;
+    }
     sg::GltfScene g = sg::loadGltf(path);
     LoadedScene s;
     s.root = g.root;

@@ -122,7 +122,21 @@ Options parseOptions(int argc, const char* const* argv) {
             const std::string v = value();
             const std::vector<double> xy = parseNumbers(a, v, 2, "X,Y (a pixel, y down)");
             o.picks.emplace_back(xy[0], xy[1]);
-        } else if (a == "--camera")
+        } else if (a == "--point-size" || a == "--line-width" || a == "--attenuate") {
+            const std::string v = value();
+            const double x = parseNumbers(a, v, 1, "pixels")[0];
+            if (!(x >= 1.0 && x <= 64.0)) bad(a, v, "pixels from 1 to 64");
+            if (a == "--point-size") o.points.pointSize = float(x);
+            if (a == "--line-width") o.points.lineWidth = float(x);
+            if (a == "--attenuate") {
+                o.points.attenuate = true;
+                o.points.maxPointSize = float(x);
+            }
+        } else if (a == "--round")
+            o.points.round = true;
+        else if (a == "--edl")
+            o.points.eyeDome = true;
+        else if (a == "--camera")
             o.camera = parseCamera(value());
         else if (a == "--size")
             parseSize(value(), o.width, o.height);
@@ -149,6 +163,9 @@ Options parseOptions(int argc, const char* const* argv) {
             o.files.push_back(a);
     }
     if (o.help) return o;
+    if (o.points.attenuate && o.points.maxPointSize < o.points.pointSize)
+        throw UsageError("--attenuate " + std::to_string(int(o.points.maxPointSize)) +
+                         ": the largest size is below --point-size");
     if (o.files.empty() && o.scene.empty())
         throw UsageError("nothing to show: give FILE... or --scene city|office|factory|materials");
     if (!o.files.empty() && !o.scene.empty()) throw UsageError("give either FILE... or --scene, not both");
@@ -177,9 +194,10 @@ const char* usageText() {
            "              [--refine-all] [--auto-occluders]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "              [--threading MODEL] [--style STYLE.json]\n"
+           "              [--point-size PX] [--attenuate MAXPX] [--round] [--line-width PX] [--edl]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
            "or\n"
-           "                     an http(s) URL): its tiles load as the view needs them\n"
+           "                     an http(s) URL): its tiles load as the view needs them; or a scan (.las, .ply)\n"
            "  --refine-all       a tileset: load every tile and show it fully refined (with --info or --headless too)\n"
            "  --auto-occluders   make occluders from the geometry (boxes inside closed meshes, large flat faces) for\n"
            "                     the occlusion pass (a tileset: each tile as it is read); authored ones stay\n"
@@ -199,6 +217,12 @@ const char* usageText() {
            "                     the features there with their properties\n"
            "  --json             print each pick as one JSON object on its own line\n"
            "  --style FILE.json  a 3D Tiles style (show, color, conditions over the features' properties)\n"
+           "  --point-size PX    points drawn PX pixels wide (default 2)\n"
+           "  --attenuate MAXPX  points as large as their spacing (a tile's geometric error) looks, from --point-size\n"
+           "                     to MAXPX pixels\n"
+           "  --round            points as discs (else squares)\n"
+           "  --line-width PX    lines and outlines PX pixels wide (default 1)\n"
+           "  --edl              eye-dome lighting: edges shaded by depth (points without normals get their shape)\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"

@@ -2,6 +2,7 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/cull/CullSettings.h"
+#include "sg/gl/PointShading.h"
 #include "sg/viewer/Threading.h"
 
 #include <optional>
@@ -39,6 +40,7 @@ struct Options {
     std::vector<std::pair<double, double>> picks;  // headless: pixels to pick in the last frame (--pick X,Y)
     bool json = false;                             // picks as JSON lines (--json)
     std::string style;                             // a 3D Tiles style file (--style)
+    sg::PointShading points;                       // --point-size, --attenuate, --round, --line-width, --edl
 };
 
 // Throws UsageError for an unknown option, a missing or malformed value, or a contradictory combination.

@@ -38,6 +38,8 @@ public:
     // The scene's up axis (the sky of physical materials' ambient light) and its punctual lights (at most
     // sg::Renderer::kMaxLights).
     void setSceneLights(const sg::dvec3& up, std::vector<sg::PunctualLight> lights);
+    // How points and lines are drawn (sg::Renderer::setPointShading), before the first frame.
+    void setPointShading(const sg::PointShading& p) { viewer_.renderer().setPointShading(p); }
     // The last frame's picture, read here: the frames in flight drawn and the context back on this thread (an
     // offscreen buffer: a window's is undefined after its swap).
     sg::Image read() {

@@ -36,6 +36,7 @@ public:
           walker_(walkSettings(sceneBound(scene), nav_.up())) {
         nav_.setWalkMover(collidingWalk(scene_, walker_));
         view_.setSceneLights(loaded.up, loaded.lights);
+        view_.setPointShading(o.points);
         if (loaded.styleRule) view_.featureStyle().setRule(loaded.styleRule);
         view_.settings.strategy = o.strategy;
         view_.settings.occlusion.mode = o.occlusion;
