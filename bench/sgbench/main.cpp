@@ -130,6 +130,7 @@ static void usage() {
         "                [--frames F] [--rounds R] [--views 1|2] [--lod static|stress|budget] [--budget-ms B]\n"
         "                [--collide none|sync|async] [--app-ms MS] [--cull-only] [--width W --height H] [--json]\n"
         "       sgbench style [--n 100] [--frames F] [--restyles K] [--width W --height H] [--json]\n"
+        "       sgbench points [--count N] [--frames F] [--width W --height H] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -151,6 +152,7 @@ int main(int argc, char** argv) {
         if (a.command == "frame") return bench::runFrame(a);
         if (a.command == "depth") return bench::runDepth(a);
         if (a.command == "style") return bench::runStyle(a);
+        if (a.command == "points") return bench::runPoints(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
