@@ -61,7 +61,7 @@ struct ScanLoadOptions {
 ref_ptr<Node> loadScan(const std::string& path, const ScanLoadOptions& options = {});
 
 // Writes points as LAS 1.4 point format 7 (x, y, z, intensity, RGB; 16-bit colours from the 8-bit ones x 257) with
-// the given scale (metres per unit of the stored integers) and an offset at the points' bounds' minimum. Throws
+// the given scale (metres per unit of the stored integers) and the offset setOrigin gives (0 by default). Throws
 // std::runtime_error naming the file when it cannot be written, std::invalid_argument for a point that the scale
 // cannot store in 32 bits.
 class LasWriter {
