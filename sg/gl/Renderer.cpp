@@ -2,6 +2,7 @@
 #include "sg/gl/Renderer.h"
 
 #include "sg/gl/internal/DepthTarget.h"
+#include "sg/gl/internal/EyeDome.h"  // eyeDome_'s destructor
 #include "sg/gl/internal/GlEntryPoints.h"
 #include "sg/gl/internal/GpuCache.h"
 #include "sg/gl/internal/RendererErrors.h"
@@ -73,6 +74,7 @@ Renderer::Renderer() {
 Renderer::~Renderer() {
     cache_.reset();
     depthTarget_.reset();
+    eyeDome_.reset();
     glDeleteBuffers(1, &instanceVbo_);
     if (timeQuery_) glDeleteQueries(1, &timeQuery_);
     glDeleteProgram(one_.id);

@@ -23,6 +23,7 @@ namespace sg {
 
 class DepthTarget;           // sg/gl/internal/DepthTarget.h, internal
 class DistinctGeometryWalk;  // sg/scene/internal/DistinctGeometries.h, internal
+class EyeDome;               // sg/gl/internal/EyeDome.h, internal
 class GpuCache;              // sg/gl/internal/GpuCache.h, internal
 struct GpuMesh;
 struct ItemAttributes;  // sg/gl/internal/Shaders.h, internal
@@ -256,6 +257,8 @@ private:
     void frameLights(const Camera& camera);
     void drawRuns(const DrawList& list, const Camera& camera, bool reverse);
     void drawRun(const DrawList& list, const Run& r);
+    // PointShading::eyeDome's pass over the frame drawn (RendererEyeDome.cpp); nothing when it is off.
+    void eyeDomePass(const Target& target, const Camera& camera);
     void endFrame(const Target& target);
 
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
@@ -310,6 +313,7 @@ private:
     std::unordered_map<const Node*, PrepareList> prepareLists_;
     uint64_t prepareCalls_ = 0;
     std::unique_ptr<DepthTarget> depthTarget_;  // ReverseZ's framebuffer
+    std::unique_ptr<EyeDome> eyeDome_;          // made at the first frame with eye-dome lighting
     std::vector<ItemAttributes> items_;         // the frame's items, in draw order (Shaders.h)
     std::vector<Run> runs_;
     std::vector<float> fades_;             // per item, filled only in frames with dissolving items

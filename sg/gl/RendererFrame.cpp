@@ -77,6 +77,7 @@ void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewp
     if (afterItems_)
         afterItems_(mat4((t.reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation()),
                     t.reverse);
+    eyeDomePass(t, camera);
     endFrame(t);
     if (timeQuery_) {
         glEndQuery(GL_TIME_ELAPSED);
