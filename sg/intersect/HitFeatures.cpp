@@ -5,7 +5,8 @@
 namespace sg {
 namespace {
 
-// The hit triangle's corners and their barycentric weights; false when the hit names no triangle of the mesh.
+// The hit primitive's corners and their weights; false when the hit names no primitive of the mesh. A point is a
+// corner of weight 1 (repeated), a segment its two ends (the second repeated with weight 0).
 struct Corners {
     uint32_t v[3];
     double w[3];
@@ -13,6 +14,19 @@ struct Corners {
 };
 
 bool corners(const Mesh& mesh, const Hit& hit, Corners& c) {
+    if (mesh.primitive() == Primitive::Points) {
+        if (hit.primitive >= mesh.pointCount()) return false;
+        c.v[0] = c.v[1] = c.v[2] = hit.primitive;
+        c.w[0] = 1.0, c.w[1] = c.w[2] = 0.0;
+        return true;
+    }
+    if (mesh.primitive() == Primitive::Lines) {
+        if (hit.primitive >= mesh.lineCount()) return false;
+        c.v[0] = mesh.index(size_t(hit.primitive) * 2);
+        c.v[1] = c.v[2] = mesh.index(size_t(hit.primitive) * 2 + 1);
+        c.w[0] = 1.0 - hit.u, c.w[1] = hit.u, c.w[2] = 0.0;
+        return true;
+    }
     if (hit.primitive >= mesh.triangleCount()) return false;
     for (int k = 0; k < 3; ++k) c.v[k] = mesh.index(size_t(hit.primitive) * 3 + size_t(k));
     c.w[0] = 1.0 - hit.u - hit.v;

@@ -39,9 +39,9 @@ struct HitFeatures {
 std::string propertiesText(const PropertyList& properties, const char* separator = ", ");
 
 // Feature ids at the hit: an attribute's (or the implicit vertex index) at the vertex of the hit triangle nearest
-// the hit point (all three agree on a feature's own triangles); a texture's at the nearest texel of the hit's
-// interpolated UV; a node's (Node::setFeatures) for each node on the path that has them, innermost first. Property
-// attributes likewise at the nearest vertex.
+// the hit point (all three agree on a feature's own triangles), a hit point's own vertex, a hit segment's nearer end; a
+// texture's at the nearest texel of the hit's interpolated UV; a node's (Node::setFeatures) for each node on the path
+// that has them, innermost first. Property attributes likewise at the nearest vertex.
 HitFeatures featuresAt(const Hit& hit);
 
 }  // namespace sg

@@ -145,5 +145,29 @@ bool sweepSphereTriangle(const dvec3& c0, const dvec3& d, double r, const dvec3&
     return true;
 }
 
+void closestRaySegment(const dvec3& o, const dvec3& d, double tMax, const dvec3& p0, const dvec3& p1, double& t,
+                       double& u) noexcept {
+    const dvec3 e = p1 - p0, r = o - p0;
+    const double a = glm::dot(d, d), ee = glm::dot(e, e), f = glm::dot(e, r), c = glm::dot(d, r);
+    auto clampT = [&](double x) { return x < 0.0 ? 0.0 : (x > tMax ? tMax : x); };
+    if (!(ee > 0.0)) {  // the segment is a point
+        u = 0.0;
+        t = clampT(-c / a);
+        return;
+    }
+    const double b = glm::dot(d, e), denom = a * ee - b * b;
+    // Not parallel: the lines' closest point on the ray, clamped; parallel: any t (the origin's).
+    t = denom > 0.0 ? clampT((b * f - c * ee) / denom) : 0.0;
+    u = (b * t + f) / ee;
+    // The segment's point clamped to its ends, and the ray's point recomputed for that end.
+    if (u < 0.0) {
+        u = 0.0;
+        t = clampT(-c / a);
+    } else if (u > 1.0) {
+        u = 1.0;
+        t = clampT((b - c) / a);
+    }
+}
+
 }  // namespace isect
 }  // namespace sg

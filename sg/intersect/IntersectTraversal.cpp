@@ -37,6 +37,12 @@ void checkRay(const char* fn, const Ray& r) {
         throw std::invalid_argument(std::string(fn) + ": ray tMax " + std::to_string(r.tMax) + " is negative or NaN");
 }
 
+void checkCone(const char* fn, const QueryOptions& o) {
+    if (!(o.coneWidth >= 0.0 && std::isfinite(o.coneWidth) && o.coneSlope >= 0.0 && std::isfinite(o.coneSlope)))
+        throw std::invalid_argument(std::string(fn) + ": cone width " + std::to_string(o.coneWidth) + " or slope " +
+                                    std::to_string(o.coneSlope) + " is negative or not finite");
+}
+
 void checkRadius(const char* fn, double r) {
     if (!(r >= 0.0 && std::isfinite(r)))
         throw std::invalid_argument(std::string(fn) + ": radius " + std::to_string(r) + " is negative or not finite");
@@ -47,6 +53,7 @@ void checkRadius(const char* fn, double r) {
 // query's start), and the query in that image's coordinates.
 struct IntersectTraversal::Ctx : ImageFrame {
     dvec3 o{0.0}, d{0.0}, inv{0.0};  // ray modes
+    PointBvh::ConeFrame cone;        // ray modes with a cone: how it widens the image's boxes
     Box region;                      // sphere modes
 };
 
@@ -57,6 +64,9 @@ void IntersectTraversal::setupCtx(Ctx& c, const FlatImage& img, const dmat4& t) 
         c.o = dvec3(inv * dvec4(o_, 1.0));
         c.d = glm::dmat3(inv) * d_;
         c.inv = dvec3(1.0 / c.d.x, 1.0 / c.d.y, 1.0 / c.d.z);
+        if (cone_)
+            c.cone = PointBvh::ConeFrame::make(
+                {o_, d_, tMax_, opt_->coneWidth, opt_->coneSlope, glm::dmat3(t), dvec3(t[3])});
     } else {
         c.region = transformBox(inv, region_);
     }
@@ -94,7 +104,9 @@ void IntersectTraversal::run(const Scene& scene, const QueryOptions& opt, const 
 bool IntersectTraversal::intersect(const Scene& scene, const Ray& ray, const QueryOptions& opt, Hit& out) {
     constexpr const char* fn = "IntersectTraversal::intersect()";
     checkRay(fn, ray);
+    checkCone(fn, opt);
     mode_ = Mode::Nearest;
+    cone_ = opt.coneWidth > 0.0 || opt.coneSlope > 0.0;
     o_ = ray.origin, d_ = ray.direction, tMax_ = ray.tMax;
     Hit h;
     best_ = &h;
@@ -108,7 +120,9 @@ void IntersectTraversal::intersectAll(const Scene& scene, const Ray& ray, const 
                                       std::vector<Hit>& out) {
     constexpr const char* fn = "IntersectTraversal::intersectAll()";
     checkRay(fn, ray);
+    checkCone(fn, opt);
     mode_ = Mode::All;
+    cone_ = opt.coneWidth > 0.0 || opt.coneSlope > 0.0;
     o_ = ray.origin, d_ = ray.direction, tMax_ = ray.tMax;
     out.clear();
     all_ = &out;
@@ -123,6 +137,7 @@ void IntersectTraversal::intersectSphere(const Scene& scene, const dvec3& centre
     checkPoint(fn, "centre", centre);
     checkRadius(fn, radius);
     mode_ = Mode::Sphere;
+    cone_ = false;
     o_ = centre, d_ = dvec3(0.0), radius_ = radius;
     out.clear();
     all_ = &out;
@@ -138,6 +153,7 @@ bool IntersectTraversal::sweepSphere(const Scene& scene, const dvec3& centre, do
     checkPoint(fn, "motion", motion);
     checkRadius(fn, radius);
     mode_ = Mode::Sweep;
+    cone_ = false;
     o_ = centre, d_ = motion, radius_ = radius;
     SweepHit h;
     sweep_ = &h;
@@ -158,6 +174,7 @@ bool IntersectTraversal::test(const Ctx& c, uint32_t i, double& tNear) const {
     const double mn[3] = {cx - ex, cy - ey, cz - ez}, mx[3] = {cx + ex, cy + ey, cz + ez};
     if (mode_ == Mode::Nearest || mode_ == Mode::All) {
         const double tMax = mode_ == Mode::Nearest && found_ ? best_->t : tMax_;
+        if (cone_) return !c.cone.valid || c.cone.enter(mn, mx, tMax, tNear);  // points near the ray, not on it
         return isect::slab(mn, mx, c.o, c.inv, tMax, tNear);
     }
     const Box& r = c.region;
@@ -246,7 +263,11 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
 bool IntersectTraversal::wideTest(const Ctx& c, uint32_t w) const {
     const FlatImage& img = *c.img;
     const dvec3 centre(img.wcx[w], img.wcy[w], img.wcz[w]);
-    const double r = double(img.wr[w]) * (1.0 + 1e-9);
+    double r = double(img.wr[w]) * (1.0 + 1e-9);
+    if (cone_ && (mode_ == Mode::Nearest || mode_ == Mode::All)) {
+        if (!c.cone.valid) return true;
+        r = c.cone.sphereReach(centre, r);
+    }
     dvec3 nearest;
     if (mode_ == Mode::Nearest || mode_ == Mode::All) {
         const double tMax = mode_ == Mode::Nearest && found_ ? best_->t : tMax_;
@@ -348,7 +369,13 @@ void IntersectTraversal::rayGeometry(Node* n, const MeshBvh& bvh, const glm::dma
 
 void IntersectTraversal::geometry(Node* n, const dmat4& m) {
     const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
-    if (!mesh || mesh->triangleCount() == 0) return;
+    if (!mesh) return;
+    if (mesh->primitive() != Primitive::Triangles) {
+        // Spheres and swept spheres pass through points and lines: they have no surface to touch or stand on.
+        if (cone_ && (mode_ == Mode::Nearest || mode_ == Mode::All)) rayPoints(n, *mesh, m);
+        return;
+    }
+    if (mesh->triangleCount() == 0) return;
     const MeshBvh& bvh = cache_.get(*mesh);
     stats_.geometriesTested++;
     const glm::dmat3 a(m);

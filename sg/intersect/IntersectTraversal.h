@@ -1,8 +1,10 @@
 // IntersectTraversal: ray, segment, sphere and swept-sphere queries against a Scene, walking its flat image
-// (world bounds prune subtrees) in step with the graph (for the node path), and each geometry's MeshBvh.
+// (world bounds prune subtrees) in step with the graph (for the node path), and each geometry's MeshBvh (triangles)
+// or PointBvh (points and lines).
 #pragma once
 #include "sg/intersect/Intersect.h"
 #include "sg/intersect/MeshBvh.h"
+#include "sg/intersect/PointBvh.h"
 #include "sg/scene/Scene.h"
 
 #include <vector>
@@ -25,7 +27,11 @@ public:
     // LOD scale for options.camera, without hysteresis or budget), Billboards turned toward the camera's eye
     // (or the query's origin), every Instance placement. Each throws std::logic_error when the scene
     // changed since its last update(), and std::invalid_argument naming the function and the value for a
-    // non-finite or zero-length direction, a negative or NaN tMax or radius, a non-finite point.
+    // non-finite or zero-length direction, a negative or NaN tMax or radius, a non-finite point, a negative or
+    // non-finite cone.
+    // Rays also hit points and line segments (Mesh::primitive()) within the options' cone (QueryOptions::coneWidth,
+    // coneSlope; none when both are 0); spheres and swept spheres pass through them: they have no surface to touch
+    // or stand on.
 
     // Nearest hit of the ray; false when none.
     bool intersect(const Scene& scene, const Ray& ray, const QueryOptions& options, Hit& out);
@@ -42,6 +48,7 @@ public:
 
     // The per-mesh BVHs, built on first use and shared by every placement of a mesh.
     MeshBvh::Cache& bvhCache() { return cache_; }
+    PointBvh::Cache& pointBvhCache() { return pointCache_; }
     const IntersectStats& lastStats() const { return stats_; }
 
 private:
@@ -55,6 +62,8 @@ private:
     void children(Ctx& c, uint32_t i, Node* n, const dmat4& m);
     void geometry(Node* n, const dmat4& m);
     void rayGeometry(Node* n, const MeshBvh& bvh, const glm::dmat3& inv, const dvec3& t);
+    void rayPoints(Node* n, const Mesh& mesh, const dmat4& m);
+    void fillPointHit(Hit& h, Node* n, const PointBvh::ConeHit& r) const;
 
     // The query, in coordinates relative to `q_` (the camera's eye, or the query's origin): matrices map
     // a node's frame there, so that a scene far from the world origin keeps its precision.
@@ -65,7 +74,8 @@ private:
     dvec3 q_{0.0};
     dvec3 o_{0.0}, d_{0.0};  // ray, or sphere centre and motion
     double tMax_ = 0.0, radius_ = 0.0;
-    Box region_;  // sphere modes: everything the sphere touches (relative)
+    bool cone_ = false;  // ray modes: the options' cone is not empty (points and lines are hit)
+    Box region_;         // sphere modes: everything the sphere touches (relative)
     // Results
     Hit* best_ = nullptr;
     SweepHit* sweep_ = nullptr;
@@ -81,7 +91,9 @@ private:
     };
     std::vector<Pending> order_;  // children of a node sorted by distance (a stack of runs)
     std::vector<MeshBvh::RayHit> rayHits_;
+    std::vector<PointBvh::ConeHit> coneHits_;
     MeshBvh::Cache cache_;
+    PointBvh::Cache pointCache_;
     IntersectStats stats_;
 };
 

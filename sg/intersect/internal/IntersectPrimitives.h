@@ -35,6 +35,12 @@ void barycentric(const dvec3& p, const dvec3& a, const dvec3& b, const dvec3& c,
 // The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision Detection 5.1.5).
 dvec3 closestPointOnTriangle(const dvec3& p, const dvec3& a, const dvec3& b, const dvec3& c) noexcept;
 
+// The closest points of the ray o + t d (t in [0, tMax], tMax may be infinite; d not zero) and the segment
+// p0 + u (p1 - p0) (u in [0, 1]; it may be a point): Ericson, Real-Time Collision Detection 5.1.9, with the ray's
+// interval in place of [0, 1]. A segment parallel to the ray gives one of the closest pairs.
+void closestRaySegment(const dvec3& o, const dvec3& d, double tMax, const dvec3& p0, const dvec3& p1, double& t,
+                       double& u) noexcept;
+
 // First contact of a sphere of radius r whose centre moves from c0 to c0 + d with triangle (a, b, c), both
 // sides: false when none before `tBest` (a fraction of d). On contact, t, the contact point on the triangle
 // and the unit normal from it toward the centre. A sphere that already overlaps the triangle at c0 reports
