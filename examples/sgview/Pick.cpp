@@ -1,6 +1,7 @@
 #include "sgview/Pick.h"
 
 #include "nodes/Geometry.h"
+#include "sg/intersect/PickCone.h"
 #include "sg/intersect/PickSet.h"
 
 #include <cstdio>
@@ -44,6 +45,17 @@ std::string featuresText(const sg::HitFeatures& f) {
 
 std::string nodeName(const sg::Node& n) { return n.name().empty() ? n.kindName() : n.name(); }
 
+// What Hit::primitive counts in the hit mesh.
+const char* primitiveName(const sg::Mesh* mesh) {
+    if (!mesh) return "triangle";
+    switch (mesh->primitive()) {
+        case sg::Primitive::Points: return "point";
+        case sg::Primitive::Lines: return "segment";
+        case sg::Primitive::Triangles: break;
+    }
+    return "triangle";
+}
+
 }  // namespace
 
 std::string featuresJson(const sg::HitFeatures& f) {
@@ -66,6 +78,10 @@ Pick pickAt(sg::IntersectTraversal& traversal, const sg::Scene& scene, const sg:
     // No objects registered: the path itself is the answer, down to the geometry that was hit.
     sg::QueryOptions options;
     options.style = style;
+    // Points and lines within a few pixels of the pixel's ray, as a user aims at a 1-2 px point.
+    const sg::PickCone cone = sg::pickCone(camera, 4.0);
+    options.coneWidth = cone.coneWidth;
+    options.coneSlope = cone.coneSlope;
     const sg::PickSet::Result r = sg::PickSet().pick(traversal, scene, camera, x, y, options);
     Pick p{x, y, r.hit, r.nearest, {}};
     if (p.hit) p.features = sg::featuresAt(p.nearest);
@@ -86,13 +102,13 @@ std::string pickReport(const Pick& p, bool json) {
         return "{\"pixel\": [" + pixel + "], \"hit\": true, \"node_path\": " + path +
                "], \"source\": " + (src.file.empty() ? "null" : quoted(src.file)) +
                ", \"gltf_mesh\": " + orNull(src.gltfMesh) + ", \"gltf_primitive\": " + orNull(src.gltfPrimitive) +
-               ", \"triangle\": " + std::to_string(h.primitive) + ", \"distance\": " + number(h.distance) +
-               ", \"point\": [" + number(h.point.x) + ", " + number(h.point.y) + ", " + number(h.point.z) + "], " +
-               featuresJson(p.features) + "}";
+               ", \"" + primitiveName(mesh) + "\": " + std::to_string(h.primitive) +
+               ", \"distance\": " + number(h.distance) + ", \"point\": [" + number(h.point.x) + ", " +
+               number(h.point.y) + ", " + number(h.point.z) + "], " + featuresJson(p.features) + "}";
     }
     char tail[160];
-    std::snprintf(tail, sizeof tail, ", triangle %u, distance %.3f, at (%.3f, %.3f, %.3f)", unsigned(h.primitive),
-                  h.distance, h.point.x, h.point.y, h.point.z);
+    std::snprintf(tail, sizeof tail, ", %s %u, distance %.3f, at (%.3f, %.3f, %.3f)", primitiveName(mesh),
+                  unsigned(h.primitive), h.distance, h.point.x, h.point.y, h.point.z);
     return head + sg::pathString(h.path) + tail + featuresText(p.features);
 }
 
