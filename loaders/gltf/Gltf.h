@@ -84,7 +84,9 @@ struct GltfScene {
     std::vector<std::string> warnings;  // what was skipped or converted, each naming its JSON path
 };
 
-// Throws LoadError; never crashes, hangs or leaks on any input.
+// Throws LoadError; never crashes, hangs or leaks on any input. Points and lines are read as Meshes of those
+// primitives; the _INTENSITY attribute (a SCALAR, any component type: integers and floats as the value, normalized
+// integers as a fraction of 65535) becomes Mesh::intensities(), CESIUM_primitive_outline Mesh::outline().
 GltfScene loadGltf(const std::string& path, const GltfLoadOptions& options = {});
 // The same from memory (`name` is used in messages; binary when the data starts with "glTF").
 GltfScene loadGltfFromMemory(const std::string& name, const void* data, size_t size,

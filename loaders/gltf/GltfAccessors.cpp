@@ -1,5 +1,5 @@
 // glTF accessors read into the vectors a Mesh holds: attributes as float vectors (unit ones renormalized) and
-// triangle indices, checked against the vertices.
+// indices, checked against the vertices.
 #include "loaders/gltf/internal/GltfConverter.h"
 
 #include <cstring>

@@ -71,12 +71,20 @@ public:
                  "must name one of the " + std::to_string(m_.bufferViews.size()) + " buffer views");
         const tinygltf::Value* attrs = x.Has("attributes") ? &x.Get("attributes") : nullptr;
         if (!attrs || !attrs->IsObject()) fail(file_, path_ + ".attributes", "must be an object");
+        if (p.mode >= TINYGLTF_MODE_LINE && p.mode <= TINYGLTF_MODE_LINE_STRIP)
+            fail(file_, path_,
+                 "mode " + std::to_string(p.mode) + " is lines: " + kDraco + " compresses triangles and points only");
         if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_POINTS)
             fail(file_, path_, "mode " + std::to_string(p.mode) + " is not triangles or points");
 
         view_ = view;
         const draco::PointCloud& g = decoded(view, p.mode == TINYGLTF_MODE_TRIANGLES);
         const size_t points = g.num_points();
+        // A Draco point cloud is its points in order: an indices accessor would have nothing to decode into it.
+        if (p.mode == TINYGLTF_MODE_POINTS && p.indices >= 0)
+            fail(file_, path_,
+                 "a point cloud has no indices, yet the primitive names accessor " + std::to_string(p.indices) +
+                     " for them");
         for (const std::string& name : attrs->Keys()) {
             const int id = intMember(*attrs, name.c_str());
             const std::string ap = path_ + ".attributes." + name;

@@ -1,6 +1,6 @@
 // glTF mesh primitives to shared Meshes and Geometries: one Mesh per distinct primitive (strips and fans made
-// triangles; its source and features set), tangents made for normal maps, classic materials' UV transforms applied
-// to a copy.
+// triangles, points and lines as GltfPointsLines.cpp reads them; its source, intensities, outline and features set),
+// tangents made for normal maps, classic materials' UV transforms applied to a copy.
 #include "loaders/gltf/internal/GltfConverter.h"
 
 #include <cmath>
@@ -27,24 +27,33 @@ ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& p
     };
     const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0"),
               tan = attr("TANGENT"), uv1 = attr("TEXCOORD_1");
-    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1, featureKey(p));
+    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1, featureKey(p) + outlineKey(p));
     auto found = meshes.find(key);
     if (found != meshes.end()) return found->second;
 
     std::vector<vec3> positions = readVectors<vec3, 3>(m, pos);
     const size_t n = positions.size();
     std::vector<uint32_t> idx = indices(p, n, path);
-    if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) toTriangles(p.mode, idx);
+    // Indexed points are their indexed vertices, in index order: what is per vertex is taken at the indices.
+    const bool gather = p.mode == TINYGLTF_MODE_POINTS && p.indices >= 0;
+    std::vector<uint16_t> strengths = intensities(p, n, path, gather ? &idx : nullptr);
     auto mesh = make<Mesh>();
     try {
-        mesh->set(std::move(positions), nrm >= 0 ? readUnitVectors<vec3>(m, nrm) : std::vector<vec3>{}, std::move(idx),
-                  uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
-                  col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
-        mesh->setSurface(tan >= 0 ? readUnitVectors<vec4>(m, tan) : std::vector<vec4>{},
-                         uv1 >= 0 ? readVectors<vec2, 2>(m, uv1) : std::vector<vec2>{});
+        if (p.mode < TINYGLTF_MODE_TRIANGLES) {
+            pointsOrLines(p, path, std::move(positions), idx, *mesh);
+        } else {
+            if (p.mode != TINYGLTF_MODE_TRIANGLES) toTriangles(p.mode, idx);
+            mesh->set(std::move(positions), nrm >= 0 ? readUnitVectors<vec3>(m, nrm) : std::vector<vec3>{},
+                      std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
+                      col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
+            mesh->setSurface(tan >= 0 ? readUnitVectors<vec4>(m, tan) : std::vector<vec4>{},
+                             uv1 >= 0 ? readVectors<vec2, 2>(m, uv1) : std::vector<vec2>{});
+        }
+        mesh->setIntensities(std::move(strengths));
     } catch (const std::exception& e) {
         bad(path, e.what());
     }
+    outline(p, *mesh, path);
     if (!mesh->validBound()) {
         const auto& ps = mesh->positions();
         size_t i = 0;
@@ -55,6 +64,7 @@ ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& p
     }
     mesh->setSource({file, gm, prim});
     if (ref_ptr<MeshFeatures> f = primitiveFeatures(p, n, path)) {
+        if (gather) f = gathered(*f, idx);
         try {
             mesh->setFeatures(std::move(f));
         } catch (const std::invalid_argument& e) {  // what primitiveFeatures checked: a count it missed
@@ -84,6 +94,8 @@ ref_ptr<Mesh> Converter::withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int
     out = make<Mesh>();
     out->set(mesh->positions(), mesh->normals(), std::move(idx), std::move(uvs), mesh->colors());
     out->setSurface(mesh->tangents(), std::move(uvs1));
+    out->setIntensities(mesh->intensities());
+    out->setOutline(mesh->outline());
     out->setFeatures(ref_ptr<const MeshFeatures>(mesh->features()));
     out->setSource(mesh->source());
     return out;
@@ -97,17 +109,18 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
     for (size_t k = 0; k < prims.size(); ++k) {
         const tinygltf::Primitive& p = prims[k];
         const std::string path = at(at("meshes", size_t(i)) + ".primitives", k);
-        if (p.mode < TINYGLTF_MODE_TRIANGLES) {
-            warn(path, "points and lines are not drawn, primitive skipped");
-            gs.push_back({});
-        } else if (!p.attributes.count("POSITION")) {
+        if (!p.attributes.count("POSITION")) {
             warn(path, "no POSITION attribute, primitive skipped");
             gs.push_back({});
         } else {
             ref_ptr<Mesh> mh = mesh(p, path, i, int(k));
             ref_ptr<Material> mat = material(p.material);
-            if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
-            withTangents(*mh, mat.get());
+            if (mh->primitive() != Primitive::Triangles) {
+                if (mh->normals().empty()) mat = unlit(mat);  // glTF: points and lines without normals are unlit
+            } else {
+                if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
+                withTangents(*mh, mat.get());
+            }
             gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
         }
     }

@@ -13,7 +13,8 @@ bool supportedExtension(const std::string& name) {
     static const std::set<std::string> supported{
         "KHR_materials_unlit",        kInstancing,   "KHR_texture_transform",   "KHR_materials_emissive_strength",
         "KHR_lights_punctual",        kQuantization, "EXT_meshopt_compression", "KHR_meshopt_compression",
-        "KHR_draco_mesh_compression", kMeshFeatures, kStructuralMetadata,       kInstanceFeatures};
+        "KHR_draco_mesh_compression", kMeshFeatures, kStructuralMetadata,       kInstanceFeatures,
+        "CESIUM_primitive_outline"};
     return supported.count(name) != 0;
 }
 

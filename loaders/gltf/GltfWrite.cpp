@@ -1,4 +1,5 @@
-// saveGltf: an sgkit graph to a tinygltf model (one buffer; meshes, materials and textures stored once;
+// saveGltf: an sgkit graph to a tinygltf model (one buffer; meshes, materials and textures stored once; points and
+// lines as modes 0 and 1, intensities as _INTENSITY, outlines as CESIUM_primitive_outline;
 // sgkit's node kinds in `extras`; features through GltfWriteMetadata.cpp), written by tinygltf as .glb or .gltf with
 // embedded buffers.
 #include "loaders/gltf/internal/GltfDetail.h"
@@ -48,7 +49,7 @@ struct Writer {
     const GltfSaveOptions& options;
     const bool glb;  // writing a .glb: images go into the binary chunk
     tinygltf::Model m;
-    std::map<const Mesh*, std::map<std::string, int>> meshAttributes;  // attributes and "indices"
+    std::map<const Mesh*, std::map<std::string, int>> meshAttributes;  // attributes, "indices" and "outline"
     std::map<std::pair<const Mesh*, const Material*>, int> meshes;
     std::map<const Material*, int> materials;
     std::map<const Texture*, int> textures;
@@ -111,12 +112,21 @@ struct Writer {
             for (vec4& x : c) x = glm::clamp(x, vec4(0.0f), vec4(1.0f));
             a["COLOR_0"] = accessor(c, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, TINYGLTF_TARGET_ARRAY_BUFFER);
         }
+        if (!mesh.intensities().empty()) {
+            // As floats (exact to 2^24): a vertex attribute's elements are 4-byte aligned, and a float needs no
+            // padding where a 16-bit value would.
+            const std::vector<float> v(mesh.intensities().begin(), mesh.intensities().end());
+            a["_INTENSITY"] =
+                accessor(v, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
+        }
         if (!mesh.indices16().empty())
             a["indices"] = accessor(mesh.indices16(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR,
                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
         else if (!mesh.indices32().empty())
             a["indices"] = accessor(mesh.indices32(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+        if (!mesh.outline().empty())  // not bound for drawing as it is: no target
+            a["outline"] = accessor(mesh.outline(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 0);
         return meshAttributes[&mesh] = std::move(a);
     }
 
@@ -252,12 +262,19 @@ struct Writer {
         auto it = meshes.find(key);
         if (it != meshes.end()) return it->second;
         tinygltf::Primitive p;
-        p.mode = TINYGLTF_MODE_TRIANGLES;
+        const Primitive kind = g.mesh()->primitive();
+        p.mode = kind == Primitive::Points  ? TINYGLTF_MODE_POINTS
+                 : kind == Primitive::Lines ? TINYGLTF_MODE_LINE
+                                            : TINYGLTF_MODE_TRIANGLES;
         for (const auto& [name, acc] : attributes(*g.mesh())) {
-            if (name == "indices")
+            if (name == "indices") {
                 p.indices = acc;
-            else
+            } else if (name == "outline") {
+                p.extensions["CESIUM_primitive_outline"] = Value(Value::Object{{"indices", Value(acc)}});
+                use("CESIUM_primitive_outline");
+            } else {
                 p.attributes[name] = acc;
+            }
         }
         p.material = material(g.material());
         if (const MeshFeatures* f = g.mesh()->features()) metadata.primitive(*f, p);
@@ -287,7 +304,7 @@ struct Writer {
         Box b;
         if (n.kind() == NodeKind::Geometry) {
             const Mesh* mesh = static_cast<const Geometry&>(n).mesh();
-            if (mesh && mesh->indexCount() > 0) b = mesh->box();
+            if (mesh && mesh->primitiveCount() > 0) b = mesh->box();
         } else if (n.kind() != NodeKind::Occluder) {  // occluders are not drawn
             for (size_t i = 0; i < n.numChildren(); ++i)
                 if (const Node* c = n.child(i)) b.expand(bound(*c));
@@ -336,7 +353,7 @@ struct Writer {
             }
             if (!proto || proto->kind() != NodeKind::Geometry || !plain(*proto)) continue;
             const auto* g = static_cast<const Geometry*>(proto);
-            if (!g->mesh() || g->mesh()->indexCount() == 0) continue;
+            if (!g->mesh() || g->mesh()->primitiveCount() == 0) continue;
             gltf::FloatTrs trs;
             if (!gltf::splitTrs(placement, trs)) continue;  // a shear: the Instance is written as it is
             // The float translation must not move the instance by more than 1e-6 of the scene, as drawn.
@@ -432,9 +449,9 @@ struct Writer {
             case NodeKind::Geometry: {
                 x["kind"] = Value(std::string("Geometry"));
                 const auto& g = static_cast<const Geometry&>(n);
-                // glTF has no empty accessors: a mesh without triangles is written as a flag (its positions
+                // glTF has no empty accessors: a mesh that draws nothing is written as a flag (its positions
                 // and the geometry's material are not kept).
-                if (g.mesh() && g.mesh()->indexCount() > 0)
+                if (g.mesh() && g.mesh()->primitiveCount() > 0)
                     gn.mesh = mesh(g);
                 else if (g.mesh())
                     x["emptyMesh"] = Value(true);

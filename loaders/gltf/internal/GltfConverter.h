@@ -55,9 +55,11 @@ struct Converter {
     // with it applied to their UVs, by mesh and material.
     std::map<int, mat3> classicUv;
     std::map<std::pair<const Mesh*, int>, ref_ptr<Mesh>> classicUvMeshes;
-    // Mode, indices, attributes, and featureKey(): primitives with other features do not share a Mesh.
+    // Mode, indices, attributes, and featureKey() with the outline's accessor: primitives with other features or
+    // another outline do not share a Mesh.
     std::map<std::tuple<int, int, int, int, int, int, int, int, std::string>, ref_ptr<Mesh>> meshes;
-    std::vector<std::vector<ref_ptr<Geometry>>> shared;  // per glTF mesh, one Geometry per primitive
+    std::vector<std::vector<ref_ptr<Geometry>>> shared;           // per glTF mesh, one Geometry per primitive
+    std::map<const Material*, ref_ptr<Material>> unlitMaterials;  // unlit(): by the material
     std::vector<bool> sharedDone;
     std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
     size_t nodesDone = 0;
@@ -92,8 +94,7 @@ struct Converter {
     ref_ptr<Material> material(int i);
 
     // --- accessors (GltfAccessors.cpp)
-    // A primitive's triangle indices (its vertices in order when it has none), each checked against the n
-    // vertices.
+    // A primitive's indices (its vertices in order when it has none), each checked against the n vertices.
     std::vector<uint32_t> indices(const tinygltf::Primitive& p, size_t n, const std::string& path);
 
     // --- meshes (GltfMeshes.cpp)
@@ -106,6 +107,28 @@ struct Converter {
     ref_ptr<Mesh> withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int set);
     // One Geometry per drawable primitive of glTF mesh `i`, made once (null for skipped primitives).
     const std::vector<ref_ptr<Geometry>>& geometries(int i);
+
+    // --- points and lines (GltfPointsLines.cpp)
+    // LINES, LINE_STRIP or LINE_LOOP indices as segments (pairs; a loop closed back to its first vertex). What
+    // makes no whole segment (an odd LINES count, a strip of one vertex) is left out with a warning naming `path`.
+    std::vector<uint32_t> toLines(int mode, const std::vector<uint32_t>& idx, const std::string& path);
+    // A POINTS or lines primitive's arrays into `mesh`: positions, COLOR_0, and a point's NORMAL. Indexed points
+    // become their indexed vertices in index order (`idx`, which indices() has checked).
+    void pointsOrLines(const tinygltf::Primitive& p, const std::string& path, std::vector<vec3> positions,
+                       const std::vector<uint32_t>& idx, Mesh& mesh);
+    // Indexed points' features: each per-vertex value taken at `idx` in order (an implicit set's ids become the
+    // vertex indices they stood for).
+    static ref_ptr<MeshFeatures> gathered(const MeshFeatures& f, const std::vector<uint32_t>& idx);
+    // The _INTENSITY attribute's n values (empty without it), as Mesh::setIntensities() holds them; taken at
+    // `order` when given (indexed points).
+    std::vector<uint16_t> intensities(const tinygltf::Primitive& p, size_t n, const std::string& path,
+                                      const std::vector<uint32_t>* order);
+    // A triangle primitive's CESIUM_primitive_outline: its line pairs set on `mesh`, every index checked.
+    void outline(const tinygltf::Primitive& p, Mesh& mesh, const std::string& path);
+    // The part of a Mesh's key the outline makes: its accessor.
+    static std::string outlineKey(const tinygltf::Primitive& p);
+    // An unlit copy of `mat` (none stays none), made once: glTF draws points and lines without normals unlit.
+    ref_ptr<Material> unlit(const ref_ptr<Material>& mat);
 
     // --- sgkit's node kinds (GltfNodeKinds.cpp)
     // A relative file name is relative to the directory of the glTF file that names it.

@@ -121,7 +121,7 @@ TEST(Gltf, MeshUsedByTwoNodesBecomesOneGeometryWithTwoParents) {
     EXPECT_EQ(static_cast<Transform*>(s.root->child(0))->translation(), dvec3(1, 0, 0));
 }
 
-TEST(Gltf, StripsAndFansBecomeTrianglesPointsAndLinesAreSkippedWithAWarning) {
+TEST(Gltf, StripsAndFansBecomeTrianglesPointsAndLinesLoadAsThemselves) {
     Doc d;
     d.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
     d.indices = {0, 1, 2, 3, 0, 0};
@@ -133,7 +133,7 @@ TEST(Gltf, StripsAndFansBecomeTrianglesPointsAndLinesAreSkippedWithAWarning) {
                                    {"attributes": {"POSITION": 0}, "mode": 1}]}])";
     const GltfScene s = d.load();
     Node* t = s.root->child(0);
-    ASSERT_EQ(t->numChildren(), 2u);
+    ASSERT_EQ(t->numChildren(), 4u);
     const Mesh* strip = static_cast<Geometry*>(t->child(0))->mesh();
     const Mesh* fan = static_cast<Geometry*>(t->child(1))->mesh();
     ASSERT_EQ(strip->triangleCount(), 2u);
@@ -146,9 +146,16 @@ TEST(Gltf, StripsAndFansBecomeTrianglesPointsAndLinesAreSkippedWithAWarning) {
     EXPECT_EQ(fan->index(3), 0u);
     EXPECT_EQ(fan->index(4), 2u);
     EXPECT_EQ(fan->index(5), 3u);
-    ASSERT_EQ(s.warnings.size(), 2u);
-    EXPECT_EQ(s.warnings[0].rfind("meshes[0].primitives[2]: ", 0), 0u) << s.warnings[0];
-    EXPECT_EQ(s.warnings[1].rfind("meshes[0].primitives[3]: ", 0), 0u) << s.warnings[1];
+    // Points: the four positions in order; lines: (0 1) and (2 3).
+    const Mesh* points = static_cast<Geometry*>(t->child(2))->mesh();
+    const Mesh* lines = static_cast<Geometry*>(t->child(3))->mesh();
+    EXPECT_EQ(points->primitive(), Primitive::Points);
+    EXPECT_EQ(points->pointCount(), 4u);
+    EXPECT_EQ(points->indexCount(), 0u);
+    ASSERT_EQ(lines->lineCount(), 2u);
+    EXPECT_EQ(lines->index(2), 2u);
+    EXPECT_EQ(lines->index(3), 3u);
+    EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
 }
 
 TEST(Gltf, CamerasCarryTheirNodesWorldMatrix) {
