@@ -32,21 +32,26 @@ GLuint compile(GLenum type, const char* src, const char* name, const char* who) 
 
 }  // namespace
 
-unsigned buildGlProgram(const char* vertexSource, const char* fragmentSource, const char* who) {
+unsigned buildGlProgram(const char* vertexSource, const char* fragmentSource, const char* who,
+                        const char* geometrySource) {
     const GLuint vs = compile(GL_VERTEX_SHADER, vertexSource, "vertex", who);
-    GLuint fs = 0;
+    GLuint fs = 0, gs = 0;
     try {
         fs = compile(GL_FRAGMENT_SHADER, fragmentSource, "fragment", who);
+        if (geometrySource) gs = compile(GL_GEOMETRY_SHADER, geometrySource, "geometry", who);
     } catch (...) {
         glDeleteShader(vs);
+        if (fs) glDeleteShader(fs);
         throw;
     }
     const GLuint program = glCreateProgram();
     glAttachShader(program, vs);
     glAttachShader(program, fs);
+    if (gs) glAttachShader(program, gs);
     glLinkProgram(program);
     glDeleteShader(vs);  // flagged: freed with the program
     glDeleteShader(fs);
+    if (gs) glDeleteShader(gs);
     GLint ok = GL_FALSE;
     glGetProgramiv(program, GL_LINK_STATUS, &ok);
     if (ok == GL_TRUE) return program;

@@ -88,24 +88,40 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
         glEnableVertexAttribArray(kFeatureIdLocation);
         glVertexAttribPointer(kFeatureIdLocation, 1, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(fidOff));
     }
-    glGenBuffers(1, &g.ibo);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
-    if (!m->indices16().empty()) {
-        g.indexType = GL_UNSIGNED_SHORT;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices16().size() * 2), m->indices16().data(),
-                     GL_STATIC_DRAW);
-    } else {
-        g.indexType = GL_UNSIGNED_INT;
-        glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m->indices32().size() * 4), m->indices32().data(),
-                     GL_STATIC_DRAW);
-    }
-    g.indexCount = GLsizei(m->indexCount());
+    uploadIndices(*m, g);
     // The item attributes: the renderer points them at each run's place in the instance buffer.
     glBindBuffer(GL_ARRAY_BUFFER, instanceBuffer_);
     enableItemAttributes();
     pointItemAttributes(0);
     glBindVertexArray(0);
     return meshes_.emplace(m, std::move(g)).first->second;
+}
+
+// Points have no indices (drawn in order: the intensities stay on the CPU, for picking and styling). An outline's
+// edges follow the faces' indices in the same buffer, as 32-bit indices at a 4-byte boundary: the draw call names
+// each range's type and offset.
+void GpuCache::uploadIndices(const Mesh& m, GpuMesh& g) {
+    const Primitive p = m.primitive();
+    g.mode = p == Primitive::Points ? GL_POINTS : p == Primitive::Lines ? GL_LINES : GL_TRIANGLES;
+    if (p == Primitive::Points) {
+        g.indexCount = GLsizei(m.positions().size());
+        return;
+    }
+    const bool small = !m.indices16().empty();
+    g.indexType = small ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT;
+    g.indexCount = GLsizei(m.indexCount());
+    const size_t faceBytes = small ? m.indices16().size() * 2 : m.indices32().size() * 4;
+    const std::vector<uint32_t>& outline = m.outline();  // a triangle mesh's only (Mesh::setOutline)
+    g.outlineOffset = (faceBytes + 3) / 4 * 4;
+    g.outlineCount = GLsizei(outline.size());
+    glGenBuffers(1, &g.ibo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(g.outlineOffset + outline.size() * 4), nullptr, GL_STATIC_DRAW);
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(faceBytes),
+                    small ? static_cast<const void*>(m.indices16().data()) : m.indices32().data());
+    if (!outline.empty())
+        glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, GLintptr(g.outlineOffset), GLsizeiptr(outline.size() * 4),
+                        outline.data());
 }
 
 unsigned GpuCache::texture(const Texture* t, bool cut, bool srgb) {

@@ -11,6 +11,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -55,6 +56,15 @@ Renderer::Renderer() {
         clipControlExt = e && std::strcmp(e, "GL_ARB_clip_control") == 0;
     }
     reverseZSupported_ = clipControlExt && clipControl() != nullptr;
+    glEnable(GL_PROGRAM_POINT_SIZE);  // points are sized by the vertex stage (kShadePoint)
+    // Lines wider than a pixel: glLineWidth where the context draws them (Mesa's core contexts: up to 255), a
+    // geometry stage where it does not: a forward-compatible context (what GlfwWindow asks for) takes no width
+    // above 1.
+    GLint flags = 0;
+    glGetIntegerv(GL_CONTEXT_FLAGS, &flags);
+    GLfloat lineRange[2] = {1.0f, 1.0f};
+    glGetFloatv(GL_ALIASED_LINE_WIDTH_RANGE, lineRange);
+    maxLineWidth_ = (flags & GL_CONTEXT_FLAG_FORWARD_COMPATIBLE_BIT) ? 1.0f : std::max(1.0f, lineRange[1]);
     depthMode_ = reverseZSupported_ ? DepthMode::Auto : DepthMode::Classic;
     try {
         checkGl("Renderer::Renderer()", "after compiling the shaders");

@@ -29,11 +29,13 @@ struct GpuMesh;
 struct ItemAttributes;  // sg/gl/internal/Shaders.h, internal
 
 struct RenderStats {
-    // Draw calls: a glDrawElementsInstanced per run of equal mesh and material, a glMultiDrawElements per item
-    // drawn in part (DrawList::parts).
+    // Draw calls: a glDrawElementsInstanced per run of equal mesh and material (glDrawArraysInstanced for points), a
+    // glMultiDrawElements per item drawn in part (DrawList::parts), and one more per run whose mesh has an outline.
     uint64_t drawCalls = 0;
     uint64_t instances = 0;  // draw items drawn
     uint64_t triangles = 0;
+    uint64_t points = 0;
+    uint64_t lines = 0;             // segments: those of line meshes and of outlines (Mesh::outline())
     uint64_t backFacesSkipped = 0;  // items drawn without their back faces (Renderer::setBackFaceCulling)
     double ms = 0.0;                // CPU time of draw(), without waiting for the GPU to finish
 };
@@ -65,7 +67,9 @@ public:
     // How draws get their shader program. Variants (the default): a program per combination of the features a
     // draw uses (texture, vertex colours, baked light, lit by the headlight or the sun, highlight, alpha cutoff,
     // fade), compiled on first use and kept, holding only what those draws read. OneProgram: one program for
-    // every draw, branching on uniforms: the reference the variants are tested against pixel for pixel.
+    // every draw, branching on uniforms: the reference the variants are tested against pixel for pixel. Points,
+    // outlines and lines wider than the context draws take their variants in both modes (the one program sizes no
+    // point).
     enum class ShaderMode : uint8_t { Variants, OneProgram };
     void setShaderMode(ShaderMode mode) { shaderMode_ = mode; }
     ShaderMode shaderMode() const { return shaderMode_; }
@@ -100,7 +104,10 @@ public:
     // Clears the viewport (0, 0, camera.width(), camera.height()), then draws the items in list.order (all items
     // in their order when list.order is empty). Runs of consecutive items with the same mesh and
     // material pointers become one instanced draw call; an item drawn in part (DrawList::parts) draws its
-    // index ranges alone, in one glMultiDrawElements. Colour: base colour (white without a material)
+    // index ranges alone, in one glMultiDrawElements (a triangle mesh's only: an item of points or lines is drawn whole
+    // whatever its part says). Points and lines: see setPointShading(); they are unlit, but points with normals.
+    // A triangle mesh's outline (Mesh::outline()) is drawn over its faces in black. Colour: base colour (white
+    // without a material)
     // x texture (when the mesh has UVs) x vertex colour, lit by a two-sided headlight unless the
     // material is unlit or the mesh has no normals, or by the light setLight() gave (see there); fragments whose alpha
     // is below the material's alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order
@@ -198,6 +205,11 @@ private:
         uint32_t pbr = 0;
         const Material* material = nullptr;
         bool features = false;  // per-feature colours (kShadeFeature)
+        // Points (kShadePoint, round: kShadeRound) with their attenuation: the mesh's point spacing in pixels at
+        // distance 1, 0 for a fixed size (set per frame); lines through a geometry stage (kShadeWideLine); the
+        // outline's program (kShadeOutline).
+        bool point = false, round = false, wideLine = false, outline = false;
+        float pointScale = 0.0f;
     };
     // A linked program, the locations of its uniforms (-1: not in this program) and the values they hold.
     struct Program {
@@ -208,6 +220,8 @@ private:
         int uLightE = -1, uSky = -1, uGround = -1, uUp = -1, uMetallic = -1, uRoughness = -1, uEmissive = -1,
             uNormalScale = -1, uOcclusionStrength = -1, uLightCount = -1, uPunctualPos = -1, uPunctualDir = -1,
             uPunctualE = -1, uPunctualCone = -1;
+        // Points' and lines' (ShadersVertex.cpp).
+        int uPointSize = -1, uMaxPointSize = -1, uPointScale = -1, uViewportSize = -1, uLineWidth = -1;
         int uXf[5] = {-1, -1, -1, -1, -1}, uSet[5] = {-1, -1, -1, -1, -1};  // by texture unit (Shaders.h)
         Shading shading;                                                    // what its per-run uniforms hold
         bool shadingSet = false;  // whether `shading` is known (from its first run in a frame on)
@@ -228,6 +242,7 @@ private:
         Program* program = nullptr;    // set with gpu
         Shading shading;               // set with gpu: what picked the program and what its uniforms get
         unsigned featureColors = 0;    // the per-feature colour table's texture (kFeatureUnit), 0 without
+        Program* outline = nullptr;    // its mesh's outline's program (set with gpu), null without an outline
     };
     static constexpr uint32_t kWhole = ~0u;
     // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
@@ -259,6 +274,7 @@ private:
     void drawRun(const DrawList& list, const Run& r);
     // PointShading::eyeDome's pass over the frame drawn (RendererEyeDome.cpp); nothing when it is off.
     void eyeDomePass(const Target& target, const Camera& camera);
+    void drawOutline(const Run& r);
     void endFrame(const Target& target);
 
     static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
@@ -268,7 +284,8 @@ private:
     void featureColors(Run& r);
     // The run's program: the one program, or the variant of the features it uses (compiled on first use).
     Program& programFor(const Shading& s);
-    static Program link(const char* vertexSource, const char* fragmentSource, const char* who);
+    static Program link(const char* vertexSource, const char* fragmentSource, const char* who,
+                        const char* geometrySource = nullptr);
     // Makes p current; the frame's camera and light go into it on its first use in the frame.
     void use(Program& p);
     void setShading(Program& p, const Shading& s);
@@ -293,6 +310,9 @@ private:
     std::vector<PunctualLight> punctual_;
     ref_ptr<FeatureStyle> featureStyle_;
     PointShading pointShading_;
+    float maxLineWidth_ = 1.0f;   // the widest line glLineWidth draws: 1 in a forward-compatible context
+    vec2 viewportSize_{1.0f};     // the frame's, in pixels
+    float pixelsPerUnit_ = 0.0f;  // the frame's: a length 1 at distance 1, in pixels (Camera::pixelsPerUnit())
     vec4 punctualPos_[kMaxLights], punctualDir_[kMaxLights];  // the frame's uniforms for them (ShadersPbr.cpp)
     vec3 punctualE_[kMaxLights];
     vec2 punctualCone_[kMaxLights];

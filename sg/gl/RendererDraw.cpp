@@ -22,6 +22,18 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     // items' matrices, so no large coordinate ever reaches float.
     viewProj_ = mat4((reverse ? camera.reverseZProjection() : camera.projection()) * camera.viewRotation());
     frameLights(camera);
+    GLint viewport[4] = {0, 0, 1, 1};
+    glGetIntegerv(GL_VIEWPORT, viewport);
+    viewportSize_ = vec2(float(viewport[2]), float(viewport[3]));
+    pixelsPerUnit_ = float(camera.projection()[1][1] * 0.5 * viewport[3]);
+    if (pointShading_.lineWidth <= maxLineWidth_) glLineWidth(pointShading_.lineWidth);
+    // The faces under an outline are pushed back rather than its lines pulled forward: the factor follows each face's
+    // own depth slope (a line and a triangle sample depth up to a pixel apart, and across a grazing face that is more
+    // than any fixed pull would cover), and the units are steps of the depth buffer at that depth (2^-24 in Classic's
+    // fixed point, the float's own spacing in ReverseZ's), so the one offset holds in both modes. Away from the eye is
+    // a smaller depth in ReverseZ. A wide line's quad reaches half its width off the edge: the factor covers that.
+    const float away = reverse ? -1.0f : 1.0f;
+    glPolygonOffset(away * (1.5f + 0.5f * pointShading_.lineWidth), away * 2.0f);
     ++draws_;
     current_ = nullptr;
     glActiveTexture(GL_TEXTURE0);
@@ -50,6 +62,8 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     glFrontFace(GL_CCW);
     glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    glLineWidth(1.0f);
     glBindVertexArray(0);
     glUseProgram(0);
     current_ = nullptr;
@@ -75,12 +89,26 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
         glActiveTexture(GL_TEXTURE0);
     }
     use(*r.program);
-    setShading(*r.program, r.shading);
-    if (r.part == kWhole) {
+    if (r.shading.point && pointShading_.attenuate) {  // the spacing on screen at distance 1, for this frame
+        Shading s = r.shading;
+        s.pointScale = r.mesh->pointSpacing() * pointShading_.spacingScale * pixelsPerUnit_;
+        setShading(*r.program, s);
+    } else {
+        setShading(*r.program, r.shading);
+    }
+    if (r.outline) glEnable(GL_POLYGON_OFFSET_FILL);
+    if (g.mode == GL_POINTS) {
+        glDrawArraysInstanced(GL_POINTS, 0, g.indexCount, GLsizei(r.count));
+        stats_.points += uint64_t(r.count) * uint64_t(g.indexCount);
+    } else if (g.mode == GL_LINES) {
+        glDrawElementsInstanced(GL_LINES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
+        stats_.lines += uint64_t(r.count) * uint64_t(g.indexCount / 2);
+    } else if (r.part == kWhole) {
         glDrawElementsInstanced(GL_TRIANGLES, g.indexCount, g.indexType, nullptr, GLsizei(r.count));
         stats_.triangles += uint64_t(r.count) * uint64_t(g.indexCount / 3);
     } else {
-        // One item, its ranges: a non-instanced draw reads the item attributes' first element.
+        // One item, its ranges (a triangle mesh's: indexParts): a non-instanced draw reads the item attributes' first
+        // element.
         const DrawList::Part& p = list.parts[r.part];
         const size_t bytes = g.indexType == GL_UNSIGNED_SHORT ? 2 : 4;
         rangeCounts_.clear();
@@ -96,6 +124,19 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     stats_.drawCalls++;
     stats_.instances += r.count;
     if (r.cullBack) stats_.backFacesSkipped += r.count;
+    if (r.outline) drawOutline(r);
+}
+
+// The whole outline, also over an item drawn in part: its edges are few, and those off screen are clipped.
+void Renderer::drawOutline(const Run& r) {
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    const GpuMesh& g = *r.gpu;
+    use(*r.outline);
+    setShading(*r.outline, r.shading);
+    glDrawElementsInstanced(GL_LINES, g.outlineCount, GL_UNSIGNED_INT, reinterpret_cast<const void*>(g.outlineOffset),
+                            GLsizei(r.count));
+    stats_.lines += uint64_t(r.count) * uint64_t(g.outlineCount / 2);
+    stats_.drawCalls++;
 }
 
 void Renderer::use(Program& p) {
@@ -110,6 +151,10 @@ void Renderer::use(Program& p) {
     glUniform1i(p.uHeadlight, light_.headlight ? 1 : 0);
     glUniform3f(p.uAmbient, light_.ambient.r, light_.ambient.g, light_.ambient.b);
     glUniform3f(p.uLightColor, light_.color.r, light_.color.g, light_.color.b);
+    glUniform1f(p.uPointSize, pointShading_.pointSize);
+    glUniform1f(p.uMaxPointSize, pointShading_.maxPointSize);
+    glUniform2f(p.uViewportSize, viewportSize_.x, viewportSize_.y);
+    glUniform1f(p.uLineWidth, pointShading_.lineWidth);
     if (p.uLightE < 0) return;  // a classic program
     // Physical: the main light as irradiance (x pi: a white matte surface facing it shows its colour), the
     // hemisphere, the punctual lights relative to the eye.
@@ -142,6 +187,7 @@ void Renderer::setShading(Program& p, const Shading& s) {
     if (all || s.shininess != o.shininess) glUniform1f(p.uShininess, s.shininess);
     if (all || s.fade != o.fade) glUniform1f(p.uFade, s.fade);
     if (all || s.alphaCutoff != o.alphaCutoff) glUniform1f(p.uAlphaCutoff, s.alphaCutoff);
+    if (all || s.pointScale != o.pointScale) glUniform1f(p.uPointScale, s.pointScale);
     if (s.material && (all || s.material != o.material)) {  // a physical material's factors and UV transforms
         const Material& m = *s.material;
         const PhysicalMaterial& pm = m.pbr;

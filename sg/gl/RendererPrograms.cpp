@@ -14,9 +14,10 @@
 
 namespace sg {
 
-Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentSource, const char* who) {
+Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentSource, const char* who,
+                                 const char* geometrySource) {
     Program p;
-    p.id = buildGlProgram(vertexSource, fragmentSource, who);
+    p.id = buildGlProgram(vertexSource, fragmentSource, who, geometrySource);
     const auto at = [&](const char* name) { return glGetUniformLocation(p.id, name); };
     p.uViewProj = at("uViewProj");
     p.uLightDir = at("uLightDir");
@@ -45,6 +46,11 @@ Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentS
     p.uPunctualDir = at("uPunctualDir");
     p.uPunctualE = at("uPunctualE");
     p.uPunctualCone = at("uPunctualCone");
+    p.uPointSize = at("uPointSize");
+    p.uMaxPointSize = at("uMaxPointSize");
+    p.uPointScale = at("uPointScale");
+    p.uViewportSize = at("uViewportSize");
+    p.uLineWidth = at("uLineWidth");
     const char* names[5] = {"uBase", "uMr", "uNormal", "uOcclusion", "uEmissive"};
     const char* samplers[5] = {"uTexture", "uMrTex", "uNormalTex", "uOcclusionTex", "uEmissiveTex"};
     glUseProgram(p.id);
@@ -59,7 +65,7 @@ Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentS
 }
 
 Renderer::Program& Renderer::programFor(const Shading& s) {
-    if (shaderMode_ == ShaderMode::OneProgram) return one_;
+    if (shaderMode_ == ShaderMode::OneProgram && !s.point && !s.wideLine && !s.outline) return one_;
     uint32_t f = 0;
     if (s.texture) f |= kShadeTexture;
     if (s.colors) f |= kShadeColor;
@@ -71,11 +77,16 @@ Renderer::Program& Renderer::programFor(const Shading& s) {
     if (s.fade < 1.0f) f |= kShadeFade;
     if (s.material && s.material->physical) f |= kShadePbr | s.pbr | (punctual_.empty() ? 0u : kShadePunctual);
     if (s.features) f |= kShadeFeature;
+    if (s.point) f |= kShadePoint;
+    if (s.round) f |= kShadeRound;
+    if (s.wideLine) f |= kShadeWideLine;
+    if (s.outline) f |= kShadeOutline;
     f = canonicalFeatures(f);
     const auto it = variants_.find(f);
     if (it != variants_.end()) return it->second;
-    const std::string vs = variantSource(true, f), fs = variantSource(false, f);
-    return variants_.emplace(f, link(vs.c_str(), fs.c_str(), "Renderer::draw()")).first->second;
+    const std::string vs = variantSource(true, f), fs = variantSource(false, f), gs = variantGeometrySource(f);
+    return variants_.emplace(f, link(vs.c_str(), fs.c_str(), "Renderer::draw()", gs.empty() ? nullptr : gs.c_str()))
+        .first->second;
 }
 
 Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
@@ -88,9 +99,11 @@ Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float
     s.shininess = mat ? mat->shininess : 1.0f;
     s.fade = fade;
     s.alphaCutoff = mat ? mat->alphaCutoff : 0.0f;
+    s.point = g.mode == GL_POINTS;
     if (mat && mat->physical) {
         s.material = mat;
-        s.lit = !mat->unlit;
+        // Points are lit by their normals alone, lines never (they have none): neither has a face to take one from.
+        s.lit = !mat->unlit && (g.mode == GL_TRIANGLES || g.normals);
         if (s.lit && !g.normals) s.pbr |= kShadeFlat;
         if (mat->blend) s.pbr |= kShadeBlend;
     }
@@ -155,7 +168,18 @@ void Renderer::upload() {
         r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
         if (r.material && r.material->physical) physicalTextures(r);
         featureColors(r);
+        // Lines wider than glLineWidth draws are quads from a geometry stage; outlines are lines too.
+        const bool wide = pointShading_.lineWidth > maxLineWidth_;
+        r.shading.round = r.shading.point && pointShading_.round;
+        r.shading.wideLine = r.gpu->mode == GL_LINES && wide;
         r.program = &programFor(r.shading);
+        r.outline = nullptr;
+        if (r.gpu->outlineCount > 0) {
+            Shading o = r.shading;
+            o.outline = true;
+            o.wideLine = wide;
+            r.outline = &programFor(o);
+        }
     }
 }
 

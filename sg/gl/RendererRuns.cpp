@@ -60,6 +60,8 @@ void Renderer::indexParts(const DrawList& list) {
     for (size_t p = 0; p < list.parts.size(); ++p) {
         const DrawList::Part& part = list.parts[p];
         const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
+        // Index ranges are triangles' (the cull cuts triangle meshes only): points and lines are drawn whole.
+        if (m && m->primitive() != Primitive::Triangles) continue;
         bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
         for (uint32_t r = 0; ok && r < part.count; ++r) {
             const IndexRange& ir = list.ranges[size_t(part.first) + r];

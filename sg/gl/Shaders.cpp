@@ -126,6 +126,10 @@ uniform float uFade;
 #endif
 out vec4 fragColor;
 void main() {
+#if ROUND
+    // The disc inscribed in the point's square (gl_PointCoord runs 0 to 1 across it).
+    if (dot(gl_PointCoord - 0.5, gl_PointCoord - 0.5) > 0.25) discard;
+#endif
 #if FADE
     {
         float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));
@@ -168,6 +172,11 @@ void main() {
 )";
 
 uint32_t canonicalFeatures(uint32_t f) {
+    if (f & kShadePoint)
+        f &= ~(kShadeWideLine | kShadeOutline);
+    else
+        f &= ~kShadeRound;                                                                    // a disc is a point's
+    if (f & kShadeOutline) f &= kShadeOutline | kShadeWideLine | kShadeFade | kShadeFeature;  // black, unlit
     constexpr uint32_t pbrOnly = kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive | kShadeUv0 |
                                  kShadeUv1 | kShadeFlat | kShadeBlend | kShadePunctual | kShadePbrOrm;
     if (f & kShadePbr) {
@@ -187,8 +196,10 @@ uint32_t canonicalFeatures(uint32_t f) {
     return f;
 }
 
-std::string variantSource(bool vertex, uint32_t features) {
-    const uint32_t f = canonicalFeatures(features);
+namespace {
+
+// The #version line and a #define per feature, 1 or 0: what every stage of a variant starts with.
+std::string variantDefines(uint32_t f) {
     std::string s = "#version 330 core\n";
     const std::pair<uint32_t, const char*> names[] = {{kShadeTexture, "TEXTURE"},
                                                       {kShadeColor, "COLOR"},
@@ -208,10 +219,36 @@ std::string variantSource(bool vertex, uint32_t features) {
                                                       {kShadeBlend, "BLEND"},
                                                       {kShadePunctual, "PUNCTUAL"},
                                                       {kShadePbrOrm, "PBR_ORM"},
-                                                      {kShadeFeature, "FEATURE"}};
+                                                      {kShadeFeature, "FEATURE"},
+                                                      {kShadePoint, "POINT"},
+                                                      {kShadeRound, "ROUND"},
+                                                      {kShadeWideLine, "WIDE_LINE"},
+                                                      {kShadeOutline, "OUTLINE"}};
     for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
+    return s;
+}
+
+// The fragment stage behind a geometry stage reads what that stage writes: the vertex stage's outputs renamed (a
+// geometry stage cannot give an output the name of its input).
+const char* const kWideLineRenames =
+    "#define vBaseColor gBaseColor\n#define vColor gColor\n#define vFromEye gFromEye\n";
+
+}  // namespace
+
+std::string variantSource(bool vertex, uint32_t features) {
+    const uint32_t f = canonicalFeatures(features);
+    const std::string s = variantDefines(f);
     if (vertex) return s + variantVertexSource((f & kShadePbr) != 0);
-    return s + ((f & kShadePbr) ? kPbrFragmentShader : kVariantFragmentShader);
+    return s + ((f & kShadeWideLine) ? kWideLineRenames : "") +
+           ((f & kShadePbr) ? kPbrFragmentShader : kVariantFragmentShader);
+}
+
+std::string variantGeometrySource(uint32_t features) {
+    const uint32_t f = canonicalFeatures(features);
+    if (!(f & kShadeWideLine)) return {};
+    // vFromEye: the physical fragment stage always reads it, the classic one for the sun's light alone.
+    const bool eye = (f & kShadePbr) || ((f & kShadeLit) && (f & kShadeSun));
+    return variantDefines(f) + (eye ? "#define EYE 1\n" : "#define EYE 0\n") + kWideLineGeometryStage;
 }
 
 namespace {

@@ -106,6 +106,9 @@ vec3 shade(vec3 n, vec3 v, vec3 l, vec3 e, vec3 cDiff, vec3 f0, float a2) {
 #endif
 
 void main() {
+#if ROUND
+    if (dot(gl_PointCoord - 0.5, gl_PointCoord - 0.5) > 0.25) discard;  // the disc inscribed in the point's square
+#endif
 #if FADE
     {
         float n = fract(52.9829189 * fract(dot(floor(gl_FragCoord.xy), vec2(0.06711056, 0.00583715))));

@@ -2,7 +2,8 @@
 // #defines variantSource() writes. The two families differ in two outputs only, substituted per family ($EYE_IF,
 // $UV0_IF, $UV0_OUT): the eye offset (a classic draw reads it for the sun's light alone, a physical one always)
 // and the first UV set's (the classic fragment stage reads it as vUv, the physical one as vUv0). The rest reads
-// macros that the classic features leave at 0 (FLAT, PBR_NORMAL, UV1), so one text serves both.
+// macros that the classic features leave at 0 (FLAT, PBR_NORMAL, UV1), so one text serves both. The wide lines'
+// geometry stage (kShadeWideLine), which runs after it, is here too.
 #include "sg/gl/internal/Shaders.h"
 
 #include <cstring>
@@ -45,9 +46,19 @@ out vec4 vColor;
 layout(location = 11) in float aFeatureId;
 uniform sampler2D uFeatureColors;
 #endif
+#if POINT
+// Renderer::pointShading(): the fixed size and the largest attenuated one; uPointScale the mesh's point spacing (x the
+// spacing scale) in pixels at distance 1, 0 for the fixed size.
+uniform float uPointSize, uMaxPointSize, uPointScale;
+#endif
 void main() {
     vec4 world = aModel * vec4(aPosition, 1.0);
     gl_Position = uViewProj * world;
+#if POINT
+    // w is the distance along the view (perspective) or 1 (orthographic, where the scale holds at any depth).
+    gl_PointSize =
+        uPointScale > 0.0 ? max(min(uPointScale / gl_Position.w, uMaxPointSize), uPointSize) : uPointSize;
+#endif
 #if $EYE_IF
     vFromEye = world.xyz;
 #endif
@@ -71,7 +82,11 @@ void main() {
 #if COLOR
     vColor = aColor;
 #endif
+#if OUTLINE
+    vBaseColor = vec4(0.0, 0.0, 0.0, aBaseColor.a);  // an outline is black, as opaque as its faces
+#else
     vBaseColor = aBaseColor;
+#endif
 #if FEATURE
     // The feature's colour multiplies the base colour (3D Tiles styles' HIGHLIGHT blending); alpha 0 hides the
     // feature: its vertices go beyond the far plane, where clipping drops its triangles (a feature's triangles
@@ -86,6 +101,62 @@ void main() {
 #endif
 }
 )";
+
+}  // namespace
+
+// Lines carry no normals or UVs (Mesh::setLines): the base colour, the vertex colours and the eye offset are all a
+// line's fragment stage reads.
+const char* const kWideLineGeometryStage = R"(
+layout(lines) in;
+layout(triangle_strip, max_vertices = 4) out;
+uniform vec2 uViewportSize;  // pixels
+uniform float uLineWidth;    // pixels
+flat in vec4 vBaseColor[];
+flat out vec4 gBaseColor;
+#if COLOR
+in vec4 vColor[];
+out vec4 gColor;
+#endif
+#if EYE
+in vec3 vFromEye[];
+out vec3 gFromEye;
+#endif
+// A corner: the clip-space point p moved by `across` in normalized device coordinates (times w: before the divide),
+// with the attributes at t along the segment.
+void corner(vec4 p, vec2 across, float t) {
+    gl_Position = vec4(p.xy + across * p.w, p.zw);
+    gBaseColor = vBaseColor[0];
+#if COLOR
+    gColor = mix(vColor[0], vColor[1], t);
+#endif
+#if EYE
+    gFromEye = mix(vFromEye[0], vFromEye[1], t);
+#endif
+    EmitVertex();
+}
+void main() {
+    // The part of the segment in front of the eye (w above a small bound): only there can w divide; the near plane,
+    // farther out, clips the quad's rest.
+    const float minW = 1e-5;
+    vec4 p0 = gl_in[0].gl_Position, p1 = gl_in[1].gl_Position;
+    if (p0.w < minW && p1.w < minW) return;
+    float t0 = p0.w < minW ? (minW - p0.w) / (p1.w - p0.w) : 0.0;
+    float t1 = p1.w < minW ? (minW - p0.w) / (p1.w - p0.w) : 1.0;
+    vec4 a = mix(p0, p1, t0), b = mix(p0, p1, t1);
+    vec2 d = (b.xy / b.w - a.xy / a.w) * uViewportSize;  // along the segment on screen, in proportion to pixels
+    float len = length(d);
+    vec2 dir = len > 0.0 ? d / len : vec2(1.0, 0.0);
+    // Half the width either side: w/2 pixels are w/2 x 2/size in normalized device coordinates.
+    vec2 across = vec2(-dir.y, dir.x) * uLineWidth / uViewportSize;
+    corner(a, -across, t0);
+    corner(a, across, t0);
+    corner(b, -across, t1);
+    corner(b, across, t1);
+    EndPrimitive();
+}
+)";
+
+namespace {
 
 // What differs between the families: the condition of the eye offset, that of the first UV set, and its name.
 struct Family {

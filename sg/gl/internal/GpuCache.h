@@ -15,12 +15,17 @@
 
 namespace sg {
 
-// A mesh in GL: a vertex array over one vertex buffer (an attribute block each) and an index buffer.
+// A mesh in GL: a vertex array over one vertex buffer (an attribute block each) and an index buffer (none for points,
+// which are drawn in order).
 struct GpuMesh {
     ref_ptr<const Mesh> mesh;
     unsigned vao = 0, vbo = 0, ibo = 0;
-    unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT
-    int indexCount = 0;
+    unsigned mode = 0;       // GL_TRIANGLES, GL_LINES or GL_POINTS
+    unsigned indexType = 0;  // GL_UNSIGNED_SHORT or GL_UNSIGNED_INT; 0 for points
+    int indexCount = 0;      // points: the vertex count
+    // A triangle mesh's outline (Mesh::outline()): 32-bit line indices in the same index buffer, from this byte on.
+    size_t outlineOffset = 0;
+    int outlineCount = 0;
     bool normals = false, uvs = false, colors = false, tangents = false, uvs1 = false;
     bool featureIds = false;  // its first feature ID set's ids, per vertex (kFeatureIdLocation)
     uint64_t lastFrame = 0;
@@ -80,6 +85,7 @@ private:
         uint64_t keepUntil = 0;
     };
     static void destroy(GpuMesh& g);
+    static void uploadIndices(const Mesh& m, GpuMesh& g);
     static int kind(bool cut, bool srgb) { return (cut ? 1 : 0) | (srgb ? 2 : 0); }
 
     unsigned instanceBuffer_;

@@ -43,6 +43,15 @@ enum ShadeFeature : uint32_t {
     // Per-feature colours (Renderer::setFeatureStyle): the vertex's feature id reads the feature's colour from a
     // table, which multiplies the base colour; alpha 0 hides the feature. Both families.
     kShadeFeature = 1u << 19,
+    // Points (Mesh::primitive()): the vertex stage sizes them (gl_PointSize, Renderer::pointShading()). Both families.
+    kShadePoint = 1u << 20,
+    kShadeRound = 1u << 21,  // round points: the fragment stage drops what lies outside the disc (with kShadePoint)
+    // Lines wider than the context draws (a forward-compatible context draws none wider than 1 pixel): a geometry
+    // stage turns each segment into a quad of the width (variantGeometrySource). Both families.
+    kShadeWideLine = 1u << 22,
+    // A triangle mesh's outline (Mesh::outline()), drawn as lines over its faces: black, as opaque as the base colour,
+    // unlit. Classic family only.
+    kShadeOutline = 1u << 23,
 };
 // Punctual lights a physical draw receives at most.
 constexpr int kMaxPunctualLights = 8;
@@ -51,6 +60,8 @@ constexpr int kMaxPunctualLights = 8;
 uint32_t canonicalFeatures(uint32_t features);
 // A variant's vertex or fragment source for these features.
 std::string variantSource(bool vertex, uint32_t features);
+// A variant's geometry source (kShadeWideLine), empty for the variants that have no geometry stage.
+std::string variantGeometrySource(uint32_t features);
 
 // Per vertex, from a mesh's buffer (what the Mesh holds).
 constexpr unsigned kPositionLocation = 0, kNormalLocation = 1, kUvLocation = 2, kColorLocation = 3;
@@ -65,6 +76,9 @@ constexpr int kFeatureUnit = 5;
 // The variants' vertex stage, one source for both families (ShadersVertex.cpp), after the #defines variantSource()
 // writes; physical: as the physical fragment stage reads it.
 std::string variantVertexSource(bool physical);
+// The wide lines' geometry stage (ShadersVertex.cpp), after the #defines variantSource() writes and EYE (whether the
+// fragment stage reads vFromEye).
+extern const char* const kWideLineGeometryStage;
 // A physical variant's fragment source (ShadersPbr.cpp), after the #defines variantSource() writes.
 extern const char* const kPbrFragmentShader;
 
