@@ -3,10 +3,12 @@
 // as local and as remote documents (the origin rule), and data: URIs (loaders/net/Resource.h): any bytes either parse
 // or throw sg::LoadError. Anything else (a crash, a sanitizer report, another exception, a hang past -timeout, a leak)
 // is a finding. The seed corpus in fuzz/tiles-corpus/ holds small valid b3dm, i3dm, cmpt and pnts tiles (b3dm and
-// i3dm with batch tables, one with a hierarchy), tilesets (one with a schema and tile, content, group and tileset
-// metadata) and subtrees (one with tile metadata, as writeTileset writes implicit tiling).
+// i3dm with batch tables, one with a hierarchy; a pnts with quantized positions, colours, oct normals and batch ids),
+// tilesets (one with a schema and tile, content, group and tileset metadata) and subtrees (one with tile metadata, as
+// writeTileset writes implicit tiling).
 #include "loaders/net/Resource.h"
 #include "loaders/tiles/internal/BatchTable.h"
+#include "loaders/tiles/internal/Pnts.h"
 #include "loaders/tiles/internal/TileFormats.h"
 #include "loaders/tiles/internal/TilesetTable.h"
 
@@ -52,7 +54,9 @@ void parse(const unsigned char* data, size_t size) {
                 readBatchTable("fuzz.i3dm", in.batchJson, in.batchBinary, uint32_t(in.instances.size()), warnings);
                 break;
             }
-            case ContentKind::Pnts: pntsPointCount("fuzz.pnts", data, size); break;
+            case ContentKind::Pnts:  // its semantics, Draco stream and batch table, as the tileset reader takes it
+                readPnts("fuzz.pnts", data, size, warnings);
+                break;
             case ContentKind::Cmpt:
                 // The inner tiles as the tileset reader would take them.
                 for (const Bytes& tile : parseCmpt("fuzz.cmpt", data, size).tiles) parse(tile.data, tile.size);

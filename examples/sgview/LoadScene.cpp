@@ -34,8 +34,8 @@ LoadedScene loadTilesetFile(const std::string& path, bool refineAll, bool autoOc
     s.tilesReport = [ts] {
         const sg::TilesetCounts c = ts->counts();
         return "tiles " + std::to_string(c.tiles) + " (" + std::to_string(c.externalTilesets) +
-               " external tilesets), contents loaded " + std::to_string(c.contents) + ", point clouds skipped " +
-               std::to_string(c.skippedPoints);
+               " external tilesets), contents loaded " + std::to_string(c.contents) + ", points loaded " +
+               std::to_string(c.points);
     };
     return s;
 }

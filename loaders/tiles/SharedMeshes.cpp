@@ -51,7 +51,9 @@ uint64_t meshHash(const Mesh& m) {
 }
 
 bool sameMesh(const Mesh& a, const Mesh& b) {
-    return sameBytes(a.positions(), b.positions()) && sameBytes(a.normals(), b.normals()) &&
+    // What draws them and how large points are drawn belong to the mesh too (a point tile's spacing is its error).
+    return a.primitive() == b.primitive() && a.pointSpacing() == b.pointSpacing() &&
+           sameBytes(a.positions(), b.positions()) && sameBytes(a.normals(), b.normals()) &&
            sameBytes(a.uvs(), b.uvs()) && sameBytes(a.colors(), b.colors()) &&
            sameBytes(a.indices16(), b.indices16()) && sameBytes(a.indices32(), b.indices32());
 }

@@ -1,9 +1,10 @@
-// The 3D Tiles 1.0 binary formats: header, feature table (JSON and binary body) and the payload after the
-// batch table. Every length and offset read from the file is checked against the bytes before use; the
-// batch table is bounded here and read by BatchTable.cpp.
+// The 3D Tiles 1.0 binary formats b3dm, i3dm and cmpt: their semantics and the payload after the batch table (the
+// header and feature table reads they share are FeatureTable.cpp's). Every length and offset read from the file is
+// checked against the bytes before use; the batch table is bounded here and read by BatchTable.cpp.
 #include "loaders/tiles/internal/TileFormats.h"
 
-#include "loaders/gltf/internal/GltfDetail.h"  // kMaxJsonDepth, at(), fail()
+#include "loaders/gltf/internal/GltfDetail.h"  // at(), fail()
+#include "loaders/tiles/internal/FeatureTable.h"
 
 #include <nlohmann/json.hpp>
 
@@ -32,170 +33,9 @@ constexpr uint32_t kLegacyLength = 0x22000000;
 // WGS84 (the ellipsoid EAST_NORTH_UP refers to).
 constexpr double kWgs84A = 6378137.0, kWgs84B = 6356752.3142451793;
 
-uint32_t le32(const unsigned char* p) {
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-uint16_t le16(const unsigned char* p) { return uint16_t(p[0] | p[1] << 8); }
-float f32(const unsigned char* p) {
-    const uint32_t u = le32(p);
-    float f;
-    std::memcpy(&f, &u, 4);
-    return f;
-}
-
 template <class T>
 std::string str(T v) {
     return std::to_string(v);
-}
-
-// The magic as text when printable, else in hex (it goes into a message).
-std::string magicText(const unsigned char* p) {
-    std::string s = "'";
-    for (int i = 0; i < 4; ++i) s += (p[i] >= 0x20 && p[i] < 0x7f) ? char(p[i]) : '?';
-    return s + "' (0x" + [p] {
-        char hex[9];
-        std::snprintf(hex, sizeof hex, "%02x%02x%02x%02x", p[0], p[1], p[2], p[3]);
-        return std::string(hex);
-    }() + ")";
-}
-
-// The 12 bytes every format starts with: magic, version 1, byteLength equal to the bytes given.
-void checkHeader(const std::string& file, const std::string& prefix, const unsigned char* data, size_t size,
-                 const char* magic, size_t headerSize) {
-    if (size < headerSize)
-        fail(file, prefix + "header",
-             str(size) + " bytes, shorter than the " + str(headerSize) + "-byte " + magic + " header");
-    if (std::memcmp(data, magic, 4) != 0)
-        fail(file, prefix + "header.magic", "is " + magicText(data) + ", not '" + magic + "'");
-    if (le32(data + 4) != 1) fail(file, prefix + "header.version", "version " + str(le32(data + 4)) + " (only 1)");
-    if (le32(data + 8) != size)
-        fail(file, prefix + "header.byteLength",
-             "byteLength " + str(le32(data + 8)) + " disagrees with the " + str(size) + " bytes of the tile");
-}
-
-// Feature table JSON: an object (empty when the section is), parsed with its nesting depth bounded.
-json parseFeatureJson(const std::string& file, const unsigned char* p, size_t n) {
-    while (n > 0 && (p[n - 1] == ' ' || p[n - 1] == '\0')) --n;  // padding (spaces per the spec; some pad NULs)
-    if (n == 0) return json::object();
-    json j;
-    try {
-        j = json::parse(p, p + n, [&](int depth, json::parse_event_t event, json&) {
-            if ((event == json::parse_event_t::object_start || event == json::parse_event_t::array_start) &&
-                depth >= gltf::kMaxJsonDepth)
-                fail(file, "featureTable", "JSON nested deeper than " + str(gltf::kMaxJsonDepth) + " levels");
-            return true;
-        });
-    } catch (const json::exception& e) {
-        fail(file, "featureTable", std::string("JSON: ") + e.what());
-    }
-    if (!j.is_object()) fail(file, "featureTable", "the feature table JSON is not an object");
-    return j;
-}
-
-// A feature table and the reads its semantics share; `count` is the number of features (instances).
-struct FeatureTable {
-    const std::string& file;
-    json json_;
-    Bytes binary;
-
-    static std::string path(const char* name) { return std::string("featureTable.") + name; }
-    const json* find(const char* name) const {
-        auto it = json_.find(name);
-        return it == json_.end() ? nullptr : &*it;
-    }
-
-    // The start of `count` elements of `components` values of `componentSize` bytes that `name` refers to in
-    // the binary body; the byteOffset is a multiple of the component size, as the spec requires.
-    const unsigned char* binaryRef(const char* name, const json& ref, size_t componentSize, size_t components,
-                                   uint64_t count) const {
-        const auto off = ref.find("byteOffset");
-        if (off == ref.end() || !off->is_number_unsigned())
-            fail(file, path(name) + ".byteOffset", "is missing or not a non-negative integer");
-        const uint64_t o = off->get<uint64_t>();
-        if (o % componentSize != 0)
-            fail(file, path(name) + ".byteOffset",
-                 "byteOffset " + str(o) + " is not a multiple of the component size " + str(componentSize));
-        const uint64_t elem = componentSize * components;
-        if (o > binary.size || count > (binary.size - o) / elem)
-            fail(file, path(name),
-                 "byteOffset " + str(o) + " + " + str(count) + " elements of " + str(elem) +
-                     " bytes is past the end of the feature table binary (" + str(binary.size) + " bytes)");
-        return binary.data + o;
-    }
-    // Semantics with one component type refuse another named in "componentType".
-    void fixedType(const char* name, const json& ref, const char* type) const {
-        const auto t = ref.find("componentType");
-        if (t != ref.end() && !(t->is_string() && t->get<std::string>() == type))
-            fail(file, path(name) + ".componentType", "must be " + std::string(type) + " (or absent)");
-    }
-
-    // A global uint32: a JSON integer or a reference to an UNSIGNED_INT in the binary body.
-    std::optional<uint32_t> globalUint(const char* name) const {
-        const json* v = find(name);
-        if (!v) return std::nullopt;
-        if (v->is_object()) {
-            fixedType(name, *v, "UNSIGNED_INT");
-            return le32(binaryRef(name, *v, 4, 1, 1));
-        }
-        if (!v->is_number_unsigned() || v->get<uint64_t>() > std::numeric_limits<uint32_t>::max())
-            fail(file, path(name), "must be an integer in [0, 2^32)");
-        return uint32_t(v->get<uint64_t>());
-    }
-    // A global float32[3]: a JSON array of 3 finite numbers or a reference to 3 FLOATs in the binary body.
-    std::optional<dvec3> globalVec3(const char* name) const {
-        const json* v = find(name);
-        if (!v) return std::nullopt;
-        dvec3 r;
-        if (v->is_object()) {
-            fixedType(name, *v, "FLOAT");
-            const unsigned char* p = binaryRef(name, *v, 4, 3, 1);
-            r = dvec3(f32(p), f32(p + 4), f32(p + 8));
-        } else {
-            if (!v->is_array() || v->size() != 3) fail(file, path(name), "must be an array of 3 numbers");
-            for (int k = 0; k < 3; ++k) {
-                if (!(*v)[k].is_number()) fail(file, path(name), "element " + str(k) + " is not a number");
-                r[k] = (*v)[k].get<double>();
-            }
-        }
-        for (int k = 0; k < 3; ++k)
-            if (!std::isfinite(r[k])) fail(file, path(name), "element " + str(k) + " is not finite");
-        return r;
-    }
-    // A per-instance property: only in the binary body (the spec allows no JSON arrays); nullptr when absent.
-    const unsigned char* perInstance(const char* name, const char* type, size_t componentSize, size_t components,
-                                     uint32_t count) const {
-        const json* v = find(name);
-        if (!v) return nullptr;
-        if (!v->is_object()) fail(file, path(name), "must refer to the binary body ({\"byteOffset\": ...})");
-        fixedType(name, *v, type);
-        return binaryRef(name, *v, componentSize, components, count);
-    }
-};
-
-// The sections after a 28- or 32-byte header: feature table (JSON, binary), batch table (JSON, binary), and
-// what follows up to byteLength (the glb or the glTF URI).
-struct Sections {
-    FeatureTable featureTable;
-    Bytes body;
-    Bytes batchJson, batchBinary;
-};
-
-Sections readSections(const std::string& file, const unsigned char* data, size_t size, size_t headerSize) {
-    static const char* names[4] = {"featureTableJSONByteLength", "featureTableBinaryByteLength",
-                                   "batchTableJSONByteLength", "batchTableBinaryByteLength"};
-    size_t offset = headerSize, start[4];
-    uint32_t len[4];
-    for (int i = 0; i < 4; ++i) {
-        len[i] = le32(data + 12 + 4 * i);
-        if (len[i] > size - offset)  // offset <= size holds: headerSize <= size, each section checked
-            fail(file, std::string("header.") + names[i],
-                 str(len[i]) + " bytes at byte " + str(offset) + " exceed the " + str(size) + " bytes of the tile");
-        start[i] = offset;
-        offset += len[i];
-    }
-    Sections s{FeatureTable{file, parseFeatureJson(file, data + start[0], len[0]), Bytes{data + start[1], len[1]}},
-               Bytes{data + offset, size - offset}, Bytes{data + start[2], len[2]}, Bytes{data + start[3], len[3]}};
-    return s;
 }
 
 // The glb after the tables, by its own header's length (the tile may pad after it).
@@ -207,20 +47,6 @@ Bytes embeddedGlb(const std::string& file, Bytes body) {
     if (length < 12 || length > body.size)
         fail(file, "glb", "the embedded glb's length " + str(length) + " is outside [12, " + str(body.size) + "]");
     return Bytes{body.data, length};
-}
-
-// Oct-decoding of a unit vector stored as two uint16 in [0, 65535] (the spec's oct32P; CesiumJS' octDecodeInRange).
-dvec3 octDecode(uint16_t ex, uint16_t ey) {
-    auto snorm = [](uint16_t v) { return v / 65535.0 * 2.0 - 1.0; };
-    auto signNotZero = [](double v) { return v < 0.0 ? -1.0 : 1.0; };
-    dvec3 n(snorm(ex), snorm(ey), 0.0);
-    n.z = 1.0 - (std::abs(n.x) + std::abs(n.y));
-    if (n.z < 0.0) {
-        const double x = n.x;
-        n.x = (1.0 - std::abs(n.y)) * signNotZero(x);
-        n.y = (1.0 - std::abs(x)) * signNotZero(n.y);
-    }
-    return glm::normalize(n);  // |x| + |y| + |z| >= 1: never zero
 }
 
 // A unit vector along v (not zero, finite), scaled first so that squaring its parts cannot overflow or underflow.
@@ -350,26 +176,6 @@ void readOrientations(const FeatureTable& ft, uint32_t n, InstanceColumns& c) {
     }
 }
 
-// BATCH_ID per instance (UNSIGNED_SHORT unless its componentType says otherwise); empty when absent.
-std::vector<uint32_t> readBatchIds(const FeatureTable& ft, uint32_t n) {
-    const json* b = ft.find("BATCH_ID");
-    if (!b) return {};
-    if (!b->is_object()) fail(ft.file, FeatureTable::path("BATCH_ID"), "must refer to the binary body");
-    const auto t = b->find("componentType");
-    const std::string type = t == b->end() ? "UNSIGNED_SHORT" : t->is_string() ? t->get<std::string>() : "";
-    const size_t bytes = type == "UNSIGNED_BYTE" ? 1 : type == "UNSIGNED_SHORT" ? 2 : type == "UNSIGNED_INT" ? 4 : 0;
-    if (bytes == 0)
-        fail(ft.file, FeatureTable::path("BATCH_ID.componentType"),
-             "must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-    const unsigned char* p = ft.binaryRef("BATCH_ID", *b, bytes, 1, n);
-    std::vector<uint32_t> ids(n);
-    for (uint32_t i = 0; i < n; ++i) {
-        const unsigned char* q = p + size_t(i) * bytes;
-        ids[i] = bytes == 1 ? q[0] : bytes == 2 ? le16(q) : le32(q);
-    }
-    return ids;
-}
-
 // v, checked finite: the error names the property and the instance.
 dvec3 requireFinite(const std::string& file, const char* name, uint32_t i, dvec3 v) {
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
@@ -401,7 +207,8 @@ dmat3 instanceRotation(const std::string& file, const InstanceColumns& c, uint32
     if (c.upOct) {
         const unsigned char* u = c.upOct + 4 * size_t(i);
         const unsigned char* rt = c.rightOct + 4 * size_t(i);
-        return basis(file, "NORMAL_UP_OCT32P", i, octDecode(le16(rt), le16(rt + 2)), octDecode(le16(u), le16(u + 2)));
+        return basis(file, "NORMAL_UP_OCT32P", i, octDecode(le16(rt), le16(rt + 2), 65535.0),
+                     octDecode(le16(u), le16(u + 2), 65535.0));
     }
     if (c.enu) return eastNorthUp(p);
     return dmat3(1.0);

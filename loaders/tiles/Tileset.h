@@ -41,9 +41,9 @@ struct TilesetCounts {
     size_t tiles = 0;     // tiles read from tileset.json files (external ones as they are loaded)
     size_t contents = 0;  // contents loaded
     size_t externalTilesets = 0;
-    size_t skippedPoints = 0;  // .pnts contents skipped
-    size_t sharedMeshes = 0;   // meshes replaced by an equal one another tile had loaded (shareMeshes)
-    size_t pooledMeshes = 0;   // distinct meshes the tileset's loads hold now
+    size_t points = 0;        // points loaded (pnts contents and glTF point meshes)
+    size_t sharedMeshes = 0;  // meshes replaced by an equal one another tile had loaded (shareMeshes)
+    size_t pooledMeshes = 0;  // distinct meshes the tileset's loads hold now
 };
 
 namespace tiles {

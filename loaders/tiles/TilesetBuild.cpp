@@ -4,6 +4,7 @@
 // content sits beside the PagedLOD and stays.
 #include "loaders/gltf/internal/GltfDetail.h"
 #include "loaders/tiles/internal/BatchTable.h"
+#include "loaders/tiles/internal/Pnts.h"
 #include "loaders/tiles/internal/TileFormats.h"
 #include "loaders/tiles/internal/TilesetTable.h"
 #include "nodes/Geometry.h"
@@ -15,11 +16,13 @@
 #include "sg/build/GeneratedOccluders.h"
 #include "sg/core/Features.h"
 #include "sg/core/NodeVisitor.h"
+#include "sg/scene/internal/DistinctGeometries.h"
 
 #include <nlohmann/json.hpp>
 
 #include <sys/stat.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -75,16 +78,36 @@ ref_ptr<const MeshFeatures> instanceFeatures(const std::shared_ptr<TilesetState>
     return f;
 }
 
+// The point meshes of a tile's content (pnts, or glTF POINTS) get the tile's geometric error as their spacing, as
+// CesiumJS attenuates point sizes by it: the error is how far the tile's points may stand from the full detail, so
+// points that size close the gaps between them. A tile of error 0 (a leaf) takes CesiumJS' stand-in, the cube root
+// of its bounding sphere's volume per point. The points are counted in the tileset's stats.
+ref_ptr<Node> spaced(const std::shared_ptr<TilesetState>& s, uint32_t tile, ref_ptr<Node> content) {
+    if (!content) return content;
+    const TileDesc d = s->tile(tile);
+    const double volume = 4.0 / 3.0 * 3.14159265358979323846 * d.sphere.radius * d.sphere.radius * d.sphere.radius;
+    size_t points = 0;
+    forEachDistinctGeometry(*content, [&](const Geometry& g) {
+        Mesh* m = g.mesh();
+        if (!m || m->primitive() != Primitive::Points || m->pointCount() == 0) return;
+        points += m->pointCount();
+        const double spacing = d.geometricError > 0.0 ? d.geometricError : std::cbrt(volume / m->pointCount());
+        m->setPointSpacing(float(spacing));  // 0 or not finite: unknown
+    });
+    if (points > 0) s->countPoints(points);
+    return content;
+}
+
 ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
                         const unsigned char* data, size_t size, const dmat4& world, size_t& budget) {
     switch (sniffContent(data, size)) {
-        case ContentKind::Glb: return gltfContent(s, uri, data, size, true, dmat4(1.0));
+        case ContentKind::Glb: return spaced(s, tile, gltfContent(s, uri, data, size, true, dmat4(1.0)));
         case ContentKind::B3dm: {
             const B3dm b = parseB3dm(uri, data, size);
             const dmat4 rtc = b.hasRtcCenter ? glm::translate(dmat4(1.0), b.rtcCenter) : dmat4(1.0);
             GltfLoadOptions options;  // the glb's _BATCHID attributes become feature ids into the batch table
             options.batchTable = batchTable(s, uri, b.batchJson, b.batchBinary, b.batchLength);
-            return gltfContent(s, uri, b.glb.data, b.glb.size, true, rtc, options);
+            return spaced(s, tile, gltfContent(s, uri, b.glb.data, b.glb.size, true, rtc, options));
         }
         case ContentKind::I3dm: {
             const I3dm in = parseI3dm(uri, data, size);
@@ -104,7 +127,7 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
                 if (features) instance->setFeatures(features, k);
                 g->addChild(instance);
             }
-            return g;
+            return spaced(s, tile, g);
         }
         case ContentKind::Cmpt: {
             const Cmpt c = parseCmpt(uri, data, size);
@@ -116,11 +139,12 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
             }
             return g;
         }
-        case ContentKind::Pnts:
-            pntsPointCount(uri, data, size);
-            s->warn(uri + ": point cloud (.pnts) skipped: points are not drawn");
-            s->countPoints();
-            return nullptr;
+        case ContentKind::Pnts: {  // +Z up already: no glTF axis change, only its RTC_CENTER
+            std::vector<std::string> warnings;
+            ref_ptr<Node> n = readPnts(uri, data, size, warnings);
+            for (const std::string& w : warnings) s->warn(uri + ": " + w);
+            return spaced(s, tile, n);
+        }
         case ContentKind::Json: {
             bool tileset = false;
             try {
@@ -128,7 +152,7 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
                 tileset = j.is_object() && j.contains("root");
             } catch (const nlohmann::json::exception&) {
             }
-            if (!tileset) return gltfContent(s, uri, data, size, false, dmat4(1.0));
+            if (!tileset) return spaced(s, tile, gltfContent(s, uri, data, size, false, dmat4(1.0)));
             const TileDesc d = s->tile(tile);
             const uint32_t root = s->addTileset(uri, std::vector<unsigned char>(data, data + size), d.source, tile);
             return buildTile(s, root, world, false, budget);

@@ -490,9 +490,9 @@ void TilesetState::countContent() {
     counts_.contents++;
 }
 
-void TilesetState::countPoints() {
+void TilesetState::countPoints(size_t points) {
     std::lock_guard<std::mutex> lock(mutex_);
-    counts_.skippedPoints++;
+    counts_.points += points;
 }
 
 }  // namespace sg::tiles

@@ -1,5 +1,6 @@
-// The binary tile formats of OGC 3D Tiles 1.0 (b3dm, i3dm, cmpt and the header of pnts), parsed into views of
-// the caller's buffer for the tileset reader. Internal: not installed.
+// The binary tile formats of OGC 3D Tiles 1.0 (b3dm, i3dm, cmpt; a pnts' point count), parsed into views of the
+// caller's buffer for the tileset reader. Point clouds are made into nodes by readPnts (Pnts.h); the reads all
+// formats share are in FeatureTable.h. Internal: not installed.
 #pragma once
 #include "loaders/gltf/Gltf.h"  // sg::LoadError(file, jsonPath, reason)
 #include "sg/core/Math.h"       // dvec3, dmat4 (glm, double)
@@ -52,7 +53,7 @@ struct Cmpt {
 B3dm parseB3dm(const std::string& file, const unsigned char* data, size_t size);
 I3dm parseI3dm(const std::string& file, const unsigned char* data, size_t size);
 Cmpt parseCmpt(const std::string& file, const unsigned char* data, size_t size);
-// Header + POINTS_LENGTH only (points are skipped with a warning by the reader).
+// Header + POINTS_LENGTH only (readPnts in Pnts.h reads the points).
 uint32_t pntsPointCount(const std::string& file, const unsigned char* data, size_t size);
 
 }  // namespace sg::tiles

@@ -160,7 +160,7 @@ public:
     std::vector<std::string> warnings() const;
     TilesetCounts counts() const;
     void countContent();
-    void countPoints();
+    void countPoints(size_t points);
     // Equal meshes of different loads made one (TilesetOptions::shareMeshes).
     SharedMeshes meshes;
     // The top tileset file's schema, metadata and groups (set by its addTileset, read-only after).
@@ -187,7 +187,7 @@ private:
 ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, const dmat4& parentWorld, bool drawnAbove,
                         size_t& budget);
 
-// One content (a URI) as nodes in its tile's frame; null for skipped points. External tilesets become their root
+// One content (a URI) as nodes in its tile's frame. External tilesets become their root
 // tile's graph. `tile`: the tile naming it.
 ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
                           const dmat4& world, size_t& budget);
