@@ -2,23 +2,34 @@
 //
 //   sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit] [--features]
 //   sgtile INPUT.glb|.gltf --out DIR [...]
+//   sgtile --points SCAN.las|.ply --out DIR [--pnts] [--max-points-per-tile N] [--shard I/N] [--merge]
 //
 // --implicit writes the same tiles as implicit tiling (subtree files; tileset.json is one tile).
 // --features makes the city's buildings features (class `building`: id, height, floors, use) that the tiles carry,
 // so that a pick on the tiles names the building; without it the city is the benchmarks' (docs/scenes.md).
+// --points writes a scan as an octree of point tiles (sg::buildPointTiles), out of core; --pnts makes them .pnts
+// for 3D Tiles 1.0 readers. --shard I/N builds the I-th of N shares of it (processes or machines writing to one DIR);
+// --merge, once every shard is done, builds the levels above and tileset.json. Prints points, tiles, time, points
+// per second and peak resident memory.
 //
 // Prints what was written. Exit 2, naming the problem, on bad arguments or an unreadable input.
 #include "loaders/gltf/Gltf.h"
+#include "loaders/points/PointTiler.h"
+#include "loaders/points/Scan.h"
 #include "loaders/tiles/TilesetWrite.h"
 #include "nodes/Transform.h"
 #include "testbed/City.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
+
+#include <sys/resource.h>
 
 namespace {
 
@@ -28,7 +39,9 @@ int usage(const std::string& problem) {
                  "usage: sgtile --city N --out DIR [--max-triangles T] [--proxies exact|simplified] [--implicit] "
                  "[--features]\n"
                  "       sgtile INPUT.glb|.gltf --out DIR [--max-triangles T] [--proxies exact|simplified] "
-                 "[--implicit]\n",
+                 "[--implicit]\n"
+                 "       sgtile --points SCAN.las|.ply --out DIR [--pnts] [--max-points-per-tile N] [--shard I/N] "
+                 "[--merge]\n",
                  problem.c_str());
     return 2;
 }
@@ -41,9 +54,71 @@ long long positive(const char* s) {
     return (errno || end == s || *end || v <= 0) ? -1 : v;
 }
 
+// "I/N" with 0 <= I < N.
+bool parseShard(const std::string& s, int& shard, int& shards) {
+    const size_t slash = s.find('/');
+    if (slash == std::string::npos) return false;
+    const long long n = positive(s.substr(slash + 1).c_str());
+    const long long i = s.substr(0, slash) == "0" ? 0 : positive(s.substr(0, slash).c_str());
+    if (n < 1 || n > 65536 || i < 0 || i >= n) return false;
+    shard = int(i), shards = int(n);
+    return true;
+}
+
+int tilePoints(int argc, char** argv) {
+    std::string scanFile, out;
+    sg::PointTileOptions options;
+    bool sharded = false, merge = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        const bool hasValue = i + 1 < argc;
+        if (a == "--points" || a == "--out" || a == "--max-points-per-tile" || a == "--shard") {
+            if (!hasValue) return usage(a + " needs a value");
+            const std::string v = argv[++i];
+            if (a == "--points") scanFile = v;
+            if (a == "--out") out = v;
+            if (a == "--max-points-per-tile") {
+                const long long n = positive(v.c_str());
+                if (n < 1) return usage("--max-points-per-tile wants a positive number, not " + v);
+                options.maxPointsPerTile = size_t(n);
+                options.chunkPoints = std::max(options.chunkPoints, options.maxPointsPerTile);
+            }
+            if (a == "--shard" && !parseShard(v, options.shard, options.shards))
+                return usage("--shard wants I/N with 0 <= I < N, not " + v);
+            sharded = sharded || a == "--shard";
+        } else if (a == "--pnts") {
+            options.pnts = true;
+        } else if (a == "--merge") {
+            merge = true;
+        } else {
+            return usage("unknown option for --points: " + a);
+        }
+    }
+    if (scanFile.empty() || out.empty()) return usage("--points FILE and --out DIR are required");
+    if (sharded && merge) return usage("--shard and --merge are separate runs");
+    options.stage = sharded ? sg::PointTileOptions::Shard
+                    : merge ? sg::PointTileOptions::Merge
+                            : sg::PointTileOptions::All;
+    try {
+        const std::unique_ptr<sg::ScanReader> scan = sg::openScan(scanFile);
+        const sg::PointTileStats s = sg::buildPointTiles(*scan, out, options);
+        struct rusage ru {};
+        getrusage(RUSAGE_SELF, &ru);
+        std::printf("%s: %llu points, %zu tiles, %d levels, %.1f MB in %.2f s (%.0f points/s), peak resident %.1f MB\n",
+                    out.c_str(), (unsigned long long)s.points, s.tiles, s.levels, s.bytes / 1e6, s.seconds,
+                    s.seconds > 0 ? double(s.points) / s.seconds : 0.0, ru.ru_maxrss / 1024.0);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "sgtile: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i)
+        if (std::strcmp(argv[i], "--points") == 0) return tilePoints(argc, argv);
     std::string input, out;
     long long city = 0;
     bool features = false;
