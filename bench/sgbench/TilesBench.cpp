@@ -3,12 +3,15 @@
 // --baseline the same city held in memory is flown by a second viewer in the same process, frame for frame
 // (interleaved): the ratio of their frame times, and the pixels where the tiles' frame differs from it (0 once
 // settled: nothing queued, loading or waiting, and nothing asked for). One line per frame to --csv for the plot.
+// --path factory-walk flies a point tileset of the factory's scan instead (TilesWalk.cpp); --point-size, --round
+// and --edl shade the points on every path.
 #include "loaders/tiles/Tileset.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
 #include "sg/io/ImageIO.h"
 #include "sg/viewer/Viewer.h"
 #include "sgbench/Bench.h"
+#include "sgbench/Tiles.h"
 #include "testbed/City.h"
 
 #include <chrono>
@@ -44,18 +47,6 @@ sg::Camera flightCamera(const std::string& path, int n, double t, int w, int h) 
     return cam;
 }
 
-// Frames at one view until it is settled (nothing queued, loading or waiting for its upload, nothing asked for).
-int settle(sg::Viewer& viewer, sg::View& view, sg::Pager& pager, int most) {
-    for (int f = 1; f <= most; ++f) {
-        viewer.frame();
-        const sg::PagerStats& st = pager.stats();
-        if (st.queued == 0 && st.loading == 0 && st.pending == 0 && view.cullStats().pagedRequested == 0 &&
-            view.cullStats().pagedCoarse == 0)
-            return f;
-    }
-    return most;
-}
-
 // Jumps between views spread over the city, 60 m up, each held until settled: the time from a teleport to a
 // settled frame, and tiles loaded a second over the whole run (the loads' throughput with --loaders K).
 int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Viewer& viewer, sg::View& view,
@@ -73,7 +64,7 @@ int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Vi
         view.camera.setPerspective(60.0, double(w) / h, 1.0, 3000.0);
         view.camera.setLookAt(eye, eye + sg::dvec3(std::sin(yaw), std::cos(yaw), -0.3), sg::dvec3(0, 0, 1));
         const auto s = Clock::now();
-        frames += settle(viewer, view, pager, 20000);
+        frames += settleTiles(viewer, view, pager, 20000);
         settleMs.push_back(std::chrono::duration<double, std::milli>(Clock::now() - s).count());
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -91,16 +82,32 @@ int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Vi
 
 }  // namespace
 
+int settleTiles(sg::Viewer& viewer, sg::View& view, sg::Pager& pager, int most) {
+    for (int f = 1; f <= most; ++f) {
+        viewer.frame();
+        const sg::PagerStats& st = pager.stats();
+        if (st.queued == 0 && st.loading == 0 && st.pending == 0 && view.cullStats().pagedRequested == 0 &&
+            view.cullStats().pagedCoarse == 0)
+            return f;
+    }
+    return most;
+}
+
 int runTiles(const Args& a) {
     const std::string file = a.str("tileset", "");
     if (file.empty()) throw std::invalid_argument("sgbench tiles: --tileset PATH/tileset.json (written by sgtile)");
     const int n = int(a.num("n", 1000)), frames = int(a.num("frames", 2400));
     const int w = int(a.num("width", 1280)), h = int(a.num("height", 720));
     const std::string path = a.str("path", "orbit");
-    if (path != "orbit" && path != "low" && path != "teleport")
-        throw std::invalid_argument("sgbench tiles: --path orbit|low|teleport");
+    if (path != "orbit" && path != "low" && path != "teleport" && path != "factory-walk")
+        throw std::invalid_argument("sgbench tiles: --path orbit|low|teleport|factory-walk");
     if (n < 1 || frames < 1) throw std::invalid_argument("sgbench tiles: --n and --frames must be at least 1");
     const bool reference = a.flag("baseline");
+    const bool walk = path == "factory-walk";
+    if (walk && reference)
+        throw std::invalid_argument("sgbench tiles: --baseline is the city's; factory-walk has none");
+    sg::Box site;
+    const std::vector<sg::Camera> walkCams = walk ? factoryWalkCameras(frames, w, h, site) : std::vector<sg::Camera>{};
 
     sg::OsmesaContext context(w, h);
     const double rss0 = rssMb();
@@ -124,6 +131,7 @@ int runTiles(const Args& a) {
     ps.loaderNice = int(a.num("loader-nice", ps.loaderNice));
     ps.freeOnLoaderThread = true;  // a tileset's details share no node with the rest of the graph
     sg::Pager& pager = viewer.enablePaging(ts.loadFunction(), ps);
+    viewer.renderer().setPointShading(pointShadingFromArgs(a));
 
     // The baseline: the city held in memory, flown by a viewer of its own in the same context.
     std::unique_ptr<sg::Scene> refScene;
@@ -132,9 +140,11 @@ int runTiles(const Args& a) {
         refScene = std::make_unique<sg::Scene>(scenes::buildCity({n, false}));
         refViewer = std::make_unique<sg::Viewer>(*refScene);
         refViewer->addView();
+        refViewer->renderer().setPointShading(viewer.renderer().pointShading());
     }
 
     if (path == "teleport") return teleport(a, file, n, w, h, viewer, view, pager, ts);
+    if (walk) return flyFactoryWalk(a, TilesFlight{file, to, ts, viewer, view, pager, openMs, rss0}, walkCams, site);
 
     std::ofstream csv;
     if (a.flag("csv")) csv.open(a.str("csv", ""));
