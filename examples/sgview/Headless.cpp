@@ -58,11 +58,13 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     // The threading model the viewer ran and what occlusion culled in the last frame: what --threading and
     // --auto-occluders changed, where the picture must not change.
     std::printf(
-        "sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles; "
+        "sgview: wrote %s (%dx%d), %d frame%s: cull %.2f ms, draw %.2f ms, %llu geometries, %llu triangles, "
+        "%llu points, %llu line segments; "
         "eye (%g, %g, %g); threading %s, %llu culled by occlusion\n",
         o.out.c_str(), o.width, o.height, frames, frames == 1 ? "" : "s", cullMs / double(counted),
         drawMs / double(counted), (unsigned long long)view.renderStats().instances,
-        (unsigned long long)view.renderStats().triangles, e.x, e.y, e.z,
+        (unsigned long long)view.renderStats().triangles, (unsigned long long)view.renderStats().points,
+        (unsigned long long)view.renderStats().lines, e.x, e.y, e.z,
         threadingModelName(view.viewer().settings().threading), (unsigned long long)view.cullStats().culledOcclusion);
     return 0;
 }

@@ -69,12 +69,13 @@ std::string View::statsText(const FrameStats& fs) const {
                   "%s  [%s]\n"
                   "cull %.2f ms   draw submit %.2f ms\n"
                   "nodes visited %llu   culled %llu\n"
-                  "triangles %llu   geometries %llu   draw calls %llu\n"
+                  "triangles %llu   points %llu   lines %llu\n"
+                  "geometries %llu   draw calls %llu\n"
                   "culling %s [C]   occlusion %s%s [O]",
                   title_.c_str(), fs.mode.c_str(), c.ms, r.ms, (unsigned long long)c.nodesVisited,
-                  (unsigned long long)culledCount(c), (unsigned long long)r.triangles, (unsigned long long)r.instances,
-                  (unsigned long long)r.drawCalls, strategyName(settings.strategy),
-                  occlusionModeName(settings.occlusion.mode), occ);
+                  (unsigned long long)culledCount(c), (unsigned long long)r.triangles, (unsigned long long)r.points,
+                  (unsigned long long)r.lines, (unsigned long long)r.instances, (unsigned long long)r.drawCalls,
+                  strategyName(settings.strategy), occlusionModeName(settings.occlusion.mode), occ);
     return fs.panel.empty() ? std::string(buf) : buf + std::string("\n\n") + fs.panel;
 }
 
