@@ -258,19 +258,7 @@ bool MeshBvh::nearest(const dvec3& o, const dvec3& d, double tMax, RayHit& out) 
         double tl, tr;
         const bool hl = isect::slab(nodes_[l].min, nodes_[l].max, o, inv, best, tl);
         const bool hr = isect::slab(nodes_[r].min, nodes_[r].max, o, inv, best, tr);
-        if (hl && hr) {
-            if (tl <= tr) {
-                stack[top] = r, dist[top++] = tr;
-                stack[top] = l, dist[top++] = tl;
-            } else {
-                stack[top] = l, dist[top++] = tl;
-                stack[top] = r, dist[top++] = tr;
-            }
-        } else if (hl) {
-            stack[top] = l, dist[top++] = tl;
-        } else if (hr) {
-            stack[top] = r, dist[top++] = tr;
-        }
+        isect::pushChildren(stack, dist, top, l, hl, tl, r, hr, tr);
     }
     return found;
 }
@@ -313,16 +301,6 @@ void MeshBvh::triangle(uint32_t t, dvec3& p0, dvec3& p1, dvec3& p2) const {
 
 size_t MeshBvh::bytes() const {
     return sizeof(*this) + nodes_.capacity() * sizeof(Node) + prims_.capacity() * 4 + verts_.capacity() * sizeof(vec3);
-}
-
-const MeshBvh& MeshBvh::Cache::get(const Mesh& mesh) {
-    Entry& e = map_[&mesh];
-    if (!e.bvh || e.version != mesh.version()) {
-        e.mesh = &mesh;
-        e.version = mesh.version();
-        e.bvh = std::make_unique<MeshBvh>(mesh);
-    }
-    return *e.bvh;
 }
 
 }  // namespace sg

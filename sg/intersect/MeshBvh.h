@@ -4,6 +4,7 @@
 #include "sg/core/Assert.h"
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
+#include "sg/intersect/BvhCache.h"
 
 #include <cstdint>
 #include <memory>
@@ -42,22 +43,8 @@ public:
     // The triangle's vertices (mesh frame).
     void triangle(uint32_t primitive, dvec3& p0, dvec3& p1, dvec3& p2) const;
 
-    // BVHs by mesh, built on first use. An entry is rebuilt when its mesh was set again (Mesh::version)
-    // since it was built. Holds a reference to each mesh it has seen.
-    class Cache {
-    public:
-        const MeshBvh& get(const Mesh& mesh);
-        size_t size() const { return map_.size(); }
-        void clear() { map_.clear(); }
-
-    private:
-        struct Entry {
-            ref_ptr<const Mesh> mesh;
-            uint64_t version = 0;
-            std::unique_ptr<MeshBvh> bvh;
-        };
-        std::unordered_map<const Mesh*, Entry> map_;
-    };
+    // Hierarchies by mesh, built on first use (sg/intersect/BvhCache.h).
+    using Cache = BvhCache<MeshBvh>;
 
 private:
     // 32 bytes. Inner: children at `index` and index + 1; leaf (count > 0): triangles [index, index + count).

@@ -183,19 +183,7 @@ bool PointBvh::nearest(const Cone& cone, ConeHit& out) const {
         const bool hl = enterNode(q, nodes_[l].min, nodes_[l].max, best, tl),
                    hr = enterNode(q, nodes_[r].min, nodes_[r].max, best, tr);
         // The nearer child on top; the farther one waits.
-        if (hl && hr) {
-            if (tl <= tr) {
-                stack[top] = r, dist[top++] = tr;
-                stack[top] = l, dist[top++] = tl;
-            } else {
-                stack[top] = l, dist[top++] = tl;
-                stack[top] = r, dist[top++] = tr;
-            }
-        } else if (hl) {
-            stack[top] = l, dist[top++] = tl;
-        } else if (hr) {
-            stack[top] = r, dist[top++] = tr;
-        }
+        isect::pushChildren(stack, dist, top, l, hl, tl, r, hr, tr);
     }
     return found;
 }
@@ -225,16 +213,6 @@ void PointBvh::all(const Cone& cone, std::vector<ConeHit>& out) const {
 
 size_t PointBvh::bytes() const {
     return sizeof(*this) + nodes_.capacity() * sizeof(Node) + prims_.capacity() * 4 + verts_.capacity() * sizeof(vec3);
-}
-
-const PointBvh& PointBvh::Cache::get(const Mesh& mesh) {
-    Entry& e = map_[&mesh];
-    if (!e.bvh || e.version != mesh.version()) {
-        e.mesh = &mesh;
-        e.version = mesh.version();
-        e.bvh = std::make_unique<PointBvh>(mesh);
-    }
-    return *e.bvh;
 }
 
 }  // namespace sg

@@ -4,6 +4,7 @@
 #pragma once
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
+#include "sg/intersect/BvhCache.h"
 
 #include <cstdint>
 #include <memory>
@@ -68,22 +69,8 @@ public:
     size_t nodeCount() const { return nodes_.size(); }
     size_t bytes() const;
 
-    // Hierarchies by mesh, built on first use; rebuilt when the mesh was set again (Mesh::version). Holds a
-    // reference to each mesh it has seen.
-    class Cache {
-    public:
-        const PointBvh& get(const Mesh& mesh);
-        size_t size() const { return map_.size(); }
-        void clear() { map_.clear(); }
-
-    private:
-        struct Entry {
-            ref_ptr<const Mesh> mesh;
-            uint64_t version = 0;
-            std::unique_ptr<PointBvh> bvh;
-        };
-        std::unordered_map<const Mesh*, Entry> map_;
-    };
+    // Hierarchies by mesh, built on first use (sg/intersect/BvhCache.h).
+    using Cache = BvhCache<PointBvh>;
 
 private:
     // 32 bytes. Inner: children at `index` and index + 1; leaf (count > 0): primitives [index, index + count).

@@ -4,6 +4,8 @@
 #pragma once
 #include "sg/core/Math.h"
 
+#include <cstdint>
+
 namespace sg {
 namespace isect {
 
@@ -47,6 +49,25 @@ void closestRaySegment(const dvec3& o, const dvec3& d, double tMax, const dvec3&
 // t = 0 only when the motion brings it closer (moving out or along is free).
 bool sweepSphereTriangle(const dvec3& c0, const dvec3& d, double r, const dvec3& a, const dvec3& b, const dvec3& c,
                          double tBest, double& t, dvec3& point, dvec3& normal) noexcept;
+
+// A nearest-hit BVH walk's two children onto its stack (node index and entry distance), the nearer on top so that it
+// is popped first; a child its test missed (hl, hr false) is left out.
+inline void pushChildren(uint32_t* stack, double* dist, int& top, uint32_t l, bool hl, double tl, uint32_t r, bool hr,
+                         double tr) noexcept {
+    if (hl && hr) {
+        if (tl <= tr) {
+            stack[top] = r, dist[top++] = tr;
+            stack[top] = l, dist[top++] = tl;
+        } else {
+            stack[top] = l, dist[top++] = tl;
+            stack[top] = r, dist[top++] = tr;
+        }
+    } else if (hl) {
+        stack[top] = l, dist[top++] = tl;
+    } else if (hr) {
+        stack[top] = r, dist[top++] = tr;
+    }
+}
 
 }  // namespace isect
 }  // namespace sg

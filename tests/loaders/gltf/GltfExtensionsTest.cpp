@@ -1,6 +1,7 @@
 // What packers write: KHR_mesh_quantization, EXT_meshopt_compression with its fallback buffer, sparse accessors,
 // buffers without data, cameras out of range and optional extensions the loader does not know; hand-made files
 // read to the expected meshes, bad ones refused with their JSON path and reason.
+#include "GltfDoc.h"
 #include "loaders/gltf/Gltf.h"
 #include "nodes/Geometry.h"
 #include "nodes/Transform.h"
@@ -22,95 +23,13 @@ using json = nlohmann::json;
 
 namespace {
 
-template <class T>
-std::string bytesOf(const std::vector<T>& v) {
-    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
+using gltftest::base64;
+using gltftest::bytesOf;
 
-std::string base64(const std::string& in) {
-    static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < in.size(); i += 3) {
-        uint32_t v = uint32_t(uint8_t(in[i])) << 16;
-        if (i + 1 < in.size()) v |= uint32_t(uint8_t(in[i + 1])) << 8;
-        if (i + 2 < in.size()) v |= uint32_t(uint8_t(in[i + 2]));
-        out += t[(v >> 18) & 63];
-        out += t[(v >> 12) & 63];
-        out += i + 1 < in.size() ? t[(v >> 6) & 63] : '=';
-        out += i + 2 < in.size() ? t[v & 63] : '=';
-    }
-    return out;
-}
-
-void put32(std::string& s, uint32_t v) {
-    for (int k = 0; k < 4; ++k) s.push_back(char((v >> (8 * k)) & 0xff));
-}
-
-// A glTF document built up in JSON, with buffer 0's bytes kept apart: embedded as a data URI (.gltf) or as the
-// BIN chunk (.glb). One triangle mesh on one node; views and accessors added by the test.
-struct Doc {
-    json j = json::parse(R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {}}]}], "buffers": [{}],
-        "bufferViews": [], "accessors": []})");
-    std::string bin;
-
-    int view(const std::string& bytes, int stride = 0) {
-        while (bin.size() % 4) bin.push_back('\0');
-        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes.size()}};
-        if (stride) v["byteStride"] = stride;
-        bin += bytes;
-        j["bufferViews"].push_back(v);
-        return int(j["bufferViews"].size()) - 1;
-    }
-    int accessor(int view, int comp, size_t count, const char* type, bool normalized = false) {
-        json a = {{"componentType", comp}, {"count", count}, {"type", type}};
-        if (view >= 0) a["bufferView"] = view;
-        if (normalized) a["normalized"] = true;
-        j["accessors"].push_back(a);
-        return int(j["accessors"].size()) - 1;
-    }
+// One triangle primitive, whose attributes the test writes.
+struct Doc : gltftest::GltfDoc {
+    Doc() : GltfDoc(R"([{"attributes": {}}])") {}
     json& primitive() { return j["meshes"][0]["primitives"][0]; }
-    void uses(const std::string& ext, bool required) {
-        j["extensionsUsed"].push_back(ext);
-        if (required) j["extensionsRequired"].push_back(ext);
-    }
-
-    std::string text() {
-        j["buffers"][0]["byteLength"] = bin.size();
-        j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bin);
-        return j.dump();
-    }
-    std::string glb() {
-        j["buffers"][0]["byteLength"] = bin.size();
-        j["buffers"][0].erase("uri");
-        std::string js = j.dump();
-        js.append((4 - js.size() % 4) % 4, ' ');
-        std::string b = bin;
-        b.append((4 - b.size() % 4) % 4, '\0');
-        std::string out = "glTF";
-        put32(out, 2);
-        put32(out, uint32_t(12 + 8 + js.size() + 8 + b.size()));
-        put32(out, uint32_t(js.size()));
-        put32(out, 0x4E4F534Au);
-        out += js;
-        put32(out, uint32_t(b.size()));
-        put32(out, 0x004E4942u);
-        return out + b;
-    }
-    GltfScene load(bool binary = false) {
-        const std::string s = binary ? glb() : text();
-        return loadGltfFromMemory(binary ? "doc.glb" : "doc.gltf", s.data(), s.size());
-    }
-    // The LoadError's JSON path and reason; fails the test when the file loads.
-    std::pair<std::string, std::string> refusal(bool binary = false) {
-        try {
-            load(binary);
-        } catch (const LoadError& e) {
-            return {e.jsonPath(), e.reason()};
-        }
-        ADD_FAILURE() << "loaded";
-        return {};
-    }
 };
 
 constexpr int kFloat = 5126, kByte = 5120, kUByte = 5121, kShort = 5122, kUShort = 5123, kUInt = 5125;

@@ -1,6 +1,7 @@
 // glTF points and lines: every mode read (strips and loops as exact segment pairs, indexed points in index order),
 // colours of each type, intensities, feature ids, quantized, meshopt and Draco points, CESIUM_primitive_outline, the
 // round trip through saveGltf, and bad input refused naming its JSON path.
+#include "GltfDoc.h"
 #include "GltfTestUtil.h"
 
 #include "loaders/gltf/Gltf.h"
@@ -28,33 +29,10 @@ constexpr int kFloat = 5126, kByte = 5120, kUByte = 5121, kShort = 5122, kUShort
 const std::string kPrim = "meshes[0].primitives[0]";
 const std::string kOutlinePath = kPrim + ".extensions.CESIUM_primitive_outline.indices";
 
-template <class T>
-std::string bytesOf(const std::vector<T>& v) {
-    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
-}
+using gltftest::bytesOf;
 
 // A document of one mesh on one node; the test adds views, accessors and primitives. Buffer 0 is embedded.
-struct Doc {
-    json j = json::parse(R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0}], "meshes": [{"primitives": []}], "buffers": [{}], "bufferViews": [],
-        "accessors": []})");
-    std::string bin;
-
-    int view(const std::string& bytes, int stride = 0) {
-        while (bin.size() % 4) bin.push_back('\0');
-        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes.size()}};
-        if (stride) v["byteStride"] = stride;
-        bin += bytes;
-        j["bufferViews"].push_back(v);
-        return int(j["bufferViews"].size()) - 1;
-    }
-    int accessor(int view, int comp, size_t count, const char* type, bool normalized = false) {
-        json a = {{"componentType", comp}, {"count", count}, {"type", type}};
-        if (view >= 0) a["bufferView"] = view;
-        if (normalized) a["normalized"] = true;
-        j["accessors"].push_back(a);
-        return int(j["accessors"].size()) - 1;
-    }
+struct Doc : gltftest::GltfDoc {
     template <class T>
     int data(const std::vector<T>& v, int comp, size_t count, const char* type, bool normalized = false) {
         return accessor(view(bytesOf(v)), comp, count, type, normalized);
@@ -65,26 +43,6 @@ struct Doc {
         if (!indices.empty()) p["indices"] = data(indices, kUShort, indices.size(), "SCALAR");
         j["meshes"][0]["primitives"].push_back(p);
         return j["meshes"][0]["primitives"].back();
-    }
-    void uses(const std::string& ext, bool required) {
-        j["extensionsUsed"].push_back(ext);
-        if (required) j["extensionsRequired"].push_back(ext);
-    }
-    GltfScene load() {
-        j["buffers"][0]["byteLength"] = bin.size();
-        j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + gltftest::base64(bin);
-        const std::string s = j.dump();
-        return loadGltfFromMemory("doc.gltf", s.data(), s.size());
-    }
-    // The LoadError's JSON path and reason; fails the test when the file loads.
-    std::pair<std::string, std::string> refusal() {
-        try {
-            load();
-        } catch (const LoadError& e) {
-            return {e.jsonPath(), e.reason()};
-        }
-        ADD_FAILURE() << "loaded";
-        return {};
     }
 };
 
