@@ -64,18 +64,23 @@ std::string View::statsText(const FrameStats& fs) const {
                       : c.occlusionRan                              ? " (ran)"
                       : c.occlusionSkipped                          ? " (skipped)"
                                                                     : " (none in view)";
+    // What was drawn: triangles, and points and lines where there are any (a scan, CAD edges).
+    char drawn[160];
+    int n = std::snprintf(drawn, sizeof drawn, "triangles %llu", (unsigned long long)r.triangles);
+    if (r.points)
+        n += std::snprintf(drawn + n, sizeof drawn - size_t(n), "   points %llu", (unsigned long long)r.points);
+    if (r.lines) std::snprintf(drawn + n, sizeof drawn - size_t(n), "   lines %llu", (unsigned long long)r.lines);
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "%s  [%s]\n"
                   "cull %.2f ms   draw submit %.2f ms\n"
                   "nodes visited %llu   culled %llu\n"
-                  "triangles %llu   points %llu   lines %llu\n"
-                  "geometries %llu   draw calls %llu\n"
+                  "%s   geometries %llu   draw calls %llu\n"
                   "culling %s [C]   occlusion %s%s [O]",
                   title_.c_str(), fs.mode.c_str(), c.ms, r.ms, (unsigned long long)c.nodesVisited,
-                  (unsigned long long)culledCount(c), (unsigned long long)r.triangles, (unsigned long long)r.points,
-                  (unsigned long long)r.lines, (unsigned long long)r.instances, (unsigned long long)r.drawCalls,
-                  strategyName(settings.strategy), occlusionModeName(settings.occlusion.mode), occ);
+                  (unsigned long long)culledCount(c), drawn, (unsigned long long)r.instances,
+                  (unsigned long long)r.drawCalls, strategyName(settings.strategy),
+                  occlusionModeName(settings.occlusion.mode), occ);
     return fs.panel.empty() ? std::string(buf) : buf + std::string("\n\n") + fs.panel;
 }
 
