@@ -104,9 +104,12 @@ int tilePoints(int argc, char** argv) {
         const sg::PointTileStats s = sg::buildPointTiles(*scan, out, options);
         struct rusage ru {};
         getrusage(RUSAGE_SELF, &ru);
-        std::printf("%s: %llu points, %zu tiles, %d levels, %.1f MB in %.2f s (%.0f points/s), peak resident %.1f MB\n",
-                    out.c_str(), (unsigned long long)s.points, s.tiles, s.levels, s.bytes / 1e6, s.seconds,
-                    s.seconds > 0 ? double(s.points) / s.seconds : 0.0, ru.ru_maxrss / 1024.0);
+        std::printf(
+            "%s: %llu points, %zu tiles, %d levels, %.1f MB in %.2f s (%.0f points/s), peak resident %.1f MB, largest "
+            "chunk %llu points\n",
+            out.c_str(), (unsigned long long)s.points, s.tiles, s.levels, s.bytes / 1e6, s.seconds,
+            s.seconds > 0 ? double(s.points) / s.seconds : 0.0, ru.ru_maxrss / 1024.0,
+            (unsigned long long)s.largestChunk);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "sgtile: %s\n", e.what());
         return 1;

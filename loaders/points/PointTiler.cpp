@@ -81,6 +81,24 @@ void writeIndex(const std::string& outDir, const ChunkPlan& plan, const PointTil
     fs::rename(tmp, outDir + "/.parts/index.json");
 }
 
+// One chunk (or part of a chunk split out of core) built in memory: its tiles, and its root's part for the merge.
+void buildOne(const SubChunk& sc, const std::string& outDir, const PointTileOptions& o, bool intensity,
+              const Cube& cube, PointTileStats& stats) {
+    std::vector<Point> points = readRecords(sc.file);
+    fs::remove(sc.file);
+    if (points.size() != sc.points)
+        throw std::runtime_error(sc.file + ": " + std::to_string(points.size()) + " points, " +
+                                 std::to_string(sc.points) + " counted");
+    stats.largestChunk = std::max(stats.largestChunk, uint64_t(points.size()));
+    ChunkResult r = buildChunk(cube, sc.node, std::move(points), o, intensity, outDir);
+    const std::string part = outDir + "/.parts/" + sc.node.path;
+    writePart(part + ".pts", r.meta, r.points);
+    writeFile(part + ".children", r.childrenText);
+    stats.tiles += r.tiles;
+    stats.bytes += r.bytes + r.points.size() * kRecordBytes + r.childrenText.size();
+    stats.levels = std::max(stats.levels, r.meta.levels);
+}
+
 void buildShard(ScanReader& scan, const std::string& outDir, const PointTileOptions& o, PointTileStats& stats) {
     const ChunkPlan plan = planChunks(scan, o.chunkPoints);
     stats.points = plan.points;
@@ -91,20 +109,15 @@ void buildShard(ScanReader& scan, const std::string& outDir, const PointTileOpti
     fs::create_directories(tempDir);
     distribute(scan, plan, o, tempDir);
     for (size_t c = size_t(o.shard); c < plan.chunks.size(); c += size_t(o.shards)) {
-        const std::string file = chunkFile(tempDir, c);
-        std::vector<Point> points = readRecords(file);
-        fs::remove(file);
-        if (points.size() != plan.chunks[c].points)
-            throw std::runtime_error(file + ": " + std::to_string(points.size()) + " points, " +
-                                     std::to_string(plan.chunks[c].points) + " counted");
         const NodeId root = NodeId::fromPath(plan.chunks[c].path);
-        ChunkResult r = buildChunk(plan.cube, root, std::move(points), o, intensity, outDir);
-        const std::string part = outDir + "/.parts/" + root.path;
-        writePart(part + ".pts", r.meta, r.points);
-        writeFile(part + ".children", r.childrenText);
-        stats.tiles += r.tiles;
-        stats.bytes += r.bytes + r.points.size() * kRecordBytes + r.childrenText.size();
-        stats.levels = std::max(stats.levels, r.meta.levels);
+        const std::vector<SubChunk> subs =
+            splitChunk(plan.cube, root, chunkFile(tempDir, c), plan.chunks[c].points, o.chunkPoints);
+        if (subs.size() > 1 || subs[0].node.path != root.path) {  // the merge builds the levels above them
+            std::string list;
+            for (const SubChunk& sc : subs) list += sc.node.path + "\n";
+            writeFile(outDir + "/.parts/" + root.path + ".split", list);
+        }
+        for (const SubChunk& sc : subs) buildOne(sc, outDir, o, intensity, plan.cube, stats);
     }
     writeIndex(outDir, plan, o, intensity);
     if (o.tempDir.empty()) fs::remove_all(tempDir);

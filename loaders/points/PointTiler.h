@@ -19,8 +19,8 @@
 // Resident memory is bounded whatever the scan's size: the count grid (128^3 eight-byte counts and four-byte chunk
 // ids, ~26 MiB), one chunk's points (chunkPoints x 40 bytes, up to three times over while it is read and split),
 // pass 2's buffers (2^20 points, 40 MiB) and, in the merge, one node's and its eight children's samples. A chunk is
-// at least one cell of the count grid: a cell holding more than chunkPoints points (a scan denser than 128^3 cells
-// can separate) is built whole.
+// divided further on disk when it holds more than chunkPoints (a count-grid cell near a scanner's station): its file
+// split by octants, streamed, until each part fits (the levels above the parts are then the merge's).
 #pragma once
 #include "loaders/points/Scan.h"
 
@@ -49,6 +49,8 @@ struct PointTileStats {
     int levels = 0;       // octree levels of the tileset (after a merge; a shard's: below its chunks)
     double seconds = 0.0;
     uint64_t bytes = 0;  // bytes of the files written (tiles, tileset.json, .parts)
+    // The most points one chunk held in memory (at most chunkPoints: denser chunks are split on disk first).
+    uint64_t largestChunk = 0;
 };
 
 // Throws std::invalid_argument for bad options (the message starts with "buildPointTiles(): "), std::runtime_error

@@ -65,7 +65,9 @@ std::string encode(const std::vector<Point>& points) {
     return bytes;
 }
 
-std::vector<Point> decode(const char* p, size_t count) {
+}  // namespace
+
+std::vector<Point> decodeRecords(const char* p, size_t count) {
     std::vector<Point> points(count);
     for (Point& pt : points) {
         get(p, &pt.position[0], 24);
@@ -76,6 +78,8 @@ std::vector<Point> decode(const char* p, size_t count) {
     }
     return points;
 }
+
+namespace {
 
 // A part file's header: magic, count, box, error, levels, content.
 constexpr char kPartMagic[8] = {'S', 'G', 'P', 'A', 'R', 'T', '1', '\0'};
@@ -113,7 +117,7 @@ std::vector<Point> readRecords(const std::string& file) {
     const std::string bytes = readFile(file);
     if (bytes.size() % kRecordBytes != 0)
         throw std::runtime_error(file + ": " + std::to_string(bytes.size()) + " bytes, not a whole number of records");
-    return decode(bytes.data(), bytes.size() / kRecordBytes);
+    return decodeRecords(bytes.data(), bytes.size() / kRecordBytes);
 }
 
 void writePart(const std::string& file, const TileMeta& meta, const std::vector<Point>& points) {
@@ -152,7 +156,7 @@ std::vector<Point> readPart(const std::string& file, TileMeta& meta) {
         throw std::runtime_error(file + ": bad levels or geometric error in the header");
     meta.levels = levels;
     meta.content = content != 0;
-    return decode(p, size_t(count));
+    return decodeRecords(p, size_t(count));
 }
 
 }  // namespace sg::pointtiles

@@ -30,6 +30,7 @@ struct Merge {
 
     void readIndex();
     void readChunks(const std::string& file, const nlohmann::json& list);
+    std::vector<std::string> splitParts(const std::string& file, const std::string& at, const std::string& path) const;
     void sample(const std::string& path);
     void writeTiles(const std::string& path, std::vector<Point>& points);
     void writeTile(std::ostream& out, const std::string& path);
@@ -76,14 +77,41 @@ void Merge::readChunks(const std::string& file, const nlohmann::json& list) {
         } catch (const std::runtime_error& e) {
             badIndex(file, at, e.what());
         }
-        if (!fs::exists(part(path)))
-            throw std::runtime_error(part(path) + ": missing: chunk " + std::to_string(i) +
-                                     " has not been built (has every shard finished?)");
-        chunks.insert(path);
-        for (size_t n = 1; n < path.size(); ++n) upper.insert(path.substr(0, n));
+        // A chunk split out of core (too dense for memory): its parts are the chunks, it is a level above them.
+        std::vector<std::string> built{path};
+        if (fs::exists(parts + "/" + path + ".split")) built = splitParts(file, at, path);
+        for (const std::string& b : built) {
+            if (!fs::exists(part(b)))
+                throw std::runtime_error(part(b) + ": missing: chunk " + std::to_string(i) +
+                                         " has not been built (has every shard finished?)");
+            chunks.insert(b);
+            for (size_t n = 1; n < b.size(); ++n) upper.insert(b.substr(0, n));
+        }
     }
     for (const std::string& u : upper)
         if (chunks.count(u)) badIndex(file, "chunks", "chunk " + u + " is above another chunk");
+}
+
+// The parts a shard split chunk `path` into (outDir/.parts/<path>.split: a path a line), each below it.
+std::vector<std::string> Merge::splitParts(const std::string& file, const std::string& at,
+                                           const std::string& path) const {
+    std::vector<std::string> out;
+    const std::string text = readFile(parts + "/" + path + ".split");
+    for (size_t b = 0, e; b < text.size(); b = e + 1) {
+        e = text.find('\n', b);
+        if (e == std::string::npos) e = text.size();
+        const std::string sub = text.substr(b, e - b);
+        if (sub.empty()) continue;
+        try {
+            NodeId::fromPath(sub);
+        } catch (const std::runtime_error& err) {
+            badIndex(file, at, path + ".split: " + err.what());
+        }
+        if (sub.compare(0, path.size(), path) != 0) badIndex(file, at, path + ".split: " + sub + " is not below it");
+        out.push_back(sub);
+    }
+    if (out.empty()) badIndex(file, at, path + ".split: no parts");
+    return out;
 }
 
 // Bottom-up: the node's sample taken from its children's points, their tiles written, its own points kept in its part.

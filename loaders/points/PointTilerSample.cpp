@@ -67,20 +67,40 @@ std::vector<Point> takeSample(const Cube& cube, const NodeId& node, int gridCell
     return sample;
 }
 
+// The bits of v spread to every third bit (20 bits in, 60 out): a Morton code's one axis.
+uint64_t spread(uint64_t v) {
+    v &= 0xfffff;
+    v = (v | (v << 32)) & 0x1f00000000ffffULL;
+    v = (v | (v << 16)) & 0x1f0000ff0000ffULL;
+    v = (v | (v << 8)) & 0x100f00f00f00f00fULL;
+    v = (v | (v << 4)) & 0x10c30c30c30c30c3ULL;
+    v = (v | (v << 2)) & 0x1249249249249249ULL;
+    return v;
+}
+
 double leafSpacing(const Cube& cube, const NodeId& node, int gridCells, const std::vector<Point>& points) {
+    // Each point's cell in the finest grid tried (10 halvings of the sample grid: at most 2^20 cells an edge) as a
+    // Morton code, sorted once: points that share a cell at some halving share the code's leading bits there, so
+    // they sit side by side, and the deepest prefix two neighbours share names the halving that parts every point.
+    constexpr int kHalvings = 10;
+    const uint64_t finest = uint64_t(gridCells) << kHalvings;
+    const double cellSize = node.edge(cube) / double(gridCells);
     const dvec3 min = node.min(cube);
-    uint64_t cells = uint64_t(gridCells);
-    double cellSize = node.edge(cube) / double(cells);
-    std::vector<uint64_t> keys(points.size());
-    for (int halvings = 0;; ++halvings, cells *= 2, cellSize *= 0.5) {
-        for (size_t i = 0; i < points.size(); ++i) {
-            const glm::u64vec3 c = gridCell(points[i].position, min, cellSize, cells);
-            keys[i] = c.x + cells * (c.y + cells * c.z);  // cells <= 2^20: 60 bits
-        }
-        std::sort(keys.begin(), keys.end());
-        // Duplicates, or points closer than 2^-10 of a cell, stop at the finest tried.
-        if (halvings == 10 || std::adjacent_find(keys.begin(), keys.end()) == keys.end()) return cellSize;
+    std::vector<uint64_t> codes(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const glm::u64vec3 c = gridCell(points[i].position, min, cellSize / double(1 << kHalvings), finest);
+        codes[i] = spread(c.x) | (spread(c.y) << 1) | (spread(c.z) << 2);
     }
+    std::sort(codes.begin(), codes.end());
+    int needed = 0;  // halvings
+    for (size_t i = 1; i < codes.size() && needed < kHalvings; ++i) {
+        const uint64_t differ = codes[i] ^ codes[i - 1];
+        if (differ == 0) return cellSize / double(1 << kHalvings);  // duplicates stop at the finest tried
+        const int highest = 63 - __builtin_clzll(differ);
+        // They share the cell of halving h while all their coordinates' bits from (10 - h) up agree.
+        needed = std::max(needed, kHalvings - highest / 3);
+    }
+    return cellSize / double(1 << std::max(needed, 0));
 }
 
 }  // namespace sg::pointtiles

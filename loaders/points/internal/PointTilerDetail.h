@@ -60,6 +60,19 @@ struct TileMeta {
 constexpr size_t kRecordBytes = 40;
 void appendRecords(const std::string& file, const std::vector<Point>& points);  // throws std::runtime_error
 std::vector<Point> readRecords(const std::string& file);                        // throws std::runtime_error
+std::vector<Point> decodeRecords(const char* bytes, size_t count);
+
+// A chunk's file divided by octants into files (named file.0 ... file.7, recursively) of at most chunkPoints points,
+// streamed a block at a time, each part's points in scan order; the parts in octree order, the input file removed.
+// A chunk of at most chunkPoints comes back as it is. Throws std::runtime_error naming a file that cannot be read or
+// written.
+struct SubChunk {
+    NodeId node;
+    std::string file;
+    uint64_t points = 0;
+};
+std::vector<SubChunk> splitChunk(const Cube& cube, const NodeId& root, const std::string& file, uint64_t count,
+                                 size_t chunkPoints);
 
 // A node's points and meta for the merge (outDir/.parts/<path>.pts); readPart checks the file's lengths.
 void writePart(const std::string& file, const TileMeta& meta, const std::vector<Point>& points);

@@ -288,3 +288,45 @@ TEST(PointTiler, AnEmptyScanIsRefused) {
     TempDir dir("empty");
     EXPECT_THROW(buildPointTiles(scan, dir.str(), smallOptions()), std::runtime_error);
 }
+
+// A count-grid cell (64 / 128 = 0.5 an edge here) holding more than chunkPoints, as the ground at a scanner's station
+// does: it is split on disk into parts that fit, every point still in one tile, the same bytes whatever the shards.
+TEST(PointTiler, AChunkDenserThanMemoryIsSplitOnDisk) {
+    std::vector<ScanPoint> input = makePoints();
+    const size_t spread = input.size();
+    for (uint32_t i = 0; i < 2500; ++i) {
+        ScanPoint p;
+        p.position = dvec3(0.01 + 0.48 * ((i * 37) % 101) / 101.0, 0.01 + 0.48 * ((i * 53) % 97) / 97.0,
+                           0.01 + 0.48 * ((i * 71) % 89) / 89.0);
+        const uint32_t id = uint32_t(spread + i);
+        p.color = glm::u8vec4(id & 255, (id >> 8) & 255, (id >> 16) & 255, 255);
+        input.push_back(p);
+    }
+    VectorScan scan(input, kBounds);
+    TempDir whole("dense");
+    const PointTileStats stats = buildPointTiles(scan, whole.str(), smallOptions());
+    EXPECT_EQ(stats.points, input.size());
+    EXPECT_GT(stats.largestChunk, 0u);
+    EXPECT_LE(stats.largestChunk, smallOptions().chunkPoints);  // 2500 in one count cell, held 1000 at most
+    std::vector<int> seen(input.size(), 0);
+    forEachTile(readTileset(whole.path)["root"], nullptr, [&](const json& tile, const json*) {
+        if (!tile.contains("content")) return;
+        dvec3 centre;
+        for (const TilePoint& p : readGlb(whole.path / tile["content"]["uri"].get<std::string>(), centre)) {
+            ASSERT_LT(p.id, input.size());
+            ++seen[p.id];
+        }
+    });
+    for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "point " << i;
+
+    const std::map<std::string, std::string> expected = filesOf(whole.path);
+    TempDir dir("dense3");
+    PointTileOptions o = smallOptions();
+    o.stage = PointTileOptions::Shard;
+    o.shards = 3;
+    for (o.shard = 0; o.shard < o.shards; ++o.shard) buildPointTiles(scan, dir.str(), o);
+    o.stage = PointTileOptions::Merge;
+    o.shard = 0;
+    buildPointTiles(scan, dir.str(), o);
+    EXPECT_TRUE(filesOf(dir.path) == expected);
+}
