@@ -42,7 +42,12 @@ void distribute(ScanReader& scan, const ChunkPlan& plan, const PointTileOptions&
     size_t buffered = 0;
     const auto flush = [&] {
         for (size_t c = 0; c < buffers.size(); ++c)
-            if (!buffers[c].empty()) appendRecords(chunkFile(tempDir, c), buffers[c]), buffers[c].clear();
+            if (!buffers[c].empty()) {
+                appendRecords(chunkFile(tempDir, c), buffers[c]);
+                // Freed, not cleared: a buffer that once held most of the points would keep its capacity, and the
+                // capacities of many chunks' buffers add up far past the points buffered at any one time.
+                std::vector<Point>().swap(buffers[c]);
+            }
         buffered = 0;
     };
     const uint32_t cells = 1u << kCountLevel, shift = kMaxLevel - kCountLevel;

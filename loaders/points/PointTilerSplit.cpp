@@ -53,7 +53,7 @@ void split(const Cube& cube, const NodeId& node, const std::string& file, uint64
         for (int i = 0; i < 8; ++i)
             if (!buffers[size_t(i)].empty()) {
                 appendRecords(files[size_t(i)], buffers[size_t(i)]);
-                buffers[size_t(i)].clear();
+                std::vector<Point>().swap(buffers[size_t(i)]);  // freed: see distribute()
             }
         buffered = 0;
     };
