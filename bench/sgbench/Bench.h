@@ -39,6 +39,8 @@ private:
 };
 
 double rssMb();
+// The bytes malloc has handed out and not had back (mallinfo2): what is live, apart from what a process keeps freed.
+double heapMb();
 using stats::median;  // testbed/Stats.h: the same definitions as bench/osg_peer's, which compare_osg.sh divides by
 using stats::percentile;
 

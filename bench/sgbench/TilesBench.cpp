@@ -130,6 +130,8 @@ int runTiles(const Args& a) {
     ps.loaderThreads = size_t(a.num("loaders", long(ps.loaderThreads)));
     ps.loaderNice = int(a.num("loader-nice", ps.loaderNice));
     ps.freeOnLoaderThread = true;  // a tileset's details share no node with the rest of the graph
+    // The pager's byte budget of attached details (their meshes; the renderer's copies come on top of it).
+    if (a.flag("resident-mb")) ps.maxResidentBytes = size_t(a.num("resident-mb", 512)) << 20;
     sg::Pager& pager = viewer.enablePaging(ts.loadFunction(), ps);
     viewer.renderer().setPointShading(pointShadingFromArgs(a));
 

@@ -169,7 +169,7 @@ std::vector<sg::Camera> factoryWalkCameras(int frames, int w, int h, sg::Box& si
 int flyFactoryWalk(const Args& a, const TilesFlight& t, const std::vector<sg::Camera>& cams, const sg::Box& site) {
     std::vector<double> all, loading, quiet;
     std::vector<double> points;
-    double maxRss = 0.0;
+    double maxRss = 0.0, maxHeap = 0.0;
     const auto t0 = Clock::now();
     for (const sg::Camera& cam : cams) {
         t.view.camera = cam;
@@ -180,6 +180,7 @@ int flyFactoryWalk(const Args& a, const TilesFlight& t, const std::vector<sg::Ca
         (st.queued > 0 || st.loading > 0 || st.pending > 0 ? loading : quiet).push_back(ms);
         points.push_back(double(t.view.cullStats().points));
         maxRss = std::max(maxRss, rssMb());
+        maxHeap = std::max(maxHeap, heapMb());
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     const sg::FlatImage& image = t.viewer.scene().image();
@@ -198,7 +199,7 @@ int flyFactoryWalk(const Args& a, const TilesFlight& t, const std::vector<sg::Ca
     addFrameTimes(j, "loading", loading);
     addFrameTimes(j, "quiet", quiet);
     j.add("points_drawn_median", median(points)).add("points_drawn_max", percentile(points, 1.0));
-    j.add("rss_mb_start", t.rssStartMb).add("rss_mb_max", maxRss);
+    j.add("rss_mb_start", t.rssStartMb).add("rss_mb_max", maxRss).add("heap_mb_max", maxHeap);
     const sg::PagerStats& st = t.pager.stats();
     j.addInt("loads", long(st.loads)).addInt("unloads", long(st.unloads)).addInt("failures", long(st.failures));
     j.addInt("resident_details", long(st.resident)).add("resident_mb", double(st.bytesResident) / (1 << 20));

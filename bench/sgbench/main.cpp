@@ -1,6 +1,7 @@
 // sgbench: the benchmarks whose figures docs/benchmarks.md reports. `sgbench <command> [--options] [--json]`.
 #include "sgbench/Bench.h"
 
+#include <malloc.h>
 #include <unistd.h>
 #include <algorithm>
 #include <cmath>
@@ -85,6 +86,11 @@ double rssMb() {
     return double(rss) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
+double heapMb() {
+    const struct mallinfo2 m = mallinfo2();
+    return double(m.uordblks + m.hblkhd) / (1024.0 * 1024.0);
+}
+
 }  // namespace bench
 
 static void usage() {
@@ -124,7 +130,7 @@ static void usage() {
         "       sgbench depth [--n N] [--rounds R] [--json]\n"
         "       sgbench tiles --tileset PATH|URL [--n N] [--path orbit|low|teleport [--views K]] [--frames F]\n"
         "                [--width W --height H] [--fps F] [--keep-freed-memory 0|1] [--share-meshes 0|1]\n"
-        "                [--loaders K] [--loader-nice V] [--baseline] [--csv FILE] [--json]\n"
+        "                [--loaders K] [--loader-nice V] [--resident-mb M] [--baseline] [--csv FILE] [--json]\n"
         "                [--point-size PX] [--round] [--edl]\n"
         "       sgbench tiles --tileset SCAN_TILES/tileset.json --path factory-walk [--frames F] [--settle-check\n"
         "                [--views K] [--png PREFIX]] [--point-size PX] [--round] [--edl] [--width W --height H] "

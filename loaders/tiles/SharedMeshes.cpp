@@ -62,7 +62,10 @@ size_t SharedMeshes::share(Node& root) {
     // Hashed outside the lock: the loader threads only wait on each other for the look-ups.
     std::vector<std::pair<Geometry*, uint64_t>> found;
     forEachDistinctGeometry(root, [&](const Geometry& g) {
-        if (g.mesh()) found.emplace_back(const_cast<Geometry*>(&g), meshHash(*g.mesh()));
+        // A point tile holds its points once (refinement adds, it never repeats them): no two tiles' clouds are
+        // equal, so they are neither hashed nor pooled.
+        if (g.mesh() && g.mesh()->primitive() != Primitive::Points)
+            found.emplace_back(const_cast<Geometry*>(&g), meshHash(*g.mesh()));
     });
     size_t n = 0;
     std::unordered_map<Mesh*, ref_ptr<Mesh>> decided;  // a mesh several Geometries hold is looked up once

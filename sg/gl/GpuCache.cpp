@@ -203,6 +203,26 @@ void GpuCache::releaseUnused() {
     }
 }
 
+void GpuCache::releaseOrphans() {
+    for (auto it = meshes_.begin(); it != meshes_.end();) {
+        if (it->second.mesh->refCount() > 1) {
+            ++it;
+            continue;
+        }
+        destroy(it->second);
+        it = meshes_.erase(it);
+    }
+    for (auto& cache : textures_)
+        for (auto it = cache.begin(); it != cache.end();) {
+            if (it->second.texture->refCount() > 1) {
+                ++it;
+                continue;
+            }
+            glDeleteTextures(1, &it->second.id);
+            it = cache.erase(it);
+        }
+}
+
 unsigned GpuCache::featureColors(const std::pair<uint64_t, int>& key, uint64_t version,
                                  const std::vector<uint8_t>& rgba) {
     FeatureTable& t = featureTables_[key];

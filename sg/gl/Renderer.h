@@ -179,6 +179,10 @@ public:
     // valid); a Mesh changed after its first draw keeps its old GPU copy until released.
     // releaseUnused() frees those the last draw() did not use; clear() frees all of them.
     void releaseUnused();
+    // Frees the copies of meshes and textures that nothing but the cache holds any more (a paged detail dropped: they
+    // can never be drawn again), used or not; what the rest of the program holds stays. sg::Viewer calls it every few
+    // frames, so that a flight's memory follows its pager's budget.
+    void releaseOrphans();
     void clear();
     size_t cachedMeshes() const;
     // Uploads the meshes and textures below `root` (a paged detail before it is attached: Pager::setPrepare, which

@@ -55,6 +55,7 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
 }
 
 void Renderer::releaseUnused() { cache_->releaseUnused(); }
+void Renderer::releaseOrphans() { cache_->releaseOrphans(); }
 
 void Renderer::clear() { cache_->clear(); }
 

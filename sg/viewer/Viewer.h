@@ -210,6 +210,8 @@ private:
     bool keepingFreed_ = false;  // keepFreedMemory() engaged for a software rasterizer
     Pager* pager_ = nullptr;
     std::unique_ptr<TextOverlay> text_;
+    static constexpr int kOrphanSweepFrames = 8;  // draws between Renderer::releaseOrphans() calls
+    int drawsSinceSweep_ = 0;                     // on the draw stage's thread
     FrameHistory history_;
     uint64_t frame_ = 0;
     bool done_ = false;

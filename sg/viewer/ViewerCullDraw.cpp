@@ -93,6 +93,11 @@ void Viewer::drawPacket(Packet& p) {
             text_->draw(p.overlay, width, height, width >= 960 && height >= 480 ? 2.0f : 1.0f);
         }
         for (const Callback& f : overlayCallbacks_) f();
+        // The GPU copies of what the pager (or the program) dropped: every few frames, as a sweep visits every copy.
+        if (++drawsSinceSweep_ == kOrphanSweepFrames) {
+            renderer_->releaseOrphans();
+            drawsSinceSweep_ = 0;
+        }
         if (p.finishAll) renderer_->finish();
         p.times.drawMs = msSince(start);
         stage = "drawn";

@@ -99,3 +99,28 @@ TEST(RendererPrepare, ADetailPreparedButNeverDrawnIsReleasedAfterTheGrace) {
     }
     EXPECT_EQ(renderer.cachedMeshes(), 0u);
 }
+
+// A dropped detail's copies go (nothing else can draw them), those of meshes the program still holds stay, drawn or
+// not: what keeps a paged flight's memory to its pager's budget.
+TEST(RendererPrepare, OrphansAreReleasedAndHeldMeshesKept) {
+    OsmesaContext context(64, 64);
+    Renderer renderer;
+    ref_ptr<Mesh> kept = makeBoxMesh(dvec3(-1), dvec3(1));
+    auto dropped = make<Group>();
+    dropped->addChild(make<Geometry>(makeBoxMesh(dvec3(2), dvec3(3)), make<Material>()));
+    auto held = make<Group>();
+    held->addChild(make<Geometry>(kept, make<Material>()));
+    PrepareBudget budget(1e9, 20);
+    ASSERT_TRUE(renderer.prepare(*dropped, budget));
+    ASSERT_TRUE(renderer.prepare(*held, budget));
+    EXPECT_EQ(renderer.cachedMeshes(), 2u);
+    renderer.forgetPrepare(*dropped);
+    renderer.forgetPrepare(*held);
+    dropped = nullptr;
+    held = nullptr;  // `kept` still holds its mesh
+    renderer.releaseOrphans();
+    EXPECT_EQ(renderer.cachedMeshes(), 1u);
+    kept = nullptr;
+    renderer.releaseOrphans();
+    EXPECT_EQ(renderer.cachedMeshes(), 0u);
+}

@@ -69,6 +69,8 @@ public:
 
     // Frees the copies the frame since the last nextFrame() did not use; clear() frees all of them.
     void releaseUnused();
+    // Frees the copies whose mesh or texture only the cache still references (Renderer::releaseOrphans).
+    void releaseOrphans();
     void clear();
     size_t meshCount() const { return meshes_.size(); }
     size_t textureCount() const {
