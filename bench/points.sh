@@ -49,7 +49,7 @@ for mode in plain edl; do
   edl=""
   if [ "$mode" = edl ]; then edl="--edl"; fi
   # shellcheck disable=SC2086 # an empty $edl is no argument at all
-  "$build/bench/sgbench" tiles --tileset "$out/scan-tiles/tileset.json" --path factory-walk --frames "$frames" --resident-mb 96 \
+  "$build/bench/sgbench" tiles --tileset "$out/scan-tiles/tileset.json" --path factory-walk --frames "$frames" --resident-mb 48 \
     --settle-check --png "$out/differs-$mode-" $edl --json >> "$jsonl" || status=1
 done
 cat "$jsonl"
