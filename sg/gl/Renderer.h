@@ -155,6 +155,11 @@ public:
     // strength or radius that is not finite and positive (strength: not negative), naming it.
     void setPointShading(const PointShading& shading);
     const PointShading& pointShading() const { return pointShading_; }
+    // How lines wider than a pixel are drawn. Auto (the default): glLineWidth where the context draws wide lines,
+    // else quads from a geometry stage (a forward-compatible context, as GlfwWindow makes, takes no width above 1).
+    // GeometryStage: the quads always; what a window draws, in any context (the tests compare the two).
+    enum class WideLines : uint8_t { Auto, GeometryStage };
+    void setWideLines(WideLines mode) { wideLines_ = mode; }
     const std::vector<PunctualLight>& punctualLights() const { return punctual_; }
     // Waits until the GPU has drawn everything (whole-frame timings).
     void finish() const;
@@ -314,6 +319,9 @@ private:
     std::vector<PunctualLight> punctual_;
     ref_ptr<FeatureStyle> featureStyle_;
     PointShading pointShading_;
+    WideLines wideLines_ = WideLines::Auto;
+    // The widest line glLineWidth is asked to draw (setWideLines).
+    float lineWidthLimit() const { return wideLines_ == WideLines::GeometryStage ? 1.0f : maxLineWidth_; }
     float maxLineWidth_ = 1.0f;   // the widest line glLineWidth draws: 1 in a forward-compatible context
     vec2 viewportSize_{1.0f};     // the frame's, in pixels
     float pixelsPerUnit_ = 0.0f;  // the frame's: a length 1 at distance 1, in pixels (Camera::pixelsPerUnit())

@@ -26,7 +26,7 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     glGetIntegerv(GL_VIEWPORT, viewport);
     viewportSize_ = vec2(float(viewport[2]), float(viewport[3]));
     pixelsPerUnit_ = float(camera.projection()[1][1] * 0.5 * viewport[3]);
-    if (pointShading_.lineWidth <= maxLineWidth_) glLineWidth(pointShading_.lineWidth);
+    glLineWidth(pointShading_.lineWidth <= lineWidthLimit() ? pointShading_.lineWidth : 1.0f);
     // The faces under an outline are pushed back rather than its lines pulled forward: the factor follows each face's
     // own depth slope (a line and a triangle sample depth up to a pixel apart, and across a grazing face that is more
     // than any fixed pull would cover), and the units are steps of the depth buffer at that depth (2^-24 in Classic's
@@ -133,8 +133,11 @@ void Renderer::drawOutline(const Run& r) {
     const GpuMesh& g = *r.gpu;
     use(*r.outline);
     setShading(*r.outline, r.shading);
+    // The faces' culling is not the edges': a wide line's quad winds either way.
+    if (r.cullBack) glDisable(GL_CULL_FACE);
     glDrawElementsInstanced(GL_LINES, g.outlineCount, GL_UNSIGNED_INT, reinterpret_cast<const void*>(g.outlineOffset),
                             GLsizei(r.count));
+    if (r.cullBack) glEnable(GL_CULL_FACE);
     stats_.lines += uint64_t(r.count) * uint64_t(g.outlineCount / 2);
     stats_.drawCalls++;
 }

@@ -169,7 +169,7 @@ void Renderer::upload() {
         if (r.material && r.material->physical) physicalTextures(r);
         featureColors(r);
         // Lines wider than glLineWidth draws are quads from a geometry stage; outlines are lines too.
-        const bool wide = pointShading_.lineWidth > maxLineWidth_;
+        const bool wide = pointShading_.lineWidth > lineWidthLimit();
         r.shading.round = r.shading.point && pointShading_.round;
         r.shading.wideLine = r.gpu->mode == GL_LINES && wide;
         r.program = &programFor(r.shading);

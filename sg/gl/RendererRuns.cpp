@@ -114,8 +114,9 @@ void Renderer::addItem(const DrawList& list, uint32_t i, double reach) {
     const uint32_t part = parts_.empty() ? kWhole : parts_[i];
     const Material* mat = it.material;
     // A single-sided material's back faces are never drawn (glTF: "back-face culling must be enabled"); a mirroring
-    // matrix turns which winding is in front.
-    const bool single = mat && !mat->doubleSided;
+    // matrix turns which winding is in front. Points and lines have no back: their quads (llvmpipe's, or the wide
+    // lines' geometry stage) must not be culled by the way they happen to wind.
+    const bool single = mat && !mat->doubleSided && it.mesh->primitive() == Primitive::Triangles;
     const bool mirrored = single && glm::determinant(glm::mat3(it.model)) < 0.0f;
     const bool cullBack = single || (fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
                                      backFacesHidden(it, mat, reach));

@@ -183,6 +183,38 @@ TEST_F(PointsLinesTest, LinesCoverTheirWidthInColumns) {
     }
 }
 
+// The geometry stage that widens lines where glLineWidth cannot (a window's forward-compatible context) draws what
+// glLineWidth draws, whichever way the segments run and whichever way their quads wind under a single-sided material.
+TEST_F(PointsLinesTest, WideLinesFromTheGeometryStageCoverWhatGlLineWidthCovers) {
+    const Camera cam = pixelCamera();
+    auto mesh = make<Mesh>();
+    mesh->setLines({{80.5f, 20.0f, 0.0f},
+                    {80.5f, 100.0f, 0.0f},
+                    {20.0f, 20.0f, 0.0f},
+                    {60.0f, 100.0f, 0.0f},
+                    {150.0f, 20.0f, 0.0f},
+                    {100.0f, 100.0f, 0.0f},
+                    {100.0f, 60.5f, 0.0f},
+                    {20.0f, 60.5f, 0.0f}},
+                   {0, 1, 2, 3, 4, 5, 6, 7});
+    auto mat = unlit(kRed);
+    mat->doubleSided = false;  // culls back faces: a line's quad has none
+    DrawList list;
+    list.items.push_back(item(*mesh, *mat, cam));
+    PointShading ps;
+    ps.lineWidth = 3.0f;
+    renderer.setPointShading(ps);
+    const Image byWidth = draw(list, cam);
+    renderer.setWideLines(Renderer::WideLines::GeometryStage);
+    const Image byStage = draw(list, cam);
+    const int a = countColour(byWidth, kRed8), b = countColour(byStage, kRed8);
+    EXPECT_GT(a, 4 * 60 * 3 / 2);
+    EXPECT_NEAR(double(b), double(a), 0.1 * a);  // the ends of the segments are squared off differently
+    for (int y : {30, 60, 90})
+        for (int x : {79, 80, 81}) EXPECT_EQ(pixel(byStage, x, y), kRed8) << x << "," << y;
+    EXPECT_EQ(pixel(byStage, 82, 30), kClear8);
+}
+
 TEST_F(PointsLinesTest, OutlineShowsOverItsFacesInBothDepthModesAndHidesBehindABox) {
     // A square turned 60 degrees away (its depth changes fast across the screen), its four sides and its diagonal
     // outlined: the diagonal lies inside the face, where a z-fight would show.
