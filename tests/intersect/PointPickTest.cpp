@@ -46,7 +46,9 @@ bool pick(ref_ptr<Node> node, const Ray& ray, const QueryOptions& o, Hit& h) {
     Scene scene(root);
     scene.update();
     IntersectTraversal it;
-    return it.intersect(scene, ray, o, h);
+    const bool hit = it.intersect(scene, ray, o, h);
+    if (hit && !h.path.empty() && h.path.front() == root.get()) h.path.erase(h.path.begin());  // dies on return
+    return hit;
 }
 
 }  // namespace
