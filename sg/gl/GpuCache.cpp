@@ -175,52 +175,42 @@ bool GpuCache::prepareTexture(const Texture* t, bool cut, bool srgb) {
     return upload;
 }
 
-void GpuCache::releaseUnused() {
-    for (auto it = meshes_.begin(); it != meshes_.end();) {
-        if (it->second.lastFrame == frame_ || it->second.keepUntil > frame_) {
+namespace {
+
+// Erases the entries `drop` picks from `map`, `free` releasing each one's GL objects first.
+template <class Map, class Drop, class Free>
+void eraseWhere(Map& map, Drop drop, Free free) {
+    for (auto it = map.begin(); it != map.end();) {
+        if (!drop(it->second)) {
             ++it;
             continue;
         }
-        destroy(it->second);
-        it = meshes_.erase(it);
-    }
-    for (auto& cache : textures_)
-        for (auto it = cache.begin(); it != cache.end();) {
-            if (it->second.lastFrame == frame_ || it->second.keepUntil > frame_) {
-                ++it;
-                continue;
-            }
-            glDeleteTextures(1, &it->second.id);
-            it = cache.erase(it);
-        }
-    for (auto it = featureTables_.begin(); it != featureTables_.end();) {
-        if (it->second.lastFrame == frame_) {
-            ++it;
-            continue;
-        }
-        glDeleteTextures(1, &it->second.id);
-        it = featureTables_.erase(it);
+        free(it->second);
+        it = map.erase(it);
     }
 }
 
+template <class T>
+void deleteTexture(T& t) {
+    glDeleteTextures(1, &t.id);
+}
+
+}  // namespace
+
+void GpuCache::releaseUnused() {
+    const auto unused = [this](const auto& e) { return e.lastFrame != frame_ && e.keepUntil <= frame_; };
+    eraseWhere(meshes_, unused, destroy);
+    for (auto& cache : textures_) eraseWhere(cache, unused, deleteTexture<GpuTexture>);
+    eraseWhere(
+        featureTables_, [this](const FeatureTable& t) { return t.lastFrame != frame_; }, deleteTexture<FeatureTable>);
+}
+
 void GpuCache::releaseOrphans() {
-    for (auto it = meshes_.begin(); it != meshes_.end();) {
-        if (it->second.mesh->refCount() > 1) {
-            ++it;
-            continue;
-        }
-        destroy(it->second);
-        it = meshes_.erase(it);
-    }
+    eraseWhere(
+        meshes_, [](const GpuMesh& g) { return g.mesh->refCount() <= 1; }, destroy);
     for (auto& cache : textures_)
-        for (auto it = cache.begin(); it != cache.end();) {
-            if (it->second.texture->refCount() > 1) {
-                ++it;
-                continue;
-            }
-            glDeleteTextures(1, &it->second.id);
-            it = cache.erase(it);
-        }
+        eraseWhere(
+            cache, [](const GpuTexture& t) { return t.texture->refCount() <= 1; }, deleteTexture<GpuTexture>);
 }
 
 unsigned GpuCache::featureColors(const std::pair<uint64_t, int>& key, uint64_t version,
