@@ -153,13 +153,9 @@ uint32_t MeshBvh::build(uint32_t first, uint32_t count, std::vector<Box>& boxes,
         Box bound, cb;
         boundsOf(boxes, centroids, it.first, it.count, bound, cb);
         Node& nd = nodes_[it.node];
-        for (int a = 0; a < 3; ++a) {
-            // Float bounds rounded outward: they still contain the float vertices exactly.
-            nd.min[a] = std::nextafter(float(bound.min[a]), -HUGE_VALF);
-            nd.max[a] = std::nextafter(float(bound.max[a]), HUGE_VALF);
-        }
+        isect::floatBoxOutward(bound, nd.min, nd.max);
         const dvec3 ext = cb.max - cb.min;
-        const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+        const int axis = isect::longestAxis(ext);
         if (it.count <= kLeafSize || !(ext[axis] > 0.0)) {
             nd.index = it.first;
             nd.count = it.count;

@@ -93,12 +93,9 @@ void PointBvh::build(std::vector<dvec3>& centres) {
             cb.expand(centres[p]);
         }
         Node& nd = nodes_[it.node];
-        for (int a = 0; a < 3; ++a) {  // float bounds rounded outward: they contain the float vertices
-            nd.min[a] = std::nextafter(float(bound.min[a]), -HUGE_VALF);
-            nd.max[a] = std::nextafter(float(bound.max[a]), HUGE_VALF);
-        }
+        isect::floatBoxOutward(bound, nd.min, nd.max);
         const dvec3 ext = cb.max - cb.min;
-        const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+        const int axis = isect::longestAxis(ext);
         if (it.count <= kLeafSize || !(ext[axis] > 0.0)) {
             nd.index = it.first;
             nd.count = it.count;

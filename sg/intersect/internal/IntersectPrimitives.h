@@ -4,6 +4,7 @@
 #pragma once
 #include "sg/core/Math.h"
 
+#include <cmath>
 #include <cstdint>
 
 namespace sg {
@@ -49,6 +50,17 @@ void closestRaySegment(const dvec3& o, const dvec3& d, double tMax, const dvec3&
 // t = 0 only when the motion brings it closer (moving out or along is free).
 bool sweepSphereTriangle(const dvec3& c0, const dvec3& d, double r, const dvec3& a, const dvec3& b, const dvec3& c,
                          double tBest, double& t, dvec3& point, dvec3& normal) noexcept;
+
+// A BVH node's box in float, rounded outward: it still contains every float vertex the double box holds.
+inline void floatBoxOutward(const Box& b, float* mn, float* mx) noexcept {
+    for (int a = 0; a < 3; ++a) {
+        mn[a] = std::nextafter(float(b.min[a]), -HUGE_VALF);
+        mx[a] = std::nextafter(float(b.max[a]), HUGE_VALF);
+    }
+}
+
+// The axis along which v is longest (the lower one on a tie): where a BVH splits.
+inline int longestAxis(const dvec3& v) noexcept { return v.x >= v.y && v.x >= v.z ? 0 : (v.y >= v.z ? 1 : 2); }
 
 // A nearest-hit BVH walk's two children onto its stack (node index and entry distance), the nearer on top so that it
 // is popped first; a child its test missed (hl, hr false) is left out.
