@@ -5,6 +5,7 @@
 #include "testbed/City.h"
 #ifdef SGVIEW_TEST_GLTF
 #include "loaders/gltf/Gltf.h"
+#include "loaders/points/Scan.h"
 #include "loaders/tiles/Tileset.h"
 #endif
 #include "sg/cull/CullTraversal.h"
@@ -443,5 +444,48 @@ TEST(SgviewRun, TilesetsAreShownAndCounted) {
     const Result bad = runSgview("--info other.json");
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("asset"), std::string::npos) << bad.err;
+}
+#endif
+
+#ifdef SGVIEW_TEST_GLTF
+// A laser scan opens as a point cloud: drawn (every point counted), its size and shape options applied, --info
+// counting its points; bad point options and a LAZ file are refused by name, with exit code 2 or 1, never a crash.
+TEST(SgviewRun, AScanOpensAsPointsWithItsOptions) {
+    const std::string file = (scratch() / "scan.las").string();
+    {
+        LasWriter w(file);
+        std::vector<ScanPoint> points;
+        for (int y = 0; y < 40; ++y)
+            for (int x = 0; x < 50; ++x) {
+                ScanPoint p;
+                p.position = dvec3(x * 0.5, y * 0.5, 0.1 * x);
+                p.color = glm::u8vec4(200, 40, 40, 255);
+                points.push_back(p);
+            }
+        w.write(points);
+        w.close();
+    }
+    const std::string camera = " --size 320x240 --camera 12,10,30,12,10,0,0,1,0 --headless";
+    const Result small = runSgview("scan.las --out small.png --point-size 1" + camera);
+    ASSERT_EQ(small.code, 0) << small.err;
+    EXPECT_NE(small.out.find("2000 points"), std::string::npos) << small.out;
+    const Result big = runSgview("scan.las --out big.png --point-size 4 --edl" + camera);
+    ASSERT_EQ(big.code, 0) << big.err;
+    const size_t a = nonBackground(loadPng((scratch() / "small.png").string()));
+    const size_t b = nonBackground(loadPng((scratch() / "big.png").string()));
+    EXPECT_GT(a, size_t(500));
+    EXPECT_GT(b, 2 * a);  // 4 px points cover more than 1 px ones
+    const Result info = runSgview("--info scan.las");
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_NE(info.out.find("points: 2000,"), std::string::npos) << info.out;
+
+    const Result zero = runSgview("scan.las --point-size 0" + camera);
+    EXPECT_EQ(zero.code, 2);
+    EXPECT_NE(zero.err.find("--point-size"), std::string::npos) << zero.err;
+    fs::copy_file(file, scratch() / "scan.laz", fs::copy_options::overwrite_existing);
+    const Result laz = runSgview("scan.laz --out laz.png" + camera);
+    EXPECT_NE(laz.code, 0);
+    EXPECT_LT(laz.code, 128);  // refused, not crashed
+    EXPECT_NE(laz.err.find("las2las"), std::string::npos) << laz.err;
 }
 #endif

@@ -474,6 +474,24 @@ TEST(SharedMeshes, EqualMeshesOfDifferentLoadsBecomeOneAndOthersStayApart) {
     EXPECT_LE(pool.size(), 8u);
 }
 
+// Point tiles never repeat their points: they are not pooled, so that a pool entry cannot keep one alive (the
+// renderer's cache holding it too, neither would let go).
+TEST(SharedMeshes, PointMeshesAreNotPooled) {
+    tiles::SharedMeshes pool;
+    auto cloud = [] {
+        auto m = make<Mesh>();
+        m->setPoints({{0, 0, 0}, {1, 2, 3}});
+        auto g = make<Group>();
+        g->addChild(make<Geometry>(m, nullptr));
+        return g;
+    };
+    auto first = cloud(), second = cloud();
+    EXPECT_EQ(pool.share(*first), 0u);
+    EXPECT_EQ(pool.share(*second), 0u);
+    EXPECT_EQ(pool.size(), 0u);
+    EXPECT_NE(static_cast<Geometry*>(first->child(0))->mesh(), static_cast<Geometry*>(second->child(0))->mesh());
+}
+
 TEST(Tileset, AViewerRequestVolumeShowsAndRefinesTheTileOnlyWithTheEyeInside) {
     TempDir d;
     Tileset ts = loadTileset(quadTileset(d, "REPLACE", R"("viewerRequestVolume": {"sphere": [50,50,5, 300]},)"));
