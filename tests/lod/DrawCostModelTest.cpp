@@ -175,3 +175,15 @@ TEST(DrawCostModel, CorrectionRefusesBadTimes) {
     m.correct(0.0, 5.0);  // nothing was predicted: counted as the largest step, not a division by 0
     EXPECT_NEAR(m.correction(), std::pow(4.0, 0.25), 1e-12);
 }
+
+// The work a mesh adds to a frame, in triangles: a point or a segment as the quad the rasterizer draws for it.
+TEST(DrawCostModel, PointsAndLinesCountAsQuads) {
+    auto tri = makeBoxMesh(dvec3(0.0), dvec3(1.0));
+    EXPECT_EQ(triangleWork(*tri), double(tri->triangleCount()));
+    auto pts = make<Mesh>();
+    pts->setPoints({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}});
+    EXPECT_EQ(triangleWork(*pts), 3.0 * kQuadTriangles);
+    auto lines = make<Mesh>();
+    lines->setLines({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}, {0, 1, 1, 2});
+    EXPECT_EQ(triangleWork(*lines), 2.0 * kQuadTriangles);
+}
