@@ -47,6 +47,44 @@ void NodeVisitor::apply(PagedLOD& n) { apply(static_cast<Group&>(n)); }
 
 // --- Geometry
 void Geometry::accept(NodeVisitor& v) { v.apply(*this); }
+Geometry::~Geometry() = default;
+
+void Geometry::setSkin(ref_ptr<Skin> skin) {
+    if (skin && mesh_ && mesh_->influences() > 0 && mesh_->maxJoint() >= skin->size())
+        throw std::invalid_argument("Geometry::setSkin(): " + describe() + "'s mesh names joint " +
+                                    std::to_string(mesh_->maxJoint()) + ", the skin has " +
+                                    std::to_string(skin->size()) + " joints");
+    if (!skin && (!motion_ || motion_->weights.empty())) {
+        motion_.reset();
+    } else {
+        if (!motion_) motion_ = std::make_unique<Motion>();
+        motion_->skin = std::move(skin);
+    }
+    markDirty(kDirtyBound);
+}
+
+void Geometry::setMorphWeights(std::vector<float> weights) {
+    const size_t targets = mesh_ ? mesh_->morphTargets().size() : 0;
+    if (weights.size() > targets)
+        throw std::invalid_argument("Geometry::setMorphWeights(): " + std::to_string(weights.size()) + " weights, " +
+                                    describe() + "'s mesh has " + std::to_string(targets) + " morph targets");
+    for (size_t i = 0; i < weights.size(); ++i)
+        if (!std::isfinite(weights[i]))
+            throw std::invalid_argument("Geometry::setMorphWeights(): weights[" + std::to_string(i) +
+                                        "] is not finite");
+    if (weights.empty() && (!motion_ || !motion_->skin)) {
+        motion_.reset();
+    } else {
+        if (!motion_) motion_ = std::make_unique<Motion>();
+        motion_->weights = std::move(weights);
+    }
+    markDirty(kDirtyBound);
+}
+
+const std::vector<float>& Geometry::morphWeights() const {
+    static const std::vector<float> none;
+    return motion_ ? motion_->weights : none;
+}
 
 // --- Switch
 void Switch::addChild(ref_ptr<Node> child, bool on) {

@@ -2,6 +2,7 @@
 // validation tinygltf does not do. sgkit's own node kinds travel in glTF `extras`.
 #pragma once
 #include "sg/build/GeneratedOccluders.h"
+#include "sg/core/Animation.h"
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
@@ -9,6 +10,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -82,6 +84,13 @@ struct GltfScene {
     std::unordered_map<const Node*, GltfProperties> properties;
     GltfProperties sceneProperties;
     std::vector<std::string> warnings;  // what was skipped or converted, each naming its JSON path
+    // The file's animations, in its order, bound to the nodes built here (a Viewer plays them:
+    // viewer.animations().add(a)). KHR_animation_pointer channels replace the Geometries' materials with changed
+    // copies, and write lights and cameras into these (shared with the channels' setters: copies of `lights` and
+    // `cameras` that the animations move; null when no channel moves them).
+    std::vector<ref_ptr<Animation>> animations;
+    std::shared_ptr<std::vector<PunctualLight>> animatedLights;
+    std::shared_ptr<std::vector<GltfCamera>> animatedCameras;
 };
 
 // Throws LoadError; never crashes, hangs or leaks on any input. Points and lines are read as Meshes of those

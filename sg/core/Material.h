@@ -8,6 +8,28 @@
 
 namespace sg {
 
+// How a texture is read between and beyond its texels (glTF's samplers): wrapping per axis and the filters. Mipmaps
+// are made for every texture; a min filter without "Mipmap" reads only the top level. The renderer keeps one GL
+// sampler object per distinct Sampler.
+struct Sampler {
+    enum class Wrap : uint8_t { Repeat, MirroredRepeat, ClampToEdge };
+    enum class Filter : uint8_t {
+        Nearest,
+        Linear,
+        NearestMipmapNearest,
+        LinearMipmapNearest,
+        NearestMipmapLinear,
+        LinearMipmapLinear,
+    };
+    Wrap wrapS = Wrap::Repeat, wrapT = Wrap::Repeat;
+    Filter magFilter = Filter::Linear;  // Nearest or Linear only
+    Filter minFilter = Filter::LinearMipmapLinear;
+    bool operator==(const Sampler& o) const {
+        return wrapS == o.wrapS && wrapT == o.wrapT && magFilter == o.magFilter && minFilter == o.minFilter;
+    }
+    bool operator!=(const Sampler& o) const { return !(*this == o); }
+};
+
 class Texture : public Referenced {
 public:
     // Throws std::invalid_argument when the pixel count does not match width * height * 4.
@@ -19,6 +41,8 @@ public:
     // software rasterizer; 1: trilinear only): ground seen at grazing angles stays sharp without the cost
     // on textures that are never oblique.
     float maxAnisotropy = 1.0f;
+    // How it is sampled (the default: repeat, trilinear). Set before the texture is first drawn.
+    Sampler sampler;
 
 private:
     int w_, h_;

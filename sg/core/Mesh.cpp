@@ -51,6 +51,16 @@ void Mesh::store(const char* what, Primitive primitive, std::vector<vec3> positi
     uvs1_.clear();
     intensities_.clear();
     outline_.clear();
+    joints_.clear();
+    weights_.clear();
+    targets_.clear();
+    influences_ = 0;
+    maxJoint_ = 0;
+    {
+        std::lock_guard<std::mutex> lock(jointBoxesMutex_);
+        jointBoxes_.clear();
+        jointBoxesDone_.store(false, std::memory_order_release);
+    }
     features_ = nullptr;
     indices16_.clear();
     indices32_.clear();

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,12 @@ struct MeshSource {
 // What a mesh draws: triangles (three indices a face), line segments (two indices each) or points (one a position,
 // in order: points have no indices). glTF's strips, loops and fans become lists when read.
 enum class Primitive : uint8_t { Triangles, Lines, Points };
+
+// A morph target (glTF's mesh.primitives[].targets[]): displacements added to the base arrays, times the target's
+// weight. Each array is empty or has one element per position.
+struct MorphTarget {
+    std::vector<vec3> positions, normals, tangents;
+};
 
 class Mesh : public Referenced {
 public:
@@ -58,6 +65,32 @@ public:
     void setOutline(std::vector<uint32_t> edges);
     const std::vector<uint32_t>& outline() const { return outline_; }
 
+    // Skinning (glTF JOINTS_n/WEIGHTS_n): `influences` (4 or 8) joint indices and weights a vertex, the vertex's
+    // first four then its next four. A vertex goes where the weighted sum of its joints' matrices puts it
+    // (Geometry::setSkin). Throws std::invalid_argument when the sizes are not influences x positions, `influences`
+    // is not 4 or 8, a weight is negative or not finite, or the mesh is not triangles, lines or points with positions.
+    // Weights that do not sum to one are normalised (`normalised` counts the vertices that were, for a warning);
+    // all-zero weights become joint 0 with weight 1. Call after set*() (which clear them).
+    void setSkinWeights(std::vector<uint16_t> joints, std::vector<float> weights, int influences,
+                        size_t* normalised = nullptr);
+    int influences() const { return influences_; }  // 0: not skinned
+    const std::vector<uint16_t>& joints() const { return joints_; }
+    const std::vector<float>& weights() const { return weights_; }
+    // The largest joint index a weight above zero uses (0 when not skinned): a skin must have more joints.
+    uint32_t maxJoint() const { return maxJoint_; }
+    // Per joint, the bound of the vertices it moves (weight above zero): the cull's bound of any pose is the union of
+    // these boxes through the joints' matrices, since a skinned vertex is a weighted mean of its joints' images of
+    // it (sg/scene/Posing.h; a morphed pose uses its morphed mesh's boxes). Worked out on first use and kept; any
+    // thread may call it.
+    const std::vector<Box>& jointBoxes() const;
+
+    // Morph targets (each array of each target empty or one element per position; throws std::invalid_argument
+    // otherwise, naming the target). Call after set*() (which clear them).
+    void setMorphTargets(std::vector<MorphTarget> targets);
+    const std::vector<MorphTarget>& morphTargets() const { return targets_; }
+    // glTF mesh.weights: the weights a Geometry starts with (empty: zeros).
+    std::vector<float> defaultWeights;
+
     // What its features are (feature ID sets, property attributes: sg/core/Features.h). Throws
     // std::invalid_argument when an attribute set or a property attribute has not one value per vertex, or a texture
     // set has no texture. Call after set() (which clears them).
@@ -91,6 +124,7 @@ public:
                colors_.size() * sizeof(vec4) + tangents_.size() * sizeof(vec4) + uvs1_.size() * sizeof(vec2) +
                indices16_.size() * sizeof(uint16_t) + indices32_.size() * sizeof(uint32_t) +
                intensities_.size() * sizeof(uint16_t) + outline_.size() * sizeof(uint32_t) +
+               joints_.size() * sizeof(uint16_t) + weights_.size() * sizeof(float) + morphBytes() +
                (features_ ? features_->bytes() : 0);
     }
 
@@ -110,6 +144,7 @@ public:
     uint64_t version() const { return version_; }
 
 private:
+    size_t morphBytes() const;
     void store(const char* what, Primitive primitive, std::vector<vec3> positions, std::vector<vec3> normals,
                std::vector<uint32_t> indices, std::vector<vec2> uvs, std::vector<vec4> colors);
 
@@ -121,6 +156,14 @@ private:
     std::vector<uint32_t> indices32_;
     std::vector<uint16_t> intensities_;
     std::vector<uint32_t> outline_;
+    std::vector<uint16_t> joints_;
+    std::vector<float> weights_;
+    std::vector<MorphTarget> targets_;
+    mutable std::vector<Box> jointBoxes_;  // jointBoxes(): worked out under the mutex, then kept
+    mutable std::atomic<bool> jointBoxesDone_{false};
+    mutable std::mutex jointBoxesMutex_;
+    uint32_t maxJoint_ = 0;
+    int influences_ = 0;
     Primitive primitive_ = Primitive::Triangles;
     float pointSpacing_ = 0.0f;
     ref_ptr<const MeshFeatures> features_;

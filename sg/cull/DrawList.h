@@ -3,6 +3,7 @@
 #include "sg/core/Assert.h"
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"
+#include "sg/core/Pose.h"
 
 #include <cstdint>
 #include <cstring>
@@ -58,6 +59,11 @@ public:
         uint32_t index;
     };
     std::vector<Feature> features;
+    // Items of posed Geometries (skinned or morphed: sg/core/Pose.h), by item index, in emission order. The renderer
+    // draws the pose's mesh (Pose::drawn) and, for a skinned pose, skins it with the pose's joint matrices, the item's
+    // matrix then the translation from the eye to Pose::anchor. The pose stays alive while the list is drawn (the
+    // viewer's packet holds it).
+    std::vector<std::pair<uint32_t, const Pose*>> poses;
 
     void clear() {
         items.clear();
@@ -65,6 +71,7 @@ public:
         fades.clear();
         parts.clear();
         features.clear();
+        poses.clear();
         ranges.clear();
         keys_.clear();
     }

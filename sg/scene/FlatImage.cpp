@@ -27,11 +27,12 @@ size_t FlatImage::bytes() const {
     for (const auto& p : prototypes) owned += p.second->bytes() + sizeof(p) + 2 * sizeof(void*);
     return owned + size() * (7 * sizeof(float) + 2 * sizeof(uint32_t) + 2) + translations.capacity() * sizeof(dvec3) +
            matrices.capacity() * sizeof(dmat4) + switchOn.capacity() + nodes.capacity() * sizeof(void*) +
-           masked.capacity() * 8 + featured.capacity() * sizeof(featured[0]) + lods.capacity() * sizeof(Lod) +
-           paged.capacity() * sizeof(Paged) + ranges.capacity() * sizeof(Range) + draws.capacity() * sizeof(Draw) +
-           placements.capacity() * sizeof(Placement) + wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 +
-           occluders.capacity() * sizeof(OccluderRef) + occluderMatrices.capacity() * sizeof(dmat4) +
-           occluderChunks.capacity() * sizeof(Box) + occluderSwitchBits.capacity() * sizeof(uint32_t);
+           masked.capacity() * 8 + featured.capacity() * sizeof(featured[0]) + posed.capacity() * sizeof(posed[0]) +
+           lods.capacity() * sizeof(Lod) + paged.capacity() * sizeof(Paged) + ranges.capacity() * sizeof(Range) +
+           draws.capacity() * sizeof(Draw) + placements.capacity() * sizeof(Placement) +
+           wides.capacity() * sizeof(Wide) + wideEntry.capacity() * 5 * 4 + occluders.capacity() * sizeof(OccluderRef) +
+           occluderMatrices.capacity() * sizeof(dmat4) + occluderChunks.capacity() * sizeof(Box) +
+           occluderSwitchBits.capacity() * sizeof(uint32_t);
 }
 
 Box FlatImage::box(size_t i) const {
@@ -90,6 +91,13 @@ const FlatImage::FeatureRef* FlatImage::featureOf(uint32_t i) const {
     auto it = std::lower_bound(featured.begin(), featured.end(), i,
                                [](const std::pair<uint32_t, FeatureRef>& e, uint32_t k) { return e.first < k; });
     return it != featured.end() && it->first == i ? &it->second : nullptr;
+}
+
+const Pose* FlatImage::poseOf(uint32_t i) const {
+    auto it =
+        std::lower_bound(posed.begin(), posed.end(), i,
+                         [](const std::pair<uint32_t, ref_ptr<const Pose>>& e, uint32_t k) { return e.first < k; });
+    return it != posed.end() && it->first == i ? it->second.get() : nullptr;
 }
 
 void FlatImage::setInvalid(size_t i) {

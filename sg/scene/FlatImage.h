@@ -6,6 +6,7 @@
 #include "sg/core/Math.h"
 #include "sg/core/Mesh.h"
 #include "sg/core/Node.h"
+#include "sg/core/Pose.h"
 
 #include <cstdint>
 #include <map>
@@ -26,7 +27,8 @@ struct FlatImage {
         kNoTest = 8,    // below a Billboard: orientation changes per frame, the billboard's own test covers it
         kGeneral = 16,  // a Transform whose matrix is not a translation
         kFeature = 32,  // the node is a feature (Node::setFeatures): the cull notes it on the draw items below
-        kSlowPath = kInvalid | kEmpty | kMasked | kNoTest | kFeature,  // the cull's fast paths skip these entries
+        kPosed = 64,    // a skinned or morphed Geometry: its pose is in `posed` (poseOf())
+        kSlowPath = kInvalid | kEmpty | kMasked | kNoTest | kFeature | kPosed,  // the cull's fast paths skip these
     };
 
     dvec3 origin{0.0};
@@ -98,6 +100,11 @@ struct FlatImage {
     };
     std::vector<std::pair<uint32_t, FeatureRef>> featured;
     const FeatureRef* featureOf(uint32_t i) const;
+    // Posed Geometry entries (kPosed), sorted, with the pose the last update made (held: the draw of a frame in flight
+    // keeps its own while the next update makes another); poseOf(i) finds entry i's. A skinned entry's bound is its
+    // pose's world box, wherever the Geometry sits.
+    std::vector<std::pair<uint32_t, ref_ptr<const Pose>>> posed;
+    const Pose* poseOf(uint32_t i) const;
     std::vector<Lod> lods;
     std::vector<Range> ranges;
     // PagedLOD entries (their aux indexes `paged`): the LOD value's centre and mode as an LOD's (lod.firstRange

@@ -7,6 +7,7 @@
 #include "sg/gl/Renderer.h"
 #include "sg/gl/TextOverlay.h"
 #include "sg/paging/Pager.h"
+#include "sg/scene/AnimationPlayer.h"
 #include "sg/viewer/FrameStats.h"
 #include "sg/viewer/IsectStage.h"
 #include "sg/viewer/Threading.h"
@@ -67,6 +68,9 @@ struct ViewerSettings {
     // thread, bindContext(true) makes it current on the calling thread (e.g. OsmesaContext::makeCurrent/release,
     // GlfwWindow::makeCurrent/release). Required by those models; a throw is the "context" stage's failure.
     std::function<void(bool current)> bindContext;
+    // Run the viewer's animation player (animations()) on the app stage, after the app callbacks, by the step of
+    // FrameInfo::time since the last frame (the first frame's step is 0). Off: the application drives its own.
+    bool animate = true;
 };
 
 class Viewer {
@@ -135,6 +139,9 @@ public:
 
     // Picking and viewpoint collision on a thread of their own (Performer's ISECT).
     IsectStage& isect() { return isect_; }
+    // The animations the app stage runs (ViewerSettings::animate): a program adds a file's (GltfScene::animations),
+    // plays, pauses, seeks, or drives them from an app callback. Sequences run on FrameInfo::time in Scene::update().
+    AnimationPlayer& animations() { return animations_; }
 
     const FrameHistory& history() const { return history_; }
     const StageTimes& lastFrame() const { return history_.last(); }
@@ -239,6 +246,8 @@ private:
     Failure failure_;
     bool hasFailure_ = false;
     IsectStage isect_;
+    AnimationPlayer animations_;
+    double lastAnimTime_ = -1.0;  // FrameInfo::time of the last frame animated (-1: none yet)
 };
 
 }  // namespace sg
