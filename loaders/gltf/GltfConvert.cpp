@@ -61,6 +61,7 @@ ref_ptr<Node> Converter::build(int i, const dmat4& parentWorld) {
     if (!instancedLod) children(gn, kind, sx, xp, inner, world, path);
     countExpanded(node.get(), inner, kind, path);
     if (id >= 0) byId[id] = node;
+    if (size_t(i) < nodeOf.size() && !nodeOf[size_t(i)]) nodeOf[size_t(i)] = node;
     return node;
 }
 
@@ -241,12 +242,13 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
     for (size_t i = 0; i < model.extensionsUsed.size(); ++i)  // required ones validate() has refused
         if (!supportedExtension(model.extensionsUsed[i]))
             c.warn(at("extensionsUsed", i), "extension '" + model.extensionsUsed[i] + "' is not supported, ignored");
-    if (!model.animations.empty()) c.warn("animations", "animations are not loaded");
     if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
     c.readMetadata();
     progress.report(0.6, "converting");
+    c.nodeOf.resize(model.nodes.size());
     for (int r : roots)
         if (ref_ptr<Node> n = c.build(r, dmat4(1.0))) root->addChild(n);
+    c.animations();
     c.out.root = root;
     progress.report(1.0, "done");
     return std::move(c.out);

@@ -62,6 +62,9 @@ struct Converter {
     std::map<const Material*, ref_ptr<Material>> unlitMaterials;  // unlit(): by the material
     std::vector<bool> sharedDone;
     std::map<long long, ref_ptr<Node>> byId;  // sgkit nodes with several parents, by their "id"
+    // The node built for each glTF node (its Transform, or the sgkit kind's outer node), by glTF node index; null
+    // where none was built. Animation channels and skin joints name nodes through it.
+    std::vector<ref_ptr<Node>> nodeOf;
     size_t nodesDone = 0;
     size_t instancesDone = 0;                                // EXT_mesh_gpu_instancing instances, against kMaxInstances
     std::map<int, ref_ptr<Group>> prototypes;                // per glTF mesh of several primitives that is instanced
@@ -187,6 +190,12 @@ struct Converter {
     static std::string featureKey(const tinygltf::Primitive& p);
     // Node i's EXT_instance_features over its n EXT_mesh_gpu_instancing instances; null without it.
     ref_ptr<MeshFeatures> instanceFeatures(int i, size_t n, const std::string& path);
+
+    // --- skins and morph targets (GltfSkins.cpp)
+
+    // --- animations (GltfAnimations.cpp)
+    // Every animation of the file into out.animations, bound through nodeOf (after the node tree is built).
+    void animations();
 
     // --- cameras (GltfCameras.cpp)
     void camera(int c, const dmat4& world, const std::string& nodeName);
