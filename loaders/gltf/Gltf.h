@@ -89,6 +89,9 @@ struct GltfScene {
     // copies, and write lights and cameras into these (shared with the channels' setters: copies of `lights` and
     // `cameras` that the animations move; null when no channel moves them).
     std::vector<ref_ptr<Animation>> animations;
+    // The node built for each glTF node of the default scene, by glTF node index (a Transform, or the Transform
+    // around one of sgkit's own kinds); null where none was built. A program finds a file's nodes here by index.
+    std::vector<ref_ptr<Node>> nodes;
     std::shared_ptr<std::vector<PunctualLight>> animatedLights;
     std::shared_ptr<std::vector<GltfCamera>> animatedCameras;
 };

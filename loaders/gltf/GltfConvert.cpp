@@ -249,6 +249,7 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
     for (int r : roots)
         if (ref_ptr<Node> n = c.build(r, dmat4(1.0))) root->addChild(n);
     c.animations();
+    c.out.nodes = c.nodeOf;
     c.out.root = root;
     progress.report(1.0, "done");
     return std::move(c.out);
