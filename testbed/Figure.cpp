@@ -256,20 +256,21 @@ Figure assemble(const ref_ptr<Mesh>& mesh, const ref_ptr<Material>& mat, const F
 
 Figure makeFigure(const FigureOptions& opt) { return assemble(figureMesh(opt), make<Material>(opt.color), opt, 0.0); }
 
-ref_ptr<Group> makeCrowd(int count, const dvec3& center, double spacing, std::vector<ref_ptr<Animation>>& walks,
-                         const FigureOptions& opt) {
+ref_ptr<Group> makeCrowd(int count, const dvec3& first, int columns, double spacing,
+                         std::vector<ref_ptr<Animation>>& walks, const FigureOptions& opt, bool zUp) {
     auto crowd = make<Group>();
     crowd->setName("crowd");
     const ref_ptr<Mesh> mesh = figureMesh(opt);
     const auto mat = make<Material>(opt.color);
-    const int side = std::max(1, int(std::ceil(std::sqrt(double(count)))));
+    columns = std::max(1, columns);
+    // Y up to Z up: +90 degrees about X.
+    const dmat4 up = zUp ? glm::rotate(dmat4(1.0), kPi / 2.0, dvec3(1, 0, 0)) : dmat4(1.0);
     for (int i = 0; i < count; ++i) {
         const Figure f = assemble(mesh, mat, opt, double(i) / std::max(1, count));
-        const dvec3 at =
-            center + dvec3((i % side - (side - 1) * 0.5) * spacing, 0.0, (i / side - (side - 1) * 0.5) * spacing);
-        // The skeleton's place: the figure's Group holds a Transform above the pelvis.
-        auto place = make<Transform>();
-        place->setTranslation(at);
+        const dvec3 along = zUp ? dvec3(0, 1, 0) : dvec3(0, 0, 1);
+        const dvec3 at = first + dvec3((i % columns) * spacing, 0, 0) + along * ((i / columns) * spacing);
+        // The skeleton's place: a Transform above the pelvis (the body, skinned, goes where the joints put it).
+        auto place = make<Transform>(glm::translate(dmat4(1.0), at) * up);
         place->addChild(f.skeleton);
         auto g = make<Group>();
         g->addChild(place);

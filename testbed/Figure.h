@@ -37,10 +37,12 @@ constexpr int kFigureJoints = 20;
 // A figure standing at the origin, +Y up, facing +Z. Deterministic.
 Figure makeFigure(const FigureOptions& opt = {});
 
-// `count` figures in a ring of rows round `center` on the ground plane y = center.y, each with its own copy of the
-// skeleton and walk (phases spread over the second), their skinned meshes sharing one Mesh. The animations, one a
-// figure, are returned in `walks`.
-sg::ref_ptr<sg::Group> makeCrowd(int count, const sg::dvec3& center, double spacing,
-                                 std::vector<sg::ref_ptr<sg::Animation>>& walks, const FigureOptions& opt = {});
+// `count` figures in rows of `columns`, `spacing` apart, the first at `first`, each with its own copy of the skeleton
+// and walk (phases spread over the step), their skinned meshes sharing one Mesh. Rows run along +Z (+Y with zUp, where
+// each figure stands on the z = first.z plane, up +Z, as the city is built). The walks, one a figure, are returned in
+// `walks`.
+sg::ref_ptr<sg::Group> makeCrowd(int count, const sg::dvec3& first, int columns, double spacing,
+                                 std::vector<sg::ref_ptr<sg::Animation>>& walks, const FigureOptions& opt = {},
+                                 bool zUp = false);
 
 }  // namespace scenes

@@ -64,6 +64,8 @@ int runFrame(const Args& a);
 int runStyle(const Args& a);
 // sgbench points: points drawn at 1 px, 3 px discs and with eye-dome lighting, beside triangles (PointsBench.cpp).
 int runPoints(const Args& a);
+// sgbench motion: a crowd of skinned walking figures in the city, moving against frozen (MotionBench.cpp).
+int runMotion(const Args& a);
 // The PVS grid around city's street path (n) or office's walk (n rooms a side), computed only at the
 // cameras' eyes, for their near planes.
 sg::PvsBuilder::Options pvsPathOptions(bool city, int n, const std::vector<sg::Camera>& cams);

@@ -141,6 +141,7 @@ static void usage() {
         "                [--collide none|sync|async] [--app-ms MS] [--cull-only] [--width W --height H] [--json]\n"
         "       sgbench style [--n 100] [--frames F] [--restyles K] [--width W --height H] [--json]\n"
         "       sgbench points [--count N] [--frames F] [--width W --height H] [--json]\n"
+        "       sgbench motion [--figures N] [--n CITY] [--frames F] [--width W --height H] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -163,6 +164,7 @@ int main(int argc, char** argv) {
         if (a.command == "depth") return bench::runDepth(a);
         if (a.command == "style") return bench::runStyle(a);
         if (a.command == "points") return bench::runPoints(a);
+        if (a.command == "motion") return bench::runMotion(a);
         usage();
         return 2;
     } catch (const std::exception& e) {
