@@ -24,6 +24,8 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
     const FrameStats fs{"headless", ""};
     double cullMs = 0.0, drawMs = 0.0;
     if (loaded.pageLoad) view.enablePaging(loaded.pageLoad);
+    const std::string animating = startAnimations(view.animations(), loaded, o);
+    if (!animating.empty()) std::printf("sgview: %s\n", animating.c_str());
     int frames = 0;
     // The stats are the frame drawn last's: threaded, frames drawn together at the end show only the last one's,
     // so the means are over the frames seen.

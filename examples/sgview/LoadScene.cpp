@@ -84,6 +84,7 @@ LoadedScene loadSceneFile(const std::string& path, bool refineAll, bool autoOccl
     s.warnings = std::move(g.warnings);
     s.up = sg::dvec3(0.0, 1.0, 0.0);  // glTF's +Y up
     s.lights = std::move(g.lights);
+    s.animations = std::move(g.animations);
     if (s.lights.size() > sg::Renderer::kMaxLights) {
         s.warnings.push_back("KHR_lights_punctual: " + std::to_string(s.lights.size()) + " lights, the first " +
                              std::to_string(sg::Renderer::kMaxLights) + " are shown");
@@ -100,7 +101,9 @@ void saveSceneFile(const LoadedScene& scene, const std::string& path) {
         t->addChild(root);
         root = t;
     }
-    sg::saveGltf(*root, path);
+    sg::GltfSaveOptions so;
+    so.animations = scene.animations;
+    sg::saveGltf(*root, path, so);
 }
 
 }  // namespace sgview

@@ -1,9 +1,11 @@
 // Loading what sgview shows: glTF files (LoadScene.cpp, through loaders/gltf/Gltf.h) or a built-in scene.
 #pragma once
+#include "sg/core/Animation.h"
 #include "sg/core/DirectionalLight.h"
 #include "sg/core/Math.h"
 #include "sg/core/Node.h"
 #include "sg/paging/Pager.h"
+#include "sg/scene/AnimationPlayer.h"
 #include "sg/style/FeatureStyle.h"
 #include "sgview/Options.h"
 
@@ -23,8 +25,14 @@ struct LoadedScene {
     // contents loaded); empty for glTF files and built-in scenes.
     sg::PageLoadFunction pageLoad = {};
     std::function<std::string()> tilesReport = {};
-    sg::FeatureStyle::Rule styleRule = {};  // --style: the features' colours and visibility
+    sg::FeatureStyle::Rule styleRule = {};                    // --style: the features' colours and visibility
+    std::vector<sg::ref_ptr<sg::Animation>> animations = {};  // a glTF file's, or the built-in figures' walks
 };
+
+// The animations --animation names (all, a name or an index; empty: the first) into the viewer's player, playing;
+// paused at --time with --headless (0 when not given), else started there. Returns a line saying what plays (empty
+// when the scene has none). Throws UsageError naming an animation the scene does not have, with those it has.
+std::string startAnimations(sg::AnimationPlayer& player, const LoadedScene& scene, const Options& o);
 
 // One glTF file or 3D Tiles tileset (LoadScene.cpp; a path or, for a tileset, a URL), every tile loaded with
 // `refineAll`; a tileset's tiles make their occluders as they are read with `autoOccluders`

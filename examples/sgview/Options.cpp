@@ -98,8 +98,9 @@ Options parseOptions(int argc, const char* const* argv) {
             o.overlay = true;
         else if (a == "--scene") {
             o.scene = value();
-            if (o.scene != "city" && o.scene != "office" && o.scene != "factory" && o.scene != "materials")
-                bad(a, o.scene, "the built-in scenes are city, office, factory and materials");
+            if (o.scene != "city" && o.scene != "office" && o.scene != "factory" && o.scene != "materials" &&
+                o.scene != "figures")
+                bad(a, o.scene, "the built-in scenes are city, office, factory, materials and figures");
         } else if (a == "--n") {
             o.n = parseInt(a, value(), 1, 1000);
             n = true;
@@ -132,6 +133,14 @@ Options parseOptions(int argc, const char* const* argv) {
                 o.points.attenuate = true;
                 o.points.maxPointSize = float(x);
             }
+        } else if (a == "--animation") {
+            o.animation = value();
+            if (o.animation.empty()) bad(a, o.animation, "expected all, a name or an index");
+        } else if (a == "--time") {
+            const std::string v = value();
+            o.time = parseNumbers(a, v, 1, "seconds")[0];
+            if (!(o.time >= 0.0 && o.time <= 1e6)) bad(a, v, "seconds from 0 to 1e6");
+            o.timeGiven = true;
         } else if (a == "--round")
             o.points.round = true;
         else if (a == "--edl")
@@ -167,7 +176,7 @@ Options parseOptions(int argc, const char* const* argv) {
         throw UsageError("--attenuate " + std::to_string(int(o.points.maxPointSize)) +
                          ": the largest size is below --point-size");
     if (o.files.empty() && o.scene.empty())
-        throw UsageError("nothing to show: give FILE... or --scene city|office|factory|materials");
+        throw UsageError("nothing to show: give FILE... or --scene city|office|factory|materials|figures");
     if (!o.files.empty() && !o.scene.empty()) throw UsageError("give either FILE... or --scene, not both");
     if (n && o.scene.empty()) throw UsageError("--n sizes a built-in scene: it needs --scene");
     if (out && !o.headless && !frames)
@@ -182,19 +191,20 @@ Options parseOptions(int argc, const char* const* argv) {
             bad("--pick", std::to_string(int(x)) + "," + std::to_string(int(y)), "the pixel is outside the picture");
     if (o.refineAll && !o.scene.empty())
         throw UsageError("--refine-all loads every tile of a tileset: give a tileset.json, not --scene");
-    if (!n) o.n = o.scene == "office" ? 6 : 32;
+    if (!n) o.n = o.scene == "office" ? 6 : o.scene == "figures" ? 3 : 32;
     if (!frames && o.headless) o.frames = 1;
     if (!out && o.headless) o.out = "sgview.png";
     return o;
 }
 
 const char* usageText() {
-    return "usage: sgview FILE... | --scene city|office|factory|materials [--n N]\n"
+    return "usage: sgview FILE... | --scene city|office|factory|materials|figures [--n N]\n"
            "              [--headless [--overlay] [--pick X,Y [--json]]] [--frames K [--out frame.png]] [--info]\n"
            "              [--refine-all] [--auto-occluders]\n"
            "              [--camera ex,ey,ez,cx,cy,cz,ux,uy,uz] [--size WxH] [--strategy S] [--occlusion M]\n"
            "              [--threading MODEL] [--style STYLE.json]\n"
            "              [--point-size PX] [--attenuate MAXPX] [--round] [--line-width PX] [--edl]\n"
+           "              [--animation all|NAME|INDEX] [--time T]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
            "or\n"
            "                     an http(s) URL): its tiles load as the view needs them; or a scan (.las, .ply)\n"
@@ -202,7 +212,8 @@ const char* usageText() {
            "  --auto-occluders   make occluders from the geometry (boxes inside closed meshes, large flat faces) for\n"
            "                     the occlusion pass (a tileset: each tile as it is read); authored ones stay\n"
            "  --scene city       the benchmark city, N x N cells (--n, default 32); office: R x R rooms (default 6);\n"
-           "                     factory: the walkthrough site; materials: physical materials (--n not used)\n"
+           "                     factory: the walkthrough site; materials: physical materials (--n not used);\n"
+           "                     figures: N x N walking skinned figures (default 3)\n"
            "  --headless         render offscreen (no display needed) and write the last frame to --out (sgview.png)\n"
            "  --overlay          headless: draw the stats overlay into the picture\n"
            "  --frames K         headless: frames rendered (default 1); window: quit after K frames\n"
@@ -223,6 +234,8 @@ const char* usageText() {
            "  --round            points as discs (else squares)\n"
            "  --line-width PX    lines and outlines PX pixels wide (default 1)\n"
            "  --edl              eye-dome lighting: edges shaded by depth (points without normals get their shape)\n"
+           "  --animation A      the animations played: all, a name or an index (default: the first)\n"
+           "  --time T           headless: the pose at T seconds (default 0); window: start there\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"
@@ -230,7 +243,8 @@ const char* usageText() {
            "  2 fly (WASD moves, Q/E down/up, left drag looks, scroll sets the speed, shift runs)\n"
            "  3 walk (as fly, on the level; walls stop you, you keep your height above the ground)\n"
            "  C culling strategy   O occlusion mode   Tab stats overlay   Home reset view\n"
-           "  P or F12 screenshot (sgview-NNNN.png)   click picks   H this help   Escape quits\n";
+           "  P or F12 screenshot (sgview-NNNN.png)   click picks   H this help   Escape quits\n"
+           "  Space pauses or resumes the animations\n";
 }
 
 }  // namespace sgview

@@ -41,6 +41,11 @@ struct Options {
     bool json = false;                             // picks as JSON lines (--json)
     std::string style;                             // a 3D Tiles style file (--style)
     sg::PointShading points;                       // --point-size, --attenuate, --round, --line-width, --edl
+    // The animations played: "all", a name or an index (--animation); empty: the first. Headless renders the pose at
+    // `time` seconds (--time; 0 when not given); the window starts there and plays.
+    std::string animation;
+    double time = 0.0;
+    bool timeGiven = false;
 };
 
 // Throws UsageError for an unknown option, a missing or malformed value, or a contradictory combination.

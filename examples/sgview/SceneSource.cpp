@@ -1,10 +1,12 @@
 // Built-in scenes, and the checks every file passes before the loader sees it.
+#include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "sg/build/GeneratedOccluders.h"
 #include "sg/gl/Renderer.h"
 #include "sgview/LoadScene.h"
 #include "testbed/City.h"
 #include "testbed/Factory.h"
+#include "testbed/Figure.h"
 #include "testbed/Materials.h"
 #include "testbed/Office.h"
 
@@ -81,6 +83,16 @@ LoadedScene loadSources(const Options& o) {
     if (o.scene == "city") return {scenes::buildCity({o.n, false, true}), {}, {0.0, 0.0, 1.0}, "city " + size};
     if (o.scene == "office") return {scenes::buildOffice(o.n), {}, {0.0, 0.0, 1.0}, "office " + size};
     if (o.scene == "materials") return {scenes::buildMaterials(), {}, {0.0, 1.0, 0.0}, "materials"};
+    if (o.scene == "figures") {
+        LoadedScene s{sg::make<sg::Group>(), {}, {0.0, 1.0, 0.0}, "figures " + size};
+        auto* root = static_cast<sg::Group*>(s.root.get());
+        root->addChild(
+            scenes::makeCrowd(o.n * o.n, sg::dvec3(-0.8 * (o.n - 1), 0.0, -0.8 * (o.n - 1)), o.n, 1.6, s.animations));
+        root->addChild(sg::make<sg::Geometry>(sg::makeBoxMesh(sg::dvec3(-0.8 * o.n - 1, -0.05, -0.8 * o.n - 1),
+                                                              sg::dvec3(0.8 * o.n + 1, 0.0, 0.8 * o.n + 1)),
+                                              sg::make<sg::Material>(sg::vec4(0.45f, 0.5f, 0.45f, 1.0f))));
+        return s;
+    }
     if (o.scene == "factory") return {scenes::buildFactory().root, {}, {0.0, 0.0, 1.0}, "factory"};
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
     auto load = [&o](const std::string& f) {

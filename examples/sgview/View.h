@@ -51,6 +51,8 @@ public:
     const sg::CullStats& cullStats() const { return view_.cullStats(); }
     const sg::RenderStats& renderStats() const { return view_.renderStats(); }
     const sg::Viewer& viewer() const { return viewer_; }
+    // The animations the frames play (the viewer's app stage advances them).
+    sg::AnimationPlayer& animations() { return viewer_.animations(); }
     // A tileset's tiles, loaded as the frames need them (sg::Viewer's pager stage).
     // Pages a tileset: its loads make graphs of their own (no node shared with the rest), so details are freed
     // on a loader thread too.

@@ -41,6 +41,8 @@ public:
         view_.settings.strategy = o.strategy;
         view_.settings.occlusion.mode = o.occlusion;
         if (loaded.pageLoad) view_.enablePaging(loaded.pageLoad);
+        const std::string animating = startAnimations(view_.animations(), loaded, o);
+        if (!animating.empty()) std::printf("sgview: %s (space pauses)\n", animating.c_str());
         home();
         window_.setKeyCallback([this](int key, int action, int mods) { onKey(key, action, mods); });
         window_.setMouseButtonCallback([this](int button, int action, int) { onButton(button, action); });
@@ -135,6 +137,13 @@ void Viewer::onKey(int key, int action, int) {
         case GLFW_KEY_P:
         case GLFW_KEY_F12: wantShot_ = true; break;
         case GLFW_KEY_H: std::fputs(usageText(), stdout); break;
+        case GLFW_KEY_SPACE: {
+            sg::AnimationPlayer& p = view_.animations();
+            if (p.size() == 0) break;
+            p.pauseAll(!p.allPaused());
+            std::printf("animations: %s\n", p.allPaused() ? "paused" : "playing");
+            break;
+        }
         default: break;
     }
     if (key >= GLFW_KEY_1 && key <= GLFW_KEY_3) std::printf("navigation: %s\n", navModeName(nav_.mode()));

@@ -26,11 +26,15 @@ int main(int argc, char** argv) {
         if (o.info) {
             printInfo(stdout, loaded.title, computeInfo(*loaded.root, scene), loaded.warnings);
             if (loaded.tilesReport) std::printf("%s\n", loaded.tilesReport().c_str());
+            std::printf("animations: %zu\n", loaded.animations.size());
+            for (size_t i = 0; i < loaded.animations.size() && i < 20; ++i)
+                std::printf("  %zu '%s': %.3f s, %zu channels\n", i, loaded.animations[i]->name.c_str(),
+                            loaded.animations[i]->duration(), loaded.animations[i]->channels.size());
             return 0;
         }
         for (const std::string& w : loaded.warnings) std::fprintf(stderr, "sgview: warning: %s\n", w.c_str());
         if (!o.save.empty()) {
-            saveSceneFile(loaded, o.save);
+            saveSceneFile(loaded, o.save);  // with its animations (GltfSaveOptions::animations)
             std::printf("sgview: wrote %s\n", o.save.c_str());
             return 0;
         }
