@@ -6,6 +6,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
 #include "nodes/PagedLOD.h"
+#include "nodes/Sequence.h"
 #include "nodes/Transform.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/io/ImageIO.h"
@@ -13,6 +14,7 @@
 #include "testbed/City.h"
 #include "testbed/Factory.h"
 #include "testbed/FactoryWalk.h"
+#include "testbed/Figure.h"
 
 #include <gtest/gtest.h>
 
@@ -120,11 +122,84 @@ TEST(ViewerThreads, TwoViewsCulledOnTheirOwnThreadsDrawAsSingleThreaded) {
             expectSamePictures(runFrames(ctx, scene, m, kFrames, 2, app), single, m);
 }
 
-// --- stage rules and failures: a small scene ---
-
 ref_ptr<Geometry> box(const vec4& colour) {
     return make<Geometry>(makeBoxMesh(dvec3(-1.0), dvec3(1.0), 1), make<Material>(colour));
 }
+
+// An animated scene: walking figures (skinned, 4 and 8 influences), a quad morphed by an animated weight, and a
+// Sequence turning, each moved by the viewer's animation player (or the clock) on its app stage.
+struct Animated {
+    ref_ptr<Group> root = make<Group>();
+    std::vector<ref_ptr<Animation>> animations;
+    Animated() {
+        scenes::FigureOptions eight;
+        eight.influences = 8;
+        eight.cubic = true;
+        root->addChild(scenes::makeCrowd(4, dvec3(-1.5, 0.0, 0.0), 2, 1.5, animations, {}, true));
+        root->addChild(scenes::makeCrowd(2, dvec3(-1.5, 3.0, 0.0), 2, 1.5, animations, eight, true));
+        auto quad = make<Mesh>();
+        quad->set({{2.5f, 0, 0}, {3.5f, 0, 0}, {3.5f, 0, 1}, {2.5f, 0, 1}}, {}, {0, 1, 2, 0, 2, 3});
+        MorphTarget up;
+        up.positions = {{0, 0, 0}, {0, 0, 0}, {0, 0, 1}, {0, 0, 1}};
+        quad->setMorphTargets({up});
+        auto morphed = make<Geometry>(quad, make<Material>(vec4(0.2f, 0.4f, 0.9f, 1.0f)));
+        root->addChild(morphed);
+        auto grow = make<Animation>();
+        grow->name = "grow";
+        AnimationSampler s;
+        s.times = {0.0f, 1.0f};
+        s.values = {0.0f, 1.0f};
+        s.width = 1;
+        grow->samplers.push_back(s);
+        grow->channels.push_back({0, AnimationPath::Weights, morphed, {}, "quad"});
+        animations.push_back(grow);
+        auto seq = make<Sequence>();
+        for (const vec4& c : {vec4(1, 0, 0, 1), vec4(0, 1, 0, 1), vec4(0, 0, 1, 1)}) {
+            auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(-3.0, 0.0, 0.5)));
+            t->addChild(box(c));
+            seq->addChild(t);
+        }
+        seq->defaultDuration = 0.2;
+        for (size_t i = 0; i < 3; ++i) seq->setDuration(i, 0.2);
+        root->addChild(seq);
+    }
+};
+
+TEST(ViewerThreads, EveryModelDrawsAnAnimatedSceneAsSingleThreaded) {
+    constexpr int kW = 256, kH = 160, kFrames = 24;
+    OsmesaContext ctx(kW, kH);
+    Camera cam;
+    cam.setViewport(kW, kH);
+    cam.setPerspective(50.0, double(kW) / kH, 0.1, 100.0);
+    cam.setLookAt(dvec3(0.0, -9.0, 2.5), dvec3(0.0, 1.0, 1.0), dvec3(0, 0, 1));
+    auto run = [&](ThreadingModel m) {
+        Animated a;  // each model from the rest pose: the player moves the nodes
+        Scene scene(a.root);
+        double now = 0.0;
+        ViewerSettings s = settingsFor(m, ctx);
+        s.clock = [&now] { return now; };
+        Viewer viewer(scene, s);
+        viewer.addView(cam);
+        for (auto& anim : a.animations) viewer.animations().play(viewer.animations().add(anim));
+        std::vector<Image> pictures;
+        pictures.resize(size_t(kFrames));
+        viewer.onDrawn([&](const FrameInfo& fi) { pictures.at(size_t(fi.frame)) = viewer.renderer().readColor(); });
+        for (int i = 0; i < kFrames; ++i) {
+            now = 0.045 * i;
+            viewer.frame();
+        }
+        viewer.flush();
+        return pictures;
+    };
+    const std::vector<Image> single = run(ThreadingModel::SingleThreaded);
+    // Things move: the figures walk, the quad grows, the sequence turns.
+    EXPECT_GT(countDifferingPixels(single[0], single[kFrames / 2]), 200u);
+    EXPECT_GT(countDifferingPixels(single[kFrames / 2], single[kFrames - 1]), 200u);
+    for (ThreadingModel m : kModels)
+        if (m != ThreadingModel::SingleThreaded) expectSamePictures(run(m), single, m);
+}
+
+// --- stage rules and failures: a small scene ---
 
 Camera lookingAt(const dvec3& eye, int w, int h) {
     Camera c;
