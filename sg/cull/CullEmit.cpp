@@ -80,6 +80,7 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     if (!d.mesh || prefetchOnly_) return;
+    if (img.flags[i] & FlatImage::kPosed) return emitPosed(c, i, m);
     // The rejection's path is its own function: the usual path stays as short as without the option.
     if (screenRect_ && !inside) return emitTrimmed(c, i, m);
     // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds
@@ -96,6 +97,29 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     points_ += d.mesh->pointCount();
     lines_ += d.mesh->lineCount();
     if (invalid) stats_->invalidDrawn++;
+}
+
+// A posed Geometry's item: its own mesh and material (the draw state does not change as it moves), noted with its
+// pose. A skinned pose's vertices are in world coordinates less its anchor, whatever the path's matrix: the item's
+// matrix is the translation from the eye to the anchor. Never trimmed to the screen: its clusters are the bind pose's.
+void CullTraversal::emitPosed(Ctx& c, uint32_t i, const dmat4& m) {
+    const FlatImage& img = *c.img;
+    const FlatImage::Draw& d = img.draws[img.aux[i]];
+    const Pose* pose = img.poseOf(i);
+    const dmat4 model = pose && pose->skinned() ? glm::translate(dmat4(1.0), pose->anchor - cam_->eye()) : m;
+    const dvec3& vd = c.viewDir;
+    const float depth = float(vd.x * model[3].x + vd.y * model[3].y + vd.z * model[3].z);
+    DrawItem& it = out_->push(d.state, depth);
+    it.mesh = d.mesh;
+    it.material = d.material;
+    toFloat(model, it.model);
+    const auto item = uint32_t(out_->items.size() - 1);
+    if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
+    if (pose) out_->poses.emplace_back(item, pose);
+    triangles_ += d.mesh->triangleCount();
+    points_ += d.mesh->pointCount();
+    lines_ += d.mesh->lineCount();
+    if (img.flags[i] & FlatImage::kInvalid) stats_->invalidDrawn++;
 }
 
 // emit() with the screen-rectangle rejection: the clusters off screen are left out, the rest drawn as ranges.

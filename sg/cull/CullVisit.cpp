@@ -51,8 +51,9 @@ void CullTraversal::visit(Ctx& c, uint32_t i, uint32_t mask, const dmat4& m, int
     // Occlusion: Transform and LOD entries leave it to their children (same bounds, one test fewer).
     if (occ != OcclusionTree::kVisible && !(fl & FlatImage::kInvalid)) {
         const NodeKind k = img.kind[i];
+        const bool posed = fl & FlatImage::kPosed;  // its mesh's boxes are of the bind pose: the bound alone
         if (k != NodeKind::Transform && k != NodeKind::LOD && k != NodeKind::Occluder &&
-            !occlusion_.test(img, c.originRel, i, occ, *stats_, k == NodeKind::Geometry ? &m : nullptr))
+            !occlusion_.test(img, c.originRel, i, occ, *stats_, k == NodeKind::Geometry && !posed ? &m : nullptr))
             return;
     }
     if (fl & FlatImage::kFeature) return featureNode(c, i, mask, maskIn, m, occ);

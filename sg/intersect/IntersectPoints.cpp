@@ -30,9 +30,9 @@ void IntersectTraversal::fillPointHit(Hit& h, Node* n, const PointBvh::ConeHit& 
 
 // The ray's hits on one geometry of points or lines: the nearest along the ray (or all) that the query's style
 // shows. The cone is tested in the query's frame: its size is the query's whatever the geometry's scale.
-void IntersectTraversal::rayPoints(Node* n, const Mesh& mesh, const dmat4& m) {
+void IntersectTraversal::rayPoints(Node* n, const Mesh& mesh, const dmat4& m, const PointBvh* given) {
     if (mesh.primitiveCount() == 0) return;
-    const PointBvh& bvh = pointCache_.get(mesh);
+    const PointBvh& bvh = given ? *given : pointCache_.get(mesh);
     stats_.geometriesTested++;
     PointBvh::Cone cone{o_, d_, tMax_, opt_->coneWidth, opt_->coneSlope, glm::dmat3(m), dvec3(m[3])};
     if (mode_ == Mode::Nearest && found_) cone.tMax = best_->t;

@@ -10,6 +10,7 @@
 #include "sg/core/Camera.h"
 #include "sg/intersect/internal/IntersectPrimitives.h"
 #include "sg/lod/internal/LodChooser.h"
+#include "sg/scene/Posing.h"
 #include "sg/scene/internal/ImageWalk.h"
 #include "sg/style/FeatureStyle.h"
 
@@ -196,7 +197,7 @@ void IntersectTraversal::visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool
     stats_.entriesVisited++;
     path_.push_back(n);
     switch (img.kind[i]) {
-        case NodeKind::Geometry: geometry(n, m); break;
+        case NodeKind::Geometry: geometry(n, m, fl & FlatImage::kPosed ? img.poseOf(i) : nullptr); break;
         case NodeKind::Transform: children(c, i, n, transformed(img, i, m)); break;
         case NodeKind::LOD:
             chooser_->choose(c, i, {},
@@ -367,16 +368,27 @@ void IntersectTraversal::rayGeometry(Node* n, const MeshBvh& bvh, const glm::dma
     }
 }
 
-void IntersectTraversal::geometry(Node* n, const dmat4& m) {
-    const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
+// `pose`: the image's pose of a posed Geometry (null: not posed). Its mesh is tested as posed, a skinned one in world
+// coordinates whatever its path's matrix; hits name the triangles of the Geometry's mesh all the same.
+void IntersectTraversal::geometry(Node* n, const dmat4& pathMatrix, const Pose* pose) {
+    const auto* g = static_cast<const Geometry*>(n);
+    const Mesh* mesh = g->mesh();
     if (!mesh) return;
+    ref_ptr<const Pose> made;
+    if (!pose && g->posed()) pose = (made = makePose(*g)).get();  // not in the image: worked out from the nodes
+    Posed* as = pose ? &posed(*g, *pose) : nullptr;
+    const dmat4 m = pose && pose->skinned() ? glm::translate(dmat4(1.0), -q_) : pathMatrix;
+    if (as) mesh = as->mesh.get();
     if (mesh->primitive() != Primitive::Triangles) {
         // Spheres and swept spheres pass through points and lines: they have no surface to touch or stand on.
-        if (cone_ && (mode_ == Mode::Nearest || mode_ == Mode::All)) rayPoints(n, *mesh, m);
+        if (!cone_ || !(mode_ == Mode::Nearest || mode_ == Mode::All)) return;
+        if (as && !as->points) as->points = std::make_unique<PointBvh>(*mesh);
+        rayPoints(n, *mesh, m, as ? as->points.get() : nullptr);
         return;
     }
     if (mesh->triangleCount() == 0) return;
-    const MeshBvh& bvh = cache_.get(*mesh);
+    if (as && !as->triangles) as->triangles = std::make_unique<MeshBvh>(*mesh);
+    const MeshBvh& bvh = as ? *as->triangles : cache_.get(*mesh);
     stats_.geometriesTested++;
     const glm::dmat3 a(m);
     const glm::dmat3 inv = glm::inverse(a);

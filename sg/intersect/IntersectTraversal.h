@@ -2,15 +2,19 @@
 // (world bounds prune subtrees) in step with the graph (for the node path), and each geometry's MeshBvh (triangles)
 // or PointBvh (points and lines).
 #pragma once
+#include "sg/core/Pose.h"
 #include "sg/intersect/Intersect.h"
 #include "sg/intersect/MeshBvh.h"
 #include "sg/intersect/PointBvh.h"
 #include "sg/scene/Scene.h"
 
+#include <memory>
+#include <unordered_map>
 #include <vector>
 
 namespace sg {
 
+class Geometry;
 class LodChooser;
 
 struct IntersectStats {
@@ -60,9 +64,19 @@ private:
     bool wideTest(const Ctx& c, uint32_t w) const;
     void visit(Ctx& c, uint32_t i, Node* n, const dmat4& m, bool tested);
     void children(Ctx& c, uint32_t i, Node* n, const dmat4& m);
-    void geometry(Node* n, const dmat4& m);
+    void geometry(Node* n, const dmat4& m, const Pose* pose);
     void rayGeometry(Node* n, const MeshBvh& bvh, const glm::dmat3& inv, const dvec3& t);
-    void rayPoints(Node* n, const Mesh& mesh, const dmat4& m);
+    void rayPoints(Node* n, const Mesh& mesh, const dmat4& m, const PointBvh* bvh = nullptr);
+    // A posed Geometry as it stands in `pose` (IntersectPosed.cpp): its mesh skinned or morphed, with hierarchies
+    // built on first use, kept while the Geometry keeps that pose.
+    struct Posed {
+        ref_ptr<const Node> geometry;
+        ref_ptr<const Pose> pose;
+        ref_ptr<Mesh> mesh;
+        std::unique_ptr<MeshBvh> triangles;
+        std::unique_ptr<PointBvh> points;
+    };
+    Posed& posed(const Geometry& g, const Pose& pose);
     void fillPointHit(Hit& h, Node* n, const PointBvh::ConeHit& r) const;
 
     // The query, in coordinates relative to `q_` (the camera's eye, or the query's origin): matrices map
@@ -94,6 +108,7 @@ private:
     std::vector<PointBvh::ConeHit> coneHits_;
     MeshBvh::Cache cache_;
     PointBvh::Cache pointCache_;
+    std::unordered_map<const Geometry*, Posed> posed_;
     IntersectStats stats_;
 };
 

@@ -52,7 +52,7 @@ void Scene::Builder::full(Node* root, const dmat4& frame) {
     // one allocation of the counted size (for translations an upper bound: general matrices go to
     // `matrices`), replacing any larger one a previous build left; the other tables grow as filled.
     img.matrices.clear(), img.switchOn.clear(), img.nodes.clear(), img.masked.clear(), img.placements.clear();
-    img.featured.clear();
+    img.featured.clear(), img.posed.clear();
     img.translations = {}, img.translations.reserve(c.xforms);
     img.lods = {}, img.lods.reserve(c.lods);
     img.ranges.clear(), img.paged.clear(), img.draws.clear(), img.drawIndex.clear(), img.rangeIndex.clear();

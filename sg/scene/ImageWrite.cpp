@@ -157,8 +157,11 @@ void Scene::Builder::write(Node* n, const dmat4& m) {
     if (collect && n->updateCallback()) scene.callbacks_.push_back(n);
     switch (n->kind()) {
         case NodeKind::Geometry: {
-            const Mesh* mesh = static_cast<Geometry*>(n)->mesh();
+            auto* g = static_cast<Geometry*>(n);
+            const Mesh* mesh = g->mesh();
             img.end[i] = cursor;
+            if (mesh && g->posed()) return posed(i, g, m);  // ImagePoses.cpp
+            dropPose(i);
             if (!mesh) return img.setBound(i, Box{}, 0.0);
             return leafBound(i, mesh->box(), mesh->validBound(), m);
         }

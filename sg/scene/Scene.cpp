@@ -1,6 +1,7 @@
 // The Scene: its update pass (callbacks, then the image brought up to date by a Builder: internal/ImageBuilder.h).
 #include "sg/scene/Scene.h"
 
+#include "nodes/Geometry.h"
 #include "sg/scene/internal/ImageBuilder.h"
 
 #include <algorithm>
@@ -62,6 +63,10 @@ void Scene::offerDetailImage(const Node* paged, const Node* detail, const dmat4&
 }
 
 void Scene::refresh() {
+    // A joint moved: its skinned Geometries are re-posed by the refit (a full build poses every one anyway).
+    if ((root_->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow)) &&
+        !(root_->dirtyBits() & Node::kDirtyStructure) && main_.size() != 0 && !skinned_.empty())
+        markMovedSkins();
     const uint8_t bits = root_->dirtyBits() & (Node::kDirtyBound | Node::kDirtyBelow | Node::kDirtyStructure);
     if (bits || main_.size() == 0) {
         version_++;
@@ -69,6 +74,7 @@ void Scene::refresh() {
         Builder b{*this, main_, built};
         if ((bits & Node::kDirtyStructure) || main_.size() == 0) {
             callbacks_.clear();
+            skinned_.clear();
             protos_.clear();
             b.collect = true;
             b.full(root_.get());
@@ -78,6 +84,10 @@ void Scene::refresh() {
             callbacks_.erase(std::remove_if(callbacks_.begin(), callbacks_.end(),
                                             [&](const Node* n) { return !seen.insert(n).second; }),
                              callbacks_.end());
+            seen.clear();
+            skinned_.erase(
+                std::remove_if(skinned_.begin(), skinned_.end(), [&](const Node* n) { return !seen.insert(n).second; }),
+                skinned_.end());
         } else {
             b.refit(0, root_.get(), dmat4(1.0));
             b.updateExtent();

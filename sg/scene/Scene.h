@@ -11,6 +11,8 @@
 
 namespace sg {
 
+class Geometry;
+
 struct UpdateStats {
     uint64_t callbacksRun = 0;
     uint64_t fullRebuilds = 0;
@@ -65,13 +67,17 @@ public:
 
 private:
     struct Builder;
-    void refresh();  // brings the image up to date with the dirty marks
+    void refresh();         // brings the image up to date with the dirty marks
+    void markMovedSkins();  // marks the skinned Geometries whose joints moved (ImagePoses.cpp)
     ref_ptr<Node> root_;
     FlatImage main_;
     // The prototypes' images of the Instances outside paged details (details' images own theirs); emptied by a
     // full rebuild. Shared pointers as FlatImage::prototypes, so that the update fills either through one path.
     std::unordered_map<const Node*, std::shared_ptr<FlatImage>> protos_;
     std::vector<Node*> callbacks_;
+    // The skinned Geometries of the scene's image and its prototypes' (found by the full build, as callbacks are):
+    // each update re-poses those whose joints moved.
+    std::vector<Geometry*> skinned_;
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;
     uint64_t structureVersion_ = 0;

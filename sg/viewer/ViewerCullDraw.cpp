@@ -51,6 +51,8 @@ void Viewer::cullViews(Packet& p, bool parallel) {
                 if (it.mesh != mesh && it.mesh) p.keep.emplace_back(mesh = it.mesh);
                 if (it.material != material && it.material) p.keep.emplace_back(material = it.material);
             }
+            // A pose is made anew whenever its Geometry moves: the next update may drop the one this list draws.
+            for (const auto& pose : p.views[k].list.poses) p.keep.emplace_back(pose.second);
         }
     }
     p.times.cullMs = msSince(start);

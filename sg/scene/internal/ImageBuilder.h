@@ -8,6 +8,7 @@
 // function that is not inline is called through the PLT and never inlined.
 // Internal header (an internal/ folder): not installed; its shape may change freely.
 #pragma once
+#include "nodes/Geometry.h"
 #include "nodes/LOD.h"
 #include "nodes/PagedLOD.h"
 #include "nodes/Switch.h"
@@ -148,6 +149,11 @@ struct Scene::Builder {
     void writeSwitch(uint32_t i, Node* n);
     void occluder(uint32_t i, const Node* n, const dmat4& m);
     const FlatImage& proto(Node* p);
+
+    // A posed Geometry's entry (ImagePoses.cpp).
+    void posed(uint32_t i, Geometry* g, const dmat4& m);
+    void dropPose(uint32_t i);
+    void noteSkinned(Geometry* g, const Pose* had);
 
     // Bounds (internal/ImageBounds.h).
     static constexpr uint32_t kWideChildren = 16, kWideEntries = 1024;

@@ -36,8 +36,8 @@ struct Viewer::Packet {
     };
     std::vector<ViewFrame> views;
     size_t viewCount = 0;  // views[0, viewCount) are this frame's (the rest are kept for their lists' memory)
-    // The meshes and materials the lists point at, held while the frame is in flight: the app stage of a later frame
-    // may drop them from the graph (or the pager unload them) before this frame's draw is done.
+    // The meshes, materials and poses the lists point at, held while the frame is in flight: the app stage of a later
+    // frame may drop them from the graph (or the pager unload them) before this frame's draw is done.
     std::vector<ref_ptr<const Referenced>> keep;
     bool finishAll = true;  // ViewerSettings::finish, as it was when the frame started
     bool drawOverlay = false;

@@ -1,0 +1,125 @@
+// The cull and posed Geometries: a skinned item placed at its pose's anchor (not by its path) and listed with its pose
+// in DrawList::poses, a morphed one by its path; a figure whose joints moved it out of the view is culled.
+#include "nodes/Geometry.h"
+#include "nodes/Group.h"
+#include "nodes/Transform.h"
+#include "sg/cull/CullTraversal.h"
+#include "sg/scene/Scene.h"
+
+#include <gtest/gtest.h>
+
+using namespace sg;
+
+namespace {
+dmat4 move(const dvec3& t) { return glm::translate(dmat4(1.0), t); }
+
+// From (1, 1, 0) down -z.
+Camera camera() {
+    Camera cam;
+    cam.setViewport(200, 200);
+    cam.setPerspective(60.0, 1.0, 1.0, 1000.0);
+    cam.setLookAt(dvec3(1, 1, 0), dvec3(1, 1, -1), dvec3(0, 1, 0));
+    return cam;
+}
+
+DrawList cull(const Scene& s) {
+    DrawList list;
+    CullStats stats;
+    CullTraversal().cull(s, camera(), CullSettings{}, list, stats);
+    return list;
+}
+
+// A bar from x = 0 to 2 whose far end follows the second joint.
+ref_ptr<Mesh> bar() {
+    ref_ptr<Mesh> m = makeBoxMesh(dvec3(0, -0.1, -0.1), dvec3(2, 0.1, 0.1), 2);
+    std::vector<uint16_t> joints;
+    std::vector<float> weights;
+    for (const vec3& p : m->positions()) {
+        joints.insert(joints.end(), {uint16_t(p.x > 1.5f ? 1 : 0), 0, 0, 0});
+        weights.insert(weights.end(), {1.0f, 0.0f, 0.0f, 0.0f});
+    }
+    m->setSkinWeights(std::move(joints), std::move(weights), 4);
+    return m;
+}
+
+// root: [hip (at `where`) -> knee, far (x + 50, out of the view) -> the bar skinned by hip and knee].
+struct Figure {
+    ref_ptr<Group> root = make<Group>();
+    ref_ptr<Transform> hip, knee;
+    ref_ptr<Geometry> geometry;
+};
+
+Figure figure(const dvec3& where) {
+    Figure f;
+    f.hip = make<Transform>(move(where));
+    f.knee = make<Transform>(move(dvec3(1, 0, 0)));
+    f.hip->addChild(f.knee);
+    f.geometry = make<Geometry>(bar(), make<Material>());
+    f.geometry->setSkin(make<Skin>(std::vector<ref_ptr<Node>>{f.hip, f.knee},
+                                   std::vector<dmat4>{move(-where), move(-where - dvec3(1, 0, 0))}));
+    auto far = make<Transform>(move(dvec3(50, 0, 0)));
+    far->addChild(f.geometry);
+    f.root->addChild(f.hip);
+    f.root->addChild(far);
+    return f;
+}
+}  // namespace
+
+TEST(PosedCull, SkinnedItemSitsAtItsAnchorWithItsPose) {
+    Figure f = figure(dvec3(0, 0, -10));
+    Scene s(f.root);
+    s.update();
+    const DrawList list = cull(s);
+    // Its path would put it 50 to the right, out of the view: the pose's box is what the cull tests.
+    ASSERT_EQ(list.items.size(), 1u);
+    const DrawItem& it = list.items[0];
+    EXPECT_EQ(it.mesh, f.geometry->mesh());  // the Geometry's own mesh: the draw state stays
+    // The translation from the eye (1, 1, 0) to the anchor (the hip, at (0, 0, -10)).
+    EXPECT_EQ(vec3(it.model[3]), vec3(-1, -1, -10));
+    EXPECT_EQ(vec3(it.model[0]), vec3(1, 0, 0));
+    EXPECT_EQ(vec3(it.model[1]), vec3(0, 1, 0));
+    EXPECT_EQ(vec3(it.model[2]), vec3(0, 0, 1));
+    ASSERT_EQ(list.poses.size(), 1u);
+    EXPECT_EQ(list.poses[0].first, 0u);
+    // Entries: root 0, hip 1, knee 2, far 3, the Geometry 4.
+    ASSERT_NE(s.image().poseOf(4), nullptr);
+    EXPECT_EQ(list.poses[0].second, s.image().poseOf(4));
+    EXPECT_TRUE(list.poses[0].second->skinned());
+}
+
+TEST(PosedCull, MorphedItemKeepsItsPathsMatrix) {
+    ref_ptr<Mesh> m = makeBoxMesh(dvec3(-1), dvec3(1));
+    MorphTarget t;
+    t.positions.assign(m->positions().size(), vec3(0, 0, 1));
+    m->setMorphTargets({t});
+    auto g = make<Geometry>(m, make<Material>());
+    g->setMorphWeights({1.0f});
+    auto at = make<Transform>(move(dvec3(2, 0, -10)));
+    at->addChild(g);
+    Scene s(at);
+    s.update();
+    const DrawList list = cull(s);
+    ASSERT_EQ(list.items.size(), 1u);
+    EXPECT_EQ(vec3(list.items[0].model[3]), vec3(1, -1, -10));
+    ASSERT_EQ(list.poses.size(), 1u);
+    EXPECT_EQ(list.poses[0].first, 0u);
+    EXPECT_EQ(list.poses[0].second, s.image().poseOf(1));
+    EXPECT_FALSE(list.poses[0].second->skinned());
+    EXPECT_NE(list.poses[0].second->mesh, nullptr);
+}
+
+TEST(PosedCull, FigureMovedOutOfTheViewByItsJointsIsCulled) {
+    Figure f = figure(dvec3(0, 0, -10));
+    Scene s(f.root);
+    s.update();
+    EXPECT_EQ(cull(s).items.size(), 1u);
+    f.hip->setMatrix(move(dvec3(0, 0, 10)));  // behind the eye; the Geometry's own path did not change
+    s.update();
+    const DrawList list = cull(s);
+    EXPECT_TRUE(list.items.empty());
+    EXPECT_TRUE(list.poses.empty());
+    // Back into the view with the hip.
+    f.hip->setMatrix(move(dvec3(0, 0, -10)));
+    s.update();
+    EXPECT_EQ(cull(s).items.size(), 1u);
+}
