@@ -11,6 +11,8 @@
 
 namespace sg {
 
+class Sequence;
+
 struct UpdateStats {
     uint64_t callbacksRun = 0;
     uint64_t fullRebuilds = 0;
@@ -25,8 +27,8 @@ public:
     ~Scene();
     Node* root() const { return root_.get(); }
 
-    // Runs update callbacks, then brings the image up to date. An unchanged scene costs one flag check
-    // (plus the callbacks it has).
+    // Turns the Sequences to the frame's time, runs update callbacks, then brings the image up to date. An
+    // unchanged scene costs one flag check (plus the callbacks and Sequences it has).
     void update(const FrameInfo& frame = {});
 
     const FlatImage& image() const { return main_; }
@@ -72,6 +74,7 @@ private:
     // full rebuild. Shared pointers as FlatImage::prototypes, so that the update fills either through one path.
     std::unordered_map<const Node*, std::shared_ptr<FlatImage>> protos_;
     std::vector<Node*> callbacks_;
+    std::vector<Sequence*> sequences_;  // advanced to the frame's time before the callbacks
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;
     uint64_t structureVersion_ = 0;
