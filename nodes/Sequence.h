@@ -32,6 +32,8 @@ public:
     void setRepeats(unsigned turns);
     unsigned repeats() const { return repeats_; }
     // The clock time at which the first child starts (Scene::update() measures from it); start(t) also resumes.
+    // Never started: it starts at the first advance(). A pause or a speed change moves startTime() to the clock time
+    // of the last advance(), the sequence's time kept.
     void start(double clockTime);
     void pause(bool paused);
     bool paused() const { return paused_; }
@@ -53,7 +55,9 @@ private:
     unsigned repeats_ = 0;
     double start_ = 0.0;
     bool paused_ = false;
-    double pausedAt_ = 0.0;  // the sequence's own time when paused
+    double pausedAt_ = 0.0;  // the sequence's own time when paused; running, its time at start_
+    double clock_ = 0.0;     // the clock time of the last advance()
+    bool started_ = false;
     size_t shown_ = ~size_t(0);
 };
 

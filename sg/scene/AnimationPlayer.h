@@ -69,6 +69,10 @@ private:
         glm::dquat r{1.0, 0.0, 0.0, 0.0};
     };
     std::unordered_map<Transform*, Rest> rest_;
+    // Each Transform the channels drive, once, with the pose apply() composes for it from its rest parts and the
+    // channels (written once an apply, so that later channels win and an unchanged matrix is not set).
+    struct Driven;
+    std::vector<Driven> driven_;
 };
 
 }  // namespace sg

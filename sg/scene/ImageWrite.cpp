@@ -3,6 +3,7 @@
 #include "nodes/Geometry.h"
 #include "nodes/Instance.h"
 #include "nodes/Occluder.h"
+#include "nodes/Sequence.h"
 #include "nodes/Transform.h"
 #include "sg/scene/internal/ImageBounds.h"
 #include "sg/scene/internal/ImageBuilder.h"
@@ -155,6 +156,8 @@ void Scene::Builder::write(Node* n, const dmat4& m) {
     params(i, n);
     scene.stats_.entriesWritten++;
     if (collect && n->updateCallback()) scene.callbacks_.push_back(n);
+    if (collect && n->kind() == NodeKind::Switch)  // the kind first: a cast only for Switches, on full builds only
+        if (auto* q = dynamic_cast<Sequence*>(n)) scene.sequences_.push_back(q);
     switch (n->kind()) {
         case NodeKind::Geometry: {
             auto* g = static_cast<Geometry*>(n);

@@ -2,6 +2,7 @@
 #include "sg/scene/Scene.h"
 
 #include "nodes/Geometry.h"
+#include "nodes/Sequence.h"
 #include "sg/scene/internal/ImageBuilder.h"
 
 #include <algorithm>
@@ -35,8 +36,10 @@ void Scene::update(const FrameInfo& frame) {
     stats_ = UpdateStats{};
     updates_++;
     frame_ = frame;
-    // Structure first (it also finds the nodes with callbacks), then the callbacks, then their changes.
+    // Structure first (it also finds the nodes with callbacks and the Sequences), then the Sequences and the
+    // callbacks, then their changes.
     if ((root_->dirtyBits() & Node::kDirtyStructure) || main_.size() == 0) refresh();
+    for (Sequence* q : sequences_) q->advance(frame.time);
     for (Node* n : callbacks_) {
         (*n->updateCallback())(*n, frame);
         stats_.callbacksRun++;
@@ -75,6 +78,7 @@ void Scene::refresh() {
         if ((bits & Node::kDirtyStructure) || main_.size() == 0) {
             callbacks_.clear();
             skinned_.clear();
+            sequences_.clear();
             protos_.clear();
             b.collect = true;
             b.full(root_.get());
@@ -88,6 +92,12 @@ void Scene::refresh() {
             skinned_.erase(
                 std::remove_if(skinned_.begin(), skinned_.end(), [&](const Node* n) { return !seen.insert(n).second; }),
                 skinned_.end());
+            if (!sequences_.empty()) {
+                seen.clear();
+                sequences_.erase(std::remove_if(sequences_.begin(), sequences_.end(),
+                                                [&](const Node* n) { return !seen.insert(n).second; }),
+                                 sequences_.end());
+            }
         } else {
             b.refit(0, root_.get(), dmat4(1.0));
             b.updateExtent();

@@ -12,6 +12,7 @@
 namespace sg {
 
 class Geometry;
+class Sequence;
 
 struct UpdateStats {
     uint64_t callbacksRun = 0;
@@ -27,8 +28,8 @@ public:
     ~Scene();
     Node* root() const { return root_.get(); }
 
-    // Runs update callbacks, then brings the image up to date. An unchanged scene costs one flag check
-    // (plus the callbacks it has).
+    // Turns the Sequences to the frame's time, runs update callbacks, then brings the image up to date. An
+    // unchanged scene costs one flag check (plus the callbacks and Sequences it has).
     void update(const FrameInfo& frame = {});
 
     const FlatImage& image() const { return main_; }
@@ -78,6 +79,7 @@ private:
     // The skinned Geometries of the scene's image and its prototypes' (found by the full build, as callbacks are):
     // each update re-poses those whose joints moved.
     std::vector<Geometry*> skinned_;
+    std::vector<Sequence*> sequences_;  // advanced to the frame's time before the callbacks
     std::map<std::pair<const Mesh*, const Material*>, uint32_t> states_;  // draw state indices
     UpdateStats stats_;
     uint64_t structureVersion_ = 0;

@@ -121,6 +121,13 @@ void Viewer::appStage(Packet& p, Clock::time_point start, const char*& stage) {
     for (const Callback& f : events_) f();
     stage = "app";
     for (const FrameCallback& f : app_) f(p.info);
+    if (settings_.animate) {  // after the callbacks, which may play, pause or seek; a throw is the app stage's
+        const double time = p.info.time;
+        animations_.advance(lastAnimTime_ < 0.0 ? 0.0 : time - lastAnimTime_);
+        lastAnimTime_ = time;
+    } else {
+        lastAnimTime_ = -1.0;  // turned on again: no jump by the time it was off
+    }
     p.times.appMs = msSince(start);
 }
 
