@@ -56,7 +56,7 @@ Figure figure(const dvec3& where) {
     f.hip->addChild(f.knee);
     f.geometry = make<Geometry>(bar(), make<Material>());
     f.geometry->setSkin(make<Skin>(std::vector<ref_ptr<Node>>{f.hip, f.knee},
-                                   std::vector<dmat4>{move(-where), move(-where - dvec3(1, 0, 0))}));
+                                   std::vector<dmat4>{dmat4(1.0), move(-dvec3(1, 0, 0))}));  // bound at the origin
     auto far = make<Transform>(move(dvec3(50, 0, 0)));
     far->addChild(f.geometry);
     f.root->addChild(f.hip);
