@@ -1,4 +1,4 @@
-// glTF materials to sgkit's: the metallic-roughness model and its textures (images decoded once each, with
+// glTF materials to sgkit's: the metallic-roughness model and its textures (images decoded once each, samplers,
 // KHR_texture_transform), and materials sgkit wrote from its classic shading read back as that.
 #include "loaders/gltf/internal/GltfConverter.h"
 
@@ -9,10 +9,25 @@
 namespace sg::gltf {
 
 ref_ptr<Texture> Converter::texture(int t, const std::string& path) {
-    const int img = m.textures[size_t(t)].source;
-    if (img < 0) return {};
-    if (textureDone[size_t(img)]) return textures[size_t(img)];
-    textureDone[size_t(img)] = true;
+    const tinygltf::Texture& gt = m.textures[size_t(t)];
+    if (gt.source < 0) return {};
+    const Sampler s = sampler(gt.sampler);
+    const auto key = std::make_pair(gt.source, samplerKey(s));
+    const auto made = textures.find(key);
+    if (made != textures.end()) return made->second;
+    ref_ptr<Texture> tex = image(gt.source, path);
+    if (tex && imageTaken[size_t(gt.source)])  // a Texture holds its pixels: another sampler needs a copy
+        tex = make<Texture>(tex->width(), tex->height(), tex->rgba());
+    if (tex) {
+        imageTaken[size_t(gt.source)] = true;
+        tex->sampler = s;
+    }
+    return textures[key] = tex;
+}
+
+ref_ptr<Texture> Converter::image(int img, const std::string& path) {
+    if (imageDone[size_t(img)]) return images[size_t(img)];
+    imageDone[size_t(img)] = true;
     const tinygltf::Image& im = m.images[size_t(img)];
     const unsigned char* bytes = im.image.data();
     size_t size = im.image.size();
@@ -39,8 +54,57 @@ ref_ptr<Texture> Converter::texture(int t, const std::string& path) {
     // Rows top to bottom: row 0 is glTF's v = 0, which is also the Renderer's first texture row.
     std::vector<uint8_t> rgba(px, px + size_t(w) * size_t(h) * 4);
     stbi_image_free(px);
-    textures[size_t(img)] = make<Texture>(w, h, std::move(rgba));
-    return textures[size_t(img)];
+    images[size_t(img)] = make<Texture>(w, h, std::move(rgba));
+    return images[size_t(img)];
+}
+
+namespace {
+
+// glTF's wrap and filter enums (OpenGL's values) as Sampler's; false for a value outside them.
+bool toWrap(int v, Sampler::Wrap& w) {
+    switch (v) {
+        case 10497: w = Sampler::Wrap::Repeat; return true;
+        case 33648: w = Sampler::Wrap::MirroredRepeat; return true;
+        case 33071: w = Sampler::Wrap::ClampToEdge; return true;
+        default: return false;
+    }
+}
+
+bool toFilter(int v, bool minifying, Sampler::Filter& f) {
+    using F = Sampler::Filter;
+    constexpr F kMipmapped[4] = {F::NearestMipmapNearest, F::LinearMipmapNearest, F::NearestMipmapLinear,
+                                 F::LinearMipmapLinear};  // 9984 to 9987
+    if (v == 9728 || v == 9729) {
+        f = v == 9728 ? F::Nearest : F::Linear;
+        return true;
+    }
+    if (!minifying || v < 9984 || v > 9987) return false;
+    f = kMipmapped[v - 9984];
+    return true;
+}
+
+}  // namespace
+
+Sampler Converter::sampler(int i) {
+    Sampler s;
+    if (i < 0) return s;
+    const auto done = samplers.find(i);
+    if (done != samplers.end()) return done->second;
+    const tinygltf::Sampler& gs = m.samplers[size_t(i)];
+    const std::string sp = at("samplers", size_t(i));
+    if (!toWrap(gs.wrapS, s.wrapS))
+        warn(sp + ".wrapS", std::to_string(gs.wrapS) + " is not a wrap mode (10497, 33648, 33071), REPEAT used");
+    if (!toWrap(gs.wrapT, s.wrapT))
+        warn(sp + ".wrapT", std::to_string(gs.wrapT) + " is not a wrap mode (10497, 33648, 33071), REPEAT used");
+    // -1: not given (tinygltf's mark); the default stays.
+    if (gs.magFilter != -1 && !toFilter(gs.magFilter, false, s.magFilter))
+        warn(sp + ".magFilter",
+             std::to_string(gs.magFilter) + " is not a magnification filter (9728, 9729), LINEAR used");
+    if (gs.minFilter != -1 && !toFilter(gs.minFilter, true, s.minFilter))
+        warn(sp + ".minFilter",
+             std::to_string(gs.minFilter) +
+                 " is not a minification filter (9728, 9729, 9984 to 9987), LINEAR_MIPMAP_LINEAR used");
+    return samplers[i] = s;
 }
 
 void Converter::textureTransform(const tinygltf::ExtensionMap& ext, const std::string& path, TextureSlot& slot) {

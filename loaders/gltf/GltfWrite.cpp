@@ -1,7 +1,7 @@
-// saveGltf: an sgkit graph to a tinygltf model (one buffer; meshes, materials and textures stored once; points and
-// lines as modes 0 and 1, intensities as _INTENSITY, outlines as CESIUM_primitive_outline;
-// sgkit's node kinds in `extras`; features through GltfWriteMetadata.cpp), written by tinygltf as .glb or .gltf with
-// embedded buffers.
+// saveGltf: an sgkit graph to a tinygltf model (one buffer; meshes, materials, textures, images and samplers stored
+// once; points and lines as modes 0 and 1, intensities as _INTENSITY, outlines as CESIUM_primitive_outline; sgkit's
+// node kinds in `extras`; features through GltfWriteMetadata.cpp), written by tinygltf as .glb or .gltf with embedded
+// buffers.
 #include "loaders/gltf/internal/GltfDetail.h"
 #include "loaders/gltf/internal/GltfWriteMetadata.h"
 
@@ -23,6 +23,8 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <string_view>
+#include <tuple>
 
 namespace sg {
 namespace {
@@ -53,6 +55,9 @@ struct Writer {
     std::map<std::pair<const Mesh*, const Material*>, int> meshes;
     std::map<const Material*, int> materials;
     std::map<const Texture*, int> textures;
+    std::vector<std::pair<Sampler, int>> samplers;  // the non-default ones written, with their index
+    std::map<std::tuple<int, int, size_t>, std::vector<std::pair<const Texture*, int>>>
+        imagesByContent;                   // by size, hash
     std::map<const Node*, long long> ids;  // nodes with several parents
 
     double extent = 0.0;  // the diagonal of the scene's box: float instance translations are held to 1e-6 of it
@@ -130,9 +135,47 @@ struct Writer {
         return meshAttributes[&mesh] = std::move(a);
     }
 
+    // A texture as an image and a sampler: none for the default Sampler (what an absent one reads as), so that files
+    // of default textures carry no samplers; one per other distinct Sampler.
     int texture(const Texture& t) {
         auto it = textures.find(&t);
         if (it != textures.end()) return it->second;
+        tinygltf::Texture tex;
+        tex.source = image(t);
+        tex.sampler = sampler(t.sampler);
+        m.textures.push_back(tex);
+        return textures[&t] = int(m.textures.size() - 1);
+    }
+
+    int sampler(const Sampler& s) {
+        if (s == Sampler{}) return -1;
+        for (const auto& [written, i] : samplers)
+            if (written == s) return i;
+        // OpenGL's values, as glTF names them; the filters in Sampler's order (magnification: no mipmaps).
+        constexpr int kFilter[6] = {9728, 9729, 9984, 9985, 9986, 9987};
+        const auto wrap = [](Sampler::Wrap w) {
+            return w == Sampler::Wrap::MirroredRepeat ? 33648 : w == Sampler::Wrap::ClampToEdge ? 33071 : 10497;
+        };
+        const auto filter = [&](Sampler::Filter f) { return size_t(f) < 6 ? kFilter[size_t(f)] : 9987; };
+        tinygltf::Sampler gs;
+        gs.wrapS = wrap(s.wrapS);
+        gs.wrapT = wrap(s.wrapT);
+        gs.minFilter = filter(s.minFilter);
+        const int mag = filter(s.magFilter);  // a mipmap filter: its filter within a level
+        gs.magFilter = mag == 9728 || mag == 9984 || mag == 9986 ? 9728 : 9729;
+        m.samplers.push_back(gs);
+        samplers.emplace_back(s, int(m.samplers.size() - 1));
+        return samplers.back().second;
+    }
+
+    // Textures of equal pixels (one image under two samplers, read back as a Texture each) share one image.
+    int image(const Texture& t) {
+        const std::vector<uint8_t>& px = t.rgba();
+        const size_t hash =
+            std::hash<std::string_view>()(std::string_view(reinterpret_cast<const char*>(px.data()), px.size()));
+        auto& same = imagesByContent[{t.width(), t.height(), hash}];
+        for (const auto& [other, i] : same)
+            if (other->rgba() == px) return i;
         tinygltf::Image im;
         im.width = t.width();
         im.height = t.height();
@@ -155,10 +198,8 @@ struct Writer {
             im.image = t.rgba();  // tinygltf encodes it as a PNG data URI
         }
         m.images.push_back(std::move(im));
-        tinygltf::Texture tex;
-        tex.source = int(m.images.size() - 1);
-        m.textures.push_back(tex);
-        return textures[&t] = int(m.textures.size() - 1);
+        same.emplace_back(&t, int(m.images.size() - 1));
+        return same.back().second;
     }
 
     void use(const char* extension) {

@@ -124,12 +124,12 @@ void GpuCache::uploadIndices(const Mesh& m, GpuMesh& g) {
                         outline.data());
 }
 
-unsigned GpuCache::texture(const Texture* t, bool cut, bool srgb) {
+TextureBinding GpuCache::texture(const Texture* t, bool cut, bool srgb) {
     auto& cache = textures_[kind(cut, srgb)];
     auto it = cache.find(t);
     if (it != cache.end()) {
         it->second.lastFrame = frame_;
-        return it->second.id;
+        return {it->second.id, sampler(*t)};
     }
     GpuTexture g;
     g.texture = t;
@@ -145,14 +145,64 @@ unsigned GpuCache::texture(const Texture* t, bool cut, bool srgb) {
     }
     glTexImage2D(GL_TEXTURE_2D, 0, srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, t->width(), t->height(), 0, GL_RGBA,
                  GL_UNSIGNED_BYTE, cut ? bled.rgba.data() : t->rgba().data());
+    // Mipmaps for every texture, whatever its min filter (one upload path). The texture's own parameters (the
+    // default Sampler's) hold only where no sampler object is bound.
     glGenerateMipmap(GL_TEXTURE_2D);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    if (maxAnisotropy_ > 1.0f && t->maxAnisotropy > 1.0f)
-        glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, std::min(t->maxAnisotropy, maxAnisotropy_));
-    return cache.emplace(t, std::move(g)).first->second.id;
+    const unsigned id = cache.emplace(t, std::move(g)).first->second.id;
+    return {id, sampler(*t)};
+}
+
+namespace {
+
+GLint glWrap(Sampler::Wrap w) {
+    switch (w) {
+        case Sampler::Wrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+        case Sampler::Wrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
+        default: return GL_REPEAT;
+    }
+}
+
+GLint glMinFilter(Sampler::Filter f) {
+    switch (f) {
+        case Sampler::Filter::Nearest: return GL_NEAREST;
+        case Sampler::Filter::Linear: return GL_LINEAR;
+        case Sampler::Filter::NearestMipmapNearest: return GL_NEAREST_MIPMAP_NEAREST;
+        case Sampler::Filter::LinearMipmapNearest: return GL_LINEAR_MIPMAP_NEAREST;
+        case Sampler::Filter::NearestMipmapLinear: return GL_NEAREST_MIPMAP_LINEAR;
+        default: return GL_LINEAR_MIPMAP_LINEAR;
+    }
+}
+
+// Magnification has no mipmaps: a mipmap filter given for it reads as its filter within a level.
+GLint glMagFilter(Sampler::Filter f) {
+    const bool nearest = f == Sampler::Filter::Nearest || f == Sampler::Filter::NearestMipmapNearest ||
+                         f == Sampler::Filter::NearestMipmapLinear;
+    return nearest ? GL_NEAREST : GL_LINEAR;
+}
+
+}  // namespace
+
+unsigned GpuCache::sampler(const Texture& t) {
+    // Anisotropic filtering samples the mipmaps along a footprint: only min filters that read mipmaps take it.
+    const Sampler& s = t.sampler;
+    const bool mipmapped = s.minFilter != Sampler::Filter::Nearest && s.minFilter != Sampler::Filter::Linear;
+    const float anisotropy =
+        mipmapped && maxAnisotropy_ > 1.0f && t.maxAnisotropy > 1.0f ? std::min(t.maxAnisotropy, maxAnisotropy_) : 1.0f;
+    for (const SamplerObject& o : samplers_)
+        if (o.sampler == s && o.anisotropy == anisotropy) return o.id;
+    SamplerObject o{s, anisotropy, 0};
+    glGenSamplers(1, &o.id);
+    glSamplerParameteri(o.id, GL_TEXTURE_WRAP_S, glWrap(s.wrapS));
+    glSamplerParameteri(o.id, GL_TEXTURE_WRAP_T, glWrap(s.wrapT));
+    glSamplerParameteri(o.id, GL_TEXTURE_MIN_FILTER, glMinFilter(s.minFilter));
+    glSamplerParameteri(o.id, GL_TEXTURE_MAG_FILTER, glMagFilter(s.magFilter));
+    if (anisotropy > 1.0f) glSamplerParameterf(o.id, GL_TEXTURE_MAX_ANISOTROPY_EXT, anisotropy);
+    samplers_.push_back(o);
+    return o.id;
 }
 
 bool GpuCache::prepareMesh(const Mesh* m) {
@@ -242,6 +292,8 @@ void GpuCache::clear() {
         for (auto& [t, g] : cache) glDeleteTextures(1, &g.id);
         cache.clear();
     }
+    for (SamplerObject& o : samplers_) glDeleteSamplers(1, &o.id);
+    samplers_.clear();
 }
 
 }  // namespace sg

@@ -202,6 +202,9 @@ public:
     void forgetPrepare(const Node& root) { prepareLists_.erase(&root); }
     // A texture drawn with an alpha cutoff has its own copy, with colour bled under its transparent texels.
     size_t cachedTextures() const;
+    // The GL sampler objects made so far: one per distinct Texture::sampler drawn (and per anisotropy, where the
+    // context filters anisotropically), kept until clear().
+    size_t samplerCount() const;
 
 private:
     // The rest of a run's material and mesh, as uniforms: set only where they differ from the run before,
@@ -252,6 +255,8 @@ private:
         Shading shading;               // set with gpu: what picked the program and what its uniforms get
         unsigned featureColors = 0;    // the per-feature colour table's texture (kFeatureUnit), 0 without
         Program* outline = nullptr;    // its mesh's outline's program (set with gpu), null without an outline
+        unsigned sampler = 0;          // texture's GL sampler object (Texture::sampler), set with it
+        unsigned pbrSamplers[4] = {};  // pbrTextures' sampler objects
     };
     static constexpr uint32_t kWhole = ~0u;
     // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,

@@ -66,6 +66,9 @@ void Renderer::drawRuns(const DrawList& list, const Camera& camera, bool reverse
     glLineWidth(1.0f);
     glBindVertexArray(0);
     glUseProgram(0);
+    // A sampler object left bound would override the parameters of whatever binds a texture there next (the
+    // eye-dome pass's unfiltered depth, which has no mipmaps).
+    for (int u = kBaseColorUnit; u <= kEmissiveUnit; ++u) glBindSampler(GLuint(u), 0);
     current_ = nullptr;
 }
 
@@ -74,12 +77,16 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     glBindVertexArray(g.vao);
     glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
     pointItemAttributes(r.first);
-    if (r.texture) glBindTexture(GL_TEXTURE_2D, r.texture);
+    if (r.texture) {
+        glBindTexture(GL_TEXTURE_2D, r.texture);
+        glBindSampler(kBaseColorUnit, r.sampler);
+    }
     if (r.shading.pbr & (kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive)) {
         for (int k = 0; k < 4; ++k)
             if (r.pbrTextures[k]) {
                 glActiveTexture(GLenum(GL_TEXTURE0 + kMetallicRoughnessUnit + k));
                 glBindTexture(GL_TEXTURE_2D, r.pbrTextures[k]);
+                glBindSampler(GLuint(kMetallicRoughnessUnit + k), r.pbrSamplers[k]);
             }
         glActiveTexture(GL_TEXTURE0);
     }

@@ -63,4 +63,6 @@ size_t Renderer::cachedMeshes() const { return cache_->meshCount(); }
 
 size_t Renderer::cachedTextures() const { return cache_->textureCount(); }
 
+size_t Renderer::samplerCount() const { return cache_->samplerCount(); }
+
 }  // namespace sg

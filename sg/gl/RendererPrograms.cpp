@@ -124,7 +124,9 @@ void Renderer::physicalTextures(Run& r) {
     r.shading.texture = false;
     const TextureSlot base{m.texture, m.texCoord, m.textureTransform};
     if (readable(base)) {
-        r.texture = cache_->texture(base.texture.get(), cut, true);
+        const TextureBinding b = cache_->texture(base.texture.get(), cut, true);
+        r.texture = b.texture;
+        r.sampler = b.sampler;
         r.shading.texture = true;
         set(base);
     }
@@ -137,7 +139,9 @@ void Renderer::physicalTextures(Run& r) {
     for (int k = 0; k < 4; ++k) {
         const TextureSlot& t = *slots[k].first;
         if (!readable(t) || (slots[k].second == kShadePbrNormal && (!g.tangents || !g.normals))) continue;
-        r.pbrTextures[k] = cache_->texture(t.texture.get(), false, slots[k].second == kShadePbrEmissive);
+        const TextureBinding b = cache_->texture(t.texture.get(), false, slots[k].second == kShadePbrEmissive);
+        r.pbrTextures[k] = b.texture;
+        r.pbrSamplers[k] = b.sampler;
         r.shading.pbr |= slots[k].second;
         set(t);
     }
@@ -164,7 +168,9 @@ void Renderer::upload() {
     for (Run& r : runs_) {
         r.gpu = &cache_->mesh(r.mesh);
         const Texture* tex = r.material && !r.material->physical && r.gpu->uvs ? r.material->texture.get() : nullptr;
-        r.texture = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : 0;
+        const TextureBinding b = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : TextureBinding{};
+        r.texture = b.texture;
+        r.sampler = b.sampler;
         r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
         if (r.material && r.material->physical) physicalTextures(r);
         featureColors(r);

@@ -37,8 +37,9 @@ struct Converter {
           progress(p),
           materials(model.materials.size()),
           materialDone(model.materials.size()),
-          textures(model.images.size()),
-          textureDone(model.images.size()),
+          images(model.images.size()),
+          imageDone(model.images.size()),
+          imageTaken(model.images.size()),
           shared(model.meshes.size()),
           sharedDone(model.meshes.size()) {}
 
@@ -49,8 +50,12 @@ struct Converter {
     // Made once each, on first use (index: the glTF element).
     std::vector<ref_ptr<Material>> materials;
     std::vector<bool> materialDone;
-    std::vector<ref_ptr<Texture>> textures;  // per image
-    std::vector<bool> textureDone;
+    // A glTF texture is an image and a sampler: one Texture per image and distinct Sampler value used. Each image is
+    // decoded once; its first Texture takes the pixels, any other (the same image under another sampler) a copy.
+    std::vector<ref_ptr<Texture>> images;  // per image, null where it does not decode
+    std::vector<bool> imageDone, imageTaken;
+    std::map<std::pair<int, uint32_t>, ref_ptr<Texture>> textures;  // by image and samplerKey()
+    std::map<int, Sampler> samplers;                                // by glTF sampler, converted on first use
     // KHR_texture_transform of classic materials (packers add it to dequantize UVs), by material, and the meshes
     // with it applied to their UVs, by mesh and material.
     std::map<int, mat3> classicUv;
@@ -81,7 +86,16 @@ struct Converter {
     dvec3 vec(const Value& o, const char* key, const std::string& path);
 
     // --- materials and textures (GltfMaterials.cpp)
+    // glTF texture t (null when its image does not decode, warned naming `path`, the use).
     ref_ptr<Texture> texture(int t, const std::string& path);
+    // Image i decoded, with the default sampler; null (warned) when it does not decode.
+    ref_ptr<Texture> image(int i, const std::string& path);
+    // glTF sampler i (-1: none, which reads as REPEAT and LINEAR / LINEAR_MIPMAP_LINEAR, as viewers default); a value
+    // outside the enum is warned (naming "samplers[i].wrapS" etc.) and the default taken.
+    Sampler sampler(int i);
+    static uint32_t samplerKey(const Sampler& s) {
+        return uint32_t(s.wrapS) | uint32_t(s.wrapT) << 8 | uint32_t(s.magFilter) << 16 | uint32_t(s.minFilter) << 24;
+    }
     // KHR_texture_transform of a texture reference: translation * rotation * scale (the extension's matrices),
     // and its texCoord, which overrides the reference's. A value that is not a finite number: a warning, no
     // transform.

@@ -32,6 +32,12 @@ struct GpuMesh {
     uint64_t keepUntil = 0;  // uploaded ahead of its first draw (prepare): kept until this frame, used or not
 };
 
+// A texture as bound for a draw: its GL name and the GL sampler object its Texture::sampler asks for, bound to the
+// same unit (a sampler object overrides the texture's own parameters).
+struct TextureBinding {
+    unsigned texture = 0, sampler = 0;
+};
+
 // Needs the current GL context of its renderer, alive until the cache is destroyed.
 class GpuCache {
 public:
@@ -46,10 +52,14 @@ public:
     void nextFrame() { ++frame_; }
     // Uploads on first use. A Mesh changed after its first upload keeps its old copy until released.
     const GpuMesh& mesh(const Mesh* m);
-    // The texture's GL name. A texture drawn with an alpha cutoff (cut) has its own copy, with colour bled under
-    // its transparent texels (bleedIntoTransparent); one read as sRGB colour (a physical material's base colour or
-    // emissive texture: linear values when sampled) has its own copy too.
-    unsigned texture(const Texture* t, bool cut, bool srgb = false);
+    // The texture's GL name and sampler object. A texture drawn with an alpha cutoff (cut) has its own copy, with
+    // colour bled under its transparent texels (bleedIntoTransparent); one read as sRGB colour (a physical material's
+    // base colour or emissive texture: linear values when sampled) has its own copy too.
+    TextureBinding texture(const Texture* t, bool cut, bool srgb = false);
+    // The GL sampler object of t's Sampler and anisotropy: one per distinct pair, made on first use and kept until
+    // clear() (a handful at most: the textures of one look share one).
+    unsigned sampler(const Texture& t);
+    size_t samplerCount() const { return samplers_.size(); }
 
     // Uploads ahead of a draw (Renderer::prepare): as mesh() and texture(), but kept by releaseUnused() for the
     // next kPrepareGrace frames whether drawn or not, so that what was uploaded for a detail not attached or not
@@ -100,6 +110,12 @@ private:
         uint64_t version = 0, lastFrame = 0;
     };
     std::map<std::pair<uint64_t, int>, FeatureTable> featureTables_;
+    struct SamplerObject {
+        Sampler sampler;
+        float anisotropy = 1.0f;
+        unsigned id = 0;
+    };
+    std::vector<SamplerObject> samplers_;  // looked up by value: few enough that a scan beats a hash
 };
 
 }  // namespace sg
