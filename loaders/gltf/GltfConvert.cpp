@@ -144,10 +144,16 @@ void Converter::addMesh(int i, const std::string& kind, const Value* sx, const s
              gn.mesh < 0 ? "needs a mesh to instance, ignored" : "on an sgkit " + kind + " node is ignored");
     if (gn.extensions.count(kInstanceFeatures) && !instanced)
         warn(path + ".extensions." + kInstanceFeatures, "without instances (EXT_mesh_gpu_instancing), ignored");
+    const bool plain = gn.mesh >= 0 && kind == "Transform" && !instanced;
+    if (gn.skin >= 0 && !plain)
+        warn(path + ".skin", gn.mesh < 0 ? "a skin without a mesh is ignored"
+                                         : "a skin on an instanced or sgkit " + kind + " node is ignored");
     if (instanced) {
         if (lodPrototype) levelOfInstancedLod(*lodPrototype, gn, *sx, xp, path);
         instances(i, static_cast<Group*>(inner), world, path, lodPrototype);
-    } else if (gn.mesh >= 0 && kind == "Transform") {
+    } else if (plain && (gn.skin >= 0 || targetCount(gn.mesh) > 0)) {
+        ownGeometries(i, *static_cast<Group*>(inner), path);  // its weights and skin are its own
+    } else if (plain) {
         for (const auto& g : geometries(gn.mesh))
             if (g) static_cast<Group*>(inner)->addChild(g);
     } else if (gn.mesh >= 0 && kind != "Geometry") {
@@ -242,12 +248,12 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
     for (size_t i = 0; i < model.extensionsUsed.size(); ++i)  // required ones validate() has refused
         if (!supportedExtension(model.extensionsUsed[i]))
             c.warn(at("extensionsUsed", i), "extension '" + model.extensionsUsed[i] + "' is not supported, ignored");
-    if (!model.skins.empty()) c.warn("skins", "skins are not loaded (meshes are placed unskinned)");
     c.readMetadata();
     progress.report(0.6, "converting");
     c.nodeOf.resize(model.nodes.size());
     for (int r : roots)
         if (ref_ptr<Node> n = c.build(r, dmat4(1.0))) root->addChild(n);
+    c.skins(*root);  // joints are nodes of the whole tree
     c.animations();
     c.out.nodes = c.nodeOf;
     c.out.root = root;

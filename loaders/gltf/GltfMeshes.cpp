@@ -1,6 +1,6 @@
 // glTF mesh primitives to shared Meshes and Geometries: one Mesh per distinct primitive (strips and fans made
-// triangles, points and lines as GltfPointsLines.cpp reads them; its source, intensities, outline and features set),
-// tangents made for normal maps, classic materials' UV transforms applied to a copy.
+// triangles, points and lines as GltfPointsLines.cpp reads them; its source, intensities, outline, features, skin
+// weights and morph targets set), tangents made for normal maps, classic materials' UV transforms applied to a copy.
 #include "loaders/gltf/internal/GltfConverter.h"
 
 #include <cmath>
@@ -27,7 +27,8 @@ ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& p
     };
     const int pos = attr("POSITION"), nrm = attr("NORMAL"), uv = attr("TEXCOORD_0"), col = attr("COLOR_0"),
               tan = attr("TANGENT"), uv1 = attr("TEXCOORD_1");
-    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1, featureKey(p) + outlineKey(p));
+    const auto key = std::make_tuple(p.mode, p.indices, pos, nrm, uv, col, tan, uv1,
+                                     featureKey(p) + outlineKey(p) + motionKey(p, gm));
     auto found = meshes.find(key);
     if (found != meshes.end()) return found->second;
 
@@ -54,6 +55,8 @@ ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& p
         bad(path, e.what());
     }
     outline(p, *mesh, path);
+    skinWeights(p, *mesh, path, gather ? &idx : nullptr);
+    morphTargets(p, *mesh, path, gm, gather ? &idx : nullptr);
     if (!mesh->validBound()) {
         const auto& ps = mesh->positions();
         size_t i = 0;
@@ -98,6 +101,9 @@ ref_ptr<Mesh> Converter::withUvTransform(const ref_ptr<Mesh>& mesh, int mat, int
     out->setOutline(mesh->outline());
     out->setFeatures(ref_ptr<const MeshFeatures>(mesh->features()));
     out->setSource(mesh->source());
+    if (mesh->influences() > 0) out->setSkinWeights(mesh->joints(), mesh->weights(), mesh->influences());
+    out->setMorphTargets(mesh->morphTargets());
+    out->defaultWeights = mesh->defaultWeights;
     return out;
 }
 
@@ -106,6 +112,7 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
     sharedDone[size_t(i)] = true;
     auto& gs = shared[size_t(i)];
     const auto& prims = m.meshes[size_t(i)].primitives;
+    targetCount(i);  // refuses primitives of different target counts before any is read
     for (size_t k = 0; k < prims.size(); ++k) {
         const tinygltf::Primitive& p = prims[k];
         const std::string path = at(at("meshes", size_t(i)) + ".primitives", k);
@@ -121,7 +128,10 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
                 if (classicUv.count(p.material)) mh = withUvTransform(mh, p.material, mat->texCoord);
                 withTangents(*mh, mat.get());
             }
-            gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
+            auto g = make<Geometry>(std::move(mh), std::move(mat));
+            // Its mesh's default weights; a plain node's own copies take the node's (ownGeometries()).
+            if (!g->mesh()->morphTargets().empty()) g->setMorphWeights(g->mesh()->defaultWeights);
+            gs.push_back(std::move(g));
         }
     }
     progress.report(0.6 + 0.4 * double(nodesDone) / double(std::max<size_t>(1, m.nodes.size())), "converting");

@@ -471,6 +471,7 @@ void validate(const std::string& file, const tinygltf::Model& model) {
     c.meshes();
     c.materials();
     c.cameras();
+    checkSkins(file, model);  // before the node checks: a joint's two parents or cycle is named as the skin's
     c.nodes();
     c.instancing();
 }

@@ -205,7 +205,47 @@ struct Converter {
     // Node i's EXT_instance_features over its n EXT_mesh_gpu_instancing instances; null without it.
     ref_ptr<MeshFeatures> instanceFeatures(int i, size_t n, const std::string& path);
 
-    // --- skins and morph targets (GltfSkins.cpp)
+    // --- skins and morph targets (GltfSkins.cpp, GltfMorph.cpp)
+    // The part of a Mesh's key its motion makes: the JOINTS_n and WEIGHTS_n accessors, and for morph targets their
+    // accessors and the glTF mesh (whose default weights the Mesh holds).
+    static std::string motionKey(const tinygltf::Primitive& p, int gm);
+    // A primitive's JOINTS_0/1 and WEIGHTS_0/1 into Mesh::setSkinWeights (4 or 8 influences), taken at `order` when
+    // given (indexed points); weights that do not sum to one are normalised with a warning.
+    void skinWeights(const tinygltf::Primitive& p, Mesh& mesh, const std::string& path,
+                     const std::vector<uint32_t>* order);
+    // A primitive's morph targets (POSITION, NORMAL, TANGENT displacements) into Mesh::setMorphTargets, glTF mesh
+    // gm's weights into Mesh::defaultWeights; taken at `order` when given.
+    void morphTargets(const tinygltf::Primitive& p, Mesh& mesh, const std::string& path, int gm,
+                      const std::vector<uint32_t>* order);
+    // The morph target count of glTF mesh i, refusing primitives of different counts and weights of another length.
+    size_t targetCount(int i);
+    std::map<int, size_t> targetCounts;  // targetCount()'s, by glTF mesh
+    // Bytes of morph target arrays read (a few bytes of JSON can name a large accessor again and again), held to
+    // kMaxExpandedBytes; Geometries made for one node alone (nodes x primitives), held to kMaxOwnGeometries.
+    size_t targetBytes = 0;
+    size_t ownMade = 0;
+    static constexpr size_t kMaxOwnGeometries = size_t(1) << 21;
+    // The weights node i starts with: its own, else its mesh's; refuses a length other than the target count.
+    std::vector<float> startWeights(int i);
+    // Node i's own copies of its mesh's Geometries (a skin or morph targets: its weights and skin are its own), with
+    // its weights. Unskinned ones go below `inner`; skinned ones wait in `skinned` for skins().
+    void ownGeometries(int i, Group& inner, const std::string& path);
+    // Skinned Geometries of a node (with their primitive index), placed by skins() once the joints are built.
+    struct Skinned {
+        int node;
+        ref_ptr<Group> inner;
+        std::vector<std::pair<size_t, ref_ptr<Geometry>>> geometries;
+    };
+    std::vector<Skinned> skinned;
+    // The Geometries made for one glTF node alone, by node index: where its morph weights go (a skinned node's are
+    // not below its Transform).
+    std::map<int, std::vector<ref_ptr<Geometry>>> nodeGeometries;
+    std::map<int, ref_ptr<Skin>> skinsMade;  // by glTF skin; null: a joint was not built
+    // Skin s, made once from the nodes built for its joints; null (with a warning) when a joint was not built.
+    ref_ptr<Skin> skin(int s);
+    // After the node tree: each skinned Geometry given its skin and put under `root` (glTF ignores the skinned
+    // node's transform, and a joint may hold that node), named as its node; without a skin, below its node.
+    void skins(Group& root);
 
     // --- animations (GltfAnimations.cpp)
     // Every animation of the file into out.animations, bound through nodeOf (after the node tree is built).

@@ -58,6 +58,10 @@ void prevalidate(const std::string& file, const unsigned char* data, size_t size
 // hierarchy a forest (no cycle, no node with two parents), required extensions supported.
 void validate(const std::string& file, const tinygltf::Model& model);
 
+// Skins (GltfSkins.cpp, called by validate() before the node checks): node skins and joints that exist, each joint
+// in a tree (one parent, no cycle above it), inverse bind matrices of MAT4 floats, one per joint.
+void checkSkins(const std::string& file, const tinygltf::Model& model);
+
 // --- Buffers without data in the file (GltfMeshopt.cpp)
 
 // JSON text (or a GLB) whose buffers without data in the file (no uri, other than a GLB's buffer 0 over its BIN
