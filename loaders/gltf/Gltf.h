@@ -72,6 +72,9 @@ struct GltfSaveOptions {
     // What was left out (feature properties of a second property store: a glTF file holds one), each naming the
     // part; null: not reported.
     std::vector<std::string>* warnings = nullptr;
+    // The animations to write (glTF animations over the written nodes): a channel whose node is not written is left
+    // out with a warning in `warnings`.
+    std::vector<ref_ptr<Animation>> animations;
 };
 
 struct GltfScene {

@@ -1,9 +1,10 @@
 // saveGltf: an sgkit graph to a tinygltf model (one buffer; meshes, materials, textures, images and samplers stored
 // once; points and lines as modes 0 and 1, intensities as _INTENSITY, outlines as CESIUM_primitive_outline; sgkit's
-// node kinds in `extras`; features through GltfWriteMetadata.cpp), written by tinygltf as .glb or .gltf with embedded
-// buffers.
+// node kinds in `extras`; features through GltfWriteMetadata.cpp, skins, morph targets and animations through
+// GltfWriteMotion.cpp), written by tinygltf as .glb or .gltf with embedded buffers.
 #include "loaders/gltf/internal/GltfDetail.h"
 #include "loaders/gltf/internal/GltfWriteMetadata.h"
+#include "loaders/gltf/internal/GltfWriteMotion.h"
 
 #include "nodes/Billboard.h"
 #include "nodes/Geometry.h"
@@ -22,6 +23,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <tuple>
@@ -47,12 +49,15 @@ struct Writer {
         : options(o),
           glb(binary),
           metadata(
-              m, [this](const Texture& t) { return texture(t); }, o.warnings) {}
+              m, [this](const Texture& t) { return texture(t); }, o.warnings),
+          motion(
+              m, [this](const void* data, size_t size, int target) { return view(data, size, target); }, o.warnings,
+              o.animations) {}
     const GltfSaveOptions& options;
     const bool glb;  // writing a .glb: images go into the binary chunk
     tinygltf::Model m;
-    std::map<const Mesh*, std::map<std::string, int>> meshAttributes;  // attributes, "indices" and "outline"
-    std::map<std::pair<const Mesh*, const Material*>, int> meshes;
+    std::map<const Mesh*, std::map<std::string, int>> meshAttributes;      // attributes, "indices" and "outline"
+    std::map<std::tuple<const Mesh*, const Material*, bool>, int> meshes;  // by mesh, material, skinned
     std::map<const Material*, int> materials;
     std::map<const Texture*, int> textures;
     std::vector<std::pair<Sampler, int>> samplers;  // the non-default ones written, with their index
@@ -64,6 +69,7 @@ struct Writer {
     std::map<const Node*, Box> bounds;  // subtree boxes in the parent's frame, by node
     bool instanced = false;             // a node with EXT_mesh_gpu_instancing was written
     gltf::MetadataWriter metadata;      // feature ID sets and their property store
+    gltf::MotionWriter motion;          // skins, morph targets, animations
 
     std::vector<unsigned char>& bytes() { return m.buffers[0].data; }
 
@@ -298,8 +304,9 @@ struct Writer {
         }
     }
 
-    int mesh(const Geometry& g) {
-        const auto key = std::make_pair<const Mesh*, const Material*>(g.mesh(), g.material());
+    // g's mesh and material as a glTF mesh; `skinned`: with the mesh's JOINTS_n and WEIGHTS_n, for a node with a skin.
+    int mesh(const Geometry& g, bool skinned) {
+        const auto key = std::make_tuple<const Mesh*, const Material*, bool>(g.mesh(), g.material(), bool(skinned));
         auto it = meshes.find(key);
         if (it != meshes.end()) return it->second;
         tinygltf::Primitive p;
@@ -319,7 +326,9 @@ struct Writer {
         }
         p.material = material(g.material());
         if (const MeshFeatures* f = g.mesh()->features()) metadata.primitive(*f, p);
+        if (skinned) motion.skinAttributes(*g.mesh(), p);
         tinygltf::Mesh gm;
+        motion.morphTargets(*g.mesh(), p, gm);
         gm.primitives.push_back(std::move(p));
         m.meshes.push_back(std::move(gm));
         return meshes[key] = int(m.meshes.size() - 1);
@@ -395,6 +404,10 @@ struct Writer {
             if (!proto || proto->kind() != NodeKind::Geometry || !plain(*proto)) continue;
             const auto* g = static_cast<const Geometry*>(proto);
             if (!g->mesh() || g->mesh()->primitiveCount() == 0) continue;
+            // What an animation or a skin names stays a node of its own.
+            if (motion.pinned(*c) || motion.pinned(*in.prototype()) || motion.pinned(*g) ||
+                (lod && motion.pinned(*lod)))
+                continue;
             gltf::FloatTrs trs;
             if (!gltf::splitTrs(placement, trs)) continue;  // a shear: the Instance is written as it is
             // The float translation must not move the instance by more than 1e-6 of the scene, as drawn.
@@ -412,7 +425,7 @@ struct Writer {
 
     // Gives gn the batch's mesh and its instances (rotation and scale only where some instance has them).
     void instancing(tinygltf::Node& gn, const Batch& b) {
-        gn.mesh = mesh(*b.geometry);
+        gn.mesh = mesh(*b.geometry, false);
         std::vector<vec3> t, s;
         std::vector<vec4> q;
         bool rotated = false, scaled = false;
@@ -486,16 +499,21 @@ struct Writer {
     void kindExtras(const Node& n, tinygltf::Node& gn, Value::Object& x) {
         switch (n.kind()) {
             case NodeKind::Group: x["kind"] = Value(std::string("Group")); break;
-            case NodeKind::Transform: setMatrix(gn, static_cast<const Transform&>(n).matrix()); break;
+            case NodeKind::Transform:
+                if (!motion.trs(static_cast<const Transform&>(n), gn))
+                    setMatrix(gn, static_cast<const Transform&>(n).matrix());
+                break;
             case NodeKind::Geometry: {
                 x["kind"] = Value(std::string("Geometry"));
                 const auto& g = static_cast<const Geometry&>(n);
                 // glTF has no empty accessors: a mesh that draws nothing is written as a flag (its positions
                 // and the geometry's material are not kept).
-                if (g.mesh() && g.mesh()->primitiveCount() > 0)
-                    gn.mesh = mesh(g);
-                else if (g.mesh())
+                // A skinned one's mesh is given once its skin is known (MotionWriter::finish).
+                if (g.mesh() && g.mesh()->primitiveCount() > 0 && !g.skin())
+                    gn.mesh = mesh(g, false);
+                else if (g.mesh() && g.mesh()->primitiveCount() == 0)
                     x["emptyMesh"] = Value(true);
+                gltf::MotionWriter::nodeWeights(g, gn);
                 break;
             }
             case NodeKind::LOD: lodExtras(static_cast<const LOD&>(n), x); break;
@@ -528,6 +546,7 @@ struct Writer {
     int node(const Node& n, const dmat4& world) {
         const int self = int(m.nodes.size());
         m.nodes.emplace_back();
+        motion.written(n, self);
         tinygltf::Node gn;
         gn.name = n.name();
         Value::Object x;
@@ -593,6 +612,7 @@ void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& 
         w.m.extensionsUsed.push_back(gltf::kInstancing);
         w.m.extensionsRequired.push_back(gltf::kInstancing);
     }
+    w.motion.finish([&w](const Geometry& g, bool skinned) { return w.mesh(g, skinned); });
     w.metadata.finish();
     if (!options.sceneProperties.empty()) {
         Value::Object extras;
@@ -609,7 +629,14 @@ void saveGltf(const Node& root, const std::string& path, const GltfSaveOptions& 
     tinygltf::TinyGLTF writer;
     bool ok = false;
     try {
-        ok = writer.WriteGltfSceneToStream(&w.m, out, !glb, glb);
+        if (w.motion.pointers()) {  // written to memory first: KHR_animation_pointer channels need a fix
+            std::ostringstream text;
+            ok = writer.WriteGltfSceneToStream(&w.m, text, !glb, glb);
+            const std::string fixed = gltf::withoutPointerNodes(text.str(), glb);
+            out.write(fixed.data(), std::streamsize(fixed.size()));
+        } else {
+            ok = writer.WriteGltfSceneToStream(&w.m, out, !glb, glb);
+        }
     } catch (const std::exception& e) {
         throw std::runtime_error("saveGltf(): " + path + ": " + e.what());
     }

@@ -2,6 +2,7 @@
 // broken on purpose), judged by the Khronos glTF validator (tests/loaders/gltf/validate_gltf.mjs). Every file it
 // finds valid loads; every other one loads, with warnings, or is refused with a LoadError, never a crash. And
 // what saveGltf writes passes the validator.
+#include "GltfMotionScene.h"
 #include "GltfTestUtil.h"
 #include "OutsideTools.h"
 #include "loaders/gltf/Gltf.h"
@@ -173,10 +174,35 @@ TEST(GltfConformance, UrisOnTheNetworkAreNotFetched) {
     fs::remove_all(dir);
 }
 
+struct Written {
+    std::string name;
+    ref_ptr<Node> root;
+    std::vector<ref_ptr<Animation>> animations;
+};
+
+// Skins of 4 and 8 influences, morph targets with weights, and an animation of every path and interpolation with a
+// KHR_animation_pointer channel (GltfMotionScene.h).
+Written motionWritten() {
+    gltftest::MotionScene s = gltftest::motionScene();
+    AnimationSampler colour;
+    colour.times = {0, 1};
+    colour.values = {1, 1, 1, 1, 1, 0, 0, 1};
+    colour.width = 4;
+    s.animation->samplers.push_back(colour);
+    AnimationChannel c;
+    c.sampler = uint32_t(s.animation->samplers.size() - 1);
+    c.path = AnimationPath::Property;
+    c.set = [](const double*, uint32_t) {};
+    c.target = "/materials/0/pbrMetallicRoughness/baseColorFactor";  // the scene has one material
+    s.animation->channels.push_back(c);
+    return {"motion", s.root, {s.animation}};
+}
+
 // Scenes as sgkit's users write them: a small factory (LODs, switches, billboards, instances, terrain), textures,
-// physical materials with every map, and EXT_mesh_gpu_instancing; each as .glb and .gltf.
-std::vector<std::pair<std::string, ref_ptr<Node>>> writtenScenes() {
-    std::vector<std::pair<std::string, ref_ptr<Node>>> out;
+// physical materials with every map, EXT_mesh_gpu_instancing, skins, morph targets and animations; each as .glb and
+// .gltf.
+std::vector<Written> writtenScenes() {
+    std::vector<Written> out;
     scenes::FactoryParams small;
     small.siteSize = 600.0;
     small.terrainCells = 64;
@@ -184,15 +210,15 @@ std::vector<std::pair<std::string, ref_ptr<Node>>> writtenScenes() {
     small.machinesPerWorkshop = 3;
     small.trees = 12;
     small.cars = 4;
-    out.push_back({"factory", scenes::buildFactory(small).root});
-    out.push_back({"kinds", gltftest::allKindsScene()});
+    out.push_back({"factory", scenes::buildFactory(small).root, {}});
+    out.push_back({"kinds", gltftest::allKindsScene(), {}});
 
     std::vector<uint8_t> px(16 * 16 * 4);
     for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(i * 37 % 251);
     auto tex = make<Texture>(16, 16, px);
     auto textured = make<Group>();
     textured->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>(vec4(1.0f), tex)));
-    out.push_back({"textured", textured});
+    out.push_back({"textured", textured, {}});
 
     auto mesh = makeBoxMesh(dvec3(-1), dvec3(1), 2);
     std::vector<vec2> uv1;
@@ -220,7 +246,7 @@ std::vector<std::pair<std::string, ref_ptr<Node>>> writtenScenes() {
     auto t = make<Transform>(glm::translate(dmat4(1.0), dvec3(3, 0, 0)));
     t->addChild(make<Geometry>(mesh, blended));
     physical->addChild(t);
-    out.push_back({"physical", physical});
+    out.push_back({"physical", physical, {}});
 
     auto box = make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>(vec4(0.8f, 0.3f, 0.2f, 1.0f)));
     auto instanced = make<Group>();
@@ -228,7 +254,8 @@ std::vector<std::pair<std::string, ref_ptr<Node>>> writtenScenes() {
         instanced->addChild(make<Instance>(
             box, glm::scale(glm::rotate(glm::translate(dmat4(1.0), dvec3(i * 3.0, 0, i % 3)), 0.2 * i, dvec3(0, 1, 0)),
                             dvec3(1.0 + 0.1 * i))));
-    out.push_back({"instanced", instanced});
+    out.push_back({"instanced", instanced, {}});
+    out.push_back(motionWritten());
     return out;
 }
 
@@ -237,10 +264,17 @@ TEST(GltfConformance, WhatSaveGltfWritesPassesTheValidator) {
     const fs::path dir = fs::temp_directory_path() / ("sgkit_gltf_written_" + std::to_string(::getpid()));
     fs::create_directories(dir);
     std::vector<std::string> files;
-    for (const auto& [name, root] : writtenScenes())
+    for (const Written& w : writtenScenes())
         for (const char* ext : {".glb", ".gltf"}) {
-            files.push_back((dir / (name + ext)).string());
-            saveGltf(*root, files.back());
+            files.push_back((dir / (w.name + ext)).string());
+            std::vector<std::string> warnings;
+            GltfSaveOptions options;
+            options.animations = w.animations;
+            options.warnings = &warnings;
+            saveGltf(*w.root, files.back(), options);
+            if (!w.animations.empty()) {
+                EXPECT_EQ(warnings.size(), 0u) << files.back() << ": " << (warnings.empty() ? "" : warnings.front());
+            }
         }
     const std::map<std::string, Verdict> verdicts = validate(files);
     for (const std::string& f : files) {
