@@ -1,9 +1,10 @@
 // libFuzzer target for the glTF loader: any bytes either load or throw sg::LoadError. Anything else (a
 // crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding.
 // The seed corpus in fuzz/corpus/ holds small valid files written by sg::saveGltf (.glb and .gltf), one packed by
-// gltfpack (quantized, meshopt-compressed) and hand-made ones with sparse accessors, quantized attributes and an
-// unused buffer without a URI. Every load also makes the file's occluders (GltfLoadOptions::generateOccluders), so
-// that what the loader accepts is what the occluder generator meets.
+// gltfpack (quantized, meshopt-compressed) and hand-made ones with sparse accessors, quantized attributes, an
+// unused buffer without a URI, and animations (TRS, normalized rotations and weights, cubic splines; and
+// KHR_animation_pointer on materials, a light, a camera and a node). Every load also makes the file's occluders
+// (GltfLoadOptions::generateOccluders), so that what the loader accepts is what the occluder generator meets.
 #include "loaders/gltf/Gltf.h"
 
 #include <cstddef>

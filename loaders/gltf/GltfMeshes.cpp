@@ -122,6 +122,7 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
                 withTangents(*mh, mat.get());
             }
             gs.push_back(make<Geometry>(std::move(mh), std::move(mat)));
+            if (p.material >= 0) materialUsers[p.material].push_back(gs.back());
         }
     }
     progress.report(0.6 + 0.4 * double(nodesDone) / double(std::max<size_t>(1, m.nodes.size())), "converting");
