@@ -2,7 +2,8 @@
 // crash, a sanitizer report, another exception, a hang past -timeout, a leak) is a finding.
 // The seed corpus in fuzz/corpus/ holds small valid files written by sg::saveGltf (.glb and .gltf), one packed by
 // gltfpack (quantized, meshopt-compressed) and hand-made ones with sparse accessors, quantized attributes, a skin,
-// morph targets and an unused buffer without a URI. Every load also makes the file's occluders
+// morph targets, an unused buffer without a URI, and animations (TRS, normalized rotations and weights, cubic splines;
+// and KHR_animation_pointer on materials, a light, a camera and a node). Every load also makes the file's occluders
 // (GltfLoadOptions::generateOccluders), so that what the loader accepts is what the occluder generator meets.
 #include "loaders/gltf/Gltf.h"
 

@@ -29,6 +29,7 @@ void Converter::camera(int c, const dmat4& world, const std::string& nodeName) {
         cam.znear = gc.orthographic.znear;
         cam.zfar = gc.orthographic.zfar;
     }
+    cameraEntries[c].push_back(out.cameras.size());
     out.cameras.push_back(cam);
 }
 

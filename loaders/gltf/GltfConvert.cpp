@@ -40,7 +40,8 @@ ref_ptr<Node> Converter::build(int i, const dmat4& parentWorld) {
     const dmat4 world = parentWorld * local;
     checkWorld(gn, path, world);
     if (gn.camera >= 0) camera(gn.camera, world, gn.name);
-    nodeLight(m, gn, path, world, out.lights, out.warnings);
+    if (const int light = nodeLight(m, gn, path, world, out.lights, out.warnings); light >= 0)
+        lightEntries[light].push_back(out.lights.size() - 1);
     const long long id = nodeId(sx, xp);
     if (id >= 0) {
         auto it = byId.find(id);

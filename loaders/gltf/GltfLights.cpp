@@ -29,16 +29,16 @@ std::string problem(const tinygltf::Light& l) {
 
 }  // namespace
 
-void nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const std::string& nodePath,
-               const dmat4& world, std::vector<PunctualLight>& lights, std::vector<std::string>& warnings) {
+int nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const std::string& nodePath, const dmat4& world,
+              std::vector<PunctualLight>& lights, std::vector<std::string>& warnings) {
     auto ext = node.extensions.find("KHR_lights_punctual");
-    if (ext == node.extensions.end()) return;
+    if (ext == node.extensions.end()) return -1;
     const std::string path = nodePath + ".extensions.KHR_lights_punctual.light";
     const tinygltf::Value& index = ext->second.Get("light");
     if (!index.IsNumber() || index.GetNumberAsDouble() != std::floor(index.GetNumberAsDouble()) ||
         index.GetNumberAsDouble() < 0 || index.GetNumberAsDouble() >= double(model.lights.size())) {
         warnings.push_back(path + ": not the index of a light; the light is skipped");
-        return;
+        return -1;
     }
     const size_t i = size_t(index.GetNumberAsDouble());
     const tinygltf::Light& l = model.lights[i];
@@ -46,7 +46,7 @@ void nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const s
     if (!why.empty()) {
         warnings.push_back("extensions.KHR_lights_punctual.lights[" + std::to_string(i) + "]: " + why +
                            "; the light is skipped");
-        return;
+        return -1;
     }
     PunctualLight p;
     p.type = l.type == "directional" ? PunctualLight::Type::Directional
@@ -57,7 +57,7 @@ void nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const s
     const double len = glm::length(down);
     if (p.type != PunctualLight::Type::Point && !(len > 0.0 && finite(len))) {
         warnings.push_back(path + ": the node's matrix gives the light no direction; the light is skipped");
-        return;
+        return -1;
     }
     if (p.type != PunctualLight::Type::Point) p.direction = vec3(down / len);
     if (!l.color.empty()) p.color = vec3(float(l.color[0]), float(l.color[1]), float(l.color[2]));
@@ -68,6 +68,7 @@ void nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const s
         p.outerConeAngle = float(l.spot.outerConeAngle);
     }
     lights.push_back(p);
+    return int(i);
 }
 
 }  // namespace sg::gltf

@@ -180,6 +180,7 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
         fail(file, "", err.empty() ? "tinygltf could not parse it" : err);
     }
     for (size_t i : absent) model.buffers[i].data.clear();
+    restorePointerChannels(data, size, binary, model);
     progress.report(0.5, "validating");
     try {
         decodeMeshopt(file, model);

@@ -131,6 +131,7 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
             auto g = make<Geometry>(std::move(mh), std::move(mat));
             // Its mesh's default weights; a plain node's own copies take the node's (ownGeometries()).
             if (!g->mesh()->morphTargets().empty()) g->setMorphWeights(g->mesh()->defaultWeights);
+            if (p.material >= 0) materialUsers[p.material].push_back(g);
             gs.push_back(std::move(g));
         }
     }

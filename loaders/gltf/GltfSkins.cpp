@@ -158,6 +158,8 @@ void Converter::ownGeometries(int i, Group& inner, const std::string& path) {
         auto g = make<Geometry>(ref_ptr<Mesh>(gs[k]->mesh()), ref_ptr<Material>(gs[k]->material()));
         if (!g->mesh()->morphTargets().empty()) g->setMorphWeights(weights);  // startWeights() checked the length
         nodeGeometries[i].push_back(g);
+        const int material = m.meshes[size_t(gn.mesh)].primitives[k].material;
+        if (material >= 0) materialUsers[material].push_back(g);  // what a material's animation pointer reaches
         if (gn.skin >= 0 && g->mesh()->influences() > 0) {
             pending.geometries.push_back({k, g});
             continue;

@@ -15,7 +15,7 @@ bool supportedExtension(const std::string& name) {
         "KHR_lights_punctual",        kQuantization, "EXT_meshopt_compression", "KHR_meshopt_compression",
         "KHR_draco_mesh_compression", kMeshFeatures, kStructuralMetadata,       kInstanceFeatures,
         "CESIUM_primitive_outline"};
-    return supported.count(name) != 0;
+    return supported.count(name) != 0 || name == kAnimationPointer;
 }
 
 std::string at(const std::string& array, size_t i) { return array + "[" + std::to_string(i) + "]"; }

@@ -9,6 +9,7 @@
 #include <map>
 #include <tuple>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace sg::gltf {
 
@@ -247,9 +248,44 @@ struct Converter {
     // node's transform, and a joint may hold that node), named as its node; without a skin, below its node.
     void skins(Group& root);
 
-    // --- animations (GltfAnimations.cpp)
+    // --- animations (GltfAnimations.cpp, GltfAnimationPointer.cpp)
+    // The Geometries made with each glTF material, by material index: KHR_animation_pointer's material channels
+    // give them changed copies.
+    std::map<int, std::vector<ref_ptr<Geometry>>> materialUsers;
+    // The entries of out.lights and out.cameras each glTF light and camera became (one per node that carries it).
+    std::map<int, std::vector<size_t>> lightEntries, cameraEntries;
     // Every animation of the file into out.animations, bound through nodeOf (after the node tree is built).
     void animations();
+    // What a sampler's output accessor may hold: floats only (translation, scale), or also normalized integers
+    // (rotation, weights), or also integers taken as their values (KHR_animation_pointer's floats; translation and
+    // scale under KHR_mesh_quantization).
+    enum class Outputs { Float, Normalized, Integers };
+    // One animation as it is read: the sg sampler made from each glTF sampler (-1: none yet) and each one's times.
+    struct AnimationRead {
+        size_t a;
+        const tinygltf::Animation& ga;
+        Animation& anim;
+        const std::unordered_set<const Node*>& built;  // nodeOf's nodes
+        std::vector<int> samplerOf;
+        std::vector<std::vector<float>> times;
+        std::string path(const char* array, size_t i) const { return at(at("animations", a) + "." + array, i); }
+    };
+    // glTF sampler s's times, checked: a SCALAR float accessor, strictly increasing.
+    void samplerTimes(AnimationRead& r, size_t s);
+    size_t animationValues = 0;  // floats read into samplers so far
+    // The sg sampler for channel c's glTF sampler, read on first use, its output checked against `type` (an
+    // accessor type) and `width` floats a key; `what` names what the channel drives.
+    uint32_t channelSampler(AnimationRead& r, size_t c, int type, uint32_t width, Outputs outputs,
+                            const std::string& what);
+    // A channel driving glTF node `node`'s translation, rotation, scale or weights; `where` names the node in
+    // messages. Skipped with a warning when the node was not built.
+    void nodeChannel(AnimationRead& r, size_t c, int node, const std::string& path, const std::string& where);
+    // A KHR_animation_pointer channel: nodes, material factors, lights, cameras; another pointer is a warning.
+    void pointerChannel(AnimationRead& r, size_t c);
+    void materialChannel(AnimationRead& r, size_t c, size_t mat, const std::string& property, const std::string& where);
+    void lightChannel(AnimationRead& r, size_t c, size_t light, const std::string& property, const std::string& where);
+    void cameraChannel(AnimationRead& r, size_t c, size_t cam, const std::string& kind, const std::string& property,
+                       const std::string& where);
 
     // --- cameras (GltfCameras.cpp)
     void camera(int c, const dmat4& world, const std::string& nodeName);

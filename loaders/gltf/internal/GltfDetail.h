@@ -75,6 +75,15 @@ bool withoutAbsentBuffers(const unsigned char* data, size_t size, bool binary, s
 // own, before validation; throws LoadError naming bufferViews[i] for data that does not decode.
 void decodeMeshopt(const std::string& file, tinygltf::Model& model);
 
+// --- KHR_animation_pointer (GltfAnimations.cpp)
+
+constexpr const char* kAnimationPointer = "KHR_animation_pointer";
+// tinygltf 2.7.0 drops an animation channel without target.node, which is how every KHR_animation_pointer channel
+// is written. For a file that uses the extension: each animation's channels read again from the JSON (`data` as
+// parsed, after prevalidate()), in the file's order, target.node -1 where absent and the pointer kept in
+// target_extensions.
+void restorePointerChannels(const unsigned char* data, size_t size, bool binary, tinygltf::Model& model);
+
 // --- Sparse accessors (GltfSparse.cpp)
 
 // Checks accessor i's sparse substitution (called by validate() once the buffer views are checked); `denseBytes`
@@ -190,10 +199,11 @@ private:
 void workOutSolids(const Node& root);
 
 // The KHR_lights_punctual light a node carries, if any, placed by the node's world matrix (the light shines down
-// its -Z) into `lights`. A light the renderer cannot use (an unknown type, a colour, intensity, range or cone out of
-// the extension's ranges) is a warning naming it, and skipped.
-void nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const std::string& nodePath,
-               const dmat4& world, std::vector<PunctualLight>& lights, std::vector<std::string>& warnings);
+// its -Z) into `lights`; returns the glTF light's index, or -1 when none was added. A light the renderer cannot use
+// (an unknown type, a colour, intensity, range or cone out of the extension's ranges) is a warning naming it, and
+// skipped.
+int nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const std::string& nodePath, const dmat4& world,
+              std::vector<PunctualLight>& lights, std::vector<std::string>& warnings);
 
 // Builds the graph of the default scene (validated model); per-element problems that do not stop the
 // load (points, lines, undecodable images) become warnings.

@@ -103,7 +103,8 @@ TEST(GltfSkin, TwoJointsBindTheBuiltTransformsAndTheInverseBindsAreRead) {
 TEST(GltfSkin, NoInverseBindMatricesAreIdentities) {
     Doc d(false);
     d.influences(0, {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0}, {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
-    const Geometry* g = skinnedGeometry(*d.load().root);
+    const GltfScene s = d.load();  // holds the graph
+    const Geometry* g = skinnedGeometry(*s.root);
     ASSERT_TRUE(g && g->skin());
     EXPECT_EQ(g->skin()->inverseBind(), std::vector<dmat4>(2, dmat4(1.0)));
 }
