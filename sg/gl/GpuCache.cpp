@@ -46,13 +46,17 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
                  uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0,
                  tanBytes = g.tangents ? n * sizeof(vec4) : 0, uv1Bytes = g.uvs1 ? n * sizeof(vec2) : 0;
     const size_t fidBytes = g.featureIds ? n * sizeof(float) : 0;
+    g.influences = m->joints().size() == n * size_t(m->influences()) && m->weights().size() == m->joints().size()
+                       ? m->influences()
+                       : 0;
+    const size_t skinBytes = n * size_t(g.influences) * (sizeof(float) + sizeof(uint16_t));
     const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes, tanOff = colOff + colBytes,
-                 uv1Off = tanOff + tanBytes, fidOff = uv1Off + uv1Bytes;
+                 uv1Off = tanOff + tanBytes, fidOff = uv1Off + uv1Bytes, skinOff = fidOff + fidBytes;
     glGenVertexArrays(1, &g.vao);
     glBindVertexArray(g.vao);
     glGenBuffers(1, &g.vbo);
     glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(fidOff + fidBytes), nullptr, GL_STATIC_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(skinOff + skinBytes), nullptr, GL_STATIC_DRAW);
     glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(posBytes), m->positions().data());
     glEnableVertexAttribArray(kPositionLocation);
     glVertexAttribPointer(kPositionLocation, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
@@ -88,6 +92,7 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
         glEnableVertexAttribArray(kFeatureIdLocation);
         glVertexAttribPointer(kFeatureIdLocation, 1, GL_FLOAT, GL_FALSE, 0, reinterpret_cast<const void*>(fidOff));
     }
+    if (g.influences > 0) uploadSkin(*m, skinOff);
     uploadIndices(*m, g);
     // The item attributes: the renderer points them at each run's place in the instance buffer.
     glBindBuffer(GL_ARRAY_BUFFER, instanceBuffer_);
@@ -95,6 +100,26 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
     pointItemAttributes(0);
     glBindVertexArray(0);
     return meshes_.emplace(m, std::move(g)).first->second;
+}
+
+// The weights (floats) then the joint indices (16-bit, read as unsigned integers: glVertexAttribIPointer), each
+// vertex's first four then, with eight influences, its next four.
+void GpuCache::uploadSkin(const Mesh& m, size_t offset) {
+    const size_t k = size_t(m.influences()), n = m.positions().size();
+    const size_t weightBytes = n * k * sizeof(float), jointOff = offset + weightBytes;
+    glBufferSubData(GL_ARRAY_BUFFER, GLintptr(offset), GLsizeiptr(weightBytes), m.weights().data());
+    glBufferSubData(GL_ARRAY_BUFFER, GLintptr(jointOff), GLsizeiptr(n * k * sizeof(uint16_t)), m.joints().data());
+    const auto weightStride = GLsizei(k * sizeof(float)), jointStride = GLsizei(k * sizeof(uint16_t));
+    for (size_t half = 0; half < k / 4; ++half) {
+        const GLuint weights = half ? kWeights1Location : kWeightsLocation;
+        const GLuint joints = half ? kJoints1Location : kJointsLocation;
+        glEnableVertexAttribArray(weights);
+        glVertexAttribPointer(weights, 4, GL_FLOAT, GL_FALSE, weightStride,
+                              reinterpret_cast<const void*>(offset + half * 4 * sizeof(float)));
+        glEnableVertexAttribArray(joints);
+        glVertexAttribIPointer(joints, 4, GL_UNSIGNED_SHORT, jointStride,
+                               reinterpret_cast<const void*>(jointOff + half * 4 * sizeof(uint16_t)));
+    }
 }
 
 // Points have no indices (drawn in order: the intensities stay on the CPU, for picking and styling). An outline's

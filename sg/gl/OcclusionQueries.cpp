@@ -37,7 +37,8 @@ constexpr double kGrow = 1e-3;
 
 int64_t mm(double v) { return std::llround(v * 1000.0); }
 
-// The rest of the list, renumbered: the cull's sort order, fades and parts of the items kept. newIndex: list's item
+// The rest of the list, renumbered: the cull's sort order, fades, parts and poses of the items kept. newIndex: list's
+// item
 // -> drawn's, ~0u where it was left out.
 void renumberRest(const DrawList& list, const std::vector<uint32_t>& newIndex, DrawList& drawn) {
     for (uint32_t i : list.order)
@@ -52,6 +53,8 @@ void renumberRest(const DrawList& list, const std::vector<uint32_t>& newIndex, D
                 drawn.parts.push_back(p);
             }
     }
+    for (const auto& [i, pose] : list.poses)
+        if (i < newIndex.size() && newIndex[i] != ~0u) drawn.poses.push_back({newIndex[i], pose});
 }
 
 }  // namespace
@@ -145,11 +148,20 @@ void OcclusionQueries::select(const DrawList& list, const Camera& camera, DrawLi
         for (size_t p = 0; p < list.parts.size(); ++p)
             if (list.parts[p].item < list.items.size()) partOf[list.parts[p].item] = int64_t(p);
     }
+    // Posed items (DrawList::poses) are drawn unqueried: their mesh's box is not where the pose puts its vertices, and
+    // their place moves with the pose.
+    std::vector<bool> posed;
+    if (!list.poses.empty()) {
+        posed.assign(list.items.size(), false);
+        for (const auto& [i, pose] : list.poses)
+            if (i < posed.size() && pose) posed[i] = true;
+    }
     for (size_t i = 0; i < list.items.size(); ++i) {
         const DrawItem& it = list.items[i];
         // The mesh's box in the eye-relative frame: centre moved, half extent through |M|.
         const Box& b = it.mesh->box();
-        if (b.empty()) {  // no vertex: nothing to query (nor to draw, but that is the renderer's to see)
+        // No vertex: nothing to query (nor to draw, but that is the renderer's to see); posed: see above.
+        if (b.empty() || (!posed.empty() && posed[i])) {
             newIndex[i] = uint32_t(drawn.items.size());
             drawn.items.push_back(it);
             continue;

@@ -16,7 +16,7 @@ class OcclusionQueries {
 public:
     // What the last frame did.
     struct Stats {
-        uint32_t queries = 0;          // boxes queried (every item of the list but those near the eye)
+        uint32_t queries = 0;          // boxes queried (every item of the list but those near the eye and posed ones)
         uint32_t hidden = 0;           // items left out: their box showed no sample in the frame before
         uint64_t hiddenTriangles = 0;  // their triangles (the parts' for items drawn in part)
         uint32_t nearEye = 0;  // items drawn unqueried: their box reaches the near plane, which could clip it away
@@ -34,7 +34,8 @@ public:
     // just left out too, so that they come back) after its items, against the frame's depth.
     void draw(Renderer& renderer, const DrawList& list, const Camera& camera,
               const vec4& clearColor = Renderer::kClearColor);
-    // The items the last draw() drew (list's items, order, fades and parts, less the hidden ones).
+    // The items the last draw() drew (list's items, order, fades, parts and poses, less the hidden ones). Posed items
+    // (DrawList::poses) are always drawn and never queried.
     const DrawList& drawn() const { return drawn_; }
     const Stats& lastStats() const { return stats_; }
     // Forgets every result: the next frame draws all its items.

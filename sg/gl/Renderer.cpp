@@ -86,6 +86,7 @@ Renderer::~Renderer() {
     depthTarget_.reset();
     eyeDome_.reset();
     glDeleteBuffers(1, &instanceVbo_);
+    if (jointBuffer_) glDeleteBuffers(1, &jointBuffer_);
     if (timeQuery_) glDeleteQueries(1, &timeQuery_);
     glDeleteProgram(one_.id);
     for (auto& [features, p] : variants_) glDeleteProgram(p.id);

@@ -5,6 +5,7 @@
 #include "sg/core/Material.h"
 #include "sg/core/Mesh.h"
 #include "sg/core/Node.h"
+#include "sg/core/Pose.h"
 #include "sg/core/PrepareBudget.h"
 #include "sg/core/Ref.h"
 #include "sg/cull/DrawList.h"
@@ -68,8 +69,8 @@ public:
     // draw uses (texture, vertex colours, baked light, lit by the headlight or the sun, highlight, alpha cutoff,
     // fade), compiled on first use and kept, holding only what those draws read. OneProgram: one program for
     // every draw, branching on uniforms: the reference the variants are tested against pixel for pixel. Points,
-    // outlines and lines wider than the context draws take their variants in both modes (the one program sizes no
-    // point).
+    // outlines, lines wider than the context draws and skinned items take their variants in both modes (the one
+    // program sizes no point and skins nothing).
     enum class ShaderMode : uint8_t { Variants, OneProgram };
     void setShaderMode(ShaderMode mode) { shaderMode_ = mode; }
     ShaderMode shaderMode() const { return shaderMode_; }
@@ -106,12 +107,18 @@ public:
     // material pointers become one instanced draw call; an item drawn in part (DrawList::parts) draws its
     // index ranges alone, in one glMultiDrawElements (a triangle mesh's only: an item of points or lines is drawn whole
     // whatever its part says). Points and lines: see setPointShading(); they are unlit, but points with normals.
-    // A triangle mesh's outline (Mesh::outline()) is drawn over its faces in black. Colour: base colour (white
+    // A triangle mesh's outline (Mesh::outline()) is drawn over its faces in black. An item listed in DrawList::poses
+    // draws its pose's mesh (Pose::drawn); a skinned pose's vertices are moved by the weighted sum of their joints'
+    // matrices (Pose::joints; on the GPU up to 256 joints, on the CPU beyond), then by the item's matrix, each such
+    // item drawn alone. A posed item is drawn whole (a part, if any, is ignored: the cull cut the unposed mesh) and
+    // with every back face that is not a single-sided material's (the proof that a closed mesh's back faces cannot
+    // show is about the unposed mesh). Colour: base colour (white
     // without a material)
     // x texture (when the mesh has UVs) x vertex colour, lit by a two-sided headlight unless the
     // material is unlit or the mesh has no normals, or by the light setLight() gave (see there); fragments whose alpha
     // is below the material's alphaCutoff are discarded, all others drawn opaque. Throws std::out_of_range for an order
-    // index past the items or a part whose item or ranges are out of range; in debug builds std::runtime_error on a GL
+    // index past the items, a part whose item or ranges are out of range, or a pose whose item is past the items or
+    // whose mesh weights a joint past the pose's joints; in debug builds std::runtime_error on a GL
     // error. The colour ends in the framebuffer bound for drawing at the call; with ReverseZ that framebuffer's depth
     // buffer is left as it was (readDepth reads the renderer's own), and a multisampled one is drawn into directly,
     // with Classic depth.
@@ -222,6 +229,7 @@ private:
         // outline's program (kShadeOutline).
         bool point = false, round = false, wideLine = false, outline = false;
         float pointScale = 0.0f;
+        int skin = 0;  // skinned on the GPU: its mesh's influences, 4 or 8 (kShadeSkin4, kShadeSkin8); 0 not skinned
     };
     // A linked program, the locations of its uniforms (-1: not in this program) and the values they hold.
     struct Program {
@@ -257,6 +265,10 @@ private:
         Program* outline = nullptr;    // its mesh's outline's program (set with gpu), null without an outline
         unsigned sampler = 0;          // texture's GL sampler object (Texture::sampler), set with it
         unsigned pbrSamplers[4] = {};  // pbrTextures' sampler objects
+        // A skinned item (a run of one) drawn on the GPU: its pose, whose joints' matrices are at this byte offset in
+        // the frame's joint buffer (set with gpu). Null: not skinned on the GPU.
+        const Pose* skin = nullptr;
+        size_t jointOffset = 0;
     };
     static constexpr uint32_t kWhole = ~0u;
     // The framebuffers bound at the call and the draw one's size (0 x 0 where GL cannot tell), the rectangle drawn,
@@ -279,6 +291,15 @@ private:
     // hidden one; filled only in frames that have such items.
     void indexFeatures(const DrawList& list);
     void indexParts(const DrawList& list);
+    // DrawList::poses, checked, as a pose per item (filled only in frames with posed items); the CPU-skinned meshes
+    // of the poses the frame before drew that this one does not, dropped (RendererPoses.cpp).
+    void indexPoses(const DrawList& list);
+    // What an item draws: its mesh, its pose's (Pose::drawn), or that skinned on the CPU (a skin past kMaxJoints).
+    const Mesh* drawnMesh(const DrawItem& it, const Pose* pose);
+    // Whether the pose is skinned on the GPU: joints within kMaxJoints and a mesh with skin weights.
+    static bool gpuSkinned(const Pose* pose, const Mesh& drawn);
+    // The skinned runs' joint matrices into the joint buffer, each pose's once, before the first draw.
+    void uploadJoints();
     void upload();
     bool wantsReverseZ(const Camera& camera) const;
     void beginFrame(Target& target, const Camera& camera, const vec4& clearColor);
@@ -356,6 +377,20 @@ private:
     std::vector<float> fades_;             // per item, filled only in frames with dissolving items
     std::vector<vec4> itemFeatureColors_;  // per item, filled only in frames with feature nodes and a style
     std::vector<uint32_t> parts_;          // per item, its DrawList::parts index; filled only in frames with parts
+    std::vector<const Pose*> poses_;       // per item, its pose or null; filled only in frames with posed items
+    // The poses skinned on the CPU (more joints than the GPU's block holds): the mesh made for each, kept while the
+    // pose is drawn (a pose never changes), with the last frame that drew it.
+    struct CpuSkinned {
+        ref_ptr<const Pose> pose;
+        ref_ptr<const Mesh> mesh;
+        uint64_t frame = 0;
+    };
+    std::unordered_map<const Pose*, CpuSkinned> cpuSkinned_;
+    uint64_t poseFrames_ = 0;                          // frames with posed items so far: what CpuSkinned::frame counts
+    unsigned jointBuffer_ = 0;                         // the frame's joint matrices (kJointBinding), made on first use
+    size_t jointAlign_ = 0;                            // GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, in bytes (16 at least)
+    std::vector<vec4> joints_;                         // the frame's, as uploaded: each joint's three rows
+    std::unordered_map<const Pose*, size_t> jointAt_;  // the frame's poses' byte offsets in it
     std::vector<int> rangeCounts_;
     std::vector<const void*> rangeOffsets_;
     RenderStats stats_;

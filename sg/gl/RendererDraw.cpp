@@ -77,6 +77,9 @@ void Renderer::drawRun(const DrawList& list, const Run& r) {
     glBindVertexArray(g.vao);
     glBindBuffer(GL_ARRAY_BUFFER, instanceVbo_);
     pointItemAttributes(r.first);
+    if (r.skin)  // the block whole from the pose's rows (uploadJoints leaves room for it)
+        glBindBufferRange(GL_UNIFORM_BUFFER, kJointBinding, jointBuffer_, GLintptr(r.jointOffset),
+                          GLsizeiptr(kJointBlockBytes));
     if (r.texture) {
         glBindTexture(GL_TEXTURE_2D, r.texture);
         glBindSampler(kBaseColorUnit, r.sampler);

@@ -57,7 +57,10 @@ bool Renderer::prepare(const Node& root, PrepareBudget& budget) {
 void Renderer::releaseUnused() { cache_->releaseUnused(); }
 void Renderer::releaseOrphans() { cache_->releaseOrphans(); }
 
-void Renderer::clear() { cache_->clear(); }
+void Renderer::clear() {
+    cache_->clear();
+    cpuSkinned_.clear();
+}
 
 size_t Renderer::cachedMeshes() const { return cache_->meshCount(); }
 

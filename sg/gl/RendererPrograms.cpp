@@ -60,12 +60,14 @@ Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentS
         glUniform1i(at(samplers[u]), u);  // units: Shaders.h
     }
     glUniform1i(at("uFeatureColors"), kFeatureUnit);
+    const GLuint joints = glGetUniformBlockIndex(p.id, "Joints");  // a skinned variant's (kShadeSkin4, kShadeSkin8)
+    if (joints != GL_INVALID_INDEX) glUniformBlockBinding(p.id, joints, kJointBinding);
     glUseProgram(0);
     return p;
 }
 
 Renderer::Program& Renderer::programFor(const Shading& s) {
-    if (shaderMode_ == ShaderMode::OneProgram && !s.point && !s.wideLine && !s.outline) return one_;
+    if (shaderMode_ == ShaderMode::OneProgram && !s.point && !s.wideLine && !s.outline && s.skin == 0) return one_;
     uint32_t f = 0;
     if (s.texture) f |= kShadeTexture;
     if (s.colors) f |= kShadeColor;
@@ -81,6 +83,8 @@ Renderer::Program& Renderer::programFor(const Shading& s) {
     if (s.round) f |= kShadeRound;
     if (s.wideLine) f |= kShadeWideLine;
     if (s.outline) f |= kShadeOutline;
+    if (s.skin == 4) f |= kShadeSkin4;
+    if (s.skin == 8) f |= kShadeSkin8;
     f = canonicalFeatures(f);
     const auto it = variants_.find(f);
     if (it != variants_.end()) return it->second;
@@ -162,7 +166,7 @@ void Renderer::featureColors(Run& r) {
     r.shading.features = true;
 }
 
-// Every mesh and texture of the frame is uploaded before the first draw: on llvmpipe an upload between
+// Every mesh, texture and joint matrix of the frame is uploaded before the first draw: on llvmpipe an upload between
 // draws makes every draw after it store the whole rasterizer state again (docs/benchmarks.md).
 void Renderer::upload() {
     for (Run& r : runs_) {
@@ -172,6 +176,8 @@ void Renderer::upload() {
         r.texture = b.texture;
         r.sampler = b.sampler;
         r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
+        if (r.gpu->influences == 0) r.skin = nullptr;  // its copy has no skin weights to skin by
+        r.shading.skin = r.skin ? r.gpu->influences : 0;
         if (r.material && r.material->physical) physicalTextures(r);
         featureColors(r);
         // Lines wider than glLineWidth draws are quads from a geometry stage; outlines are lines too.
@@ -187,6 +193,7 @@ void Renderer::upload() {
             r.outline = &programFor(o);
         }
     }
+    uploadJoints();
 }
 
 }  // namespace sg

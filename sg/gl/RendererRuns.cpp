@@ -11,6 +11,18 @@
 
 namespace sg {
 
+namespace {
+
+// The centre of what an item draws, relative to the eye: a skinned pose's box is in world coordinates, and the item's
+// matrix puts its anchor where it stands from the eye; other poses' boxes are in the item's frame.
+vec3 drawnCenter(const DrawItem& it, const Pose* pose) {
+    if (pose && pose->skinned()) return it.model * vec4(vec3(pose->box.center() - pose->anchor), 1.0f);
+    const Mesh& m = pose ? pose->drawn(*it.mesh) : *it.mesh;
+    return it.model * vec4(vec3(m.box().center()), 1.0f);
+}
+
+}  // namespace
+
 // Dissolving items are few: a dense copy of DrawList::fades only in frames that have them.
 void Renderer::indexFades(const DrawList& list) {
     fades_.clear();
@@ -60,6 +72,8 @@ void Renderer::indexParts(const DrawList& list) {
     for (size_t p = 0; p < list.parts.size(); ++p) {
         const DrawList::Part& part = list.parts[p];
         const Mesh* m = part.item < list.items.size() ? list.items[part.item].mesh : nullptr;
+        // A posed item is drawn whole: the ranges are the unposed mesh's triangles that reach the screen.
+        if (part.item < poses_.size() && poses_[part.item]) continue;
         // Index ranges are triangles' (the cull cuts triangle meshes only): points and lines are drawn whole.
         if (m && m->primitive() != Primitive::Triangles) continue;
         bool ok = m && uint64_t(part.first) + part.count <= list.ranges.size();
@@ -76,9 +90,9 @@ void Renderer::indexParts(const DrawList& list) {
     }
 }
 
-// Runs of equal (mesh, material) pointers in draw order, split where the back faces' culling changes; blended items
-// (Material::blend) after all others, farthest first by the centre of their bound along the view. Every matrix of
-// the frame goes in one buffer.
+// Runs of equal (mesh, material) pointers in draw order, split where the back faces' culling changes, a skinned item
+// alone (its joints are bound per draw); blended items (Material::blend) after all others, farthest first by the
+// centre of their bound along the view. Every matrix of the frame goes in one buffer.
 void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
     const double reach = backFaceCulling_ ? nearPlaneReach(camera) : -1.0;
     const size_t n = list.order.empty() ? list.items.size() : list.order.size();
@@ -86,6 +100,7 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
     runs_.clear();
     blended_.clear();
     indexFades(list);
+    indexPoses(list);  // before the parts, which posed items do without
     indexParts(list);
     indexFeatures(list);
     const vec3 view(camera.viewDirection());
@@ -98,7 +113,7 @@ void Renderer::buildRuns(const DrawList& list, const Camera& camera) {
         if (!it.mesh || it.mesh->primitiveCount() == 0) continue;
         if (!itemFeatureColors_.empty() && itemFeatureColors_[i].a == 0.0f) continue;  // a hidden feature
         if (it.material && it.material->blend) {
-            const float depth = glm::dot(view, it.model * vec4(vec3(it.mesh->box().center()), 1.0f));
+            const float depth = glm::dot(view, drawnCenter(it, poses_.empty() ? nullptr : poses_[i]));
             blended_.push_back({std::isfinite(depth) ? depth : 0.0f, i});
             continue;
         }
@@ -113,17 +128,21 @@ void Renderer::addItem(const DrawList& list, uint32_t i, double reach) {
     const float fade = fades_.empty() ? 1.0f : fades_[i];
     const uint32_t part = parts_.empty() ? kWhole : parts_[i];
     const Material* mat = it.material;
+    const Pose* pose = poses_.empty() ? nullptr : poses_[i];
+    const Mesh* mesh = drawnMesh(it, pose);
+    const Pose* skin = gpuSkinned(pose, *mesh) ? pose : nullptr;
     // A single-sided material's back faces are never drawn (glTF: "back-face culling must be enabled"); a mirroring
     // matrix turns which winding is in front. Points and lines have no back: their quads (llvmpipe's, or the wide
-    // lines' geometry stage) must not be culled by the way they happen to wind.
-    const bool single = mat && !mat->doubleSided && it.mesh->primitive() == Primitive::Triangles;
+    // lines' geometry stage) must not be culled by the way they happen to wind. A posed item's back faces are not
+    // proved hidden: the proof is about the unposed mesh (a skin may even fold it through itself).
+    const bool single = mat && !mat->doubleSided && mesh->primitive() == Primitive::Triangles;
     const bool mirrored = single && glm::determinant(glm::mat3(it.model)) < 0.0f;
-    const bool cullBack = single || (fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
+    const bool cullBack = single || (!pose && fade == 1.0f && (part == kWhole || list.parts[part].coversScreen) &&
                                      backFacesHidden(it, mat, reach));
-    if (runs_.empty() || runs_.back().mesh != it.mesh || runs_.back().material != mat || runs_.back().fade != fade ||
+    if (runs_.empty() || runs_.back().mesh != mesh || runs_.back().material != mat || runs_.back().fade != fade ||
         part != kWhole || runs_.back().part != kWhole || runs_.back().cullBack != cullBack ||
-        runs_.back().mirrored != mirrored) {
-        runs_.push_back(Run{it.mesh,
+        runs_.back().mirrored != mirrored || skin || runs_.back().skin) {
+        runs_.push_back(Run{mesh,
                             mat,
                             uint32_t(items_.size()),
                             0,
@@ -137,6 +156,7 @@ void Renderer::addItem(const DrawList& list, uint32_t i, double reach) {
                             {},
                             nullptr,
                             {}});
+        runs_.back().skin = skin;
     }
     runs_.back().count++;
     vec4 base = mat ? mat->baseColor : vec4(1.0f);

@@ -175,8 +175,10 @@ uint32_t canonicalFeatures(uint32_t f) {
     if (f & kShadePoint)
         f &= ~(kShadeWideLine | kShadeOutline);
     else
-        f &= ~kShadeRound;                                                                    // a disc is a point's
-    if (f & kShadeOutline) f &= kShadeOutline | kShadeWideLine | kShadeFade | kShadeFeature;  // black, unlit
+        f &= ~kShadeRound;                   // a disc is a point's
+    if (f & kShadeSkin8) f &= ~kShadeSkin4;  // eight influences read the first four too
+    // Black, unlit; moved as its faces are.
+    if (f & kShadeOutline) f &= kShadeOutline | kShadeWideLine | kShadeFade | kShadeFeature | kShadeSkin4 | kShadeSkin8;
     constexpr uint32_t pbrOnly = kShadePbrMr | kShadePbrNormal | kShadePbrOcclusion | kShadePbrEmissive | kShadeUv0 |
                                  kShadeUv1 | kShadeFlat | kShadeBlend | kShadePunctual | kShadePbrOrm;
     if (f & kShadePbr) {
@@ -223,7 +225,9 @@ std::string variantDefines(uint32_t f) {
                                                       {kShadePoint, "POINT"},
                                                       {kShadeRound, "ROUND"},
                                                       {kShadeWideLine, "WIDE_LINE"},
-                                                      {kShadeOutline, "OUTLINE"}};
+                                                      {kShadeOutline, "OUTLINE"},
+                                                      {kShadeSkin4, "SKIN4"},
+                                                      {kShadeSkin8, "SKIN8"}};
     for (const auto& [bit, name] : names) s += std::string("#define ") + name + ((f & bit) ? " 1\n" : " 0\n");
     return s;
 }

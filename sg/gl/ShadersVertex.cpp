@@ -51,8 +51,36 @@ uniform sampler2D uFeatureColors;
 // spacing scale) in pixels at distance 1, 0 for the fixed size.
 uniform float uPointSize, uMaxPointSize, uPointScale;
 #endif
+#if SKIN4 || SKIN8
+layout(location = 12) in uvec4 aJoints;
+layout(location = 14) in vec4 aWeights;
+#if SKIN8
+layout(location = 13) in uvec4 aJoints1;
+layout(location = 15) in vec4 aWeights1;
+#endif
+// The pose's joint matrices less its anchor (sg/core/Pose.h), each as its three rows: p goes to vec4(p, 1) * joint.
+layout(std140) uniform Joints {
+    mat3x4 uJoints[$MAX_JOINTS];
+};
+// The weighted sum of four joints' matrices. An index past the block (its weight 0: the renderer checks the others)
+// reads the last joint rather than past the array.
+mat3x4 blend(uvec4 j, vec4 w) {
+    j = min(j, uvec4($MAX_JOINTS - 1));
+    return w.x * uJoints[j.x] + w.y * uJoints[j.y] + w.z * uJoints[j.z] + w.w * uJoints[j.w];
+}
+#endif
 void main() {
+#if SKIN4 || SKIN8
+    // Skinned (glTF): the vertex by the weighted sum of its joints' matrices, then the item's matrix (the translation
+    // from the eye to the anchor); normals and tangents by both matrices' 3x3 parts, as for an unskinned item.
+    mat3x4 skin = blend(aJoints, aWeights);
+#if SKIN8
+    skin += blend(aJoints1, aWeights1);
+#endif
+    vec4 world = aModel * vec4(vec4(aPosition, 1.0) * skin, 1.0);
+#else
     vec4 world = aModel * vec4(aPosition, 1.0);
+#endif
     gl_Position = uViewProj * world;
 #if POINT
     // w is the distance along the view (perspective) or 1 (orthographic, where the scale holds at any depth).
@@ -62,7 +90,9 @@ void main() {
 #if $EYE_IF
     vFromEye = world.xyz;
 #endif
-#if (LIT && !FLAT) || PBR_NORMAL
+#if ((LIT && !FLAT) || PBR_NORMAL) && (SKIN4 || SKIN8)
+    mat3 m = mat3(aModel) * transpose(mat3(skin));  // mat3(skin): the 3x3 part's transpose (skin holds rows)
+#elif (LIT && !FLAT) || PBR_NORMAL
     mat3 m = mat3(aModel);
 #endif
 #if LIT && !FLAT
@@ -178,6 +208,7 @@ std::string variantVertexSource(bool physical) {
     substitute(s, "$EYE_IF", f.eyeIf);
     substitute(s, "$UV0_IF", f.uv0If);
     substitute(s, "$UV0_OUT", f.uv0Out);
+    substitute(s, "$MAX_JOINTS", std::to_string(kMaxJoints).c_str());
     return s;
 }
 

@@ -28,6 +28,7 @@ struct GpuMesh {
     int outlineCount = 0;
     bool normals = false, uvs = false, colors = false, tangents = false, uvs1 = false;
     bool featureIds = false;  // its first feature ID set's ids, per vertex (kFeatureIdLocation)
+    int influences = 0;       // skin joints and weights a vertex (Mesh::influences(): 0, 4 or 8; kJointsLocation)
     uint64_t lastFrame = 0;
     uint64_t keepUntil = 0;  // uploaded ahead of its first draw (prepare): kept until this frame, used or not
 };
@@ -98,6 +99,8 @@ private:
     };
     static void destroy(GpuMesh& g);
     static void uploadIndices(const Mesh& m, GpuMesh& g);
+    // A skinned mesh's joints and weights into the bound array buffer from byte `offset` on, and their attributes.
+    static void uploadSkin(const Mesh& m, size_t offset);
     static int kind(bool cut, bool srgb) { return (cut ? 1 : 0) | (srgb ? 2 : 0); }
 
     unsigned instanceBuffer_;

@@ -52,6 +52,10 @@ enum ShadeFeature : uint32_t {
     // A triangle mesh's outline (Mesh::outline()), drawn as lines over its faces: black, as opaque as the base colour,
     // unlit. Classic family only.
     kShadeOutline = 1u << 23,
+    // Skinned (a Pose with joints, DrawList::poses): the vertex stage moves each vertex by the weighted sum of its
+    // joints' matrices, 4 or 8 influences a vertex (Mesh::influences()). Both families, and points, lines and outlines.
+    kShadeSkin4 = 1u << 24,
+    kShadeSkin8 = 1u << 25,
 };
 // Punctual lights a physical draw receives at most.
 constexpr int kMaxPunctualLights = 8;
@@ -69,6 +73,13 @@ constexpr unsigned kPositionLocation = 0, kNormalLocation = 1, kUvLocation = 2, 
 constexpr unsigned kTangentLocation = 9, kUv1Location = 10;
 // A mesh's feature ids of its first feature ID set, as floats (exact below 2^24), for kShadeFeature.
 constexpr unsigned kFeatureIdLocation = 11;
+// A skinned mesh's joint indices (unsigned, uvec4) and weights (vec4): its first four influences, then its next four.
+constexpr unsigned kJointsLocation = 12, kJoints1Location = 13, kWeightsLocation = 14, kWeights1Location = 15;
+// The joints' matrices a skinned draw reads: a uniform block (std140) of kMaxJoints 4x3 matrices, each as mat3x4 (its
+// three rows, 48 bytes), bound at kJointBinding. GL 3.3 promises blocks of 16 KB: 256 joints take 12 KB.
+constexpr int kMaxJoints = 256;
+constexpr unsigned kJointBinding = 0;
+constexpr size_t kJointBlockBytes = size_t(kMaxJoints) * 48;
 // The texture units of a physical material's textures (the classic programs read unit 0 only).
 constexpr int kBaseColorUnit = 0, kMetallicRoughnessUnit = 1, kNormalUnit = 2, kOcclusionUnit = 3, kEmissiveUnit = 4;
 // The per-feature colour table's unit (kShadeFeature): RGBA8, feature id i at texel (i % width, i / width).
