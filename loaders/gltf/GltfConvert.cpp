@@ -7,6 +7,7 @@
 #include "nodes/Switch.h"
 #include "nodes/Transform.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/quaternion.hpp>
 
@@ -228,10 +229,27 @@ void Converter::children(const tinygltf::Node& gn, const std::string& kind, cons
     }
 }
 
+void Converter::extensionWarnings() {
+    const auto& required = m.extensionsRequired;
+    for (size_t i = 0; i < required.size(); ++i)  // others validate() has refused
+        if (!supportedExtension(required[i])) {
+            const bool image = required[i] == "KHR_texture_basisu" || required[i] == "EXT_texture_webp";
+            warn(at("extensionsRequired", i), "extension '" + required[i] + "' is not supported: " +
+                                                  (image ? "its textures are not decoded, drawn untextured"
+                                                         : "drawn with the nearest material sgkit has"));
+        }
+    for (size_t i = 0; i < m.extensionsUsed.size(); ++i) {
+        const std::string& e = m.extensionsUsed[i];
+        if (!supportedExtension(e) && std::find(required.begin(), required.end(), e) == required.end())
+            warn(at("extensionsUsed", i), "extension '" + e + "' is not supported, ignored");
+    }
+}
+
 GltfScene convert(const std::string& file, const tinygltf::Model& model, Progress& progress,
-                  std::vector<std::string> warnings) {
+                  std::vector<std::string> warnings, std::vector<bool> noData) {
     Converter c(file, model, progress);
     c.out.warnings = std::move(warnings);
+    c.noData = std::move(noData);
     auto root = make<Group>();
     std::vector<int> roots;
     const int scene = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
@@ -246,9 +264,7 @@ GltfScene convert(const std::string& file, const tinygltf::Model& model, Progres
         for (size_t i = 0; i < model.nodes.size(); ++i)
             if (!child[i]) roots.push_back(int(i));
     }
-    for (size_t i = 0; i < model.extensionsUsed.size(); ++i)  // required ones validate() has refused
-        if (!supportedExtension(model.extensionsUsed[i]))
-            c.warn(at("extensionsUsed", i), "extension '" + model.extensionsUsed[i] + "' is not supported, ignored");
+    c.extensionWarnings();
     c.readMetadata();
     progress.report(0.6, "converting");
     c.nodeOf.resize(model.nodes.size());

@@ -161,33 +161,37 @@ GltfScene load(const std::string& file, const std::string& baseDir, const unsign
             fail(file, "", std::string("tinygltf: ") + e.what());
         }
     };
-    // Buffers without data (withoutAbsentBuffers): a GLB's JSON, small, is looked at first; a .gltf's, which may
-    // hold megabytes of data URIs, only once tinygltf has refused such a buffer.
-    std::string fixed;
-    std::vector<size_t> absent;
-    bool ok = binary && withoutAbsentBuffers(data, size, binary, fixed, absent)
-                  ? parse(reinterpret_cast<const unsigned char*>(fixed.data()), fixed.size())
-                  : parse(data, size);
-    if (!ok && !binary && err.find("'uri' is missing") != std::string::npos &&
-        withoutAbsentBuffers(data, size, binary, fixed, absent)) {
+    // JSON that tinygltf refuses or misreads (normalizeForTinygltf): a GLB's, small, is looked at first; a .gltf's,
+    // which may hold megabytes of data URIs, when a quick read finds floats for integers or tinygltf has refused it.
+    Normalized fixed;
+    auto parseFixed = [&]() {
         model = tinygltf::Model();
         err.clear();
         warn.clear();
-        ok = parse(reinterpret_cast<const unsigned char*>(fixed.data()), fixed.size());
-    }
+        return parse(reinterpret_cast<const unsigned char*>(fixed.bytes.data()), fixed.bytes.size());
+    };
+    const bool first = binary || needsNormalizing(data, size);
+    bool ok = first && normalizeForTinygltf(file, data, size, binary, fixed) ? parseFixed() : parse(data, size);
+    if (!ok && !first && normalizeForTinygltf(file, data, size, binary, fixed)) ok = parseFixed();
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         fail(file, "", err.empty() ? "tinygltf could not parse it" : err);
     }
-    for (size_t i : absent) model.buffers[i].data.clear();
+    undoNormalizing(fixed, model);
     restorePointerChannels(data, size, binary, model);
+    std::vector<std::string> warnings = fixed.warnings;
+    for (size_t i = 0; binary && i < model.buffers.size(); ++i)  // allowed; the validator warns
+        if (model.buffers[i].uri.rfind("data:", 0) == 0)
+            warnings.push_back(at("buffers", i) + ".uri: a data URI inside a GLB, read as in a .gltf");
+    for (std::string& w : lines(warn)) warnings.push_back(std::move(w));
     progress.report(0.5, "validating");
     try {
         decodeMeshopt(file, model);
         decodeDraco(file, model);  // compressed primitives become plain accessors before anything reads them
+        std::vector<bool> noData = detachMissingData(model);
         validate(file, model);
         applySparse(model);
-        return convert(file, model, progress, lines(warn));
+        return convert(file, model, progress, std::move(warnings), std::move(noData));
     } catch (const std::bad_alloc&) {
         fail(file, "", "out of memory");
     }

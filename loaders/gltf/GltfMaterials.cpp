@@ -4,6 +4,8 @@
 
 #include <stb_image.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace sg::gltf {
@@ -162,6 +164,90 @@ void Converter::classic(const Value& x, const std::string& path, Material& mat) 
     mat.doubleSided = true;
 }
 
+bool Converter::requiresExtension(const char* extension) const {
+    const auto& r = m.extensionsRequired;
+    return std::find(r.begin(), r.end(), extension) != r.end();
+}
+
+void Converter::approximate(const tinygltf::Material& gm, const std::string& mp, Material& mat) {
+    // Only where the file requires them: a file that merely uses them has a metallic-roughness fallback.
+    const auto sgx = gm.extensions.find("KHR_materials_pbrSpecularGlossiness");
+    if (sgx != gm.extensions.end() && sgx->second.IsObject() && requiresExtension(sgx->first.c_str())) {
+        specularGlossiness(sgx->second, mp + ".extensions." + sgx->first, mat);
+        return;
+    }
+    const auto t = gm.extensions.find("KHR_techniques_webgl");
+    const bool technique = (t != gm.extensions.end() && requiresExtension(t->first.c_str())) ||
+                           (gm.additionalValues.count("technique") && requiresExtension("KHR_technique_webgl"));
+    if (!technique) return;
+    // A shader program sgkit does not run: a plain diffuse surface, of the colour or texture a "diffuse" value
+    // gives (WebGL techniques were mostly Blinn-Phong: the diffuse part is the nearest).
+    mat.pbr.metallic = 0.0f;
+    mat.pbr.roughness = 1.0f;
+    if (t == gm.extensions.end() || !t->second.IsObject() || !t->second.Has("values")) return;
+    const Value& values = t->second.Get("values");
+    if (!values.IsObject()) return;
+    for (const std::string& key : values.Keys()) {
+        std::string lower = key;
+        for (char& ch : lower) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+        if (lower.find("diffuse") == std::string::npos) continue;
+        diffuse(values.Get(key), mp + ".extensions.KHR_techniques_webgl.values." + key, mat);
+        return;
+    }
+}
+
+void Converter::diffuse(const Value& v, const std::string& path, Material& mat) {
+    if (v.IsObject() && v.Has("index") && v.Get("index").IsInt()) {  // a texture reference
+        const int index = v.Get("index").Get<int>();
+        if (index < 0 || size_t(index) >= m.textures.size()) {
+            warn(path + ".index", "texture " + std::to_string(index) + " does not exist, ignored");
+            return;
+        }
+        const int texCoord = v.Has("texCoord") && v.Get("texCoord").IsInt() ? v.Get("texCoord").Get<int>() : 0;
+        tinygltf::ExtensionMap ext;
+        if (v.Has("extensions") && v.Get("extensions").IsObject())
+            for (const std::string& k : v.Get("extensions").Keys()) ext[k] = v.Get("extensions").Get(k);
+        const TextureSlot s = slot(index, texCoord, ext, path);
+        mat.texture = s.texture;
+        mat.texCoord = s.texCoord;
+        mat.textureTransform = s.transform;
+    } else if (v.IsArray() && (v.ArrayLen() == 3 || v.ArrayLen() == 4)) {  // a colour
+        vec4 c(1.0f);
+        for (int k = 0; k < int(v.ArrayLen()); ++k) {
+            const double x = v.Get(k).IsNumber() ? v.Get(k).GetNumberAsDouble() : std::nan("");
+            if (!(x >= 0.0 && x <= 1.0)) {
+                warn(path, "is not a colour of numbers in [0, 1], ignored");
+                return;
+            }
+            c[k] = float(x);
+        }
+        mat.baseColor = c;
+    }
+}
+
+void Converter::specularGlossiness(const Value& x, const std::string& path, Material& mat) {
+    // The extension's diffuse as the base colour of a dielectric, its glossiness as smoothness; the specular
+    // colour, which metallic-roughness cannot hold, is dropped.
+    mat.baseColor = vec4(1.0f);
+    mat.texture = {};
+    mat.texCoord = 0;
+    mat.textureTransform = mat3(1.0f);
+    if (x.Has("diffuseFactor")) diffuse(x.Get("diffuseFactor"), path + ".diffuseFactor", mat);
+    if (x.Has("diffuseTexture")) diffuse(x.Get("diffuseTexture"), path + ".diffuseTexture", mat);
+    double gloss = 1.0;
+    if (x.Has("glossinessFactor")) {
+        const Value& g = x.Get("glossinessFactor");
+        const double v = g.IsNumber() ? g.GetNumberAsDouble() : -1.0;
+        if (v >= 0.0 && v <= 1.0)
+            gloss = v;
+        else
+            warn(path + ".glossinessFactor", "is not a number in [0, 1], ignored");
+    }
+    mat.pbr.metallic = 0.0f;
+    mat.pbr.roughness = float(1.0 - gloss);
+    mat.pbr.metallicRoughness = TextureSlot{};
+}
+
 ref_ptr<Material> Converter::material(int i) {
     if (i < 0) return {};
     if (materialDone[size_t(i)]) return materials[size_t(i)];
@@ -204,6 +290,7 @@ ref_ptr<Material> Converter::material(int i) {
             warn(mp + ".extensions.KHR_materials_emissive_strength.emissiveStrength",
                  "is not a finite number >= 0, ignored");
     }
+    approximate(gm, mp, *mat);
     mat->unlit = gm.extensions.count("KHR_materials_unlit") != 0;
     mat->doubleSided = gm.doubleSided;
     if (const Value* x = sgkitExtras(gm.extras)) classic(*x, mp + ".extras." + kExtrasKey, *mat);

@@ -44,6 +44,12 @@ ref_ptr<Mesh> Converter::mesh(const tinygltf::Primitive& p, const std::string& p
             pointsOrLines(p, path, std::move(positions), idx, *mesh);
         } else {
             if (p.mode != TINYGLTF_MODE_TRIANGLES) toTriangles(p.mode, idx);
+            if (idx.size() % 3 != 0) {  // glTF draws the whole triangles (the validator warns)
+                warn(path, std::to_string(idx.size()) + (p.indices >= 0 ? " indices" : " vertices") +
+                               " are not a multiple of 3 (TRIANGLES): the last " + std::to_string(idx.size() % 3) +
+                               " left out");
+                idx.resize(idx.size() - idx.size() % 3);
+            }
             mesh->set(std::move(positions), nrm >= 0 ? readUnitVectors<vec3>(m, nrm) : std::vector<vec3>{},
                       std::move(idx), uv >= 0 ? readVectors<vec2, 2>(m, uv) : std::vector<vec2>{},
                       col >= 0 ? readVectors<vec4, 4>(m, col) : std::vector<vec4>{});
@@ -118,6 +124,9 @@ const std::vector<ref_ptr<Geometry>>& Converter::geometries(int i) {
         const std::string path = at(at("meshes", size_t(i)) + ".primitives", k);
         if (!p.attributes.count("POSITION")) {
             warn(path, "no POSITION attribute, primitive skipped");
+            gs.push_back({});
+        } else if (const std::string why = missingData(p); !why.empty()) {
+            warn(path, why);
             gs.push_back({});
         } else {
             ref_ptr<Mesh> mh = mesh(p, path, i, int(k));

@@ -1,69 +1,12 @@
-// Buffers that packers leave without data (EXT_meshopt_compression's fallback) and the meshopt decoding that
-// fills their views from the compressed buffer, before tinygltf's model is validated.
+// The meshopt decoding that fills the views of buffers packers leave without data (EXT_meshopt_compression's
+// fallback) from the compressed buffer, before tinygltf's model is validated.
 #include "loaders/gltf/internal/GltfDetail.h"
 
 #include <meshoptimizer.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 
 namespace sg::gltf {
-
-namespace {
-
-uint32_t le32(const unsigned char* p) {
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-void put32(std::string& s, uint32_t v) {
-    for (int k = 0; k < 4; ++k) s.push_back(char((v >> (8 * k)) & 0xff));
-}
-
-// The smallest data URI tinygltf accepts (it refuses an empty one); the byte is dropped after parsing.
-constexpr const char* kOneByte = "data:application/octet-stream;base64,AA==";
-
-}  // namespace
-
-bool withoutAbsentBuffers(const unsigned char* data, size_t size, bool binary, std::string& out,
-                          std::vector<size_t>& absent) {
-    // prevalidate() has checked the GLB's header and chunk lengths.
-    const unsigned char* text = binary ? data + 20 : data;
-    const size_t textSize = binary ? le32(data + 12) : size;
-    const size_t length = binary ? le32(data + 8) : size;
-    const bool hasBin = binary && 20 + textSize + 8 <= length;
-    nlohmann::json doc = nlohmann::json::parse(text, text + textSize, nullptr, false);
-    if (!doc.is_object() || !doc.contains("buffers") || !doc["buffers"].is_array()) return false;
-    nlohmann::json& buffers = doc["buffers"];
-    for (size_t i = 0; i < buffers.size(); ++i) {
-        nlohmann::json& b = buffers[i];
-        if (!b.is_object() || b.contains("uri") || (hasBin && i == 0)) continue;
-        absent.push_back(i);
-        b["uri"] = kOneByte;
-        b["byteLength"] = 1;
-    }
-    if (absent.empty()) return false;
-    std::string json;
-    try {
-        json = doc.dump();
-    } catch (const nlohmann::json::exception&) {  // text that is not UTF-8: tinygltf says what it makes of it
-        absent.clear();
-        return false;
-    }
-    if (!binary) {
-        out = std::move(json);
-        return true;
-    }
-    json.append((4 - json.size() % 4) % 4, ' ');
-    const size_t rest = length - 20 - textSize;  // the BIN chunk and any other, as they are
-    out.clear();
-    out.append("glTF");
-    put32(out, 2);
-    put32(out, uint32_t(20 + json.size() + rest));
-    put32(out, uint32_t(json.size()));
-    put32(out, 0x4E4F534Au);  // "JSON"
-    out += json;
-    out.append(reinterpret_cast<const char*>(data) + 20 + textSize, rest);
-    return true;
-}
 
 namespace {
 

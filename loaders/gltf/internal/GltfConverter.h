@@ -78,6 +78,11 @@ struct Converter {
 
     void warn(const std::string& path, const std::string& what) { out.warnings.push_back(path + ": " + what); }
 
+    // --- buffers without data (GltfMissingData.cpp)
+    std::vector<bool> noData;  // per accessor: it reads a buffer the file does not hold (detachMissingData)
+    // Why primitive p cannot be drawn for want of data (an accessor of its over such a buffer), or empty.
+    std::string missingData(const tinygltf::Primitive& p) const;
+
     // --- extras (GltfExtras.cpp)
     [[noreturn]] void bad(const std::string& path, const std::string& why) { fail(file, path, why); }
     double number(const Value& o, const char* key, const std::string& path, double def);
@@ -110,6 +115,15 @@ struct Converter {
     // A glTF material as a physical one (Material::physical): the metallic-roughness model with its textures,
     // KHR_materials_unlit, KHR_materials_emissive_strength, KHR_texture_transform, alpha modes, double-sidedness.
     ref_ptr<Material> material(int i);
+    // Whether the file lists `extension` in extensionsRequired.
+    bool requiresExtension(const char* extension) const;
+    // A material whose required extension sgkit does not implement, made the nearest it has (a warning names the
+    // extension: extensionWarnings): KHR_materials_pbrSpecularGlossiness (diffuse as base colour, metallic 0,
+    // roughness 1 - glossiness), WebGL techniques (a diffuse surface of a "diffuse" value's colour or texture).
+    void approximate(const tinygltf::Material& gm, const std::string& mp, Material& mat);
+    void specularGlossiness(const Value& x, const std::string& path, Material& mat);
+    // A colour (3 or 4 numbers) or texture reference ({"index"}) as the base colour or texture.
+    void diffuse(const Value& v, const std::string& path, Material& mat);
 
     // --- accessors (GltfAccessors.cpp)
     // A primitive's indices (its vertices in order when it has none), each checked against the n vertices.
@@ -157,6 +171,8 @@ struct Converter {
     void addLevel(LOD& lod, ref_ptr<Node> c, const Value& sx, const std::string& xp, size_t k, size_t nc);
 
     // --- the node tree (GltfConvert.cpp)
+    // A warning for each extension not supported: used (ignored), or required and only shading (approximated).
+    void extensionWarnings();
     static dmat4 localMatrix(const tinygltf::Node& n);
     // Builds node i and its subtree; null when the node is skipped (with a warning).
     ref_ptr<Node> build(int i, const dmat4& parentWorld);

@@ -41,6 +41,9 @@ constexpr size_t kMaxExpandedBytes = size_t(1) << 29;
 // Extensions the loader reads: a file that requires another is refused, one that only uses another loads with a
 // warning naming it.
 bool supportedExtension(const std::string& name);
+// Extensions that change only how surfaces are shaded: required, they load with the nearest material sgkit has
+// (a warning naming them); any other unsupported required extension refuses the file.
+bool shadingOnlyExtension(const std::string& name);
 
 // "nodes[3]"
 std::string at(const std::string& array, size_t i);
@@ -62,14 +65,43 @@ void validate(const std::string& file, const tinygltf::Model& model);
 // in a tree (one parent, no cycle above it), inverse bind matrices of MAT4 floats, one per joint.
 void checkSkins(const std::string& file, const tinygltf::Model& model);
 
-// --- Buffers without data in the file (GltfMeshopt.cpp)
+// --- JSON that glTF allows and tinygltf 2.7.0 refuses or misreads (GltfNormalize.cpp)
 
-// JSON text (or a GLB) whose buffers without data in the file (no uri, other than a GLB's buffer 0 over its BIN
-// chunk: EXT_meshopt_compression's fallback, buffers nothing uses) have a one-byte data URI instead, which
-// tinygltf accepts (it refuses them, or hands over a GLB's BIN chunk); false, `out` untouched, when there are none.
-// `absent` lists them: emptied after parsing, so that a view into one is refused by validate().
-bool withoutAbsentBuffers(const unsigned char* data, size_t size, bool binary, std::string& out,
-                          std::vector<size_t>& absent);
+// The type of an accessor whose `type` glTF does not define (a file may hold one it does not use): no
+// TINYGLTF_TYPE_ value, and not -1, which the checks use for "no second type".
+constexpr int kUnknownType = 0;
+
+// A file rewritten for tinygltf, and what to undo on the model it parses.
+struct Normalized {
+    std::string bytes;  // the whole file (a GLB with its new JSON chunk)
+    // Buffers without data in the file (no uri, other than a GLB's buffer 0 over its BIN chunk:
+    // EXT_meshopt_compression's fallback, buffers a file leaves out): given a one-byte data URI (tinygltf refuses
+    // them, or hands over a GLB's BIN chunk), emptied after parsing (missingData() then says who needs them).
+    std::vector<size_t> absentBuffers;
+    std::vector<size_t> unknownTypes;     // accessors of an unknown type: SCALAR for tinygltf, kUnknownType after
+    std::vector<size_t> viewlessIndices;  // index accessors without a view (zeros): view 0 for tinygltf
+    std::vector<std::string> warnings;
+};
+
+// True when a float stands where glTF wants an integer ("mesh": 0.0, which tinygltf silently drops), found by
+// reading the JSON text without building it.
+bool needsNormalizing(const unsigned char* json, size_t size);
+// The file (JSON text or GLB, prevalidated) rewritten as above, and integral floats written as integers; false,
+// `out` untouched, when nothing needs it. Throws LoadError naming the path of a non-integral number where glTF
+// wants an integer.
+bool normalizeForTinygltf(const std::string& file, const unsigned char* data, size_t size, bool binary,
+                          Normalized& out);
+// The parsed model as the file has it: absent buffers empty, unknown types kUnknownType (not read), index
+// accessors without a view.
+void undoNormalizing(const Normalized& n, tinygltf::Model& model);
+
+// --- Buffers without data (GltfMissingData.cpp)
+
+// Per accessor: true when it reads a buffer without data (directly or through its sparse views). Such accessors
+// are detached (no view, not sparse: zeros to any reader) and views into such buffers emptied, so that nothing
+// reads past them; the conversion skips the primitives that use them (Converter::missingData). Call after the
+// meshopt decoding has moved its views onto decoded buffers.
+std::vector<bool> detachMissingData(tinygltf::Model& model);
 
 // Buffer views compressed with EXT_meshopt_compression (or KHR_meshopt_compression) decoded into buffers of their
 // own, before validation; throws LoadError naming bufferViews[i] for data that does not decode.
@@ -207,7 +239,8 @@ int nodeLight(const tinygltf::Model& model, const tinygltf::Node& node, const st
 
 // Builds the graph of the default scene (validated model); per-element problems that do not stop the
 // load (points, lines, undecodable images) become warnings.
+// `noData` (per accessor, may be empty): what detachMissingData() found.
 GltfScene convert(const std::string& file, const tinygltf::Model& model, Progress& progress,
-                  std::vector<std::string> warnings);
+                  std::vector<std::string> warnings, std::vector<bool> noData = {});
 
 }  // namespace sg::gltf

@@ -304,13 +304,14 @@ TEST(GltfMeshopt, StridesModesFiltersAndCountsAreCheckedBeforeDecoding) {
     EXPECT_EQ(d.refusal(true).first, "bufferViews[1].extensions.EXT_meshopt_compression.count");
 }
 
-TEST(GltfMeshopt, AViewIntoTheFallbackWithoutCompressionIsRefused) {
+// glTF allows a buffer without data: the primitive that reads it is skipped, naming it and the accessor.
+TEST(GltfMeshopt, APrimitiveReadingTheFallbackWithoutCompressionIsSkipped) {
     const Compressed c;
     Doc d = meshoptDoc(c);
     d.j["bufferViews"][0]["extensions"].clear();
-    const auto [path, why] = d.refusal(true);
-    EXPECT_EQ(path, "bufferViews[0]");
-    EXPECT_NE(why.find("buffer 1 (0 bytes)"), std::string::npos) << why;
+    const GltfScene s = d.load(true);
+    EXPECT_EQ(firstGeometry(*s.root), nullptr);
+    EXPECT_TRUE(mentions(s.warnings, "meshes[0].primitives[0]: accessors[", "has no data")) << s.warnings.size();
 }
 
 // --- Sparse accessors
@@ -437,14 +438,17 @@ TEST(GltfBuffers, AGltfBufferWithoutUriThatNothingUsesLoads) {
     EXPECT_EQ(firstMesh(*d.load(true).root)->positions(), kTriangle);  // and a GLB's buffer 1 is not its BIN chunk
 }
 
-TEST(GltfBuffers, AViewIntoABufferWithoutUriIsRefused) {
+// glTF allows a buffer without data (no uri outside a GLB): the nodes load, the primitive that reads it does not.
+TEST(GltfBuffers, APrimitiveReadingABufferWithoutUriIsSkipped) {
     Doc d;
     triangle(d);
     d.j["buffers"].push_back({{"byteLength", 36}});
-    d.j["bufferViews"][0]["buffer"] = 1;
-    const auto [path, why] = d.refusal();
-    EXPECT_EQ(path, "bufferViews[0]");
-    EXPECT_NE(why.find("buffer 1 (0 bytes)"), std::string::npos) << why;
+    d.j["bufferViews"][0]["buffer"] = 1;  // the positions
+    const GltfScene s = d.load();
+    ASSERT_TRUE(s.root);
+    EXPECT_EQ(s.root->numChildren(), 1u);  // the node
+    EXPECT_EQ(firstGeometry(*s.root), nullptr);
+    EXPECT_TRUE(mentions(s.warnings, "meshes[0].primitives[0]: accessors[0] (attributes.POSITION)", "has no data"));
 }
 
 TEST(GltfBuffers, DataUrisInAGlbLoad) {
