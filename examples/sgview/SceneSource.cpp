@@ -88,8 +88,9 @@ LoadedScene loadSources(const Options& o) {
         auto* root = static_cast<sg::Group*>(s.root.get());
         root->addChild(
             scenes::makeCrowd(o.n * o.n, sg::dvec3(-0.8 * (o.n - 1), 0.0, -0.8 * (o.n - 1)), o.n, 1.6, s.animations));
-        root->addChild(sg::make<sg::Geometry>(sg::makeBoxMesh(sg::dvec3(-0.8 * o.n - 1, -0.05, -0.8 * o.n - 1),
-                                                              sg::dvec3(0.8 * o.n + 1, 0.0, 0.8 * o.n + 1)),
+        // The ground's top below the lowest a foot reaches: no depth ties where a foot meets it.
+        root->addChild(sg::make<sg::Geometry>(sg::makeBoxMesh(sg::dvec3(-0.8 * o.n - 1, -0.12, -0.8 * o.n - 1),
+                                                              sg::dvec3(0.8 * o.n + 1, -0.06, 0.8 * o.n + 1)),
                                               sg::make<sg::Material>(sg::vec4(0.45f, 0.5f, 0.45f, 1.0f))));
         return s;
     }

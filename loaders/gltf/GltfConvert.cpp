@@ -147,7 +147,7 @@ void Converter::addMesh(int i, const std::string& kind, const Value* sx, const s
     if (gn.extensions.count(kInstanceFeatures) && !instanced)
         warn(path + ".extensions." + kInstanceFeatures, "without instances (EXT_mesh_gpu_instancing), ignored");
     const bool plain = gn.mesh >= 0 && kind == "Transform" && !instanced;
-    if (gn.skin >= 0 && !plain)
+    if (gn.skin >= 0 && !plain && kind != "Geometry")
         warn(path + ".skin", gn.mesh < 0 ? "a skin without a mesh is ignored"
                                          : "a skin on an instanced or sgkit " + kind + " node is ignored");
     if (instanced) {

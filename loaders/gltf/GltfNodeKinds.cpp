@@ -105,7 +105,17 @@ ref_ptr<Node> Converter::makeKind(const std::string& kind, const Value* sx, cons
         }
         const auto& gs = geometries(gn.mesh);
         if (gs.size() != 1 || !gs[0]) bad(path + ".mesh", "an sgkit Geometry needs a mesh of one triangle primitive");
-        return make<Geometry>(ref_ptr<Mesh>(gs[0]->mesh()), ref_ptr<Material>(gs[0]->material()));
+        auto g = make<Geometry>(ref_ptr<Mesh>(gs[0]->mesh()), ref_ptr<Material>(gs[0]->material()));
+        // Its weights and skin are its own (saveGltf writes a skinned or morphed Geometry in its place).
+        const int i = int(&gn - m.nodes.data());
+        if (targetCount(gn.mesh) > 0) {
+            g->setMorphWeights(startWeights(i));
+            nodeGeometries[i].push_back(g);
+        }
+        const int material = m.meshes[size_t(gn.mesh)].primitives[0].material;
+        if (material >= 0) materialUsers[material].push_back(g);
+        if (gn.skin >= 0 && g->mesh()->influences() > 0) skinned.push_back({i, nullptr, {{size_t(0), g}}});
+        return g;
     }
     bad(xp + ".kind", "unknown node kind '" + kind + "'");
 }

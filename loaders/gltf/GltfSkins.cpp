@@ -212,7 +212,7 @@ void Converter::skins(Group& root) {
         ref_ptr<Skin> sk = skin(gn.skin);
         for (auto& [k, g] : s.geometries) {
             if (!sk) {
-                s.inner->addChild(g);
+                if (s.inner) s.inner->addChild(g);
                 continue;
             }
             const Mesh& mesh = *g->mesh();
@@ -225,6 +225,13 @@ void Converter::skins(Group& root) {
                             " is past the " + std::to_string(sk->size()) + " joints of skins[" +
                             std::to_string(gn.skin) + "] (" + at("nodes", size_t(s.node)) + ")");
             g->setSkin(sk);  // every joint checked above: it cannot throw
+            if (!s.inner) {  // an sgkit Geometry node: skinned where it is, which must not be below a joint
+                for (const ref_ptr<Node>& joint : sk->joints())
+                    if (g->hasAncestorOrSelf(joint.get()))
+                        bad(at("nodes", size_t(s.node)) + ".skin",
+                            "the sgkit Geometry is below joint '" + joint->name() + "' of its own skin");
+                continue;
+            }
             g->setName(gn.name);
             root.addChild(g);
         }

@@ -43,11 +43,21 @@ std::string problem(const AnimationSampler& s) {
     return {};
 }
 
-// Spherical interpolation of unit quaternions a and b (x y z w) along the shorter arc (b negated when the dot is
-// negative: q and -q are the same rotation).
-void slerp(const float* a, const float* b, double u, double* out) {
+// Spherical interpolation of quaternions a and b (x y z w) along the shorter arc (b negated when the dot is
+// negative: q and -q are the same rotation). Keys a little off unit length (files round them) are normalised first,
+// so that the angle between them is the rotations' own.
+void slerp(const float* fa, const float* fb, double u, double* out) {
+    double a[4], b[4], la = 0.0, lb = 0.0;
+    for (int j = 0; j < 4; ++j) {
+        a[j] = fa[j], b[j] = fb[j];
+        la += a[j] * a[j], lb += b[j] * b[j];
+    }
+    for (int j = 0; j < 4; ++j) {
+        if (la > 0.0) a[j] /= std::sqrt(la);
+        if (lb > 0.0) b[j] /= std::sqrt(lb);
+    }
     double d = 0.0;
-    for (int j = 0; j < 4; ++j) d += double(a[j]) * double(b[j]);
+    for (int j = 0; j < 4; ++j) d += a[j] * b[j];
     const double sign = d < 0.0 ? -1.0 : 1.0;
     d *= sign;
     double wa = 1.0 - u, wb = u;
@@ -60,7 +70,7 @@ void slerp(const float* a, const float* b, double u, double* out) {
     }
     double len2 = 0.0;
     for (int j = 0; j < 4; ++j) {
-        out[j] = wa * double(a[j]) + sign * wb * double(b[j]);
+        out[j] = wa * a[j] + sign * wb * b[j];
         len2 += out[j] * out[j];
     }
     if (nearlySame && len2 > 0.0)

@@ -23,11 +23,11 @@ using Rgb = std::array<int, 3>;
 const Rgb kTexel[2][2] = {{{255, 0, 0}, {0, 0, 255}}, {{0, 255, 0}, {255, 255, 0}}};  // [column][row]
 
 ref_ptr<Texture> fourColours(const Sampler& s) {
-    std::vector<uint8_t> px;
+    std::vector<uint8_t> px(16);
     for (int row = 0; row < 2; ++row)
         for (int col = 0; col < 2; ++col)
-            px.insert(px.end(),
-                      {uint8_t(kTexel[col][row][0]), uint8_t(kTexel[col][row][1]), uint8_t(kTexel[col][row][2]), 255});
+            for (int c = 0; c < 4; ++c)
+                px[size_t((row * 2 + col) * 4 + c)] = uint8_t(c < 3 ? kTexel[col][row][c] : 255);
     auto t = make<Texture>(2, 2, px);
     t->sampler = s;
     return t;

@@ -87,9 +87,9 @@ TEST(SgviewOptions, BadValuesNameTheOptionAndTheValue) {
               std::string::npos);
     EXPECT_NE(error({"--scene", "city", "--frames", "2x"}).find("--frames '2x'"), std::string::npos);
     EXPECT_NE(error({"--scene", "city", "--n", "abc"}).find("--n 'abc'"), std::string::npos);
-    EXPECT_NE(
-        error({"--scene", "park"}).find("--scene 'park': the built-in scenes are city, office, factory and materials"),
-        std::string::npos);
+    EXPECT_NE(error({"--scene", "park"})
+                  .find("--scene 'park': the built-in scenes are city, office, factory, materials and figures"),
+              std::string::npos);
     EXPECT_NE(error({"--scene", "city", "--strategy", "fast"}).find("--strategy 'fast': parseStrategy()"),
               std::string::npos);
     EXPECT_NE(error({"--scene", "city", "--occlusion", "maybe"}).find("--occlusion 'maybe'"), std::string::npos);

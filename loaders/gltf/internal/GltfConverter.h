@@ -250,7 +250,7 @@ struct Converter {
     // Skinned Geometries of a node (with their primitive index), placed by skins() once the joints are built.
     struct Skinned {
         int node;
-        ref_ptr<Group> inner;
+        ref_ptr<Group> inner;  // where they go unskinned; null: an sgkit Geometry node, skinned in its place
         std::vector<std::pair<size_t, ref_ptr<Geometry>>> geometries;
     };
     std::vector<Skinned> skinned;

@@ -86,6 +86,20 @@ const morphed = (o) => {
   return w;
 };
 
+// glTF's rotation keys are unit quaternions; a file's may be a little off (Debian's simple_skin: |q| = 1.00023).
+// sgkit normalises them, so that a rotation stays a rotation; three.js slerps and composes them as they are, into
+// a matrix scaled by |q|^2. The reference takes them normalised too (STEP and LINEAR keys: a cubic spline's tangents
+// are not quaternions, and both sides normalise its result).
+for (const clip of gltf.animations)
+  for (const track of clip.tracks) {
+    if (track.ValueTypeName !== "quaternion" || track.values.length !== track.times.length * 4) continue;
+    for (let k = 0; k < track.values.length; k += 4) {
+      const q = track.values.subarray(k, k + 4);
+      const n = Math.hypot(q[0], q[1], q[2], q[3]);
+      if (n > 0) for (let c = 0; c < 4; ++c) q[c] /= n;
+    }
+  }
+
 const count = Math.max(2, parseInt(timesArg, 10));
 const result = { animations: [] };
 for (const clip of gltf.animations) {
