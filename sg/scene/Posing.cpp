@@ -8,7 +8,6 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 namespace sg {
 
@@ -17,26 +16,40 @@ namespace {
 // Parents followed at most this deep: a graph is a tree through first parents, this only stops a broken one.
 constexpr int kMaxDepth = 1 << 16;
 
-// The world matrix of `n`, reusing the products already worked out for its ancestors (`memo`, by node).
-const dmat4& worldOf(const Node* n, std::unordered_map<const Node*, dmat4>& memo) {
+// World matrices already worked out, by node: a skeleton's joints share most of their paths, and a skin has tens of
+// joints, so a flat list searched from its newest entry (a joint's parent is most often the joint before it) is
+// cheaper than a hash map.
+struct Memo {
+    std::vector<std::pair<const Node*, dmat4>> known;
+    const dmat4* find(const Node* n) const {
+        for (auto it = known.rbegin(); it != known.rend(); ++it)
+            if (it->first == n) return &it->second;
+        return nullptr;
+    }
+};
+
+// The world matrix of `n`, reusing the products already worked out for its ancestors.
+dmat4 worldOf(const Node* n, Memo& memo) {
     // The path up to the first ancestor already known (or the root), then the products down again.
-    std::vector<const Node*> up;
+    const Node* inlineUp[32];
+    std::vector<const Node*> moreUp;
+    size_t count = 0;
     const dmat4* known = nullptr;
-    for (const Node* a = n; a && int(up.size()) < kMaxDepth; a = a->numParents() ? a->parent(0) : nullptr) {
-        auto it = memo.find(a);
-        if (it != memo.end()) {
-            known = &it->second;
-            break;
-        }
-        up.push_back(a);
+    for (const Node* a = n; a && count < size_t(kMaxDepth); a = a->parent(0)) {
+        if ((known = memo.find(a))) break;
+        if (count < 32)
+            inlineUp[count] = a;
+        else
+            moreUp.push_back(a);
+        ++count;
     }
     dmat4 m = known ? *known : dmat4(1.0);
-    const dmat4* at = known;
-    for (auto it = up.rbegin(); it != up.rend(); ++it) {
-        if ((*it)->kind() == NodeKind::Transform) m = static_cast<const Transform*>(*it)->apply(m);
-        at = &(memo[*it] = m);
+    for (size_t k = count; k-- > 0;) {
+        const Node* a = k < 32 ? inlineUp[k] : moreUp[k - 32];
+        if (a->kind() == NodeKind::Transform) m = static_cast<const Transform*>(a)->apply(m);
+        memo.known.emplace_back(a, m);
     }
-    return *at;
+    return m;
 }
 
 // The mesh `src` with other positions, normals and tangents (each empty or one per position), its other arrays
@@ -73,12 +86,13 @@ void normalise(V& v) {
 }  // namespace
 
 dmat4 worldMatrix(const Node& n) {
-    std::unordered_map<const Node*, dmat4> memo;
+    Memo memo;
     return worldOf(&n, memo);
 }
 
 std::vector<dmat4> skinMatrices(const Skin& skin) {
-    std::unordered_map<const Node*, dmat4> memo;  // joints of one skeleton share most of their paths
+    Memo memo;
+    memo.known.reserve(skin.size() + 8);
     std::vector<dmat4> out(skin.size());
     for (size_t j = 0; j < skin.size(); ++j) out[j] = worldOf(skin.joints()[j].get(), memo) * skin.inverseBind()[j];
     return out;
