@@ -141,7 +141,8 @@ static void usage() {
         "                [--collide none|sync|async] [--app-ms MS] [--cull-only] [--width W --height H] [--json]\n"
         "       sgbench style [--n 100] [--frames F] [--restyles K] [--width W --height H] [--json]\n"
         "       sgbench points [--count N] [--frames F] [--width W --height H] [--json]\n"
-        "       sgbench motion [--figures N] [--n CITY] [--frames F] [--draw 0|1] [--width W --height H] [--json]\n"
+        "       sgbench motion [--figures N] [--moving K] [--n CITY] [--frames F] [--draw 0|1] [--width W --height H]\n"
+        "                      [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
