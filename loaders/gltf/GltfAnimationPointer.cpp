@@ -39,23 +39,6 @@ std::string join(const std::vector<std::string>& t, size_t from) {
 
 enum class MaterialField { BaseColor, Metallic, Roughness, Emissive, AlphaCutoff };
 
-// A copy of every field of `m` under a new id (keep in step with Material's fields).
-ref_ptr<Material> copyMaterial(const Material& m) {
-    auto c = make<Material>(m.baseColor, m.texture);
-    c->unlit = m.unlit;
-    c->alphaCutoff = m.alphaCutoff;
-    c->specular = m.specular;
-    c->shininess = m.shininess;
-    c->bakedLight = m.bakedLight;
-    c->physical = m.physical;
-    c->pbr = m.pbr;
-    c->texCoord = m.texCoord;
-    c->textureTransform = m.textureTransform;
-    c->blend = m.blend;
-    c->doubleSided = m.doubleSided;
-    return c;
-}
-
 // Writes the sampled values into `mat` (when given); whether they differ from what `cur` holds. `strength`:
 // KHR_materials_emissive_strength, which the material's emissive factor holds multiplied in.
 bool writeField(const Material& cur, Material* mat, MaterialField f, const double* v, float strength) {
@@ -91,7 +74,7 @@ void setMaterials(const std::vector<ref_ptr<Geometry>>& users, MaterialField f, 
         if (!cur || !writeField(*cur, nullptr, f, v, strength)) continue;
         auto it = std::find_if(made.begin(), made.end(), [&](const auto& p) { return p.first.get() == cur; });
         if (it == made.end()) {
-            ref_ptr<Material> copy = copyMaterial(*cur);
+            ref_ptr<Material> copy = cur->copy();
             writeField(*cur, copy.get(), f, v, strength);
             made.emplace_back(ref_ptr<Material>(cur), copy);
             it = made.end() - 1;

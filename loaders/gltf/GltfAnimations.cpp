@@ -16,16 +16,6 @@ namespace {
 // Floats all the samplers of a file may hold: one accessor read by many samplers must not stand for gigabytes.
 constexpr size_t kMaxAnimationValues = size_t(1) << 27;
 
-const char* typeName(int type) {
-    switch (type) {
-        case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-        case TINYGLTF_TYPE_VEC2: return "VEC2";
-        case TINYGLTF_TYPE_VEC3: return "VEC3";
-        case TINYGLTF_TYPE_VEC4: return "VEC4";
-        default: return "a matrix or an unknown type";
-    }
-}
-
 bool isInteger(int comp) {
     return comp == TINYGLTF_COMPONENT_TYPE_BYTE || comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
            comp == TINYGLTF_COMPONENT_TYPE_SHORT || comp == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;

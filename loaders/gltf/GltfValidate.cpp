@@ -68,12 +68,6 @@ void checkJsonDepth(const std::string& file, const unsigned char* p, size_t n) {
     }
 }
 
-namespace {
-
-uint32_t le32(const unsigned char* p) {
-    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
-}
-
 const char* typeName(int type) {
     switch (type) {
         case TINYGLTF_TYPE_SCALAR: return "SCALAR";
@@ -85,6 +79,12 @@ const char* typeName(int type) {
         case TINYGLTF_TYPE_MAT4: return "MAT4";
         default: return "an unknown type";
     }
+}
+
+namespace {
+
+uint32_t le32(const unsigned char* p) {
+    return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 
 // Checks the index `i` found at `path` against an array of `n` elements called `what`.

@@ -19,4 +19,10 @@ Texture::Texture(int width, int height, std::vector<uint8_t> rgba) : w_(width), 
 Material::Material(const vec4& c, ref_ptr<Texture> tex)
     : baseColor(c), texture(std::move(tex)), id_(g_nextMaterialId++) {}
 
+ref_ptr<Material> Material::copy() const {
+    ref_ptr<Material> c(new Material(*this));  // every field, the reference count not (Referenced's copy)
+    c->id_ = g_nextMaterialId++;
+    return c;
+}
+
 }  // namespace sg

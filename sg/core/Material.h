@@ -102,6 +102,9 @@ public:
     bool doubleSided = true;
 
     uint32_t id() const { return id_; }
+    // A copy with every setting of this one and an id of its own: what replaces a material that frames in flight
+    // may still draw (an animated property, a style) without touching it.
+    ref_ptr<Material> copy() const;
 
 private:
     uint32_t id_;

@@ -44,19 +44,6 @@ void forEachGeometry(Node& n, const std::function<void(Geometry&)>& f) {
     for (size_t i = 0; i < n.numChildren(); ++i) forEachGeometry(*n.child(i), f);
 }
 
-ref_ptr<Material> copyOf(const Material& m) {
-    auto c = make<Material>(m.baseColor, m.texture);
-    c->unlit = m.unlit;
-    c->alphaCutoff = m.alphaCutoff;
-    c->physical = m.physical;
-    c->pbr = m.pbr;
-    c->texCoord = m.texCoord;
-    c->textureTransform = m.textureTransform;
-    c->blend = m.blend;
-    c->doubleSided = m.doubleSided;
-    return c;
-}
-
 const char* const kTextureTransformModel = "/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf";
 
 }  // namespace
@@ -81,13 +68,13 @@ TEST(GltfMaterialImage, TextureTransformDrawsAsUvsTransformedBeforehand) {
         for (size_t i = 0; i < idx.size(); ++i) idx[i] = old.index(i);
         auto mesh = make<Mesh>();
         mesh->set(old.positions(), old.normals(), std::move(idx), std::move(uvs), old.colors());
-        auto plain = copyOf(m);
+        auto plain = m.copy();
         plain->textureTransform = mat3(1.0f);
         g.setMesh(mesh);
         g.setMaterial(plain);
     });
     forEachGeometry(*ignored, [](Geometry& g) {
-        auto plain = copyOf(*g.material());
+        auto plain = g.material()->copy();
         plain->textureTransform = mat3(1.0f);
         g.setMaterial(plain);
     });

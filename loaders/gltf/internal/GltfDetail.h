@@ -60,6 +60,8 @@ void prevalidate(const std::string& file, const unsigned char* data, size_t size
 // buffer views and views inside their buffers, strides, counts and types, finite node matrices, the node
 // hierarchy a forest (no cycle, no node with two parents), required extensions supported.
 void validate(const std::string& file, const tinygltf::Model& model);
+// An accessor type's glTF name ("VEC3"), for messages.
+const char* typeName(int type);
 
 // Skins (GltfSkins.cpp, called by validate() before the node checks): node skins and joints that exist, each joint
 // in a tree (one parent, no cycle above it), inverse bind matrices of MAT4 floats, one per joint.
