@@ -2,6 +2,8 @@
 // in DrawList::poses, a morphed one by its path; a figure whose joints moved it out of the view is culled.
 #include "nodes/Geometry.h"
 #include "nodes/Group.h"
+#include "nodes/LOD.h"
+#include "nodes/Occluder.h"
 #include "nodes/Transform.h"
 #include "sg/cull/CullTraversal.h"
 #include "sg/scene/Scene.h"
@@ -122,4 +124,55 @@ TEST(PosedCull, FigureMovedOutOfTheViewByItsJointsIsCulled) {
     f.hip->setMatrix(move(dvec3(0, 0, -10)));
     s.update();
     EXPECT_EQ(cull(s).items.size(), 1u);
+}
+
+// Occlusion and LOD on moving content: a skinned bar behind a wall is culled by the occlusion pass, and drawn again
+// when its joints carry it out from behind; under an LOD, its level follows the distance of its pose's bound.
+TEST(PosedCull, OcclusionAndLodFollowThePose) {
+    auto root = make<Group>();
+    auto wall = make<Occluder>();
+    wall->setBox(Box{dvec3(-10, 20, -10), dvec3(10, 21, 10)});
+    root->addChild(wall);
+    Figure f = figure(dvec3(-1, 40, 0));  // bound at the origin, posed 40 along the view, behind the wall
+    root->addChild(f.root);
+    Scene s(root);
+    s.update();
+    Camera cam;
+    cam.setViewport(400, 300);
+    cam.setPerspective(60.0, 4.0 / 3.0, 0.5, 1000.0);
+    cam.setLookAt(dvec3(0, 0, 0), dvec3(0, 1, 0), dvec3(0, 0, 1));
+    CullSettings set;
+    set.occlusion.mode = OcclusionMode::EveryFrame;
+    set.occlusion.method = OcclusionMethod::Tree;
+    CullTraversal cull;
+    auto drawn = [&] {
+        DrawList list;
+        CullStats stats;
+        cull.cull(s, cam, set, list, stats);
+        return list.items.size();
+    };
+    EXPECT_EQ(drawn(), 0u);                    // hidden by the wall
+    f.hip->setMatrix(move(dvec3(30, 40, 0)));  // walked out to the right, still 40 ahead, in the view
+    s.update();
+    EXPECT_EQ(drawn(), 1u);
+    f.hip->setMatrix(move(dvec3(-1, 40, 0)));
+    s.update();
+    EXPECT_EQ(drawn(), 0u);
+
+    // An LOD over the skinned bar (near: the bar; far: nothing): its range is tested at the pose's bound.
+    Figure g = figure(dvec3(0, 50, 0));
+    auto lod = make<LOD>();
+    lod->addChild(g.root, 0.0f, 100.0f);
+    Scene t(lod);
+    t.update();
+    auto drawnT = [&] {
+        DrawList list;
+        CullStats stats;
+        cull.cull(t, cam, CullSettings{}, list, stats);
+        return list.items.size();
+    };
+    EXPECT_EQ(drawnT(), 1u);
+    g.hip->setMatrix(move(dvec3(0, 400, 0)));  // carried beyond the LOD's range by its joints
+    t.update();
+    EXPECT_EQ(drawnT(), 0u);
 }
