@@ -206,7 +206,7 @@ inline Allowed requiring(const std::string& file, const char* ext, const json& m
                          std::function<void(const GltfScene&)> check) {
     GltfDoc d = triangleDoc();
     d.uses(ext, true);
-    d.j["materials"] = {material};
+    d.j["materials"] = json::array({material});  // not {material}: compilers differ on what one braced json is
     d.j["meshes"][0]["primitives"][0]["material"] = 0;
     return {file, d.text(), std::string("extensionsRequired[0]: extension '") + ext + "'", "", false, check};
 }
