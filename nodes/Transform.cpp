@@ -13,7 +13,10 @@ void Transform::setMatrix(const dmat4& m) {
         general_.reset();
         translation_ = dvec3(m[3]);
     } else {
-        general_ = std::make_unique<dmat4>(m);
+        if (general_)
+            *general_ = m;  // an animated joint is set every frame: no allocation each time
+        else
+            general_ = std::make_unique<dmat4>(m);
         translation_ = dvec3(m[3]);
     }
     markDirty(kDirtyBound);

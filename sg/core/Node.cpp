@@ -150,15 +150,23 @@ void Node::markDirty(uint8_t bits) {
     const uint8_t up = ((bits & (kDirtyBound | kDirtyBelow | kDirtyStructure)) ? kDirtyBelow : 0) |
                        (bits & (kDirtyStructure | kDirtyChoice));
     if (!up) return;
-    // Iterative walk to the roots; stop where the marks are already present (their ancestors have them).
-    std::vector<Node*> stack;
-    for (size_t i = 0, n = numParents(); i < n; ++i) stack.push_back(parent(i));
-    while (!stack.empty()) {
-        Node* a = stack.back();
-        stack.pop_back();
-        if ((a->state_ & up) == up) continue;
+    // Up a chain of single parents (a tree: the common case, an animated joint's every frame) without a stack; stop
+    // where the marks are already present (their ancestors have them).
+    Node* a = this;
+    while (a->numParents() == 1) {
+        a = a->parent(0);
+        if ((a->state_ & up) == up) return;
         a->state_ |= up;
-        for (size_t i = 0, n = a->numParents(); i < n; ++i) stack.push_back(a->parent(i));
+    }
+    // Several parents (a DAG): an iterative walk to the roots.
+    std::vector<Node*> stack;
+    for (size_t i = 0, n = a->numParents(); i < n; ++i) stack.push_back(a->parent(i));
+    while (!stack.empty()) {
+        Node* b = stack.back();
+        stack.pop_back();
+        if ((b->state_ & up) == up) continue;
+        b->state_ |= up;
+        for (size_t i = 0, n = b->numParents(); i < n; ++i) stack.push_back(b->parent(i));
     }
 }
 
