@@ -6,8 +6,20 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 
 namespace testutil {
+// node_modules holding the npm tools (gltf-validator, three): $SGKIT_NPM_MODULES, else the build's (the tiles-tools
+// target); empty when neither says.
+inline std::filesystem::path npmModules() {
+    if (const char* e = std::getenv("SGKIT_NPM_MODULES")) return e;
+#ifdef SGKIT_NPM_MODULES
+    return SGKIT_NPM_MODULES;
+#else
+    return {};
+#endif
+}
+
 inline bool outsideRequired() {
     const char* v = std::getenv("SGKIT_REQUIRE_OUTSIDE");
     return v && *v && std::strcmp(v, "0") != 0;

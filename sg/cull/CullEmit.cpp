@@ -76,6 +76,21 @@ void CullTraversal::inside(Ctx& c, uint32_t begin, uint32_t end, const dmat4& m)
     framesTop_ = base;
 }
 
+// Appends the item of draw `d` placed by `m` (its sort depth: the geometry's origin along the view, from the matrix
+// at hand; the bounds stay unread: the order is a drawing heuristic, not a visibility decision), dissolved by the LOD
+// fade under way; returns its index.
+inline uint32_t CullTraversal::pushItem(const Ctx& c, const FlatImage::Draw& d, const dmat4& m) {
+    const dvec3& vd = c.viewDir;
+    const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
+    DrawItem& it = out_->push(d.state, depth);
+    it.mesh = d.mesh;
+    it.material = d.material;
+    toFloat(m, it.model);
+    const auto item = uint32_t(out_->items.size() - 1);
+    if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
+    return item;
+}
+
 void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     const FlatImage& img = *c.img;
     const FlatImage::Draw& d = img.draws[img.aux[i]];
@@ -83,16 +98,8 @@ void CullTraversal::emit(Ctx& c, uint32_t i, const dmat4& m, bool inside) {
     if (img.flags[i] & FlatImage::kPosed) return emitPosed(c, i, m);
     // The rejection's path is its own function: the usual path stays as short as without the option.
     if (screenRect_ && !inside) return emitTrimmed(c, i, m);
-    // Sort depth: the geometry's origin along the view, from the matrix already at hand (the bounds
-    // stay unread: the order is a drawing heuristic, not a visibility decision).
     const bool invalid = img.flags[i] & FlatImage::kInvalid;
-    const dvec3& vd = c.viewDir;
-    const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
-    DrawItem& it = out_->push(d.state, depth);
-    it.mesh = d.mesh;
-    it.material = d.material;
-    toFloat(m, it.model);
-    if (fade_ != 1.0f) out_->fades.push_back({uint32_t(out_->items.size() - 1), fade_});
+    pushItem(c, d, m);
     triangles_ += d.mesh->triangleCount();
     points_ += d.mesh->pointCount();
     lines_ += d.mesh->lineCount();
@@ -107,14 +114,7 @@ void CullTraversal::emitPosed(Ctx& c, uint32_t i, const dmat4& m) {
     const FlatImage::Draw& d = img.draws[img.aux[i]];
     const Pose* pose = img.poseOf(i);
     const dmat4 model = pose && pose->skinned() ? glm::translate(dmat4(1.0), pose->anchor - cam_->eye()) : m;
-    const dvec3& vd = c.viewDir;
-    const float depth = float(vd.x * model[3].x + vd.y * model[3].y + vd.z * model[3].z);
-    DrawItem& it = out_->push(d.state, depth);
-    it.mesh = d.mesh;
-    it.material = d.material;
-    toFloat(model, it.model);
-    const auto item = uint32_t(out_->items.size() - 1);
-    if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
+    const uint32_t item = pushItem(c, d, model);
     if (pose) out_->poses.emplace_back(item, pose);
     triangles_ += d.mesh->triangleCount();
     points_ += d.mesh->pointCount();
@@ -143,14 +143,7 @@ void CullTraversal::emitTrimmed(Ctx& c, uint32_t i, const dmat4& m) {
         ranges.resize(firstRange);
         return emit(c, i, m, true);
     }
-    const dvec3& vd = c.viewDir;
-    const float depth = float(vd.x * m[3].x + vd.y * m[3].y + vd.z * m[3].z);
-    DrawItem& it = out_->push(d.state, depth);
-    it.mesh = d.mesh;
-    it.material = d.material;
-    toFloat(m, it.model);
-    const uint32_t item = uint32_t(out_->items.size() - 1);
-    if (fade_ != 1.0f) out_->fades.push_back({item, fade_});
+    const uint32_t item = pushItem(c, d, m);
     out_->parts.push_back({item, uint32_t(firstRange), uint32_t(ranges.size() - firstRange), true});
     triangles_ += kept;
 }

@@ -84,6 +84,7 @@ private:
     void emit(Ctx& c, uint32_t i, const dmat4& m, bool inside);
     void emitTrimmed(Ctx& c, uint32_t i, const dmat4& m);
     void emitPosed(Ctx& c, uint32_t i, const dmat4& m);
+    uint32_t pushItem(const Ctx& c, const FlatImage::Draw& d, const dmat4& m);
     // `planes` false: the walk below tests nothing (its bound is inside the frustum), only the frame is set.
     void setupCtx(Ctx& c, const FlatImage& img, const dmat4& imgToEye, bool planes = true);
     void checkPvs(const Scene& scene, const Camera& cam, const PvsTable& t);

@@ -28,14 +28,7 @@ namespace fs = std::filesystem;
 
 constexpr int kTimes = 20;
 
-fs::path npmModules() {
-    if (const char* e = std::getenv("SGKIT_NPM_MODULES")) return e;
-#ifdef SGKIT_NPM_MODULES
-    return SGKIT_NPM_MODULES;
-#else
-    return {};
-#endif
-}
+using testutil::npmModules;
 
 std::string threeMissing() {
     if (npmModules().empty() || !fs::exists(npmModules() / "three"))

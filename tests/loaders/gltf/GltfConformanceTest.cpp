@@ -33,15 +33,7 @@ namespace fs = std::filesystem;
 
 const char* kModels = "/usr/share/assimp/models";
 
-// node_modules holding gltf-validator: $SGKIT_NPM_MODULES, else the build's (the tiles-tools target).
-fs::path npmModules() {
-    if (const char* e = std::getenv("SGKIT_NPM_MODULES")) return e;
-#ifdef SGKIT_NPM_MODULES
-    return SGKIT_NPM_MODULES;
-#else
-    return {};
-#endif
-}
+using testutil::npmModules;
 
 // Why the validator cannot run here, or empty.
 std::string validatorMissing() {
