@@ -46,6 +46,7 @@ inline LodBudgetSettings plainBudget(const DrawCostModel* model, double budgetMs
     b.coarsestScale = 0.0;
     b.finestScale = 0.0;
     b.overrunShare = 0.0;
+    b.keepOver = b.keepUnder = 0.0;  // a plan anew every frame: the deadband is tested on its own
     return b;
 }
 

@@ -87,7 +87,11 @@ int runLod(const Args& a) {
     full.lodScale = 1e-9;
     // The budget may leave out what stress at its coarsest leaves out (LodRun's default); --no-drop: never.
     const bool mayDrop = !a.flag("no-drop");
-    scenes::LodRun run(renderer, {sg::parseLodPolicy(method), budget, mayDrop, sg::CullSettings{}});
+    // The budget's deadband (LodBudgetSettings::keepOver, keepUnder), in percent; the library's by default.
+    sg::CullSettings base;
+    base.lodBudget.keepOver = double(a.num("keep-over-pct", long(base.lodBudget.keepOver * 100.0 + 0.5))) / 100.0;
+    base.lodBudget.keepUnder = double(a.num("keep-under-pct", long(base.lodBudget.keepUnder * 100.0 + 0.5))) / 100.0;
+    scenes::LodRun run(renderer, {sg::parseLodPolicy(method), budget, mayDrop, base});
     // The load runs from before the same-view draws to the end, so that both see the same machine.
     const scenes::BackgroundLoad load(scenes::BackgroundLoad::parse(a.str("background-load", "none")));
     renderer.draw(list, cams[0]);  // uploads
@@ -99,7 +103,7 @@ int runLod(const Args& a) {
     for (double t : same) sameDev.push_back(std::abs(t - sameMedian));
 
     std::vector<double> total, dev, select, predErr, draw, gpu;
-    double mae = 0, pct = 0, tris = 0, dropped = 0, changed = 0, flicker = 0, levels[4] = {};
+    double mae = 0, pct = 0, tris = 0, dropped = 0, changed = 0, kept = 0, flicker = 0, levels[4] = {};
     const bool sameView = a.flag("same-view");
     sg::Image previous;
     int flickerFrames = 0;
@@ -113,10 +117,11 @@ int runLod(const Args& a) {
             if (a.flag("trace"))
                 std::fprintf(stderr,
                              "frame %6.2f cull %5.2f draw %6.2f predicted %6.2f tris %7llu items %5llu lods %5llu "
-                             "dropped %5llu changed %5llu\n",
+                             "dropped %5llu changed %5llu kept %llu budget %6.2f\n",
                              t, f.cullMs, f.drawMs, st.lodPredictedMs, (unsigned long long)st.triangles,
                              (unsigned long long)st.geometries, (unsigned long long)st.lodObjects,
-                             (unsigned long long)st.lodDropped, (unsigned long long)st.lodChanged);
+                             (unsigned long long)st.lodDropped, (unsigned long long)st.lodChanged,
+                             (unsigned long long)st.lodPlansKept, st.lodBudgetMs);
             total.push_back(t);
             draw.push_back(f.drawMs);
             if (f.gpuMs >= 0.0) gpu.push_back(f.gpuMs);
@@ -126,6 +131,7 @@ int runLod(const Args& a) {
             tris += double(st.triangles);
             dropped += double(st.lodDropped);
             changed += double(st.lodChanged);
+            kept += double(st.lodPlansKept);
             for (int l = 0; l < 4; ++l) levels[l] += double(st.lodLevels[l]);
             const sg::Image got = renderer.readColor();
             const sg::Camera& cam = cams[size_t(i)];
@@ -174,6 +180,7 @@ int runLod(const Args& a) {
         j.add("model_abs_error_ms_median", median(predErr));
         // Levels shown otherwise than last frame (the budget keeps each LOD's history): with --same-view, flicker.
         j.add("level_changes_per_frame", changed / k);
+        j.add("plans_kept_pct", 100.0 * kept / k);
         for (int l = 0; l < 2; ++l)
             j.add("level" + std::to_string(l) + "_mean", levels[l] / k);  // the city and the factory have two
     }

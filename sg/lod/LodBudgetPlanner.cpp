@@ -3,6 +3,7 @@
 #include "sg/lod/internal/LodChooser.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -163,6 +164,20 @@ void LodBudgetPlanner::plan(const std::vector<ImageFrame>& places, uint64_t vers
     }
     // What the rest of the frame already costs comes off the budget.
     const double fixed = model.predict(fixedWork);
+    chosen_.resize(n);
+    // Only a still view keeps its plan: a moving one plans anew each frame (its areas change, and a plan kept from
+    // frames ago would hold levels the view no longer wants).
+    const bool still = cam.view() == lastView_ && cam.projection() == lastProjection_ && planned_;
+    lastView_ = cam.view();
+    lastProjection_ = cam.projection();
+    planned_ = true;
+    if (keepLast(b, fixed) && still) {
+        finish(fixed, lastCost_, stats);
+        stats.lodBudgetMs = b.budgetMs;
+        stats.lodPlansKept = 1;
+        stats.lodSelectMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        return;
+    }
     LodSelector::Overrun overrun;
     if (b.overrunShare > 0.0 && price_ > 0.0 && std::isfinite(b.overrunShare * b.overrunWorth * price_)) {
         overrun.minRatio = b.overrunWorth * price_;
@@ -173,19 +188,56 @@ void LodBudgetPlanner::plan(const std::vector<ImageFrame>& places, uint64_t vers
                          b.mayDrop ? LodSelector::Floor::CheapestFirst : LodSelector::Floor::Cheapest, overrun);
     if (sel.fit && sel.leftRatio > 0.0 && std::isfinite(sel.leftRatio))
         price_ = price_ > 0.0 ? price_ * std::pow(sel.leftRatio / price_, 1.0 / kPriceFrames) : sel.leftRatio;
-    chosen_.resize(n);
     for (size_t k = 0; k < n; ++k) chosen_[k] = sel.level[k] < 0 ? -1 : sel.level[k] + first_[k];
-    for (size_t k = 0; k < n; ++k) {
+    finish(fixed, sel.costMs, stats);
+    stats.lodBudgetMs = b.budgetMs;
+    stats.lodSelectMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The deadband (LodBudgetSettings::keepOver, keepUnder): whether last frame's choices stand, and then chosen_ holds
+// them and lastCost_ their predicted cost. The frame's budget is noted first; the test holds the whole frame's
+// prediction (`fixed`, the rest of the frame, plus the kept choices) to the median budget of the last few frames
+// (steadyBudget_), so that one frame whose cull was preempted does not drop a hundred far LODs for a frame (a lasting
+// change is followed within kBudgets / 2 + 1 frames); a new plan fits this frame's budget. The band is a share of the
+// whole budget, not of the room left to the LODs: one LOD's step can be a third of that room.
+bool LodBudgetPlanner::keepLast(const LodBudgetSettings& b, double fixed) {
+    budgets_[budgetAt_++ % kBudgets] = b.budgetMs;
+    const size_t have = std::min<size_t>(budgetAt_, kBudgets);
+    std::array<double, kBudgets> sorted{};
+    std::copy(budgets_.begin(), budgets_.begin() + long(have), sorted.begin());
+    std::nth_element(sorted.begin(), sorted.begin() + long(have / 2), sorted.begin() + long(have));
+    const double steady = sorted[have / 2];
+    if (b.keepOver <= 0.0 && b.keepUnder <= 0.0) return false;
+    double cost = 0.0;
+    for (size_t k = 0; k < deferred_.size(); ++k) {
+        const uint8_t record = deferred_[k].record;
+        if (record == LodHistory::kUnseen) return false;  // new in view: a plan anew
+        const LodSelector::Object& obj = objects_[k];
+        const uint8_t shown = LodHistory::shown(record);
+        if (shown == LodHistory::kNone) {
+            if (obj.keep) return false;  // left out, but may not be now
+            chosen_[k] = -1;
+            continue;
+        }
+        if (obj.last < 0) return false;  // its last child is no longer an option (the view moved)
+        cost += obj.options[obj.last].costMs;
+        chosen_[k] = obj.last + first_[k];
+    }
+    lastCost_ = cost;
+    const double total = fixed + cost;
+    return !deferred_.empty() && total <= steady * (1.0 + b.keepOver) && total >= steady * (1.0 - b.keepUnder);
+}
+
+void LodBudgetPlanner::finish(double fixed, double cost, LodPlanStats& stats) const {
+    for (size_t k = 0; k < chosen_.size(); ++k) {
         stats.lodDropped += chosen_[k] < 0;
         if (chosen_[k] >= 0) {
             stats.lodLevels[std::min(chosen_[k], 3)]++;
             stats.lodPixels += area_[k];
         }
     }
-    stats.lodObjects = n;
-    stats.lodBudgetMs = b.budgetMs;
-    stats.lodPredictedMs = fixed + sel.costMs;
-    stats.lodSelectMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    stats.lodObjects = chosen_.size();
+    stats.lodPredictedMs = fixed + cost;
 }
 
 }  // namespace sg

@@ -11,6 +11,7 @@
 #include "sg/scene/FlatImage.h"
 #include "sg/scene/ImageFrame.h"
 
+#include <array>
 #include <vector>
 
 namespace sg {
@@ -66,6 +67,8 @@ private:
     // Its header's index in work_; `at`: the image's headers by entry (~0u: not worked out yet).
     uint32_t workIndex(const FlatImage& img, std::vector<uint32_t>& at, uint32_t i);
     std::vector<uint32_t>& track(const FlatImage& img, uint64_t version);  // the image's headers by entry
+    bool keepLast(const LodBudgetSettings& b, double fixed);
+    void finish(double fixed, double cost, LodPlanStats& stats) const;
 
     std::vector<Deferred> deferred_;
     std::vector<int> chosen_;   // per deferred LOD: the child shown, -1: none
@@ -88,6 +91,13 @@ private:
     // What a millisecond bought at the budget's edge (LodSelector::Selection::leftRatio) in recent frames that
     // fit, smoothed in logs; 0: no such frame yet.
     double price_ = 0.0;
+    // The budgets of the last frames, for the deadband's median.
+    static constexpr size_t kBudgets = 5;
+    std::array<double, kBudgets> budgets_{};
+    uint64_t budgetAt_ = 0;
+    double lastCost_ = 0.0;
+    dmat4 lastView_{1.0}, lastProjection_{1.0};  // the camera of the last plan: only a still view keeps its plan
+    bool planned_ = false;
 };
 
 }  // namespace sg

@@ -11,6 +11,8 @@ void LodBudgetSettings::validate(const char* caller) const {
     c.atLeast("lodBudget.finestScale", finestScale, 0.0);
     c.atLeast("lodBudget.overrunShare", overrunShare, 0.0);
     c.atLeast("lodBudget.overrunWorth", overrunWorth, 0.0);
+    c.share("lodBudget.keepOver", keepOver);
+    c.share("lodBudget.keepUnder", keepUnder);
 }
 
 }  // namespace sg

@@ -43,6 +43,14 @@ struct LodBudgetSettings {
     // hard limit. Both finite and >= 0.
     double overrunShare = 0.15;
     double overrunWorth = 4.0;
+    // The deadband that makes a still view a still picture: last frame's choices are kept as they are while the
+    // camera has not moved since the last plan, every LOD planned was planned before, each one's last child is still
+    // among its options, and the whole frame's predicted time with them lies within [1 - keepUnder, 1 + keepOver] of
+    // the budget (as a median over the last few frames: one frame's spike of measured app or cull time, which comes off
+    // the viewer's budget, moves nothing). Outside it, or when the view brings LODs in or out, the plan is made anew. 0
+    // and 0: a new plan every frame. Both in [0, 1].
+    double keepOver = 0.15;
+    double keepUnder = 0.30;
 
     // Throws SettingError naming `caller` (CullSettings::validate() calls it when the budget is enabled).
     void validate(const char* caller) const;

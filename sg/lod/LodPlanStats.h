@@ -12,6 +12,7 @@ struct LodPlanStats {
     double lodPixels = 0.0;       // projected bound areas of the LODs drawn: DrawCostModel::Work::pixels
     double lodPredictedMs = 0.0;  // predicted draw time of the whole frame
     double lodSelectMs = 0.0;
+    uint64_t lodPlansKept = 0;  // 1 when last frame's choices were kept whole (LodBudgetSettings::keepOver)
 };
 
 }  // namespace sg
