@@ -66,6 +66,9 @@ int runStyle(const Args& a);
 int runPoints(const Args& a);
 // sgbench motion: a crowd of skinned walking figures in the city, moving against frozen (MotionBench.cpp).
 int runMotion(const Args& a);
+// sgbench variants: a material never drawn before shown each frame, its shader variants compiled in the frame or
+// prepared before the first (VariantsBench.cpp).
+int runVariants(const Args& a);
 // The PVS grid around city's street path (n) or office's walk (n rooms a side), computed only at the
 // cameras' eyes, for their near planes.
 sg::PvsBuilder::Options pvsPathOptions(bool city, int n, const std::vector<sg::Camera>& cams);

@@ -144,6 +144,7 @@ static void usage() {
         "       sgbench points [--count N] [--frames F] [--width W --height H] [--json]\n"
         "       sgbench motion [--figures N] [--moving K] [--n CITY] [--frames F] [--draw 0|1] [--width W --height H]\n"
         "                      [--json]\n"
+        "       sgbench variants [--width W --height H] [--json]\n"
         "strategies: none sphere aabb (default) sphere-sphere center-box; --small-feature PIXELS adds small-feature "
         "culling\n");
 }
@@ -167,6 +168,7 @@ int main(int argc, char** argv) {
         if (a.command == "style") return bench::runStyle(a);
         if (a.command == "points") return bench::runPoints(a);
         if (a.command == "motion") return bench::runMotion(a);
+        if (a.command == "variants") return bench::runVariants(a);
         usage();
         return 2;
     } catch (const std::exception& e) {

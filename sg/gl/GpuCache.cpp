@@ -11,6 +11,26 @@
 
 namespace sg {
 
+GpuMesh describeMesh(const Mesh& m) {
+    GpuMesh g;
+    const size_t n = m.positions().size();
+    const Primitive p = m.primitive();
+    g.mode = p == Primitive::Points ? GL_POINTS : p == Primitive::Lines ? GL_LINES : GL_TRIANGLES;
+    g.outlineCount = p == Primitive::Points ? 0 : int(m.outline().size());
+    g.normals = m.normals().size() == n;
+    g.uvs = m.uvs().size() == n;
+    g.colors = m.colors().size() == n;
+    g.tangents = m.tangents().size() == n && n > 0;
+    g.uvs1 = m.uvs1().size() == n && n > 0;
+    const MeshFeatures* f = m.features();
+    g.featureIds =
+        f && !f->sets.empty() &&
+        (f->sets[0].source == FeatureIdSet::Source::Attribute || f->sets[0].source == FeatureIdSet::Source::Implicit);
+    g.influences =
+        m.joints().size() == n * size_t(m.influences()) && m.weights().size() == m.joints().size() ? m.influences() : 0;
+    return g;
+}
+
 GpuCache::GpuCache(unsigned instanceBuffer, float maxAnisotropy)
     : instanceBuffer_(instanceBuffer), maxAnisotropy_(maxAnisotropy) {}
 
@@ -28,27 +48,15 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
         it->second.lastFrame = frame_;
         return it->second;
     }
-    GpuMesh g;
+    GpuMesh g = describeMesh(*m);
     g.mesh = m;
     g.lastFrame = frame_;
     const size_t n = m->positions().size();
-    g.normals = m->normals().size() == n;
-    g.uvs = m->uvs().size() == n;
-    g.colors = m->colors().size() == n;
-    g.tangents = m->tangents().size() == n && n > 0;
-    g.uvs1 = m->uvs1().size() == n && n > 0;
-    const MeshFeatures* f = m->features();
-    g.featureIds =
-        f && !f->sets.empty() &&
-        (f->sets[0].source == FeatureIdSet::Source::Attribute || f->sets[0].source == FeatureIdSet::Source::Implicit);
     // One buffer, one block per attribute: the arrays are uploaded as the Mesh keeps them.
     const size_t posBytes = n * sizeof(vec3), nrmBytes = g.normals ? n * sizeof(vec3) : 0,
                  uvBytes = g.uvs ? n * sizeof(vec2) : 0, colBytes = g.colors ? n * sizeof(vec4) : 0,
                  tanBytes = g.tangents ? n * sizeof(vec4) : 0, uv1Bytes = g.uvs1 ? n * sizeof(vec2) : 0;
     const size_t fidBytes = g.featureIds ? n * sizeof(float) : 0;
-    g.influences = m->joints().size() == n * size_t(m->influences()) && m->weights().size() == m->joints().size()
-                       ? m->influences()
-                       : 0;
     const size_t skinBytes = n * size_t(g.influences) * (sizeof(float) + sizeof(uint16_t));
     const size_t nrmOff = posBytes, uvOff = nrmOff + nrmBytes, colOff = uvOff + uvBytes, tanOff = colOff + colBytes,
                  uv1Off = tanOff + tanBytes, fidOff = uv1Off + uv1Bytes, skinOff = fidOff + fidBytes;
@@ -87,6 +95,7 @@ const GpuMesh& GpuCache::mesh(const Mesh* m) {
     }
     if (g.featureIds) {
         std::vector<float> ids(n);
+        const MeshFeatures* f = m->features();
         for (size_t i = 0; i < n; ++i) ids[i] = float(f->idAt(0, i));  // -1 for the null feature
         glBufferSubData(GL_ARRAY_BUFFER, GLintptr(fidOff), GLsizeiptr(fidBytes), ids.data());
         glEnableVertexAttribArray(kFeatureIdLocation);
@@ -126,8 +135,7 @@ void GpuCache::uploadSkin(const Mesh& m, size_t offset) {
 // edges follow the faces' indices in the same buffer, as 32-bit indices at a 4-byte boundary: the draw call names
 // each range's type and offset.
 void GpuCache::uploadIndices(const Mesh& m, GpuMesh& g) {
-    const Primitive p = m.primitive();
-    g.mode = p == Primitive::Points ? GL_POINTS : p == Primitive::Lines ? GL_LINES : GL_TRIANGLES;
+    const Primitive p = m.primitive();  // g.mode and g.outlineCount: describeMesh()
     if (p == Primitive::Points) {
         g.indexCount = GLsizei(m.positions().size());
         return;
@@ -138,7 +146,6 @@ void GpuCache::uploadIndices(const Mesh& m, GpuMesh& g) {
     const size_t faceBytes = small ? m.indices16().size() * 2 : m.indices32().size() * 4;
     const std::vector<uint32_t>& outline = m.outline();  // a triangle mesh's only (Mesh::setOutline)
     g.outlineOffset = (faceBytes + 3) / 4 * 4;
-    g.outlineCount = GLsizei(outline.size());
     glGenBuffers(1, &g.ibo);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ibo);  // recorded in the VAO
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(g.outlineOffset + outline.size() * 4), nullptr, GL_STATIC_DRAW);

@@ -18,14 +18,15 @@
 #include <functional>
 #include <memory>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 namespace sg {
 
-class DepthTarget;           // sg/gl/internal/DepthTarget.h, internal
-class DistinctGeometryWalk;  // sg/scene/internal/DistinctGeometries.h, internal
-class EyeDome;               // sg/gl/internal/EyeDome.h, internal
-class GpuCache;              // sg/gl/internal/GpuCache.h, internal
+class DepthTarget;  // sg/gl/internal/DepthTarget.h, internal
+class DrawUseWalk;  // sg/gl/internal/DrawUseWalk.h, internal
+class EyeDome;      // sg/gl/internal/EyeDome.h, internal
+class GpuCache;     // sg/gl/internal/GpuCache.h, internal
 struct GpuMesh;
 struct ItemAttributes;  // sg/gl/internal/Shaders.h, internal
 
@@ -39,6 +40,9 @@ struct RenderStats {
     uint64_t lines = 0;             // segments: those of line meshes and of outlines (Mesh::outline())
     uint64_t backFacesSkipped = 0;  // items drawn without their back faces (Renderer::setBackFaceCulling)
     double ms = 0.0;                // CPU time of draw(), without waiting for the GPU to finish
+    // Shader variants compiled in this draw: their first use (0 in every frame once the scene's are prepared:
+    // Renderer::prepareVariants).
+    uint64_t programsCompiled = 0;
 };
 
 class Renderer {
@@ -76,6 +80,31 @@ public:
     ShaderMode shaderMode() const { return shaderMode_; }
     // The variants compiled so far.
     size_t variantCount() const { return variants_.size(); }
+    // Variants compiled inside draw() since the renderer was made (what prepareVariants() and prepare() did not
+    // compile ahead); RenderStats::programsCompiled counts the last draw's.
+    uint64_t compiledInDraw() const { return compiledInDraw_; }
+
+    // A Geometry as its draws pick their shader variants: what prepareVariants() compiles ahead of them.
+    struct DrawUse {
+        ref_ptr<const Mesh> mesh;
+        ref_ptr<const Material> material;
+        bool fades = false;   // below an LOD with a transition: drawn dissolving at times, as well as whole
+        uint32_t joints = 0;  // its skin's joints (Geometry::setSkin); 0: not skinned
+    };
+    // The Geometries below root with a mesh, each once for every way it can be drawn (a Geometry below LODs with and
+    // without a transition, twice). Reads the graph only: on any thread that may read it, no context needed.
+    static std::vector<DrawUse> drawUses(const Node& root);
+    // Compiles the variants that the uses' draws take with the renderer's present state (light, punctual lights,
+    // point shading, wide lines, feature style, shader mode), each both whole and dissolving where it can fade, and
+    // readies each as drawn: the uses are drawn once each into a 1x1 viewport at the bound framebuffer's corner
+    // (cleared there) with nothing reaching a pixel, and into the depth mode this camera takes. A compiled program is
+    // not enough on a software rasterizer, which compiles its code for each program and draw state at the first draw
+    // (llvmpipe: 1 ms to link, 40-80 ms at the first draw; docs/benchmarks.md, "Shader variants"). Uses whose
+    // variants are ready are skipped (one draw per new variant at most). sg::Viewer calls it with the scene's root
+    // before a scene's first frame; Renderer::prepare() does it for paged details. Returns the variants compiled.
+    // Needs the renderer's context current; a change of the state above later compiles in the draw again.
+    size_t prepareVariants(const std::vector<DrawUse>& uses, const Camera& camera);
+    size_t prepareVariants(const Node& root, const Camera& camera) { return prepareVariants(drawUses(root), camera); }
 
     // Back faces that cannot show are not drawn (on by default): those of items whose mesh is closed (Mesh::closed()),
     // drawn opaque, with a matrix that keeps the winding, the eye outside the item's bound and the near
@@ -198,9 +227,12 @@ public:
     void clear();
     size_t cachedMeshes() const;
     // Uploads the meshes and textures below `root` (a paged detail before it is attached: Pager::setPrepare, which
-    // sg::Viewer wires to this) into the cache while `budget` lasts: each upload counts an object and the bytes
-    // (PrepareBudget::spend), and none starts once the budget is exhausted (its objects spent or its time, measured
-    // with steady_clock, up). Returns true when everything below root is in the cache. What it uploads is kept
+    // sg::Viewer wires to this) into the cache while `budget` lasts, and readies the shader variants their draws
+    // take (as prepareVariants(), with the last draw's camera): each upload counts an object and the bytes
+    // (PrepareBudget::spend), a variant's compile counts its time, and none starts once the budget is exhausted
+    // (its objects spent or its time, measured with steady_clock, up); a Geometry started is finished (on llvmpipe
+    // a new variant takes 40-80 ms, more than a frame's budget: one a frame then). Returns true when everything
+    // below root is in the cache and its variants are ready. What it uploads is kept
     // by releaseUnused() for a few frames (GpuCache::kPrepareGrace) until first drawn, so that the first draw
     // uploads nothing more. Needs the renderer's context current.
     bool prepare(const Node& root, PrepareBudget& budget);
@@ -312,13 +344,32 @@ private:
     void drawOutline(const Run& r);
     void endFrame(const Target& target);
 
-    static Shading shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture);
-    // A physical material's textures into the run, and its features into the shading.
+    // What picks a run's program, from its mesh's copy (or describeMesh(), before any upload), material, fade and
+    // whether it is skinned on the GPU, with the renderer's state: the one function that says which variant a draw
+    // takes, for draw() and prepareVariants() alike (RendererPrograms.cpp).
+    Shading runShading(const GpuMesh& g, const Mesh& mesh, const Material* mat, float fade, bool skinned) const;
+    Shading outlineShading(const Shading& s) const;  // its mesh's outline's
+    // Whether the mesh draws with per-feature colours (setFeatureStyle, its ids per vertex, a property table).
+    bool styled(const GpuMesh& g, const Mesh& mesh) const;
+    // The physical material's textures the mesh reads (bit 0 the base colour, bit 1 + k the k-th of metallic-
+    // roughness, normal, occlusion, emissive), their features and UV sets put into s.pbr (and s.texture).
+    static unsigned physicalSlots(const Material& m, const GpuMesh& g, Shading& s);
+    // A physical material's textures that the run's shading reads, bound.
     void physicalTextures(Run& r);
-    // The run's per-feature colour table (setFeatureStyle), when its mesh has per-vertex feature ids.
+    // The run's per-feature colour table (setFeatureStyle), when its shading says so.
     void featureColors(Run& r);
-    // The run's program: the one program, or the variant of the features it uses (compiled on first use).
-    Program& programFor(const Shading& s);
+    // The canonical features of the variant a shading draws with (Shaders.h), kOneProgram for the one program.
+    static constexpr uint32_t kOneProgram = ~0u;
+    uint32_t variantKey(const Shading& s) const;
+    // The run's program: the one program, or the variant of the features it uses (compiled on first use, counted).
+    Program& programFor(const Shading& s, bool blend);
+    // A variant as ready to draw: its features, and whether it was drawn blended (a software rasterizer compiles
+    // the blended draw's code apart).
+    static uint64_t warmKey(uint32_t variant, bool blend) { return uint64_t(variant) | (uint64_t(blend) << 32); }
+    // The keys of a use's draws (whole, dissolving, its outline) that no draw has readied yet, into `cold`.
+    void coldKeys(const DrawUse& u, std::vector<uint64_t>& cold) const;
+    // Draws the uses so that their variants are compiled and readied (prepareVariants()).
+    void warmDraw(const std::vector<const DrawUse*>& uses, const Camera& camera);
     static Program link(const char* vertexSource, const char* fragmentSource, const char* who,
                         const char* geometrySource = nullptr);
     // Makes p current; the frame's camera and light go into it on its first use in the frame.
@@ -331,6 +382,10 @@ private:
     double gpuMs_ = -1.0;                             // its result once read
     Program one_;                                     // ShaderMode::OneProgram's
     std::unordered_map<uint32_t, Program> variants_;  // by canonical features (Shaders.h)
+    std::unordered_set<uint64_t> warmed_;             // the variants drawn so far, by warmKey()
+    uint64_t compiledInDraw_ = 0;
+    bool warming_ = false;  // in prepareVariants()' draw: its compiles are not the frame's
+    Camera lastCamera_;     // the last draw()'s: prepare() readies a detail's variants for it
     ShaderMode shaderMode_ = ShaderMode::Variants;
     bool backFaceCulling_ = true;
     Program* current_ = nullptr;  // in use in the draw
@@ -348,6 +403,8 @@ private:
     WideLines wideLines_ = WideLines::Auto;
     // The widest line glLineWidth is asked to draw (setWideLines).
     float lineWidthLimit() const { return wideLines_ == WideLines::GeometryStage ? 1.0f : maxLineWidth_; }
+    // Whether lines are drawn through the geometry stage (kShadeWideLine).
+    bool wideLines() const { return pointShading_.lineWidth > lineWidthLimit(); }
     float maxLineWidth_ = 1.0f;   // the widest line glLineWidth draws: 1 in a forward-compatible context
     vec2 viewportSize_{1.0f};     // the frame's, in pixels
     float pixelsPerUnit_ = 0.0f;  // the frame's: a length 1 at distance 1, in pixels (Camera::pixelsPerUnit())
@@ -362,8 +419,8 @@ private:
     // its walk and materials point into it, and a detail freed early could leave its address to a new one.
     struct PrepareList {
         ref_ptr<const Node> root;
-        std::shared_ptr<DistinctGeometryWalk> walk;  // listing items; null once listed (internal type)
-        std::vector<std::pair<ref_ptr<const Mesh>, const Material*>> items;
+        std::shared_ptr<DrawUseWalk> walk;  // listing items; null once listed (internal type)
+        std::vector<DrawUse> items;
         size_t next = 0;
         uint64_t touched = 0;
     };

@@ -67,6 +67,7 @@ void Renderer::drawFrame(const DrawList& list, const Camera& camera, const Viewp
     const auto t0 = std::chrono::steady_clock::now();
     drainGl();
     Target t = target(viewport, inFramebuffer);
+    if (!warming_) lastCamera_ = camera;
     cache_->nextFrame();
     stats_ = RenderStats{};
     buildRuns(list, camera);

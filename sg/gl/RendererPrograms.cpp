@@ -1,5 +1,5 @@
 // Renderer: the frame's runs get their GPU copies and their programs (ShaderMode: the one program, or a variant
-// per combination of features, compiled on first use).
+// per combination of features, compiled on first use unless prepared: RendererVariants.cpp).
 #include "sg/gl/Renderer.h"
 
 #include "sg/gl/internal/GlProgram.h"
@@ -13,6 +13,11 @@
 #include <utility>
 
 namespace sg {
+
+namespace {
+// The features of a physical material's textures but the base colour's, in Renderer::physicalSlots()' order.
+constexpr uint32_t kPbrSlotFeatures[4] = {kShadePbrMr, kShadePbrNormal, kShadePbrOcclusion, kShadePbrEmissive};
+}  // namespace
 
 Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentSource, const char* who,
                                  const char* geometrySource) {
@@ -66,8 +71,9 @@ Renderer::Program Renderer::link(const char* vertexSource, const char* fragmentS
     return p;
 }
 
-Renderer::Program& Renderer::programFor(const Shading& s) {
-    if (shaderMode_ == ShaderMode::OneProgram && !s.point && !s.wideLine && !s.outline && s.skin == 0) return one_;
+uint32_t Renderer::variantKey(const Shading& s) const {
+    if (shaderMode_ == ShaderMode::OneProgram && !s.point && !s.wideLine && !s.outline && s.skin == 0)
+        return kOneProgram;
     uint32_t f = 0;
     if (s.texture) f |= kShadeTexture;
     if (s.colors) f |= kShadeColor;
@@ -85,17 +91,28 @@ Renderer::Program& Renderer::programFor(const Shading& s) {
     if (s.outline) f |= kShadeOutline;
     if (s.skin == 4) f |= kShadeSkin4;
     if (s.skin == 8) f |= kShadeSkin8;
-    f = canonicalFeatures(f);
-    const auto it = variants_.find(f);
+    return canonicalFeatures(f);
+}
+
+Renderer::Program& Renderer::programFor(const Shading& s, bool blend) {
+    const uint32_t key = variantKey(s);
+    if (key == kOneProgram) return one_;
+    const auto it = variants_.find(key);
     if (it != variants_.end()) return it->second;
-    const std::string vs = variantSource(true, f), fs = variantSource(false, f), gs = variantGeometrySource(f);
-    return variants_.emplace(f, link(vs.c_str(), fs.c_str(), "Renderer::draw()", gs.empty() ? nullptr : gs.c_str()))
+    // A first use: compiled here, in the frame, unless prepareVariants() drew it ahead (warming_).
+    ++stats_.programsCompiled;
+    if (!warming_) ++compiledInDraw_;
+    warmed_.insert(warmKey(key, blend));
+    const std::string vs = variantSource(true, key), fs = variantSource(false, key), gs = variantGeometrySource(key);
+    return variants_.emplace(key, link(vs.c_str(), fs.c_str(), "Renderer::draw()", gs.empty() ? nullptr : gs.c_str()))
         .first->second;
 }
 
-Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float fade, unsigned texture) {
+// Whatever the textures' GL names: a texture is drawn where the material has one the mesh can read, and the cache
+// gives every texture a name.
+Renderer::Shading Renderer::runShading(const GpuMesh& g, const Mesh& mesh, const Material* mat, float fade,
+                                       bool skinned) const {
     Shading s;
-    s.texture = texture != 0;
     s.colors = g.colors;
     s.lit = (!mat || !mat->unlit) && g.normals;
     s.bakedLight = mat && mat->bakedLight;
@@ -110,60 +127,92 @@ Renderer::Shading Renderer::shading(const GpuMesh& g, const Material* mat, float
         s.lit = !mat->unlit && (g.mode == GL_TRIANGLES || g.normals);
         if (s.lit && !g.normals) s.pbr |= kShadeFlat;
         if (mat->blend) s.pbr |= kShadeBlend;
+        physicalSlots(*mat, g, s);
+    } else {
+        s.texture = mat && mat->texture && g.uvs;
     }
+    s.skin = skinned ? g.influences : 0;
+    s.features = styled(g, mesh);
+    // Lines wider than glLineWidth draws are quads from a geometry stage.
+    s.round = s.point && pointShading_.round;
+    s.wideLine = g.mode == GL_LINES && wideLines();
     return s;
 }
 
+Renderer::Shading Renderer::outlineShading(const Shading& s) const {
+    Shading o = s;
+    o.outline = true;
+    o.wideLine = wideLines();  // outlines are lines too
+    return o;
+}
+
+bool Renderer::styled(const GpuMesh& g, const Mesh& mesh) const {
+    const MeshFeatures* f = g.featureIds ? mesh.features() : nullptr;
+    return featureStyle_ && shaderMode_ != ShaderMode::OneProgram && f && f->store && f->sets[0].propertyTable >= 0;
+}
+
 // Each texture of a physical material that the mesh can read (its UV set present; a normal map also needs normals
-// and tangents): its copy (colour ones as sRGB) and the features and UV sets that it brings.
-void Renderer::physicalTextures(Run& r) {
-    const Material& m = *r.material;
-    const GpuMesh& g = *r.gpu;
-    const bool cut = m.alphaCutoff > 0.0f;
+// and tangents), and the features and UV sets that it brings. Unlit: the base colour's alone.
+unsigned Renderer::physicalSlots(const Material& m, const GpuMesh& g, Shading& s) {
     auto readable = [&](const TextureSlot& t) {
         return t.texture && ((t.texCoord == 0 && g.uvs) || (t.texCoord == 1 && g.uvs1));
     };
-    auto set = [&](const TextureSlot& t) { r.shading.pbr |= t.texCoord == 1 ? kShadeUv1 : kShadeUv0; };
-    r.texture = 0;
-    r.shading.texture = false;
+    auto set = [&](const TextureSlot& t) { s.pbr |= t.texCoord == 1 ? kShadeUv1 : kShadeUv0; };
+    unsigned slots = 0;
     const TextureSlot base{m.texture, m.texCoord, m.textureTransform};
     if (readable(base)) {
-        const TextureBinding b = cache_->texture(base.texture.get(), cut, true);
-        r.texture = b.texture;
-        r.sampler = b.sampler;
-        r.shading.texture = true;
+        slots |= 1u;
+        s.texture = true;
         set(base);
     }
-    if (!r.shading.lit) return;  // unlit: the base colour alone
+    if (!s.lit) return slots;
     const PhysicalMaterial& p = m.pbr;
-    const std::pair<const TextureSlot*, uint32_t> slots[4] = {{&p.metallicRoughness, kShadePbrMr},
-                                                              {&p.normal, kShadePbrNormal},
-                                                              {&p.occlusion, kShadePbrOcclusion},
-                                                              {&p.emissive, kShadePbrEmissive}};
+    const TextureSlot* pbr[4] = {&p.metallicRoughness, &p.normal, &p.occlusion, &p.emissive};
     for (int k = 0; k < 4; ++k) {
-        const TextureSlot& t = *slots[k].first;
-        if (!readable(t) || (slots[k].second == kShadePbrNormal && (!g.tangents || !g.normals))) continue;
-        const TextureBinding b = cache_->texture(t.texture.get(), false, slots[k].second == kShadePbrEmissive);
-        r.pbrTextures[k] = b.texture;
-        r.pbrSamplers[k] = b.sampler;
-        r.shading.pbr |= slots[k].second;
+        const TextureSlot& t = *pbr[k];
+        if (!readable(t) || (kPbrSlotFeatures[k] == kShadePbrNormal && (!g.tangents || !g.normals))) continue;
+        slots |= 2u << k;
+        s.pbr |= kPbrSlotFeatures[k];
         set(t);
     }
     const TextureSlot &mr = p.metallicRoughness, &ao = p.occlusion;
-    if ((r.shading.pbr & kShadePbrMr) && (r.shading.pbr & kShadePbrOcclusion) && mr.texture == ao.texture &&
+    if ((s.pbr & kShadePbrMr) && (s.pbr & kShadePbrOcclusion) && mr.texture == ao.texture &&
         mr.texCoord == ao.texCoord && mr.transform == ao.transform)
-        r.shading.pbr |= kShadePbrOrm;
+        s.pbr |= kShadePbrOrm;
+    return slots;
+}
+
+// The physical material's textures that the shading reads, bound (colour ones as sRGB).
+void Renderer::physicalTextures(Run& r) {
+    const Material& m = *r.material;
+    Shading probe = r.shading;
+    probe.pbr = 0;
+    const unsigned slots = physicalSlots(m, *r.gpu, probe);
+    const bool cut = m.alphaCutoff > 0.0f;
+    r.texture = 0;
+    if (slots & 1u) {
+        const TextureBinding b = cache_->texture(m.texture.get(), cut, true);
+        r.texture = b.texture;
+        r.sampler = b.sampler;
+    }
+    const PhysicalMaterial& p = m.pbr;
+    const TextureSlot* pbr[4] = {&p.metallicRoughness, &p.normal, &p.occlusion, &p.emissive};
+    for (int k = 0; k < 4; ++k) {
+        if (!(slots & (2u << k))) continue;
+        const TextureBinding b =
+            cache_->texture(pbr[k]->texture.get(), false, kPbrSlotFeatures[k] == kShadePbrEmissive);
+        r.pbrTextures[k] = b.texture;
+        r.pbrSamplers[k] = b.sampler;
+    }
 }
 
 void Renderer::featureColors(Run& r) {
     r.featureColors = 0;
-    const MeshFeatures* f = r.gpu->featureIds ? r.mesh->features() : nullptr;
-    if (!featureStyle_ || shaderMode_ == ShaderMode::OneProgram || !f || !f->store || f->sets[0].propertyTable < 0)
-        return;
+    if (!r.shading.features) return;
+    const MeshFeatures* f = r.mesh->features();
     const int table = f->sets[0].propertyTable;
     const std::shared_ptr<const FeatureStyle::Colors> c = featureStyle_->colors(*f->store, table);
     r.featureColors = cache_->featureColors({f->store->serial(), table}, c->version, c->rgba);
-    r.shading.features = true;
 }
 
 // Every mesh, texture and joint matrix of the frame is uploaded before the first draw: on llvmpipe an upload between
@@ -171,27 +220,20 @@ void Renderer::featureColors(Run& r) {
 void Renderer::upload() {
     for (Run& r : runs_) {
         r.gpu = &cache_->mesh(r.mesh);
-        const Texture* tex = r.material && !r.material->physical && r.gpu->uvs ? r.material->texture.get() : nullptr;
-        const TextureBinding b = tex ? cache_->texture(tex, r.material->alphaCutoff > 0.0f) : TextureBinding{};
-        r.texture = b.texture;
-        r.sampler = b.sampler;
-        r.shading = shading(*r.gpu, r.material, r.fade, r.texture);
         if (r.gpu->influences == 0) r.skin = nullptr;  // its copy has no skin weights to skin by
-        r.shading.skin = r.skin ? r.gpu->influences : 0;
-        if (r.material && r.material->physical) physicalTextures(r);
-        featureColors(r);
-        // Lines wider than glLineWidth draws are quads from a geometry stage; outlines are lines too.
-        const bool wide = pointShading_.lineWidth > lineWidthLimit();
-        r.shading.round = r.shading.point && pointShading_.round;
-        r.shading.wideLine = r.gpu->mode == GL_LINES && wide;
-        r.program = &programFor(r.shading);
-        r.outline = nullptr;
-        if (r.gpu->outlineCount > 0) {
-            Shading o = r.shading;
-            o.outline = true;
-            o.wideLine = wide;
-            r.outline = &programFor(o);
+        r.shading = runShading(*r.gpu, *r.mesh, r.material, r.fade, r.skin != nullptr);
+        if (r.material && r.material->physical) {
+            physicalTextures(r);
+        } else if (r.shading.texture) {
+            const TextureBinding b = cache_->texture(r.material->texture.get(), r.material->alphaCutoff > 0.0f);
+            r.texture = b.texture;
+            r.sampler = b.sampler;
+        } else {
+            r.texture = r.sampler = 0;
         }
+        featureColors(r);
+        r.program = &programFor(r.shading, r.blend);
+        r.outline = r.gpu->outlineCount > 0 ? &programFor(outlineShading(r.shading), r.blend) : nullptr;
     }
     uploadJoints();
 }

@@ -22,14 +22,17 @@ const StageTimes& FrameHistory::last() const {
 StageTimes FrameHistory::mean() const {
     StageTimes m;
     if (frames_.empty()) return m;
+    size_t timed = 0;
     for (const StageTimes& t : frames_) {
         m.appMs += t.appMs, m.pagerMs += t.pagerMs, m.updateMs += t.updateMs, m.cullMs += t.cullMs;
-        m.drawMs += t.drawMs, m.gpuMs += t.gpuMs, m.waitMs += t.waitMs, m.presentMs += t.presentMs,
-            m.workMs += t.workMs;
+        m.drawMs += t.drawMs, m.waitMs += t.waitMs, m.presentMs += t.presentMs, m.workMs += t.workMs;
         m.frameMs += t.frameMs, m.intervalMs += t.intervalMs;
+        if (t.gpuTimed) m.gpuMs += t.gpuMs, ++timed;
     }
     const double n = double(frames_.size());
-    m.appMs /= n, m.pagerMs /= n, m.updateMs /= n, m.cullMs /= n, m.drawMs /= n, m.gpuMs /= n, m.waitMs /= n;
+    m.gpuTimed = timed > 0;
+    if (timed) m.gpuMs /= double(timed);
+    m.appMs /= n, m.pagerMs /= n, m.updateMs /= n, m.cullMs /= n, m.drawMs /= n, m.waitMs /= n;
     m.presentMs /= n, m.workMs /= n, m.frameMs /= n, m.intervalMs /= n;
     m.frame = last().frame;
     return m;

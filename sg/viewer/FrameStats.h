@@ -18,8 +18,13 @@ struct StageTimes {
     double updateMs = 0.0;  // update callbacks after the pager, and Scene::update()
     double cullMs = 0.0;    // every view's cull
     double drawMs = 0.0;    // every view's draw and the overlay, until finished (ViewerSettings::finish)
-    double gpuMs = 0.0;     // the views' draws as the GL timed them (0 where not known: no timer queries, not finished)
-    double waitMs = 0.0;    // the frame-rate phase's wait (FramePhase::Limit, Lock)
+    // The views' draws as the GL timed them, when gpuTimed; 0 otherwise.
+    double gpuMs = 0.0;
+    // Whether gpuMs is known: the draws finished (ViewerSettings::finish, or a LOD policy), timer queries, and a
+    // hardware rasterizer (a software one's timer reports a fraction of the draw: llvmpipe 0.04 ms for a 44 ms
+    // draw). In FrameHistory::mean(): some frame's is, and gpuMs is the mean of those that are.
+    bool gpuTimed = false;
+    double waitMs = 0.0;     // the frame-rate phase's wait (FramePhase::Limit, Lock)
     double presentMs = 0.0;  // present callbacks (a window's buffer swap)
     double syncMs = 0.0;     // pipelined models: the application thread's wait for the last frame's cull or draw
     double workMs = 0.0;

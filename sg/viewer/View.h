@@ -57,7 +57,8 @@ public:
     // The thread that culled it (the threading model's: the frame's thread, the cull thread or one of its own).
     std::thread::id cullThread() const { return cullThread_; }
     double drawMs() const { return drawMs_; }  // submitted and, when timed, finished
-    // The draw as the GL timed it (Renderer::gpuMs()), when the viewer finished it; -1 when not known.
+    // The draw as the GL timed it (Renderer::gpuMs()), when the viewer finished it; -1 when not known (not finished,
+    // no timer queries, or a software rasterizer, whose timer reports a fraction of the draw's time).
     double gpuMs() const { return gpuMs_; }
     // What the policies learn from (kept while the view lives).
     const DrawCostModel& costModel() const { return model_; }

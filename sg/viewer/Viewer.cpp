@@ -65,6 +65,7 @@ void Viewer::setScene(Scene& scene) {
     if (&scene == scene_) return;
     flush();
     scene_ = &scene;
+    variantsPrepared_ = false;
 }
 
 }  // namespace sg

@@ -132,10 +132,19 @@ public:
     bool done() const { return done_; }
     void setDone(bool d = true) { done_ = d; }
 
-    // The stats overlay: overlayText()'s lines, then the frame rate and each stage's mean over the history.
+    // The stats overlay: overlayText()'s lines, then the frame rate and each stage's mean over the history ("-"
+    // before a frame is in it, rather than a 0 no frame measured; the GPU's time "unknown" where it is not known,
+    // StageTimes::gpuTimed), then the figures of the frame it is drawn over (frameFiguresText: its own cull and draw,
+    // so the first frame shows its figures too).
     bool overlay = false;
     std::function<std::string()> overlayText;
     std::string statsText() const;
+    // The overlay's line of the frame drawn under it, summed over the views: cull time and nodes visited, items and
+    // draw calls, triangles, and the shader programs the draw compiled (0 once the scene's are prepared).
+    static std::string frameFiguresText(double cullMs, uint64_t nodesVisited, const RenderStats& drawn);
+    // The text the overlay drew over the last frame drawn (empty when it drew none); written by the thread that
+    // draws: read it between frames (after flush() when pipelined).
+    const std::string& overlayDrawn() const { return overlayDrawn_; }
 
     // Picking and viewpoint collision on a thread of their own (Performer's ISECT).
     IsectStage& isect() { return isect_; }
@@ -152,7 +161,9 @@ public:
     Renderer& renderer() { return *renderer_; }
     Scene& scene() { return *scene_; }
     // Another scene (the views' traversals start over on it). The frames in flight are drawn first (flush()): a
-    // cull of the old scene may still be running. Throws as flush().
+    // cull of the old scene may still be running. Throws as flush(). A scene's first frame compiles the shader
+    // variants its draws can take before drawing (Renderer::prepareVariants with the first view's camera), so that
+    // the frames after it compile none (paged details bring theirs: Renderer::prepare).
     void setScene(Scene& scene);
 
 private:
@@ -217,6 +228,8 @@ private:
     bool keepingFreed_ = false;  // keepFreedMemory() engaged for a software rasterizer
     Pager* pager_ = nullptr;
     std::unique_ptr<TextOverlay> text_;
+    std::string overlayDrawn_;       // on the draw stage's thread
+    bool variantsPrepared_ = false;  // the scene's variants listed for a frame's draw (on the application thread)
     static constexpr int kOrphanSweepFrames = 8;  // draws between Renderer::releaseOrphans() calls
     int drawsSinceSweep_ = 0;                     // on the draw stage's thread
     FrameHistory history_;

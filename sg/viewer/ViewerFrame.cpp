@@ -173,6 +173,13 @@ void Viewer::cullSetup(Packet& p) {
     p.finishAll = settings_.finish;
     p.drawOverlay = overlay;
     p.overlay = overlay ? statsText() : std::string();
+    // The graph is read here, on the application thread, where no stage writes it; the draw thread compiles.
+    p.prepareVariants = !variantsPrepared_ && p.viewCount > 0;
+    p.variantUses.clear();
+    if (p.prepareVariants) {
+        p.variantUses = Renderer::drawUses(*scene_->root());
+        variantsPrepared_ = true;
+    }
 }
 
 }  // namespace sg

@@ -154,6 +154,8 @@ void Viewer::retire(std::unique_ptr<Packet> p) {
 
 void Viewer::recycle(std::unique_ptr<Packet> p) {
     settleUploads(*p, false);
+    if (p->prepareVariants) variantsPrepared_ = false;  // asked again with the next frame
+    p->variantUses.clear();
     p->keep.clear();
     spare_.push_back(std::move(p));
 }

@@ -124,3 +124,51 @@ TEST(RendererPrepare, OrphansAreReleasedAndHeldMeshesKept) {
     renderer.releaseOrphans();
     EXPECT_EQ(renderer.cachedMeshes(), 0u);
 }
+
+// A detail's shader variants are compiled by prepare(), before it is attached: its first draw compiles none. Four:
+// the lit box's, the unlit textured box's, the points', and the dissolving one of the box below an LOD with a
+// transition (its whole one is the first box's). A spent budget compiles none.
+TEST(RendererPrepare, ADetailsShaderVariantsAreCompiledBeforeItIsAttached) {
+    OsmesaContext context(200, 150);
+    Renderer renderer;
+    auto detail = make<Group>();
+    detail->addChild(make<Geometry>(makeBoxMesh(dvec3(-1), dvec3(1)), make<Material>()));
+    auto unlit = make<Material>();
+    unlit->unlit = true;
+    unlit->texture = make<Texture>(2, 2, std::vector<uint8_t>(16, 200));
+    auto square = make<Mesh>();
+    square->set({{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}}, std::vector<vec3>(4, vec3(0, -1, 0)),
+                {0, 1, 2, 0, 2, 3}, {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+    detail->addChild(make<Geometry>(square, unlit));
+    auto points = make<Mesh>();
+    points->setPoints({{0.0f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.0f}});
+    detail->addChild(make<Geometry>(points, make<Material>()));
+    auto lod = make<LOD>();
+    lod->addChild(make<Geometry>(makeBoxMesh(dvec3(2), dvec3(3)), make<Material>()), 0.0f, 50.0f);
+    lod->setTransition(5.0f);
+    detail->addChild(lod);
+
+    PrepareBudget late(5.0, 1000);
+    late.start -= std::chrono::hours(1);
+    EXPECT_FALSE(renderer.prepare(*detail, late));
+    EXPECT_EQ(renderer.variantCount(), 0u);
+    PrepareBudget ample(60000.0, 1000);
+    ASSERT_TRUE(renderer.prepare(*detail, ample));
+    EXPECT_EQ(renderer.variantCount(), 4u);
+    EXPECT_EQ(renderer.compiledInDraw(), 0u);
+
+    Scene scene(detail);
+    scene.update();
+    Camera cam = testutil::lookingAlongY();
+    cam.setViewport(200, 150);
+    cam.setLookAt(dvec3(0, -8, 0), dvec3(0, 0, 0), dvec3(0, 0, 1));
+    CullTraversal cull;
+    DrawList list;
+    CullStats st;
+    cull.cull(scene, cam, CullSettings{}, list, st);
+    ASSERT_EQ(list.items.size(), 4u);
+    renderer.draw(list, cam);
+    EXPECT_EQ(renderer.lastStats().programsCompiled, 0u);
+    EXPECT_EQ(renderer.compiledInDraw(), 0u);
+    EXPECT_EQ(renderer.variantCount(), 4u);
+}

@@ -43,4 +43,21 @@ TEST(FrameHistory, KeepsTheLastFramesOldestFirst) {
     EXPECT_EQ(one.last().frame, 8u);
 }
 
+// The GPU's time is averaged over the frames that know it (StageTimes::gpuTimed); with none, the mean does not know it.
+TEST(FrameHistory, TheGpuMeanIsOfTheFramesThatKnowIt) {
+    FrameHistory h(4);
+    StageTimes t = frameOf(0, 10.0);
+    h.push(t);
+    EXPECT_FALSE(h.mean().gpuTimed);
+    EXPECT_EQ(h.mean().gpuMs, 0.0);
+    t.gpuTimed = true;
+    t.gpuMs = 6.0;
+    h.push(t);
+    t.gpuMs = 2.0;
+    h.push(t);
+    const StageTimes m = h.mean();  // (6 + 2) / 2, the untimed frame left out
+    EXPECT_TRUE(m.gpuTimed);
+    EXPECT_DOUBLE_EQ(m.gpuMs, 4.0);
+}
+
 }  // namespace

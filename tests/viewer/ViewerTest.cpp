@@ -354,15 +354,19 @@ TEST(Viewer, TheGlsOwnDrawTimeIsReportedBesideTheCpus) {
     Viewer viewer(f.scene);
     View& v = viewer.addView(lookingAt(dvec3(0, -3, 0)));
     if (!viewer.renderer().timerQueries()) GTEST_SKIP() << "this context has no GL_TIME_ELAPSED counter";
+    // A software rasterizer's timer is not shown (ViewerVariants.TheGpuTimeIsUnknownOnASoftwareRasterizer).
+    if (viewer.renderer().softwareRasterizer()) GTEST_SKIP() << "a software rasterizer: the GPU time is unknown";
     viewer.frame();
     EXPECT_GT(v.gpuMs(), 0.0);  // a box filling much of the view took the GL some time
     EXPECT_EQ(viewer.lastFrame().gpuMs, v.gpuMs());
+    EXPECT_TRUE(viewer.lastFrame().gpuTimed);
     EXPECT_GT(viewer.renderer().gpuMs(), 0.0);  // read once, kept
     // Not finished (a static view with ViewerSettings::finish off): not known, and nothing waits for it.
     viewer.settings().finish = false;
     viewer.frame();
     EXPECT_EQ(v.gpuMs(), -1.0);
     EXPECT_EQ(viewer.lastFrame().gpuMs, 0.0);
+    EXPECT_FALSE(viewer.lastFrame().gpuTimed);
 }
 
 }  // namespace

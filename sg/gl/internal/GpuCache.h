@@ -33,6 +33,10 @@ struct GpuMesh {
     uint64_t keepUntil = 0;  // uploaded ahead of its first draw (prepare): kept until this frame, used or not
 };
 
+// What a mesh's copy will hold, without uploading it: its mode, outline count, attribute flags and influences (no GL
+// names). What the renderer picks a shader variant by, before the first draw too (Renderer::prepareVariants).
+GpuMesh describeMesh(const Mesh& m);
+
 // A texture as bound for a draw: its GL name and the GL sampler object its Texture::sampler asks for, bound to the
 // same unit (a sampler object overrides the texture's own parameters).
 struct TextureBinding {

@@ -50,6 +50,10 @@ struct Viewer::Packet {
     std::vector<char> uploadDone;
     std::vector<ref_ptr<const Node>> forget;
     PrepareBudget uploadBudget;
+    // A scene's first frame: the Geometries its draws can take their shader variants from, listed on the application
+    // thread (Renderer::drawUses) and compiled on the draw thread before the views' draw (Renderer::prepareVariants).
+    bool prepareVariants = false;
+    std::vector<Renderer::DrawUse> variantUses;
 };
 
 }  // namespace sg
