@@ -125,15 +125,15 @@ TEST(SgviewRun, OverlayDrawsTextInItsPanelOnly) {
     ASSERT_EQ(r.code, 0) << r.err;
     const fs::path d = scratch();
     const Image plain = loadPng((d / "plain.png").string()), over = loadPng((d / "overlay.png").string());
-    // Seven lines of 2x-scaled stb_easy_font on a dark panel at the top left (sgview's five, the viewer's stage
-    // times): about 760 x 190 pixels.
+    // Eight lines of 2x-scaled stb_easy_font on a dark panel at the top left (sgview's five, the viewer's stage
+    // times, this frame's own figures): about 1,025 x 215 pixels.
     size_t inside = 0, outside = 0, bright = 0;
     for (int y = 0; y < plain.height; ++y)
         for (int x = 0; x < plain.width; ++x) {
             const size_t i = (size_t(y) * plain.width + x) * 4;
             const bool differs = std::memcmp(&plain.rgba[i], &over.rgba[i], 3) != 0;
-            (x < 800 && y < 200 ? inside : outside) += differs;
-            bright += x < 800 && y < 200 && over.rgba[i] > 200 && over.rgba[i + 1] > 200;  // the yellow-white text
+            (x < 1040 && y < 230 ? inside : outside) += differs;
+            bright += x < 1040 && y < 230 && over.rgba[i] > 200 && over.rgba[i + 1] > 200;  // the yellow-white text
         }
     EXPECT_EQ(outside, 0u);
     EXPECT_GT(inside, size_t(500 * 100));  // the panel
