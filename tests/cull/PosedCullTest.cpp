@@ -8,6 +8,8 @@
 #include "sg/cull/CullTraversal.h"
 #include "sg/scene/Scene.h"
 
+#include "SkinnedBar.h"
+
 #include <gtest/gtest.h>
 
 using namespace sg;
@@ -31,18 +33,7 @@ DrawList cull(const Scene& s) {
     return list;
 }
 
-// A bar from x = 0 to 2 whose far end follows the second joint.
-ref_ptr<Mesh> bar() {
-    ref_ptr<Mesh> m = makeBoxMesh(dvec3(0, -0.1, -0.1), dvec3(2, 0.1, 0.1), 2);
-    std::vector<uint16_t> joints;
-    std::vector<float> weights;
-    for (const vec3& p : m->positions()) {
-        joints.insert(joints.end(), {uint16_t(p.x > 1.5f ? 1 : 0), 0, 0, 0});
-        weights.insert(weights.end(), {1.0f, 0.0f, 0.0f, 0.0f});
-    }
-    m->setSkinWeights(std::move(joints), std::move(weights), 4);
-    return m;
-}
+ref_ptr<Mesh> bar(bool blend = false) { return testutil::skinnedBar(blend); }
 
 // root: [hip (at `where`) -> knee, far (x + 50, out of the view) -> the bar skinned by hip and knee].
 struct Figure {

@@ -6,6 +6,8 @@
 #include "sg/intersect/IntersectTraversal.h"
 #include "sg/scene/Posing.h"
 
+#include "SkinnedBar.h"
+
 #include <gtest/gtest.h>
 
 using namespace sg;
@@ -13,18 +15,7 @@ using namespace sg;
 namespace {
 dmat4 move(const dvec3& t) { return glm::translate(dmat4(1.0), t); }
 
-// A bar from x = 0 to 2 (0.2 thick), vertices at x = 0, 1, 2: those at x = 2 follow the second joint.
-ref_ptr<Mesh> bar() {
-    ref_ptr<Mesh> m = makeBoxMesh(dvec3(0, -0.1, -0.1), dvec3(2, 0.1, 0.1), 2);
-    std::vector<uint16_t> joints;
-    std::vector<float> weights;
-    for (const vec3& p : m->positions()) {
-        joints.insert(joints.end(), {uint16_t(p.x > 1.5f ? 1 : 0), 0, 0, 0});
-        weights.insert(weights.end(), {1.0f, 0.0f, 0.0f, 0.0f});
-    }
-    m->setSkinWeights(std::move(joints), std::move(weights), 4);
-    return m;
-}
+ref_ptr<Mesh> bar(bool blend = false) { return testutil::skinnedBar(blend); }
 }  // namespace
 
 TEST(PosedPick, RayHitsTheSkinnedPoseNotTheBindPose) {

@@ -6,6 +6,8 @@
 #include "sg/scene/Posing.h"
 #include "sg/scene/Scene.h"
 
+#include "SkinnedBar.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -23,23 +25,7 @@ void expectNearMatrix(const dmat4& a, const dmat4& b, double tol) {
 dmat4 rotZ(double degrees) { return glm::rotate(dmat4(1.0), glm::radians(degrees), dvec3(0, 0, 1)); }
 dmat4 move(const dvec3& t) { return glm::translate(dmat4(1.0), t); }
 
-// A bar from x = 0 to 2 (0.2 thick), vertices at x = 0, 1, 2: those at x = 2 follow joint 1, the others joint 0;
-// with `blend`, those at x = 1 follow both halves each.
-ref_ptr<Mesh> bar(bool blend = false) {
-    ref_ptr<Mesh> m = makeBoxMesh(dvec3(0, -0.1, -0.1), dvec3(2, 0.1, 0.1), 2);
-    std::vector<uint16_t> joints;
-    std::vector<float> weights;
-    for (const vec3& p : m->positions()) {
-        const bool mid = std::abs(p.x - 1.0f) < 1e-6f;
-        joints.insert(joints.end(), {uint16_t(p.x > 1.5f ? 1 : 0), 1, 0, 0});
-        if (blend && mid)
-            weights.insert(weights.end(), {0.5f, 0.5f, 0.0f, 0.0f});
-        else
-            weights.insert(weights.end(), {1.0f, 0.0f, 0.0f, 0.0f});
-    }
-    m->setSkinWeights(std::move(joints), std::move(weights), 4);
-    return m;
-}
+ref_ptr<Mesh> bar(bool blend = false) { return testutil::skinnedBar(blend); }
 
 // A skeleton (hip at `where`, knee 1 along x below it) and beside it a bar skinned by it, under `root`.
 struct Figure {
