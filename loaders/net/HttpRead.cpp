@@ -1,0 +1,293 @@
+// readUrl: http and https through libcurl's easy interface, one handle per loader thread; the failures of a network
+// named (a status, a refused connection, a stalled or dropped transfer) and redirects kept to the web.
+#include "loaders/net/internal/Net.h"
+
+#include <curl/curl.h>
+#include <strings.h>
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+
+namespace sg::net {
+
+namespace {
+
+// What the callbacks of one transfer share. Callbacks are C: they never throw, they stop the transfer and leave
+// the reason here.
+struct Transfer {
+    CURL* curl = nullptr;
+    const ResourceOptions* options = nullptr;
+    std::vector<unsigned char> bytes;
+    std::string failure;   // why a callback stopped the transfer
+    std::string phrase;    // the reason phrase of the last status line ("Not Found"; HTTP/2 has none)
+    std::string location;  // the Location of the last redirect
+    // The stall clock: since the request went out, or since the body last grew.
+    bool sent = false;
+    curl_off_t lastBytes = 0;
+    std::chrono::steady_clock::time_point lastChange;
+};
+
+std::string statusReason(long status, const std::string& phrase) {
+    return "HTTP " + std::to_string(status) + (phrase.empty() ? "" : " " + phrase);
+}
+
+size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
+    auto& t = *static_cast<Transfer*>(user);
+    const size_t n = size * count;
+    // Each response of a redirect chain starts with its status line, "HTTP/1.1 404 Not Found".
+    if (n > 9 && ::strncasecmp(data, "location:", 9) == 0) {
+        try {
+            std::string value(data + 9, n - 9);
+            const size_t b = value.find_first_not_of(" \t"), e = value.find_last_not_of(" \t\r\n");
+            t.location = b == std::string::npos ? "" : value.substr(b, e - b + 1);
+        } catch (...) {
+            t.location.clear();
+        }
+    }
+    if (n > 5 && std::memcmp(data, "HTTP/", 5) == 0) {
+        try {
+            std::string line(data, n);
+            while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
+            const size_t code = line.find(' ');
+            const size_t text = code == std::string::npos ? code : line.find(' ', code + 1);
+            t.phrase = text == std::string::npos ? "" : line.substr(text + 1);
+        } catch (...) {
+            t.phrase.clear();
+        }
+    }
+    return n;
+}
+
+size_t onData(char* data, size_t size, size_t count, void* user) noexcept {
+    auto& t = *static_cast<Transfer*>(user);
+    const size_t n = size * count;
+    long status = 0;
+    curl_easy_getinfo(t.curl, CURLINFO_RESPONSE_CODE, &status);
+    if (status >= 400) {  // an error page is not the resource: stop rather than read it
+        t.failure = statusReason(status, t.phrase);
+        return 0;
+    }
+    if (n > t.options->maxBytes - t.bytes.size()) {  // a length not announced (or compressed) grew past the limit
+        t.failure = "larger than the limit";
+        return 0;
+    }
+    try {
+        if (t.bytes.empty()) {
+            curl_off_t length = -1;
+            curl_easy_getinfo(t.curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+            if (length > 0 && uint64_t(length) <= t.options->maxBytes) t.bytes.reserve(size_t(length));
+        }
+        t.bytes.insert(t.bytes.end(), data, data + n);
+    } catch (...) {
+        t.failure = "out of memory";
+        return 0;
+    }
+    return n;
+}
+
+std::string seconds(double s) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g s", s);
+    return buf;
+}
+
+// Called at least once a second, even while nothing arrives: a cancel or a stall is seen within about a second.
+int onProgress(void* user, curl_off_t downloadTotal, curl_off_t downloadNow, curl_off_t, curl_off_t) noexcept {
+    auto& t = *static_cast<Transfer*>(user);
+    const ResourceOptions& o = *t.options;
+    if (cancelled(o)) {
+        t.failure = "cancelled";
+        return 1;
+    }
+    if (downloadTotal > 0 && uint64_t(downloadTotal) > o.maxBytes) {
+        t.failure = "larger than the limit";
+        return 1;
+    }
+    // libcurl's low-speed check averages over its last few seconds, so that a burst before a stall keeps a
+    // transfer alive for about 5 s more than asked: a body that does not grow is timed here. The clock starts once
+    // the request is sent (connecting has its own timeout).
+    const auto now = std::chrono::steady_clock::now();
+    if (!t.sent) {
+        curl_off_t pretransfer = 0;
+        curl_easy_getinfo(t.curl, CURLINFO_PRETRANSFER_TIME_T, &pretransfer);
+        t.sent = pretransfer > 0;
+        t.lastChange = now;
+    } else if (downloadNow != t.lastBytes) {
+        t.lastBytes = downloadNow;
+        t.lastChange = now;
+    } else if (o.stallSeconds > 0 && std::chrono::duration<double>(now - t.lastChange).count() >= o.stallSeconds) {
+        t.failure = "no data for " + seconds(o.stallSeconds);
+        return 1;
+    }
+    return 0;
+}
+
+// One handle per thread, kept between reads: its connections stay open for the next tile from the same server (a
+// TLS handshake can cost more than a small tile). curl_easy_reset clears the options, not the connections.
+CURL* threadHandle() {
+    static std::once_flag once;
+    static CURLcode init = CURLE_FAILED_INIT;
+    std::call_once(once, [] { init = curl_global_init(CURL_GLOBAL_DEFAULT); });
+    if (init != CURLE_OK) return nullptr;
+    struct Handle {
+        CURL* curl = nullptr;
+        ~Handle() {
+            if (curl) curl_easy_cleanup(curl);
+        }
+    };
+    thread_local Handle handle;
+    if (handle.curl)
+        curl_easy_reset(handle.curl);
+    else
+        handle.curl = curl_easy_init();
+    return handle.curl;
+}
+
+// "connection closed after 1024 of 4096 bytes": what came of the body (before any decoding) and what was announced.
+std::string closedAfter(CURL* curl, const char* what) {
+    curl_off_t got = 0, length = -1;
+    curl_easy_getinfo(curl, CURLINFO_SIZE_DOWNLOAD_T, &got);
+    curl_easy_getinfo(curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+    std::string s = std::string("connection ") + what + " after " + std::to_string(got);
+    return s + (length >= 0 ? " of " + std::to_string(length) : std::string()) + " bytes";
+}
+
+// The seconds under 1 byte/s that end a transfer (LOW_SPEED_TIME), 0 for never.
+long stallTime(const ResourceOptions& o) {
+    return o.stallSeconds > 0 ? std::max(1L, long(std::ceil(o.stallSeconds))) : 0L;
+}
+
+// Only the web: a remote tileset must not redirect a read to file:// (or anything else libcurl speaks), and
+// what was asked for over TLS is not handed over in the clear.
+void setProtocols(CURL* curl, const std::string& url) {
+    const bool secure = startsWithNoCase(url, "https://");
+#if LIBCURL_VERSION_NUM >= 0x075500
+    curl_easy_setopt(curl, CURLOPT_PROTOCOLS_STR, "http,https");
+    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS_STR, secure ? "https" : "http,https");
+#else
+    curl_easy_setopt(curl, CURLOPT_PROTOCOLS, long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
+    curl_easy_setopt(curl, CURLOPT_REDIR_PROTOCOLS,
+                     secure ? long(CURLPROTO_HTTPS) : long(CURLPROTO_HTTP | CURLPROTO_HTTPS));
+#endif
+}
+
+// What is asked for and how: the URL, redirects, protocols, certificates, encodings. `error`: libcurl's message
+// buffer (CURL_ERROR_SIZE bytes).
+void setRequest(CURL* curl, const std::string& url, const ResourceOptions& o, char* error) {
+    curl_easy_setopt(curl, CURLOPT_URL, url.c_str());
+    curl_easy_setopt(curl, CURLOPT_ERRORBUFFER, error);
+    curl_easy_setopt(curl, CURLOPT_NOSIGNAL, 1L);  // no SIGALRM for timeouts: other threads run
+    curl_easy_setopt(curl, CURLOPT_FOLLOWLOCATION, 1L);
+    curl_easy_setopt(curl, CURLOPT_MAXREDIRS, 5L);
+    setProtocols(curl, url);
+    if (!o.caFile.empty()) curl_easy_setopt(curl, CURLOPT_CAINFO, o.caFile.c_str());
+    curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, "");  // gzip and the like: tileset.json compresses well
+    curl_easy_setopt(curl, CURLOPT_USERAGENT, "sgkit");
+}
+
+// The connect timeout, the stall and the size limits.
+void setLimits(CURL* curl, const ResourceOptions& o) {
+    curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, long(std::max(1.0, o.connectTimeoutSeconds * 1000.0)));
+    // A trickle is less than 1 byte/s for LOW_SPEED_TIME (whole seconds; a body that stops growing is timed by
+    // onProgress); no total timeout, so that a large tile on a slow but moving link completes.
+    const long stall = stallTime(o);
+    if (stall > 0) {
+        curl_easy_setopt(curl, CURLOPT_LOW_SPEED_LIMIT, 1L);
+        curl_easy_setopt(curl, CURLOPT_LOW_SPEED_TIME, stall);
+    }
+    // An announced length over the limit is refused before the body is read.
+    const uint64_t maxOff = uint64_t(INT64_MAX);
+    curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, curl_off_t(std::min<uint64_t>(o.maxBytes, maxOff)));
+}
+
+// The callbacks, and the transfer they share.
+void setCallbacks(CURL* curl, Transfer& t) {
+    curl_easy_setopt(curl, CURLOPT_HEADERFUNCTION, &onHeader);
+    curl_easy_setopt(curl, CURLOPT_HEADERDATA, &t);
+    curl_easy_setopt(curl, CURLOPT_WRITEFUNCTION, &onData);
+    curl_easy_setopt(curl, CURLOPT_WRITEDATA, &t);
+    curl_easy_setopt(curl, CURLOPT_XFERINFOFUNCTION, &onProgress);
+    curl_easy_setopt(curl, CURLOPT_XFERINFODATA, &t);
+    curl_easy_setopt(curl, CURLOPT_NOPROGRESS, 0L);
+}
+
+// libcurl's result as the reason of a LoadError; returns for CURLE_OK only. `error`: libcurl's message buffer.
+void checkResult(const std::string& url, CURLcode rc, long osErrno, const char* error, const Transfer& t) {
+    CURL* curl = t.curl;
+    const ResourceOptions& o = *t.options;
+    const std::string detail = error[0] ? error : curl_easy_strerror(rc);
+    switch (rc) {
+        case CURLE_OK: break;
+        case CURLE_WRITE_ERROR:
+        case CURLE_ABORTED_BY_CALLBACK: fail(url, t.failure.empty() ? detail : t.failure);
+        case CURLE_FILESIZE_EXCEEDED: fail(url, "larger than the limit");
+        case CURLE_COULDNT_CONNECT:
+            fail(url, osErrno == ECONNREFUSED ? std::string("connection refused") : "cannot connect: " + detail);
+        case CURLE_COULDNT_RESOLVE_HOST: fail(url, "cannot resolve the host: " + detail);
+        case CURLE_OPERATION_TIMEDOUT: {
+            // The same code for both timeouts: a request sent (pre-transfer time set) means the connection was made.
+            curl_off_t sent = 0;
+            curl_easy_getinfo(curl, CURLINFO_PRETRANSFER_TIME_T, &sent);
+            if (sent > 0) fail(url, "less than 1 byte/s for " + seconds(double(stallTime(o))));
+            fail(url, "connection timed out after " + seconds(o.connectTimeoutSeconds));
+        }
+        case CURLE_PARTIAL_FILE: fail(url, closedAfter(curl, "closed"));
+        case CURLE_GOT_NOTHING: fail(url, "connection closed without a response");
+        case CURLE_RECV_ERROR: fail(url, closedAfter(curl, osErrno == ECONNRESET ? "reset" : "failed"));
+        case CURLE_TOO_MANY_REDIRECTS: fail(url, "more than 5 redirects");
+        case CURLE_UNSUPPORTED_PROTOCOL: {  // only a redirect can get here: the URL itself is http or https
+            const bool secure = startsWithNoCase(url, "https://");
+            const std::string where = t.location.empty() ? std::string() : " '" + t.location + "'";
+            fail(url,
+                 "redirected to" + where + ", refused: " +
+                     (secure ? "an https resource is redirected to https only" : "redirects go to http or https only") +
+                     " (origin rule)");
+        }
+        default: fail(url, detail);
+    }
+}
+
+// A completed transfer's status, and its body against the announced length.
+void checkResponse(const std::string& url, long status, const Transfer& t) {
+    if (status < 200 || status >= 300) fail(url, statusReason(status, t.phrase));
+    // libcurl reports a short body as CURLE_PARTIAL_FILE; checked again here, since a truncated tile parses badly.
+    curl_off_t got = 0, length = -1;
+    curl_easy_getinfo(t.curl, CURLINFO_SIZE_DOWNLOAD_T, &got);
+    curl_easy_getinfo(t.curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+    if (length >= 0 && got != length) fail(url, closedAfter(t.curl, "closed"));
+}
+
+}  // namespace
+
+std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
+    if (cancelled(o)) fail(url, "cancelled");
+    CURL* curl = threadHandle();
+    if (!curl) fail(url, "libcurl could not be initialised");
+    // The handle outlives this call: the pointers to this frame (error buffer, callbacks' data) must go with it.
+    struct Forget {
+        CURL* curl;
+        ~Forget() { curl_easy_reset(curl); }
+    } forget{curl};
+    Transfer t;
+    t.curl = curl;
+    t.options = &o;
+    char error[CURL_ERROR_SIZE] = "";
+    setRequest(curl, url, o, error);
+    setLimits(curl, o);
+    setCallbacks(curl, t);
+
+    const CURLcode rc = curl_easy_perform(curl);
+    long status = 0, osErrno = 0;
+    curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &status);
+    curl_easy_getinfo(curl, CURLINFO_OS_ERRNO, &osErrno);
+    checkResult(url, rc, osErrno, error, t);
+    checkResponse(url, status, t);
+    return std::move(t.bytes);
+}
+
+}  // namespace sg::net
