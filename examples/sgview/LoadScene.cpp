@@ -20,14 +20,16 @@ namespace sgview {
 
 namespace {
 
-LoadedScene loadTilesetFile(const std::string& path, bool refineAll, bool autoOccluders) {
+LoadedScene loadTilesetFile(const std::string& path, const Options& o) {
     sg::TilesetOptions to;
-    to.generateOccluders = autoOccluders;  // each tile's, as it is read
+    to.generateOccluders = o.autoOccluders;  // each tile's, as it is read
+    to.resource.headers = o.headers;
+    to.resource.caFile = o.caFile;
     auto ts = std::make_shared<sg::Tileset>(sg::loadTileset(path, to));
     LoadedScene s;
     s.root = ts->root();
     s.pageLoad = ts->loadFunction();
-    if (refineAll) sg::refineAll(*s.root, s.pageLoad);
+    if (o.refineAll) sg::refineAll(*s.root, s.pageLoad);
     s.warnings = ts->warnings();
     s.up = sg::dvec3(0.0, 0.0, 1.0);  // 3D Tiles' +Z up
     s.title = path;
@@ -68,9 +70,9 @@ sg::FeatureStyle::Rule loadStyleFile(const std::string& path) {
     };
 }
 
-LoadedScene loadSceneFile(const std::string& path, bool refineAll, bool autoOccluders) {
-    if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, refineAll, autoOccluders);
-    if (refineAll) throw sg::LoadError(path, "", "--refine-all: not a 3D Tiles tileset");
+LoadedScene loadSceneFile(const std::string& path, const Options& o) {
+    if (sg::isUrl(path) || sg::isTilesetFile(path)) return loadTilesetFile(path, o);
+    if (o.refineAll) throw sg::LoadError(path, "", "--refine-all: not a 3D Tiles tileset");
     if (isScanFile(path)) {
         LoadedScene s;
         s.root = sg::loadScan(path);

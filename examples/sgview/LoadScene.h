@@ -35,9 +35,10 @@ struct LoadedScene {
 std::string startAnimations(sg::AnimationPlayer& player, const LoadedScene& scene, const Options& o);
 
 // One glTF file or 3D Tiles tileset (LoadScene.cpp; a path or, for a tileset, a URL), every tile loaded with
-// `refineAll`; a tileset's tiles make their occluders as they are read with `autoOccluders`
-// (sg::TilesetOptions::generateOccluders). Throws sg::LoadError naming the file, the JSON path and the reason.
-LoadedScene loadSceneFile(const std::string& path, bool refineAll = false, bool autoOccluders = false);
+// o.refineAll; a tileset's tiles make their occluders as they are read with o.autoOccluders
+// (sg::TilesetOptions::generateOccluders), and are read with o's headers, authorities and cache. Throws
+// sg::LoadError naming the file, the JSON path and the reason.
+LoadedScene loadSceneFile(const std::string& path, const Options& o);
 
 // A 3D Tiles style file (--style) as a rule for the view's FeatureStyle: evaluated for each property table as it is
 // first drawn. Throws sg::LoadError for a file that cannot be read or an expression that does not parse (its JSON

@@ -96,7 +96,19 @@ Options parseOptions(int argc, const char* const* argv) {
             o.autoOccluders = true;
         else if (a == "--overlay")
             o.overlay = true;
-        else if (a == "--scene") {
+        else if (a == "--no-cache")
+            o.noCache = true;
+        else if (a == "--header") {
+            const std::string v = value();
+            const size_t colon = v.find(':');
+            if (colon == 0 || colon == std::string::npos || v.find_first_of("\r\n") != std::string::npos)
+                bad(a, v, "expected \"Name: value\", e.g. \"Authorization: Bearer TOKEN\"");
+            o.headers.push_back(v);
+        } else if (a == "--ca-file" || a == "--cache") {
+            std::string& to = a == "--ca-file" ? o.caFile : o.cacheDir;
+            to = value();
+            if (to.empty()) bad(a, to, a == "--ca-file" ? "expected a PEM file" : "expected a directory");
+        } else if (a == "--scene") {
             o.scene = value();
             if (o.scene != "city" && o.scene != "office" && o.scene != "factory" && o.scene != "materials" &&
                 o.scene != "figures")
@@ -191,6 +203,9 @@ Options parseOptions(int argc, const char* const* argv) {
             bad("--pick", std::to_string(int(x)) + "," + std::to_string(int(y)), "the pixel is outside the picture");
     if (o.refineAll && !o.scene.empty())
         throw UsageError("--refine-all loads every tile of a tileset: give a tileset.json, not --scene");
+    const bool network = !o.headers.empty() || !o.caFile.empty() || !o.cacheDir.empty() || o.noCache;
+    if (network && o.files.empty()) throw UsageError("--header, --ca-file and --cache are for a tileset's URL");
+    if (o.noCache && !o.cacheDir.empty()) throw UsageError("--cache DIR and --no-cache: give one");
     if (!n) o.n = o.scene == "office" ? 6 : o.scene == "figures" ? 3 : 32;
     if (!frames && o.headless) o.frames = 1;
     if (!out && o.headless) o.out = "sgview.png";
@@ -205,6 +220,7 @@ const char* usageText() {
            "              [--threading MODEL] [--style STYLE.json]\n"
            "              [--point-size PX] [--attenuate MAXPX] [--round] [--line-width PX] [--edl]\n"
            "              [--animation all|NAME|INDEX] [--time T]\n"
+           "              [--header \"NAME: VALUE\"] [--ca-file CA.pem] [--cache DIR | --no-cache]\n"
            "  FILE...            glTF 2.0 files (.gltf, .glb), shown together, or one 3D Tiles tileset.json (a path "
            "or\n"
            "                     an http(s) URL): its tiles load as the view needs them; or a scan (.las, .ply)\n"
@@ -236,6 +252,12 @@ const char* usageText() {
            "  --edl              eye-dome lighting: edges shaded by depth (points without normals get their shape)\n"
            "  --animation A      the animations played: all, a name or an index (default: the first)\n"
            "  --time T           headless: the pose at T seconds (default 0); window: start there\n"
+           "  --header H         a tileset over http(s): send H (\"Name: value\") with every request (repeatable);\n"
+           "                     a query string on the tileset's URL (a key) goes with every tile of its server\n"
+           "  --ca-file CA.pem   trust the authorities in CA.pem (not the system's) for https; certificates are\n"
+           "                     always verified\n"
+           "  --cache DIR        keep what is read over http(s) in DIR (default ~/.cache/sgkit) for the next run\n"
+           "  --no-cache         read everything from the server\n"
            "  --save FILE.glb    write the scene as glTF (.glb or .gltf; +Z up turned to glTF's +Y) and exit\n"
            "  --info             print node counts by kind, triangles, bounds, memory and warnings, then exit\n"
            "keys in the window:\n"

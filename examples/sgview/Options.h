@@ -46,6 +46,13 @@ struct Options {
     std::string animation;
     double time = 0.0;
     bool timeGiven = false;
+    // Reading a tileset over http(s): request headers ("Name: value", --header, repeatable), a PEM file of the
+    // authorities to trust instead of the system's (--ca-file), and the disk cache: `cacheDir` (--cache DIR;
+    // empty: ~/.cache/sgkit), off with --no-cache.
+    std::vector<std::string> headers;
+    std::string caFile;
+    std::string cacheDir;
+    bool noCache = false;
 };
 
 // Throws UsageError for an unknown option, a missing or malformed value, or a contradictory combination.

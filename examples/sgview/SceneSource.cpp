@@ -18,7 +18,7 @@
 namespace sgview {
 
 #ifdef SGVIEW_NO_GLTF
-LoadedScene loadSceneFile(const std::string& path, bool, bool) {
+LoadedScene loadSceneFile(const std::string& path, const Options&) {
     throw UsageError(
         "'" + path +
         "': sgview was built without the glTF loader (sgkit::loaders); --scene city|office|factory|materials works");
@@ -98,7 +98,7 @@ LoadedScene loadSources(const Options& o) {
     for (const std::string& f : o.files) checkReadable(f);  // every file before the first (slow) load
     auto load = [&o](const std::string& f) {
         try {
-            return loadSceneFile(f, o.refineAll, o.autoOccluders);
+            return loadSceneFile(f, o);
         } catch (const UsageError&) {
             throw;
         } catch (const std::exception& e) {  // sg::LoadError names the file, the JSON path and the reason

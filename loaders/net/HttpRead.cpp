@@ -5,6 +5,7 @@
 #include <curl/curl.h>
 #include <strings.h>
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -30,6 +31,13 @@ struct Transfer {
     bool sent = false;
     curl_off_t lastBytes = 0;
     std::chrono::steady_clock::time_point lastChange;
+    curl_slist* headers = nullptr;  // the request's own headers (ResourceOptions::headers), freed with it
+    std::vector<std::pair<std::string, std::string>> received;  // the last response's headers, names lower-case
+
+    Transfer() = default;
+    Transfer(const Transfer&) = delete;
+    Transfer& operator=(const Transfer&) = delete;
+    ~Transfer() { curl_slist_free_all(headers); }
 };
 
 std::string statusReason(long status, const std::string& phrase) {
@@ -50,6 +58,7 @@ size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
         }
     }
     if (n > 5 && std::memcmp(data, "HTTP/", 5) == 0) {
+        t.received.clear();  // a redirect's headers are not the resource's
         try {
             std::string line(data, n);
             while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
@@ -58,6 +67,16 @@ size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
             t.phrase = text == std::string::npos ? "" : line.substr(text + 1);
         } catch (...) {
             t.phrase.clear();
+        }
+    } else if (const void* colon = std::memchr(data, ':', n)) {
+        try {
+            const size_t c = size_t(static_cast<const char*>(colon) - data);
+            std::string name(data, c), value(data + c + 1, n - c - 1);
+            for (char& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+            const size_t b = value.find_first_not_of(" \t"), e = value.find_last_not_of(" \t\r\n");
+            t.received.emplace_back(std::move(name), b == std::string::npos ? "" : value.substr(b, e - b + 1));
+        } catch (...) {
+            return 0;  // out of memory: the transfer fails
         }
     }
     return n;
@@ -190,6 +209,22 @@ void setRequest(CURL* curl, const std::string& url, const ResourceOptions& o, ch
     curl_easy_setopt(curl, CURLOPT_USERAGENT, "sgkit");
 }
 
+// ResourceOptions::headers on the transfer: "Name: value" each, without line breaks (which would start another
+// header or the body).
+void setHeaders(const std::string& url, const ResourceOptions& o, const std::vector<std::string>& extra, Transfer& t) {
+    std::vector<std::string> all = o.headers;
+    all.insert(all.end(), extra.begin(), extra.end());
+    for (const std::string& h : all) {
+        const size_t colon = h.find(':');
+        if (colon == 0 || colon == std::string::npos || h.find_first_of("\r\n") != std::string::npos)
+            fail(url, "the request header '" + h + "' is not \"Name: value\" on one line");
+        curl_slist* more = curl_slist_append(t.headers, h.c_str());
+        if (!more) fail(url, "out of memory");
+        t.headers = more;
+    }
+    if (t.headers) curl_easy_setopt(t.curl, CURLOPT_HTTPHEADER, t.headers);
+}
+
 // The connect timeout, the stall and the size limits.
 void setLimits(CURL* curl, const ResourceOptions& o) {
     curl_easy_setopt(curl, CURLOPT_CONNECTTIMEOUT_MS, long(std::max(1.0, o.connectTimeoutSeconds * 1000.0)));
@@ -254,6 +289,7 @@ void checkResult(const std::string& url, CURLcode rc, long osErrno, const char* 
 
 // A completed transfer's status, and its body against the announced length.
 void checkResponse(const std::string& url, long status, const Transfer& t) {
+    if (status == 304) return;  // Not Modified: a conditional request's answer, without a body
     if (status < 200 || status >= 300) fail(url, statusReason(status, t.phrase));
     // libcurl reports a short body as CURLE_PARTIAL_FILE; checked again here, since a truncated tile parses badly.
     curl_off_t got = 0, length = -1;
@@ -264,7 +300,17 @@ void checkResponse(const std::string& url, long status, const Transfer& t) {
 
 }  // namespace
 
+std::string HttpResponse::header(const std::string& name) const {
+    for (auto it = headers.rbegin(); it != headers.rend(); ++it)
+        if (it->first == name) return it->second;
+    return "";
+}
+
 std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
+    return fetchUrl(url, o).body;
+}
+
+HttpResponse fetchUrl(const std::string& url, const ResourceOptions& o, const std::vector<std::string>& extra) {
     if (cancelled(o)) fail(url, "cancelled");
     CURL* curl = threadHandle();
     if (!curl) fail(url, "libcurl could not be initialised");
@@ -278,6 +324,7 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
     t.options = &o;
     char error[CURL_ERROR_SIZE] = "";
     setRequest(curl, url, o, error);
+    setHeaders(url, o, extra, t);
     setLimits(curl, o);
     setCallbacks(curl, t);
 
@@ -287,7 +334,14 @@ std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions
     curl_easy_getinfo(curl, CURLINFO_OS_ERRNO, &osErrno);
     checkResult(url, rc, osErrno, error, t);
     checkResponse(url, status, t);
-    return std::move(t.bytes);
+    HttpResponse r;
+    r.status = status;
+    r.body = std::move(t.bytes);
+    r.headers = std::move(t.received);
+    const char* effective = nullptr;
+    curl_easy_getinfo(curl, CURLINFO_EFFECTIVE_URL, &effective);
+    r.url = effective ? effective : url;
+    return r;
 }
 
 }  // namespace sg::net

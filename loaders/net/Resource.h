@@ -6,10 +6,25 @@
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace sg {
+
+class HttpCache;  // loaders/net/HttpCache.h
+
+// What the reads with these options did, counted as they happen (loader threads add at once).
+struct ResourceCounters {
+    std::atomic<uint64_t> requests{0};     // HTTP requests sent (a revalidation counts; a fresh cache hit does not)
+    std::atomic<uint64_t> cacheHits{0};    // answered from the disk cache without a request
+    std::atomic<uint64_t> revalidated{0};  // answered 304 Not Modified: the cached body used
+    std::atomic<uint64_t> connections{0};  // new connections opened (the rest reused one)
+    std::atomic<uint64_t> http2{0};        // responses that came over HTTP/2
+    std::atomic<uint64_t> bytesOnWire{0};  // bodies as sent (compressed)
+    std::atomic<uint64_t> bytes{0};        // bodies as read (decompressed), the cache's included
+};
 
 struct ResourceOptions {
     double connectTimeoutSeconds = 10.0;
@@ -21,6 +36,14 @@ struct ResourceOptions {
     std::string caFile;
     const std::atomic<bool>* cancel = nullptr;  // set by another thread: the read stops soon and throws LoadError
                                                 // with reason "cancelled"
+    // Request headers sent with every http(s) read, "Name: value" each (a token: "Authorization: Bearer ...").
+    // libcurl keeps Authorization and Cookie headers from another host a redirect leads to.
+    std::vector<std::string> headers;
+    // The disk cache http(s) reads go through; none: every read is a request.
+    std::shared_ptr<HttpCache> cache;
+    // Requests in flight to one host (scheme, host and port) at most, whichever threads make them; the rest wait.
+    size_t maxRequestsPerHost = 6;
+    ResourceCounters* counters = nullptr;  // counted here when set
 };
 
 // http:// or https:// (case-insensitive scheme).
@@ -39,6 +62,8 @@ bool isDataUri(const std::string& s);
 // resources and data: URIs; a local one (a path, a file: URL) may name anything. `relative`, named by `referrer` at
 // `jsonPath` of it, resolved against it (resolveUri); throws LoadError(referrer, jsonPath, reason) when the rule
 // refuses it, the reason naming the rule and the URI. Every URI a tileset, subtree or tile names goes through this.
+// A relative reference from a URL with a query string carries that query's parameters (an access key, say) that
+// the reference does not set itself, as 3D Tiles servers expect.
 std::string resolveReference(const std::string& referrer, const std::string& relative,
                              const std::string& jsonPath = "");
 

@@ -3,8 +3,10 @@
 #include "loaders/net/Resource.h"
 #include "loaders/net/internal/Net.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <vector>
 
 namespace sg {
 
@@ -125,6 +127,51 @@ std::string resolveUri(const std::string& base, const std::string& relative) {
 
 bool isDataUri(const std::string& s) { return startsWithNoCase(s, "data:"); }
 
+namespace {
+
+// "https://host:port" of a URL, lower-cased; "" for anything else.
+std::string originOf(const std::string& url) {
+    const size_t scheme = schemeLength(url);
+    if (!scheme || url.compare(scheme, 2, "//") != 0) return "";
+    std::string o = url.substr(0, std::min(url.find_first_of("/?#", scheme + 2), url.size()));
+    for (char& c : o) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return o;
+}
+
+// The "name=value" parts of a URL's query ("" when it has none).
+std::vector<std::string> queryParts(const std::string& url) {
+    std::vector<std::string> parts;
+    const size_t q = url.find('?');
+    if (q == std::string::npos) return parts;
+    const std::string query = url.substr(q + 1, url.find('#', q) - std::min(url.find('#', q), q + 1));
+    for (size_t b = 0; b <= query.size();) {
+        const size_t e = std::min(query.find('&', b), query.size());
+        if (e > b) parts.push_back(query.substr(b, e - b));
+        b = e + 1;
+    }
+    return parts;
+}
+
+std::string keyOf(const std::string& part) { return part.substr(0, part.find('=')); }
+
+// `uri` with the parameters of base's query that it does not set itself, before its fragment.
+std::string withQueryOf(const std::string& uri, const std::string& base) {
+    const std::vector<std::string> own = queryParts(uri);
+    std::string added;
+    for (const std::string& p : queryParts(base)) {
+        const bool set =
+            std::any_of(own.begin(), own.end(), [&](const std::string& o) { return keyOf(o) == keyOf(p); });
+        if (!set) added += (added.empty() ? "" : "&") + p;
+    }
+    if (added.empty()) return uri;
+    const size_t hash = std::min(uri.find('#'), uri.size());
+    const bool hasQuery = uri.find('?') < hash;
+    const bool open = hasQuery && uri[hash - 1] != '?' && uri[hash - 1] != '&';
+    return uri.substr(0, hash) + (hasQuery ? (open ? "&" : "") : "?") + added + uri.substr(hash);
+}
+
+}  // namespace
+
 std::string resolveReference(const std::string& referrer, const std::string& relative, const std::string& jsonPath) {
     std::string uri = resolveUri(referrer, relative);
     if (isUrl(referrer) && !isUrl(uri) && !isDataUri(uri)) {
@@ -134,6 +181,9 @@ std::string resolveReference(const std::string& referrer, const std::string& rel
                             "' refused: a resource read over the network may name only http, https and data: URIs, "
                             "not local files (origin rule)");
     }
+    // The key goes only where the reference is relative: never to another server.
+    if (isUrl(referrer) && !schemeLength(relative) && originOf(uri) == originOf(referrer))
+        uri = withQueryOf(uri, referrer);
     return uri;
 }
 

@@ -108,6 +108,20 @@ TEST(SgviewOptions, ContradictionsAreRefused) {
     EXPECT_EQ(error({"--help"}), "");
 }
 
+// The network options: headers kept in order, a header that is not "Name: value" refused, the cache's two forms.
+TEST(SgviewOptions, NetworkOptions) {
+    const Options o = parse({"http://h/tileset.json", "--header", "Authorization: Bearer x", "--header", "X-A: 1",
+                             "--ca-file", "ca.pem", "--cache", "/tmp/c"});
+    EXPECT_EQ(o.headers, (std::vector<std::string>{"Authorization: Bearer x", "X-A: 1"}));
+    EXPECT_EQ(o.caFile, "ca.pem");
+    EXPECT_EQ(o.cacheDir, "/tmp/c");
+    EXPECT_FALSE(o.noCache);
+    EXPECT_TRUE(parse({"http://h/tileset.json", "--no-cache"}).noCache);
+    EXPECT_NE(error({"t.json", "--header", "Bearer x"}).find("expected \"Name: value\""), std::string::npos);
+    EXPECT_NE(error({"t.json", "--cache", "/c", "--no-cache"}).find("give one"), std::string::npos);
+    EXPECT_NE(error({"--scene", "city", "--header", "A: b"}).find("for a tileset's URL"), std::string::npos);
+}
+
 TEST(SgviewCamera, AutoCameraKeepsTheWholeBoundInView) {
     const Box b{dvec3(0, 0, 0), dvec3(640, 640, 60)};
     for (const dvec3& up : {dvec3(0, 0, 1), dvec3(0, 1, 0)})

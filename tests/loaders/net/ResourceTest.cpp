@@ -253,4 +253,34 @@ TEST(ResourceUri, UrlsAreResolvedAsTheWebDoes) {
     EXPECT_EQ(resolveUri("file:///data/t/tileset.json", "x/../y.glb"), "file:///data/t/y.glb");
 }
 
+// A tileset URL's access key goes with every reference resolved from it on the same server, not elsewhere.
+TEST(ResourceUri, AReferenceCarriesTheQueryOfItsReferrer) {
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1&v=2", "x.b3dm"), "http://h/a/x.b3dm?key=1&v=2");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1&v=2", "x.b3dm?v=3"), "http://h/a/x.b3dm?v=3&key=1");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "../b/x.b3dm#f"), "http://h/b/x.b3dm?key=1#f");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "/root/x.b3dm"), "http://h/root/x.b3dm?key=1");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "x.b3dm?"), "http://h/a/x.b3dm?key=1");
+    // Not to another host, nor where the reference is absolute, nor into data.
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "//cdn.org/x.b3dm"), "http://cdn.org/x.b3dm");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "http://h/x.b3dm"), "http://h/x.b3dm");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "data:,abc"), "data:,abc");
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json", "x.b3dm"), "http://h/a/x.b3dm");
+    // A local tileset's query (none is read from a path) is not added.
+    EXPECT_EQ(resolveReference("/data/tileset.json", "x.b3dm"), "/data/x.b3dm");
+}
+
+// ResourceOptions::headers go with the request, and a header that would break the request is refused.
+TEST_F(Resource, RequestHeadersAreSent) {
+    ResourceOptions o;
+    o.headers = {"Authorization: Bearer abc.def", "X-Sgkit-Test: 7"};
+    const std::vector<unsigned char> body = readResource(url("/echo"), o);
+    const std::string text(body.begin(), body.end());
+    EXPECT_NE(text.find("\"Authorization\": \"Bearer abc.def\""), std::string::npos) << text;
+    EXPECT_NE(text.find("\"X-Sgkit-Test\": \"7\""), std::string::npos) << text;
+    o.headers = {"Authorization: a\r\nX-Evil: 1"};
+    EXPECT_NE(readError(url("/echo"), o).reason().find("not \"Name: value\" on one line"), std::string::npos);
+    o.headers = {"no colon"};
+    EXPECT_NE(readError(url("/echo"), o).reason().find("no colon"), std::string::npos);
+}
+
 }  // namespace

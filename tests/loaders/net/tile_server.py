@@ -14,6 +14,8 @@ that certificate and key (PEM). Paths:
     /redirect/N/FILE       N redirects (302) before the file
     /count/FILE            the file, the request counted; GET /requests returns the counts by path as JSON
     /goto?to=URL           a redirect (302) to URL, whatever its scheme
+    /echo                  the request's headers as a JSON object
+Every request but /seen is recorded: GET /seen returns them as JSON, [path with its query, Authorization or null].
 A request for /stall/ prints "arrived PATH" on stdout once its partial body is sent, so that a test can act while
 the read is known to be waiting. The server exits when its stdin closes: a test process that dies leaves no server.
 """
@@ -31,6 +33,7 @@ import time
 ROOT = os.path.realpath(sys.argv[1])
 counts = {}
 counts_lock = threading.Lock()
+seen = []
 stdout_lock = threading.Lock()
 
 
@@ -75,6 +78,13 @@ class Handler(http.server.BaseHTTPRequestHandler):
         path = self.path.split("?", 1)[0]
         parts = path.lstrip("/").split("/")
         kind = parts[0]
+        if path == "/seen":
+            with counts_lock:
+                return self.plain(200, json.dumps(seen).encode())
+        with counts_lock:
+            seen.append([self.path, self.headers.get("Authorization")])
+        if path == "/echo":
+            return self.plain(200, json.dumps(dict(self.headers.items())).encode())
         if path == "/requests":
             with counts_lock:
                 return self.plain(200, json.dumps(counts).encode())
