@@ -40,4 +40,8 @@ struct TilesFlight {
 // sgbench tiles --path factory-walk [--settle-check [--views K]]: TilesWalk.cpp's header says what it measures.
 int flyFactoryWalk(const Args& a, const TilesFlight& t, const std::vector<sg::Camera>& cams, const sg::Box& site);
 
+// sgbench tiles --path loads [--loads K] [--runs R]: the load function timed alone, tile after tile, against the
+// parse of the same tileset's contents (TilesLoad.cpp).
+int measureTileLoads(const Args& a, const std::string& file, const sg::TilesetOptions& options);
+
 }  // namespace bench

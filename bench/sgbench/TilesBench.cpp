@@ -99,21 +99,22 @@ int runTiles(const Args& a) {
     const int n = int(a.num("n", 1000)), frames = int(a.num("frames", 2400));
     const int w = int(a.num("width", 1280)), h = int(a.num("height", 720));
     const std::string path = a.str("path", "orbit");
-    if (path != "orbit" && path != "low" && path != "teleport" && path != "factory-walk")
-        throw std::invalid_argument("sgbench tiles: --path orbit|low|teleport|factory-walk");
+    if (path != "orbit" && path != "low" && path != "teleport" && path != "factory-walk" && path != "loads")
+        throw std::invalid_argument("sgbench tiles: --path orbit|low|teleport|factory-walk|loads");
     if (n < 1 || frames < 1) throw std::invalid_argument("sgbench tiles: --n and --frames must be at least 1");
     const bool reference = a.flag("baseline");
     const bool walk = path == "factory-walk";
     if (walk && reference)
         throw std::invalid_argument("sgbench tiles: --baseline is the city's; factory-walk has none");
+    sg::TilesetOptions to;
+    to.shareMeshes = a.num("share-meshes", 1) != 0;
+    if (path == "loads") return measureTileLoads(a, file, to);
     sg::Box site;
     const std::vector<sg::Camera> walkCams = walk ? factoryWalkCameras(frames, w, h, site) : std::vector<sg::Camera>{};
 
     sg::OsmesaContext context(w, h);
     const double rss0 = rssMb();
     auto t0 = Clock::now();
-    sg::TilesetOptions to;
-    to.shareMeshes = a.num("share-meshes", 1) != 0;
     sg::Tileset ts = sg::loadTileset(file, to);
     const double openMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     sg::Scene scene(ts.root());

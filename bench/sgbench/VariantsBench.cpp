@@ -96,8 +96,10 @@ Run run(bool prepare, const sg::Camera& cam) {
 }
 
 void report(Json& j, const std::string& name, const Run& r) {
-    const double med = median(r.ms), worst = *std::max_element(r.ms.begin(), r.ms.end());
+    const auto slowest = std::max_element(r.ms.begin(), r.ms.end());
+    const double med = median(r.ms), worst = *slowest;
     j.add(name + "_frame_ms_median", med).add(name + "_frame_ms_max", worst);
+    j.addInt(name + "_slowest_combination", long(slowest - r.ms.begin()));  // which frame: what it first drew
     j.add(name + "_max_over_median", med > 0.0 ? worst / med : 0.0);
     j.addInt(name + "_compiled_in_draw", long(r.compiledInDraw));
 }

@@ -100,9 +100,12 @@ std::vector<unsigned char> readFile(const std::string& name, const std::string& 
 
 std::vector<unsigned char> readResource(const std::string& uriOrPath, const ResourceOptions& options) {
     if (isUrl(uriOrPath)) return net::readUrl(uriOrPath, options);
-    if (isDataUri(uriOrPath)) return readData(uriOrPath, options);
-    if (startsWithNoCase(uriOrPath, "file://")) return readFile(uriOrPath, filePath(uriOrPath), options);
-    return readFile(uriOrPath, uriOrPath, options);
+    std::vector<unsigned char> bytes = isDataUri(uriOrPath) ? readData(uriOrPath, options)
+                                       : startsWithNoCase(uriOrPath, "file://")
+                                           ? readFile(uriOrPath, filePath(uriOrPath), options)
+                                           : readFile(uriOrPath, uriOrPath, options);
+    if (options.counters) options.counters->bytes += bytes.size();
+    return bytes;
 }
 
 }  // namespace sg

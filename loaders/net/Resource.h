@@ -23,7 +23,7 @@ struct ResourceCounters {
     std::atomic<uint64_t> connections{0};  // new connections opened (the rest reused one)
     std::atomic<uint64_t> http2{0};        // responses that came over HTTP/2
     std::atomic<uint64_t> bytesOnWire{0};  // bodies as sent (compressed)
-    std::atomic<uint64_t> bytes{0};        // bodies as read (decompressed), the cache's included
+    std::atomic<uint64_t> bytes{0};        // what the reads returned: files, data: URIs and http(s) bodies decoded
 };
 
 struct ResourceOptions {
