@@ -8,6 +8,9 @@ pkgs=(build-essential cmake ninja-build pkg-config libglm-dev libtinygltf-dev li
       libdraco-dev  # glTF's KHR_draco_mesh_compression
       assimp-testmodels  # glTF files written elsewhere: the loader's conformance test
       python3 openssl  # the tests' local HTTP and HTTPS server (tests/loaders/net/tile_server.py), its certificate
+      nginx  # the web server tiles are served with, run by the tests on ports of their own (tests/loaders/net/Nginx.h):
+             # Debian 12's nginx has the ssl, http_v2 and gzip modules (nginx-light only adds an echo module)
+      ca-certificates  # the system's certificate authorities, which https reads trust without a CA file
       clang-14 libclang-rt-14-dev  # clang: the glTF loader's libFuzzer target
       clang-format  # the format check of .ci/run
       gnuplot-nox)  # sgbench pareto's plot (pngcairo)
@@ -17,5 +20,14 @@ for p in "${pkgs[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
 [ ${#missing[@]} -eq 0 ] && exit 0
 sudo=""; [ "$(id -u)" = 0 ] || sudo=sudo
 export DEBIAN_FRONTEND=noninteractive
+# Services the packages bring (nginx's, on port 80) are not started: the tests run their own, and in a container
+# without an init system the start can fail the install. A policy-rc.d that forbids starts, for this install only
+# (Docker images have one already).
+policy=/usr/sbin/policy-rc.d
+if [ ! -e "$policy" ]; then
+  printf '#!/bin/sh\nexit 101\n' | $sudo tee "$policy" >/dev/null
+  $sudo chmod 755 "$policy"
+  trap '$sudo rm -f "$policy"' EXIT
+fi
 $sudo apt-get update -qq
 $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

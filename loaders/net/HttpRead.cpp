@@ -275,6 +275,19 @@ void checkResult(const std::string& url, CURLcode rc, long osErrno, const char* 
         case CURLE_GOT_NOTHING: fail(url, "connection closed without a response");
         case CURLE_RECV_ERROR: fail(url, closedAfter(curl, osErrno == ECONNRESET ? "reset" : "failed"));
         case CURLE_TOO_MANY_REDIRECTS: fail(url, "more than 5 redirects");
+        // libcurl's text names the problem ("certificate has expired", "no alternative certificate subject name
+        // matches target host name"), not always that it is the server's certificate that was refused.
+        case CURLE_PEER_FAILED_VERIFICATION: fail(url, "the server's certificate is not trusted: " + detail);
+        case CURLE_SSL_CONNECT_ERROR: fail(url, "the TLS handshake failed: " + detail);
+        case CURLE_SSL_CACERT_BADFILE: {
+            // The authorities' file is the user's choice: say what is wrong with it, not "error setting certificate
+            // file".
+            if (o.caFile.empty()) fail(url, "the system's certificate authorities cannot be read: " + detail);
+            std::FILE* f = std::fopen(o.caFile.c_str(), "rb");
+            const std::string why = f ? "it holds no PEM certificate" : std::strerror(errno);
+            if (f) std::fclose(f);
+            fail(url, "the certificate authorities file '" + o.caFile + "' cannot be used: " + why);
+        }
         case CURLE_UNSUPPORTED_PROTOCOL: {  // only a redirect can get here: the URL itself is http or https
             const bool secure = startsWithNoCase(url, "https://");
             const std::string where = t.location.empty() ? std::string() : " '" + t.location + "'";
