@@ -1,5 +1,7 @@
-// readUrl: http and https through libcurl's easy interface, one handle per loader thread; the failures of a network
-// named (a status, a refused connection, a stalled or dropped transfer) and redirects kept to the web.
+// readUrl: http and https through libcurl, an easy handle per loader thread whose transfers run on the connections
+// all threads share (HttpShare.cpp), HTTP/2 where the server offers it, compressed bodies decoded; the failures of a
+// network named (a status, a refused connection, a stalled or dropped transfer) and redirects kept to the web.
+#include "loaders/net/internal/HttpPool.h"
 #include "loaders/net/internal/Net.h"
 
 #include <curl/curl.h>
@@ -33,6 +35,7 @@ struct Transfer {
     std::chrono::steady_clock::time_point lastChange;
     curl_slist* headers = nullptr;  // the request's own headers (ResourceOptions::headers), freed with it
     std::vector<std::pair<std::string, std::string>> received;  // the last response's headers, names lower-case
+    bool encoded = false;  // the last response has a Content-Encoding: its length is the compressed one
 
     Transfer() = default;
     Transfer(const Transfer&) = delete;
@@ -59,6 +62,7 @@ size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
     }
     if (n > 5 && std::memcmp(data, "HTTP/", 5) == 0) {
         t.received.clear();  // a redirect's headers are not the resource's
+        t.encoded = false;
         try {
             std::string line(data, n);
             while (!line.empty() && (line.back() == '\r' || line.back() == '\n')) line.pop_back();
@@ -75,11 +79,23 @@ size_t onHeader(char* data, size_t size, size_t count, void* user) noexcept {
             for (char& ch : name) ch = char(std::tolower(static_cast<unsigned char>(ch)));
             const size_t b = value.find_first_not_of(" \t"), e = value.find_last_not_of(" \t\r\n");
             t.received.emplace_back(std::move(name), b == std::string::npos ? "" : value.substr(b, e - b + 1));
+            const auto& [field, text] = t.received.back();
+            if (field == "content-encoding" && !text.empty() && ::strcasecmp(text.c_str(), "identity") != 0)
+                t.encoded = true;
         } catch (...) {
             return 0;  // out of memory: the transfer fails
         }
     }
     return n;
+}
+
+// The most bytes on the wire that a body within `maxBytes` can take: its length, or compressed a little more (gzip,
+// brotli and zstd add a few bytes per block to what does not compress; 1/64 and 1 KiB more is ample). A compressed
+// body announced or grown past this cannot decode within the limit; under it, the decoded bytes decide.
+uint64_t wireLimit(size_t maxBytes, bool encoded) {
+    const uint64_t m = maxBytes;
+    if (!encoded) return m;
+    return m >= UINT64_MAX / 2 ? UINT64_MAX : m + m / 64 + 1024;
 }
 
 size_t onData(char* data, size_t size, size_t count, void* user) noexcept {
@@ -91,7 +107,8 @@ size_t onData(char* data, size_t size, size_t count, void* user) noexcept {
         t.failure = statusReason(status, t.phrase);
         return 0;
     }
-    if (n > t.options->maxBytes - t.bytes.size()) {  // a length not announced (or compressed) grew past the limit
+    // The bytes decoded count: a length not announced, or a compressed one, grew past the limit.
+    if (n > t.options->maxBytes - t.bytes.size()) {
         t.failure = "larger than the limit";
         return 0;
     }
@@ -99,6 +116,10 @@ size_t onData(char* data, size_t size, size_t count, void* user) noexcept {
         if (t.bytes.empty()) {
             curl_off_t length = -1;
             curl_easy_getinfo(t.curl, CURLINFO_CONTENT_LENGTH_DOWNLOAD_T, &length);
+            if (length > 0 && uint64_t(length) > wireLimit(t.options->maxBytes, t.encoded)) {
+                t.failure = "larger than the limit";  // refused before reading it
+                return 0;
+            }
             if (length > 0 && uint64_t(length) <= t.options->maxBytes) t.bytes.reserve(size_t(length));
         }
         t.bytes.insert(t.bytes.end(), data, data + n);
@@ -123,7 +144,10 @@ int onProgress(void* user, curl_off_t downloadTotal, curl_off_t downloadNow, cur
         t.failure = "cancelled";
         return 1;
     }
-    if (downloadTotal > 0 && uint64_t(downloadTotal) > o.maxBytes) {
+    // Compressed, the body on the wire is checked against the most a body within the limit can take: a server
+    // could send on and on what decodes to little.
+    const uint64_t wire = wireLimit(o.maxBytes, t.encoded);
+    if ((downloadTotal > 0 && uint64_t(downloadTotal) > wire) || (downloadNow > 0 && uint64_t(downloadNow) > wire)) {
         t.failure = "larger than the limit";
         return 1;
     }
@@ -146,8 +170,9 @@ int onProgress(void* user, curl_off_t downloadTotal, curl_off_t downloadNow, cur
     return 0;
 }
 
-// One handle per thread, kept between reads: its connections stay open for the next tile from the same server (a
-// TLS handshake can cost more than a small tile). curl_easy_reset clears the options, not the connections.
+// One handle per thread, kept between reads and reset before each. The connections are not the handle's but the
+// transfer thread's (performShared): open for the next tile from the same server, whichever thread reads it (a TLS
+// handshake can cost more than a small tile).
 CURL* threadHandle() {
     static std::once_flag once;
     static CURLcode init = CURLE_FAILED_INIT;
@@ -205,8 +230,15 @@ void setRequest(CURL* curl, const std::string& url, const ResourceOptions& o, ch
     curl_easy_setopt(curl, CURLOPT_MAXREDIRS, 5L);
     setProtocols(curl, url);
     if (!o.caFile.empty()) curl_easy_setopt(curl, CURLOPT_CAINFO, o.caFile.c_str());
-    curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, "");  // gzip and the like: tileset.json compresses well
+    // gzip, deflate, br and zstd, as libcurl was built with them: tileset.json and glTF JSON compress well.
+    curl_easy_setopt(curl, CURLOPT_ACCEPT_ENCODING, "");
     curl_easy_setopt(curl, CURLOPT_USERAGENT, "sgkit");
+    // HTTP/2 where the server offers it (TLS ALPN), else HTTP/1.1 kept alive. Over https a read waits for a
+    // connection being opened to say whether it multiplexes rather than open another; over http (HTTP/1.1 here)
+    // it would wait for that connection's transfer to end, so it does not.
+    curl_easy_setopt(curl, CURLOPT_HTTP_VERSION, long(CURL_HTTP_VERSION_2TLS));
+    if (startsWithNoCase(url, "https://")) curl_easy_setopt(curl, CURLOPT_PIPEWAIT, 1L);
+    shareCaches(curl);
 }
 
 // ResourceOptions::headers on the transfer: "Name: value" each, without line breaks (which would start another
@@ -235,9 +267,11 @@ void setLimits(CURL* curl, const ResourceOptions& o) {
         curl_easy_setopt(curl, CURLOPT_LOW_SPEED_LIMIT, 1L);
         curl_easy_setopt(curl, CURLOPT_LOW_SPEED_TIME, stall);
     }
-    // An announced length over the limit is refused before the body is read.
+    // An announced length over the limit is refused before the body is read. libcurl compares it before it knows
+    // whether the body is compressed, so this lets through what a compressed body within the limit could take;
+    // onData and onProgress refuse the rest, the decoded bytes counted.
     const uint64_t maxOff = uint64_t(INT64_MAX);
-    curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, curl_off_t(std::min<uint64_t>(o.maxBytes, maxOff)));
+    curl_easy_setopt(curl, CURLOPT_MAXFILESIZE_LARGE, curl_off_t(std::min(wireLimit(o.maxBytes, true), maxOff)));
 }
 
 // The callbacks, and the transfer they share.
@@ -300,6 +334,24 @@ void checkResult(const std::string& url, CURLcode rc, long osErrno, const char* 
     }
 }
 
+// ResourceOptions::counters: the requests sent (redirects too; a failed read counts), the connections opened for
+// them, whether the response came over HTTP/2, the body on the wire and decoded.
+void count(const Transfer& t) {
+    ResourceCounters* c = t.options->counters;
+    if (!c) return;
+    long redirects = 0, connects = 0, version = 0;
+    curl_off_t wire = 0;
+    curl_easy_getinfo(t.curl, CURLINFO_REDIRECT_COUNT, &redirects);
+    curl_easy_getinfo(t.curl, CURLINFO_NUM_CONNECTS, &connects);
+    curl_easy_getinfo(t.curl, CURLINFO_HTTP_VERSION, &version);
+    curl_easy_getinfo(t.curl, CURLINFO_SIZE_DOWNLOAD_T, &wire);
+    c->requests += 1 + uint64_t(std::max(0L, redirects));
+    c->connections += uint64_t(std::max(0L, connects));
+    if (version == CURL_HTTP_VERSION_2_0) ++c->http2;
+    c->bytesOnWire += uint64_t(std::max<curl_off_t>(0, wire));
+    c->bytes += t.bytes.size();
+}
+
 // A completed transfer's status, and its body against the announced length.
 void checkResponse(const std::string& url, long status, const Transfer& t) {
     if (status == 304) return;  // Not Modified: a conditional request's answer, without a body
@@ -319,9 +371,7 @@ std::string HttpResponse::header(const std::string& name) const {
     return "";
 }
 
-std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
-    return fetchUrl(url, o).body;
-}
+std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) { return fetchUrl(url, o).body; }
 
 HttpResponse fetchUrl(const std::string& url, const ResourceOptions& o, const std::vector<std::string>& extra) {
     if (cancelled(o)) fail(url, "cancelled");
@@ -341,7 +391,12 @@ HttpResponse fetchUrl(const std::string& url, const ResourceOptions& o, const st
     setLimits(curl, o);
     setCallbacks(curl, t);
 
-    const CURLcode rc = curl_easy_perform(curl);
+    CURLcode rc;
+    {
+        const HostSlot slot(url, o);  // waits for a slot of the host (ResourceOptions::maxRequestsPerHost)
+        rc = performShared(curl);
+    }
+    count(t);
     long status = 0, osErrno = 0;
     curl_easy_getinfo(curl, CURLINFO_RESPONSE_CODE, &status);
     curl_easy_getinfo(curl, CURLINFO_OS_ERRNO, &osErrno);

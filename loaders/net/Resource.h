@@ -71,8 +71,8 @@ std::string resolveReference(const std::string& referrer, const std::string& rel
 // reason names what happened, e.g. "HTTP 404 Not Found", "HTTP 500", "connection refused", "no data for 15 s",
 // "connection closed after 1024 of 4096 bytes", "cancelled", "larger than the limit", "not a regular file",
 // "no such file". Only regular files are opened (a FIFO is refused, not waited on). Redirects are followed (at most
-// 5), to http and https only, and from https to https only. Thread-safe: loader threads call it at once, each with a
-// connection of its own.
+// 5), to http and https only, and from https to https only. Thread-safe: loader threads call it at once, on
+// connections they share (kept alive, HTTP/2 multiplexed), at most maxRequestsPerHost of them in flight to a host.
 std::vector<unsigned char> readResource(const std::string& uriOrPath, const ResourceOptions& options = {});
 
 }  // namespace sg
