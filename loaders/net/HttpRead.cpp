@@ -307,6 +307,7 @@ std::string HttpResponse::header(const std::string& name) const {
 }
 
 std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
+    if (o.cache) return readCached(url, o);
     return fetchUrl(url, o).body;
 }
 
