@@ -5,6 +5,7 @@ pkgs=(build-essential cmake ninja-build pkg-config libglm-dev libtinygltf-dev li
       libgl-dev libegl-dev libmeshoptimizer-dev libstb-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth
       nlohmann-json3-dev libglu1-mesa-dev  # the map converter's TopoJSON reader; GLU's tessellator compared
       libcurl4-openssl-dev  # sg::readResource: tiles and tilesets by URL
+      libsqlite3-dev  # the HTTP disk cache (sg::HttpCache)
       libdraco-dev  # glTF's KHR_draco_mesh_compression
       assimp-testmodels  # glTF files written elsewhere: the loader's conformance test
       python3 openssl  # the tests' local HTTP and HTTPS server (tests/loaders/net/tile_server.py), its certificate

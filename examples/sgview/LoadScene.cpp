@@ -2,6 +2,7 @@
 #include "sgview/LoadScene.h"
 
 #include "loaders/gltf/Gltf.h"
+#include "loaders/net/HttpCache.h"
 #include "loaders/points/Scan.h"
 #include "loaders/tiles/StyleJson.h"
 #include "loaders/tiles/Tileset.h"
@@ -11,6 +12,8 @@
 
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -20,17 +23,50 @@ namespace sgview {
 
 namespace {
 
+// The directory of the HTTP cache: --cache DIR, else $XDG_CACHE_HOME/sgkit, else ~/.cache/sgkit; "" when none of
+// them is known.
+std::string cacheDirectory(const Options& o) {
+    if (!o.cacheDir.empty()) return o.cacheDir;
+    if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && xdg[0] == '/') return std::string(xdg) + "/sgkit";
+    if (const char* home = std::getenv("HOME"); home && home[0]) return std::string(home) + "/.cache/sgkit";
+    return "";
+}
+
+// The disk cache of a tileset read over http(s), unless --no-cache; none (a warning said why) when it cannot be
+// made: the tileset is read from the server.
+std::shared_ptr<sg::HttpCache> openCache(const std::string& path, const Options& o,
+                                         std::vector<std::string>& warnings) {
+    if (o.noCache || !sg::isUrl(path)) return nullptr;
+    const std::string dir = cacheDirectory(o);
+    if (dir.empty()) {
+        warnings.push_back("no HTTP cache: neither --cache DIR, XDG_CACHE_HOME nor HOME is set");
+        return nullptr;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) {
+        warnings.push_back("no HTTP cache: cannot make " + dir + ": " + ec.message());
+        return nullptr;
+    }
+    auto cache = std::make_shared<sg::HttpCache>(dir + "/http.sqlite");
+    for (const std::string& w : cache->warnings()) warnings.push_back(w);
+    return cache->enabled() ? cache : nullptr;
+}
+
 LoadedScene loadTilesetFile(const std::string& path, const Options& o) {
     sg::TilesetOptions to;
     to.generateOccluders = o.autoOccluders;  // each tile's, as it is read
     to.resource.headers = o.headers;
     to.resource.caFile = o.caFile;
+    std::vector<std::string> cacheWarnings;
+    to.resource.cache = openCache(path, o, cacheWarnings);
     auto ts = std::make_shared<sg::Tileset>(sg::loadTileset(path, to));
     LoadedScene s;
     s.root = ts->root();
     s.pageLoad = ts->loadFunction();
     if (o.refineAll) sg::refineAll(*s.root, s.pageLoad);
-    s.warnings = ts->warnings();
+    s.warnings = std::move(cacheWarnings);
+    for (const std::string& w : ts->warnings()) s.warnings.push_back(w);
     s.up = sg::dvec3(0.0, 0.0, 1.0);  // 3D Tiles' +Z up
     s.title = path;
     s.tilesReport = [ts] {

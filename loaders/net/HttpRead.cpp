@@ -371,7 +371,10 @@ std::string HttpResponse::header(const std::string& name) const {
     return "";
 }
 
-std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) { return fetchUrl(url, o).body; }
+std::vector<unsigned char> readUrl(const std::string& url, const ResourceOptions& o) {
+    if (o.cache) return readCached(url, o);
+    return fetchUrl(url, o).body;
+}
 
 HttpResponse fetchUrl(const std::string& url, const ResourceOptions& o, const std::vector<std::string>& extra) {
     if (cancelled(o)) fail(url, "cancelled");

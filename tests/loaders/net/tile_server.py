@@ -15,10 +15,19 @@ that certificate and key (PEM). Paths:
     /count/FILE            the file, the request counted; GET /requests returns the counts by path as JSON
     /goto?to=URL           a redirect (302) to URL, whatever its scheme
     /echo                  the request's headers as a JSON object
+    /cache/POLICY/VALIDATOR/FILE
+                           the file with caching headers, the request counted (as /count/; a 304 answered counted
+                           again as "304 PATH"). POLICY: a number N (Cache-Control: max-age=N), "none" (no
+                           Cache-Control), "no-store", "no-cache", or "expires" (Expires 100 s after Date).
+                           VALIDATOR: "etag" (an ETag of the content; If-None-Match with it is answered 304),
+                           "lastmod" (Last-Modified the file's time; If-Modified-Since not before it is answered
+                           304) or "none".
 Every request but /seen is recorded: GET /seen returns them as JSON, [path with its query, Authorization or null].
 A request for /stall/ prints "arrived PATH" on stdout once its partial body is sent, so that a test can act while
 the read is known to be waiting. The server exits when its stdin closes: a test process that dies leaves no server.
 """
+import email.utils
+import hashlib
 import http.server
 import json
 import os
@@ -98,9 +107,11 @@ class Handler(http.server.BaseHTTPRequestHandler):
         if path == "/goto":
             to = urllib.parse.parse_qs(urllib.parse.urlsplit(self.path).query).get("to", [""])[0]
             return self.head(302, 0, [("Location", to)])
-        if kind == "count":
+        if kind == "count" or kind == "cache":
             with counts_lock:
                 counts[path] = counts.get(path, 0) + 1
+        if kind == "cache" and len(parts) >= 4:
+            return self.cached(path, parts[1], parts[2], "/".join(parts[3:]))
         prefixed = kind in ("stall", "drop", "slow", "nolength", "count")
         data = self.file_bytes("/".join(parts[1:]) if prefixed else path.lstrip("/"))
         if data is None:
@@ -131,6 +142,38 @@ class Handler(http.server.BaseHTTPRequestHandler):
         else:
             self.head(200, len(data))
             self.wfile.write(data)
+
+    def cached(self, path, policy, validator, rel):
+        data = self.file_bytes(rel)
+        if data is None:
+            return self.plain(404, b"not found\n")
+        headers = []
+        if policy.isdigit():
+            headers.append(("Cache-Control", "max-age=" + policy))
+        elif policy in ("no-store", "no-cache"):
+            headers.append(("Cache-Control", policy))
+        elif policy == "expires":
+            headers.append(("Expires", self.date_time_string(time.time() + 100)))
+        not_modified = False
+        if validator == "etag":
+            etag = '"%s"' % hashlib.sha1(data).hexdigest()[:16]
+            headers.append(("ETag", etag))
+            asked = self.headers.get("If-None-Match", "")
+            not_modified = etag in asked or asked.strip() == "*"
+        elif validator == "lastmod":
+            mtime = int(os.path.getmtime(os.path.join(ROOT, rel)))
+            headers.append(("Last-Modified", email.utils.formatdate(mtime, usegmt=True)))
+            since = self.headers.get("If-Modified-Since")
+            try:
+                not_modified = since is not None and email.utils.parsedate_to_datetime(since).timestamp() >= mtime
+            except (TypeError, ValueError):
+                not_modified = False
+        if not_modified:
+            with counts_lock:
+                counts["304 " + path] = counts.get("304 " + path, 0) + 1
+            return self.head(304, None, headers)
+        self.head(200, len(data), headers)
+        self.wfile.write(data)
 
     def wait_for_close(self):
         # The client closes its end when it gives up (a stall timeout, a cancel): then recv returns b"".
