@@ -53,6 +53,8 @@ int runHeadless(const Options& o, Scene& scene, const LoadedScene& loaded) {
         view.flush();  // threaded: what this frame asked the pager for is known once it is drawn
     }
     savePng(o.out, view.read());
+    // The overlay's text, as drawn over the picture: readable where the picture is not read by eye.
+    if (o.overlay) std::printf("sgview: overlay:\n%s\n", view.viewer().overlayDrawn().c_str());
     IntersectTraversal picker;
     for (const auto& [x, y] : o.picks)
         std::printf("%s\n", pickReport(picker, scene, camera, x, y, o.json, &view.featureStyle()).c_str());

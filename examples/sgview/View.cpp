@@ -58,29 +58,34 @@ uint64_t culledCount(const CullStats& s) {
 }
 
 std::string View::statsText(const FrameStats& fs) const {
+    // The figures are the last frame's (the overlay's text is made before this frame is culled): before the first
+    // frame there are none, and "-" says so where a 0 would say nothing was drawn (the viewer's line of the frame
+    // drawn under the overlay has its own).
+    const bool known = viewer_.framesDrawn() > 0;
     const CullStats& c = view_.cullStats();
     const RenderStats& r = view_.renderStats();
-    const char* occ = settings.occlusion.mode == OcclusionMode::Off ? ""
-                      : c.occlusionRan                              ? " (ran)"
-                      : c.occlusionSkipped                          ? " (skipped)"
-                                                                    : " (none in view)";
-    // What was drawn: triangles, and points and lines where there are any (a scan, CAD edges).
-    char drawn[160];
-    int n = std::snprintf(drawn, sizeof drawn, "triangles %llu", (unsigned long long)r.triangles);
-    if (r.points)
-        n += std::snprintf(drawn + n, sizeof drawn - size_t(n), "   points %llu", (unsigned long long)r.points);
-    if (r.lines) std::snprintf(drawn + n, sizeof drawn - size_t(n), "   lines %llu", (unsigned long long)r.lines);
+    const char* occ = settings.occlusion.mode == OcclusionMode::Off || !known ? ""
+                      : c.occlusionRan                                        ? " (ran)"
+                      : c.occlusionSkipped                                    ? " (skipped)"
+                                                                              : " (none in view)";
+    char figures[320] =
+        "cull - ms   draw submit - ms\nnodes visited -   culled -\ntriangles -   geometries -   draw calls -";
+    if (known) {
+        // What was drawn: triangles, and points and lines where there are any (a scan, CAD edges).
+        char drawn[160];
+        int n = std::snprintf(drawn, sizeof drawn, "triangles %llu", (unsigned long long)r.triangles);
+        if (r.points)
+            n += std::snprintf(drawn + n, sizeof drawn - size_t(n), "   points %llu", (unsigned long long)r.points);
+        if (r.lines) std::snprintf(drawn + n, sizeof drawn - size_t(n), "   lines %llu", (unsigned long long)r.lines);
+        std::snprintf(figures, sizeof figures,
+                      "cull %.2f ms   draw submit %.2f ms\nnodes visited %llu   culled %llu\n%s   geometries %llu   "
+                      "draw calls %llu",
+                      c.ms, r.ms, (unsigned long long)c.nodesVisited, (unsigned long long)culledCount(c), drawn,
+                      (unsigned long long)r.instances, (unsigned long long)r.drawCalls);
+    }
     char buf[512];
-    std::snprintf(buf, sizeof buf,
-                  "%s  [%s]\n"
-                  "cull %.2f ms   draw submit %.2f ms\n"
-                  "nodes visited %llu   culled %llu\n"
-                  "%s   geometries %llu   draw calls %llu\n"
-                  "culling %s [C]   occlusion %s%s [O]",
-                  title_.c_str(), fs.mode.c_str(), c.ms, r.ms, (unsigned long long)c.nodesVisited,
-                  (unsigned long long)culledCount(c), drawn, (unsigned long long)r.instances,
-                  (unsigned long long)r.drawCalls, strategyName(settings.strategy),
-                  occlusionModeName(settings.occlusion.mode), occ);
+    std::snprintf(buf, sizeof buf, "%s  [%s]\n%s\nculling %s [C]   occlusion %s%s [O]", title_.c_str(), fs.mode.c_str(),
+                  figures, strategyName(settings.strategy), occlusionModeName(settings.occlusion.mode), occ);
     return fs.panel.empty() ? std::string(buf) : buf + std::string("\n\n") + fs.panel;
 }
 

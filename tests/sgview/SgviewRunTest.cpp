@@ -140,6 +140,23 @@ TEST(SgviewRun, OverlayDrawsTextInItsPanelOnly) {
     EXPECT_GT(bright, size_t(2000));       // the letters on it
 }
 
+// The overlay over the first frame: no figure reads 0 for want of a frame before it; sgview's and the viewer's
+// figures of frames not yet drawn are "-", the frame's own line has its cull and draw.
+TEST(SgviewRun, TheOverlaysFirstFrameShowsFiguresNotZeros) {
+    const Result r =
+        runSgview("--headless --scene city --n 8 --overlay --out first.png --camera " + std::string(kCamera));
+    ASSERT_EQ(r.code, 0) << r.err;
+    const size_t at = r.out.find("sgview: overlay:\n");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const std::string text = r.out.substr(at);
+    EXPECT_NE(text.find("cull - ms   draw submit - ms\nnodes visited -   culled -"), std::string::npos) << text;
+    EXPECT_NE(text.find("fps -   frame - ms"), std::string::npos) << text;
+    EXPECT_EQ(text.find(" 0.00 ms"), std::string::npos) << text;
+    EXPECT_EQ(text.find("nodes 0 "), std::string::npos) << text;
+    EXPECT_EQ(text.find("triangles 0 "), std::string::npos) << text;
+    EXPECT_NE(text.find("this frame: cull "), std::string::npos) << text;
+}
+
 TEST(SgviewRun, InfoCountsTheCity) {
     const Result r = runSgview("--scene city --n 8 --info");
     ASSERT_EQ(r.code, 0) << r.err;
