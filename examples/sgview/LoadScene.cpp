@@ -64,16 +64,22 @@ LoadedScene loadTilesetFile(const std::string& path, const Options& o) {
     LoadedScene s;
     s.root = ts->root();
     s.pageLoad = ts->loadFunction();
-    if (o.refineAll) sg::refineAll(*s.root, s.pageLoad);
+    // A content that fails for a reason that may pass is read again at once, up to the tileset's attempts, past
+    // which it is given up as a missing one: --refine-all then shows every tile that could be read.
+    if (o.refineAll) sg::refineAll(*s.root, s.pageLoad, to.transientAttempts);
     s.warnings = std::move(cacheWarnings);
     for (const std::string& w : ts->warnings()) s.warnings.push_back(w);
     s.up = sg::dvec3(0.0, 0.0, 1.0);  // 3D Tiles' +Z up
     s.title = path;
     s.tilesReport = [ts] {
         const sg::TilesetCounts c = ts->counts();
-        return "tiles " + std::to_string(c.tiles) + " (" + std::to_string(c.externalTilesets) +
-               " external tilesets), contents loaded " + std::to_string(c.contents) + ", points loaded " +
-               std::to_string(c.points);
+        std::string report = "tiles " + std::to_string(c.tiles) + " (" + std::to_string(c.externalTilesets) +
+                             " external tilesets), contents loaded " + std::to_string(c.contents) + ", points loaded " +
+                             std::to_string(c.points) + ", failed " + std::to_string(c.failed);
+        for (const sg::TileFailure& f : ts->failures())
+            report += "\n  failed " + f.file + ": " + f.path + ": " + f.uri + ": " + f.reason +
+                      (f.final ? "" : " (to be tried again)");
+        return report;
     };
     return s;
 }

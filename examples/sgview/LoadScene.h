@@ -22,7 +22,8 @@ struct LoadedScene {
     std::string title;
     std::vector<sg::PunctualLight> lights = {};  // a glTF file's KHR_lights_punctual lights (the renderer's first ones)
     // A tileset's: the pager's load function for its tiles, and a line on its tiles for --info (tiles read,
-    // contents loaded); empty for glTF files and built-in scenes.
+    // contents loaded and failed) with a line per failed content (its tile's JSON path, URI and reason); empty for
+    // glTF files and built-in scenes.
     sg::PageLoadFunction pageLoad = {};
     std::function<std::string()> tilesReport = {};
     sg::FeatureStyle::Rule styleRule = {};                    // --style: the features' colours and visibility

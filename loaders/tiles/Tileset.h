@@ -34,6 +34,26 @@ struct TilesetOptions {
     bool generateOccluders = false;
     OccluderGenSettings occluders;
     ResourceOptions resource;
+    // A content whose read fails for a reason that may pass (a timeout, HTTP 5xx, a refused, reset or dropped
+    // connection) fails its load, which the pager asks for again after its back-off; the load failing for it this
+    // many times, the next failure is final as a missing file's (Tileset::failures()), so that the tiles read with
+    // it show. The root tile's content is read by loadTileset, which nothing retries: a transient failure there
+    // throws from it (unless this is 1).
+    unsigned transientAttempts = 4;
+};
+
+// A tile content that could not be read or parsed. Final: the tile is drawn without it (its children load and
+// draw), as for a missing file (HTTP 404, no such file) or a corrupt one, a warning naming it. Not final (a
+// network failure that may pass): the load holding the tile failed and is asked for again (TilesetOptions::
+// transientAttempts). A content that loads later is taken off the list.
+struct TileFailure {
+    std::string file;    // the tileset.json holding the tile
+    std::string path;    // the JSON path of the content's URI: "root.children[3].content.uri", or an implicit
+                         // tile's template with its coordinates ("root.content.uri (implicit tile 2/1/3)")
+    std::string uri;     // the content, resolved
+    std::string reason;  // what failed: the LoadError's text
+    bool final = false;
+    unsigned attempts = 0;  // loads it failed
 };
 
 // What a tileset holds and what was loaded so far (loads on the pager's threads add to it).
@@ -44,6 +64,7 @@ struct TilesetCounts {
     size_t points = 0;        // points loaded (pnts contents and glTF point meshes)
     size_t sharedMeshes = 0;  // meshes replaced by an equal one another tile had loaded (shareMeshes)
     size_t pooledMeshes = 0;  // distinct meshes the tileset's loads hold now
+    size_t failed = 0;        // contents that failed and have not loaded since (Tileset::failures())
 };
 
 namespace tiles {
@@ -61,6 +82,8 @@ public:
     // What was skipped or converted, each naming its file and JSON path; loads add theirs.
     std::vector<std::string> warnings() const;
     TilesetCounts counts() const;
+    // The contents that failed to load and have not loaded since, by tile (loads add theirs).
+    std::vector<TileFailure> failures() const;
     const std::string& file() const { return file_; }
     // The tileset's 3D Tiles 1.1 schema (null without one), its own metadata and its groups (which a content's
     // TileMetadata::Content::group indexes). A tile's metadata: tileMetadataOf() on a node of its content.
@@ -77,13 +100,16 @@ private:
 
 // Reads tileset.json (a path or an http(s) URL) and the root tile's content. Throws LoadError naming the file,
 // the JSON path and the reason (e.g. "root.children[3].geometricError: missing"); a JSON file that is not a
-// tileset (a glTF, say) is refused.
+// tileset (a glTF, say) is refused. A tile content that is missing or corrupt (the root's too) is a warning and a
+// TileFailure, here and in the loads: the tile is drawn without it.
 Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options = {});
 
 // Loads every tile below `root` now, on this thread (sgview --refine-all, tests): each PagedLOD gets its detail
 // attached and shows it whenever attached (Trigger::Command), so that a REPLACE tile's content gives way to its
-// children's and an ADD tile's stays. Throws what the load function throws. Returns the tiles loaded.
-size_t refineAll(Node& root, const PageLoadFunction& load);
+// children's and an ADD tile's stays. A load that throws is tried again at once, `attempts` times in all (a
+// tileset's: TilesetOptions::transientAttempts, past which its loads do not throw for a content); then refineAll
+// throws what it threw. Returns the tiles loaded.
+size_t refineAll(Node& root, const PageLoadFunction& load, unsigned attempts = 1);
 
 // Whether a file's JSON is a 3D Tiles tileset (an object with "asset" and "root"): what sgview asks before
 // choosing a reader. False for anything else, including files it cannot read.

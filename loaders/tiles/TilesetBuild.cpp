@@ -99,7 +99,7 @@ ref_ptr<Node> spaced(const std::shared_ptr<TilesetState>& s, uint32_t tile, ref_
 }
 
 ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
-                        const unsigned char* data, size_t size, const dmat4& world, size_t& budget) {
+                        const unsigned char* data, size_t size, const dmat4& world, LoadPass& pass) {
     switch (sniffContent(data, size)) {
         case ContentKind::Glb: return spaced(s, tile, gltfContent(s, uri, data, size, true, dmat4(1.0)));
         case ContentKind::B3dm: {
@@ -134,7 +134,7 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
             auto g = make<Group>();
             for (size_t i = 0; i < c.tiles.size(); ++i) {
                 ref_ptr<Node> n = fromBytes(s, tile, uri + "#tiles[" + std::to_string(i) + "]", c.tiles[i].data,
-                                            c.tiles[i].size, world, budget);
+                                            c.tiles[i].size, world, pass);
                 if (n) g->addChild(n);
             }
             return g;
@@ -155,7 +155,7 @@ ref_ptr<Node> fromBytes(const std::shared_ptr<TilesetState>& s, uint32_t tile, c
             if (!tileset) return spaced(s, tile, gltfContent(s, uri, data, size, false, dmat4(1.0)));
             const TileDesc d = s->tile(tile);
             const uint32_t root = s->addTileset(uri, std::vector<unsigned char>(data, data + size), d.source, tile);
-            return buildTile(s, root, world, false, budget);
+            return buildTile(s, root, world, false, pass);
         }
         case ContentKind::Unknown: break;
     }
@@ -203,23 +203,32 @@ dmat4 yUpToZUp() {
 }
 
 ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
-                          const dmat4& world, size_t& budget) {
+                          const dmat4& world, LoadPass& pass) {
     const std::vector<unsigned char> bytes = readResource(uri, s->options.resource);
-    ref_ptr<Node> n = fromBytes(s, tile, uri, bytes.data(), bytes.size(), world, budget);
-    s->countContent();
+    ref_ptr<Node> n = fromBytes(s, tile, uri, bytes.data(), bytes.size(), world, pass);
+    s->contentLoaded(tile, uri);
     return n;
 }
 
 ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, const dmat4& parentWorld, bool drawnAbove,
-                        size_t& budget) {
+                        LoadPass& pass) {
     const TileDesc d = s->resolve(t);
     const dmat4 world = parentWorld * d.transform;
     s->setWorld(t, world);
-    if (budget > 0) --budget;
+    if (pass.budget > 0) --pass.budget;
     ref_ptr<Group> g = d.hasTransform ? ref_ptr<Group>(make<Transform>(d.transform)) : make<Group>();
     ref_ptr<Group> content;
-    for (const std::string& uri : d.contents)
-        if (ref_ptr<Node> n = loadContent(s, t, uri, world, budget)) {
+    for (size_t i = 0; i < d.contents.size(); ++i) {
+        ref_ptr<Node> n;
+        try {
+            n = loadContent(s, t, d.contents[i], world, pass);
+        } catch (const LoadError& e) {
+            // A missing or corrupt content leaves the tile empty and the load goes on. One that may pass fails the
+            // load, which the pager retries, but only once the rest is read: every such content of the load
+            // counts its attempt (TilesetState::contentFailed), so that all of them reach the last one together.
+            if (!s->contentFailed(t, d, i, e) && !pass.retry) pass.retry = std::current_exception();
+        }
+        if (n) {
             if (!content) {  // a TileContent: what a pick finds the tile's metadata by
                 auto c = make<TileContent>();
                 c->metadata = d.metadata;
@@ -227,14 +236,15 @@ ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, cons
             }
             content->addChild(n);
         }
+    }
     if (d.children.empty()) {
         if (content) g->addChild(content);
         return gated(g, d, world);
     }
     // A content-less tile replacing a drawn one is read with its children, within the budget: the drawn tile
     // stays until all of them are there.
-    if (!content && drawnAbove && !d.add && budget >= d.children.size()) {
-        for (uint32_t c : d.children) g->addChild(buildTile(s, c, world, true, budget));
+    if (!content && drawnAbove && !d.add && pass.budget >= d.children.size()) {
+        for (uint32_t c : d.children) g->addChild(buildTile(s, c, world, true, pass));
         return gated(g, d, world);
     }
     const Sphere sp = inFrame(d.sphere, d.region, world);
@@ -257,10 +267,14 @@ PageLoadFunction Tileset::loadFunction() const {
         const uint32_t t = source.part;
         const tiles::TileDesc d = s->resolve(t);
         if (!d.world) throw LoadError(source.name(), d.path, "the tile's parent was not read");
-        size_t budget = s->options.maxTilesPerLoad;
+        tiles::LoadPass pass{s->options.maxTilesPerLoad, nullptr};
         const bool drawn = !d.add && !d.contents.empty();
         auto g = make<Group>();
-        for (uint32_t c : d.children) g->addChild(tiles::buildTile(s, c, *d.world, drawn, budget));
+        for (uint32_t c : d.children) g->addChild(tiles::buildTile(s, c, *d.world, drawn, pass));
+        // A content that may load later fails the whole load: its tiles are read together so that the tile
+        // above stays drawn until all of them are there (no hole), and the pager asks for them again after its
+        // back-off. Past TilesetOptions::transientAttempts the content is given up and the load succeeds.
+        if (pass.retry) std::rethrow_exception(pass.retry);
         if (s->options.shareMeshes) s->meshes.share(*g);
         gltf::workOutSolids(*g);
         if (s->options.generateOccluders) generateOccluders(*g, s->options.occluders);
@@ -270,6 +284,7 @@ PageLoadFunction Tileset::loadFunction() const {
 
 std::vector<std::string> Tileset::warnings() const { return state_->warnings(); }
 TilesetCounts Tileset::counts() const { return state_->counts(); }
+std::vector<TileFailure> Tileset::failures() const { return state_->failures(); }
 std::shared_ptr<const Schema> Tileset::schema() const { return state_->top.schema; }
 const std::optional<MetadataEntity>& Tileset::metadata() const { return state_->top.metadata; }
 std::shared_ptr<const std::vector<MetadataEntity>> Tileset::groups() const { return state_->top.groups; }
@@ -282,15 +297,16 @@ Tileset loadTileset(const std::string& pathOrUrl, const TilesetOptions& options)
     ts.file_ = pathOrUrl;
     ts.state_ = std::make_shared<tiles::TilesetState>(options);
     const uint32_t root = ts.state_->addTileset(pathOrUrl, readResource(pathOrUrl, options.resource), -1, -1);
-    size_t budget = options.maxTilesPerLoad;
-    ts.root_ = tiles::buildTile(ts.state_, root, dmat4(1.0), false, budget);
+    tiles::LoadPass pass{options.maxTilesPerLoad, nullptr};
+    ts.root_ = tiles::buildTile(ts.state_, root, dmat4(1.0), false, pass);
+    if (pass.retry) std::rethrow_exception(pass.retry);  // nothing retries this load: its caller may
     if (options.shareMeshes) ts.state_->meshes.share(*ts.root_);
     gltf::workOutSolids(*ts.root_);
     if (options.generateOccluders) generateOccluders(*ts.root_, options.occluders);
     return ts;
 }
 
-size_t refineAll(Node& root, const PageLoadFunction& load) {
+size_t refineAll(Node& root, const PageLoadFunction& load, unsigned attempts) {
     struct Collect : NodeVisitor {
         std::vector<PagedLOD*> found;
         void apply(PagedLOD& p) override {
@@ -308,7 +324,17 @@ size_t refineAll(Node& root, const PageLoadFunction& load) {
         if (!seen.insert(p).second) continue;
         p->setTrigger(PagedLOD::Trigger::Command);
         if (p->detail()) continue;  // visited with its parent
-        ref_ptr<Node> d = load(PageSource{p->file(), p->part()});
+        ref_ptr<Node> d;
+        for (unsigned k = 1;; ++k) {
+            try {
+                d = load(PageSource{p->file(), p->part()});
+                break;
+            } catch (const std::exception&) {
+                if (k >= attempts) throw;
+            }
+        }
+        if (!d)
+            throw LoadError(p->file(), "", "the load function returned no node for part " + std::to_string(p->part()));
         p->attachDetail(d, pageBytes(d.get()));
         ++loaded;
         d->accept(c);

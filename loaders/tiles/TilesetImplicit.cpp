@@ -240,12 +240,24 @@ TileSemanticValues semanticValues(const Subtree& sub, uint64_t at) {
     return m;
 }
 
-// The URIs of the contents the subtree marks available for tile d (bit `at`).
-std::vector<std::string> availableContents(const TileDesc& d, const Subtree& sub, uint64_t at) {
+// "implicit tile 2/1/3" (level/x/y, and /z in an octree): how messages name an implicit tile.
+std::string implicitName(const ImplicitTiling& t, uint32_t level, uint32_t x, uint32_t y, uint32_t z) {
+    return "implicit tile " + std::to_string(level) + "/" + std::to_string(x) + "/" + std::to_string(y) +
+           (t.octree ? "/" + std::to_string(z) : "");
+}
+
+// The URIs of the contents the subtree marks available for tile d (bit `at`), and their templates' JSON paths
+// with the tile's coordinates into `paths`.
+std::vector<std::string> availableContents(const TileDesc& d, const Subtree& sub, uint64_t at,
+                                           std::vector<std::string>& paths) {
     const ImplicitTiling& t = *d.implicit;
     std::vector<std::string> contents;
-    for (size_t c = 0; c < t.contents.size(); ++c)
-        if (sub.contents[c][at]) contents.push_back(expandTemplate(t.contents[c], d.level, d.x, d.y, d.z));
+    for (size_t c = 0; c < t.contents.size(); ++c) {
+        if (!sub.contents[c][at]) continue;
+        contents.push_back(expandTemplate(t.contents[c], d.level, d.x, d.y, d.z));
+        const std::string path = c < t.contentPaths.size() ? t.contentPaths[c] : d.path;
+        paths.push_back(path + " (" + implicitName(t, d.level, d.x, d.y, d.z) + ")");
+    }
     return contents;
 }
 
@@ -263,8 +275,7 @@ TileDesc childTile(const TileDesc& d, uint32_t i, uint32_t cx, uint32_t cy, uint
     k.geometricError = t.geometricError / std::ldexp(1.0, int(k.level));
     k.add = d.add;
     k.file = d.file;
-    k.path = d.path + " (implicit tile " + std::to_string(k.level) + "/" + std::to_string(cx) + "/" +
-             std::to_string(cy) + (t.octree ? "/" + std::to_string(cz) : "") + ")";
+    k.path = d.path.substr(0, d.path.find(" (implicit tile ")) + " (" + implicitName(t, k.level, cx, cy, cz) + ")";
     k.source = d.source;
     k.depth = d.depth + 1;
     k.implicit = d.implicit;
@@ -413,12 +424,14 @@ TileDesc TilesetState::resolve(uint32_t i) {
     const uint64_t at = root.slot(d, t.octree);
     const TileSemanticValues own = semanticValues(*sub, at);
     const ref_ptr<const TileMetadata> metadata = implicitTileMetadata(t, *sub, at, d.metadata.get());
-    std::vector<std::string> contents = availableContents(d, *sub, at);
+    std::vector<std::string> paths;
+    std::vector<std::string> contents = availableContents(d, *sub, at, paths);
     std::vector<TileDesc> kids = availableChildren(d, i, *sub, root);
 
     std::lock_guard<std::mutex> lock(mutex_);
     if (tiles_[i].pending) {  // another load may have resolved it meanwhile
         tiles_[i].contents = std::move(contents);
+        tiles_[i].contentPaths = std::move(paths);
         tiles_[i].metadata = metadata;
         if (own.sphere) {
             tiles_[i].sphere = *own.sphere;

@@ -316,7 +316,9 @@ private:
             fail(file_, at + ".subtrees.uri", "missing or not a string");
         t->subtrees = resolveReference(file_, sub["uri"].get<std::string>(), at + ".subtrees.uri");
         t->contents = std::move(d.contents);
+        t->contentPaths = std::move(d.contentPaths);
         d.contents.clear();
+        d.contentPaths.clear();
         t->region = d.region;
         t->volume = raw;
         t->geometricError = d.geometricError;
@@ -336,6 +338,7 @@ private:
         if (!c.contains(key) || !c[key].is_string() || c[key].get<std::string>().empty())
             fail(file_, path + ".uri", "missing or not a non-empty string");
         d.contents.push_back(resolveReference(file_, c[key].get<std::string>(), path + "." + key));
+        d.contentPaths.push_back(path + "." + key);
         TileMetadata::Content m;
         if (c.contains("metadata"))
             m.metadata = readEntity(file_, c["metadata"], meta_.schema.get(), path + ".metadata", warnings_);
@@ -479,15 +482,11 @@ TilesetCounts TilesetState::counts() const {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         c = counts_;
+        c.failed = failures_.size();
     }
     c.sharedMeshes = meshes.replaced();
     c.pooledMeshes = meshes.size();
     return c;
-}
-
-void TilesetState::countContent() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    counts_.contents++;
 }
 
 void TilesetState::countPoints(size_t points) {

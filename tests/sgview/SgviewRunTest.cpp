@@ -7,6 +7,8 @@
 #include "loaders/gltf/Gltf.h"
 #include "loaders/points/Scan.h"
 #include "loaders/tiles/Tileset.h"
+#include "nodes/Geometry.h"
+#include "nodes/Group.h"
 #include "sg/scene/AnimationPlayer.h"
 #endif
 #include "sg/cull/CullTraversal.h"
@@ -502,6 +504,33 @@ TEST(SgviewRun, TilesetsAreShownAndCounted) {
     const Result bad = runSgview("--info other.json");
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("asset"), std::string::npos) << bad.err;
+}
+
+// A tileset with a content missing and one corrupt: --info --refine-all loads the rest and lists the failed tiles,
+// each with its reason, and exits 0; a tileset.json that is not there exits 2 naming it.
+TEST(SgviewRun, FailedTilesAreListedAndTheRestLoads) {
+    auto box = make<Group>();
+    box->addChild(make<Geometry>(makeBoxMesh(dvec3(0.0), dvec3(10.0, 1.0, 10.0)), make<Material>()));
+    saveGltf(*box, (scratch() / "box.glb").string());
+    std::ofstream(scratch() / "broken.glb") << "glTF but not really";
+    const std::string volume = R"("boundingVolume": {"box": [5,5,1, 5,0,0, 0,5,0, 0,0,1]})";
+    std::ofstream(scratch() / "tileset.json")
+        << R"({"asset": {"version": "1.1"}, "geometricError": 100, "root": {)" + volume +
+               R"(, "geometricError": 10, "refine": "REPLACE",
+        "content": {"uri": "box.glb"}, "children": [{)" +
+               volume + R"(, "geometricError": 0, "content": {"uri": "box.glb"}}, {)" + volume +
+               R"(, "geometricError": 0, "content": {"uri": "gone.glb"}}, {)" + volume +
+               R"(, "geometricError": 0, "content": {"uri": "broken.glb"}}]}})";
+    const Result r = runSgview("--info --refine-all tileset.json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("contents loaded 2"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("failed 2"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("root.children[1].content.uri: gone.glb: no such file"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("root.children[2].content.uri: broken.glb"), std::string::npos) << r.out;
+
+    const Result missing = runSgview("--info --refine-all nothere.json");
+    EXPECT_EQ(missing.code, 2);
+    EXPECT_NE(missing.err.find("nothere.json"), std::string::npos) << missing.err;
 }
 #endif
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include <deque>
+#include <exception>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -51,8 +52,9 @@ using MetadataSchema = std::map<std::string, TileSemantics>;  // by class name
 struct ImplicitTiling {
     bool octree = false;
     uint32_t subtreeLevels = 0, availableLevels = 0;
-    std::string subtrees;               // URI template of the subtree files, resolved against the tileset
-    std::vector<std::string> contents;  // URI templates of the contents, resolved
+    std::string subtrees;                   // URI template of the subtree files, resolved against the tileset
+    std::vector<std::string> contents;      // URI templates of the contents, resolved
+    std::vector<std::string> contentPaths;  // their JSON paths ("root.content.uri"), for messages
     bool region = false;
     std::vector<double> volume;  // the root's box (12 numbers) or region (6)
     double geometricError = 0.0;
@@ -127,12 +129,13 @@ struct TileDesc {
     // region's bounding sphere), in the tile's frame, or Earth-centred for a region.
     std::optional<Sphere> request;
     bool requestRegion = false;
-    std::vector<std::string> contents;     // resolved URIs
-    ref_ptr<const TileMetadata> metadata;  // its and its contents' 3D Tiles 1.1 metadata; null when none
-    std::string file, path;                // the tileset.json holding it and its JSON path, for messages
-    uint32_t source = 0;                   // the tileset file (TilesetState's sources), for cycles
-    uint32_t depth = 0;                    // below the root of the whole tileset
-    std::optional<dmat4> world;            // its frame in the graph's, set when its node is built
+    std::vector<std::string> contents;      // resolved URIs
+    std::vector<std::string> contentPaths;  // the JSON path of each ("root.children[3].content.uri"), for messages
+    ref_ptr<const TileMetadata> metadata;   // its and its contents' 3D Tiles 1.1 metadata; null when none
+    std::string file, path;                 // the tileset.json holding it and its JSON path, for messages
+    uint32_t source = 0;                    // the tileset file (TilesetState's sources), for cycles
+    uint32_t depth = 0;                     // below the root of the whole tileset
+    std::optional<dmat4> world;             // its frame in the graph's, set when its node is built
     // An implicit tile: its tiling and coordinates; `pending` until its contents and children are read from its
     // subtree (TilesetState::resolve).
     std::shared_ptr<const ImplicitTiling> implicit;
@@ -158,8 +161,15 @@ public:
 
     void warn(std::string w);
     std::vector<std::string> warnings() const;
+    // Content `c` of tile `t` (as `d` says it) failed with `e` (TilesetFailures.cpp): recorded as a TileFailure.
+    // True when the failure is final (a missing or corrupt content, or a transient failure past
+    // options.transientAttempts): a warning names it and the tile is built without it. False: the load should
+    // throw, so that the pager tries it again.
+    bool contentFailed(uint32_t t, const TileDesc& d, size_t c, const LoadError& e);
+    // Content `uri` of tile `t` loaded: counted, and a failure recorded for it before taken off the list.
+    void contentLoaded(uint32_t t, const std::string& uri);
+    std::vector<TileFailure> failures() const;
     TilesetCounts counts() const;
-    void countContent();
     void countPoints(size_t points);
     // Equal meshes of different loads made one (TilesetOptions::shareMeshes).
     SharedMeshes meshes;
@@ -177,20 +187,28 @@ private:
     std::map<std::tuple<const ImplicitTiling*, uint32_t, uint32_t, uint32_t, uint32_t>, std::shared_ptr<const Subtree>>
         subtrees_;
     std::vector<std::string> warnings_;
+    std::map<std::pair<uint32_t, std::string>, TileFailure> failures_;  // by tile and content URI
     TilesetCounts counts_;
+};
+
+// What one load (loadTileset's, or one of the load function's) carries through the tiles it builds.
+struct LoadPass {
+    size_t budget = 0;         // tiles it may still read
+    std::exception_ptr retry;  // the first content failure that may pass: the load throws it once built
 };
 
 // The graph of tile `t` in its parent's frame: its Transform, content and (with children) a PagedLOD whose detail
 // is the children's graphs. `world`: the parent's frame in the graph's. `drawnAbove`: an ancestor's content is
 // drawn until this tile's replaces it (content-less tiles are then read with their children, see TilesetOptions).
-// `budget`: tiles this load may still read. Throws LoadError naming the content that failed.
+// A content that fails is left out (TilesetState::contentFailed), its failure kept in `pass` when it may pass.
+// Throws LoadError for a subtree file that cannot be read.
 ref_ptr<Node> buildTile(const std::shared_ptr<TilesetState>& s, uint32_t t, const dmat4& parentWorld, bool drawnAbove,
-                        size_t& budget);
+                        LoadPass& pass);
 
 // One content (a URI) as nodes in its tile's frame. External tilesets become their root
-// tile's graph. `tile`: the tile naming it.
+// tile's graph. `tile`: the tile naming it. Throws LoadError when it cannot be read or parsed.
 ref_ptr<Node> loadContent(const std::shared_ptr<TilesetState>& s, uint32_t tile, const std::string& uri,
-                          const dmat4& world, size_t& budget);
+                          const dmat4& world, LoadPass& pass);
 
 // glTF's +Y up to 3D Tiles' +Z up: (x, y, z) -> (x, -z, y).
 dmat4 yUpToZUp();

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 #include <vector>
@@ -35,6 +36,16 @@ inline void writeBoxGlb(const std::string& path, const dvec3& mn, const dvec3& m
 }
 
 inline void writeText(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+// The text of `path` with its first `from` replaced by `to` (a tileset.json's content URI pointed elsewhere).
+inline void replaceInFile(const std::string& path, const std::string& from, const std::string& to) {
+    std::ifstream in(path);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from << " is not in " << path;
+    text.replace(at, from.size(), to);
+    writeText(path, text);
+}
 
 struct TempDir {
     std::string path;
