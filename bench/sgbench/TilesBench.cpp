@@ -5,6 +5,7 @@
 // settled: nothing queued, loading or waiting, and nothing asked for). One line per frame to --csv for the plot.
 // --path factory-walk flies a point tileset of the factory's scan instead (TilesWalk.cpp); --point-size, --round
 // and --edl shade the points on every path.
+#include "loaders/net/HttpCache.h"
 #include "loaders/tiles/Tileset.h"
 #include "sg/gl/OsmesaContext.h"
 #include "sg/gl/Renderer.h"
@@ -49,8 +50,17 @@ sg::Camera flightCamera(const std::string& path, int n, double t, int w, int h) 
 
 // Jumps between views spread over the city, 60 m up, each held until settled: the time from a teleport to a
 // settled frame, and tiles loaded a second over the whole run (the loads' throughput with --loaders K).
+// What the reads did over http(s): requests, cache hits, connections, HTTP/2, bytes as sent and as read.
+void addCounters(Json& j, const sg::ResourceCounters* c) {
+    if (!c) return;
+    j.addInt("requests", long(c->requests)).addInt("cache_hits", long(c->cacheHits));
+    j.addInt("revalidated", long(c->revalidated)).addInt("connections", long(c->connections));
+    j.addInt("http2_responses", long(c->http2)).add("mb_on_wire", double(c->bytesOnWire) / (1 << 20));
+    j.add("mb_read", double(c->bytes) / (1 << 20));
+}
+
 int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Viewer& viewer, sg::View& view,
-             sg::Pager& pager, const sg::Tileset& ts) {
+             sg::Pager& pager, const sg::Tileset& ts, const sg::ResourceCounters* counters) {
     const int views = int(a.num("views", 6));
     std::vector<double> settleMs;
     long frames = 0;
@@ -76,6 +86,7 @@ int teleport(const Args& a, const std::string& file, int n, int w, int h, sg::Vi
     j.addInt("loads", long(st.loads)).add("loads_per_s", double(st.loads) / seconds);
     j.add("load_ms_total", st.totalLoadMs).addInt("failures", long(st.failures));
     j.addInt("meshes_shared", long(ts.counts().sharedMeshes)).add("rss_mb", rssMb());
+    addCounters(j, counters);
     j.print(a);
     return 0;
 }
@@ -108,6 +119,12 @@ int runTiles(const Args& a) {
         throw std::invalid_argument("sgbench tiles: --baseline is the city's; factory-walk has none");
     sg::TilesetOptions to;
     to.shareMeshes = a.num("share-meshes", 1) != 0;
+    // Over http(s): a request header (a token), the authorities to trust, a disk cache file.
+    if (a.flag("header")) to.resource.headers = {a.str("header", "")};
+    to.resource.caFile = a.str("ca-file", "");
+    if (a.flag("cache")) to.resource.cache = std::make_shared<sg::HttpCache>(a.str("cache", ""));
+    sg::ResourceCounters counters;
+    to.resource.counters = &counters;
     if (path == "loads") return measureTileLoads(a, file, to);
     sg::Box site;
     const std::vector<sg::Camera> walkCams = walk ? factoryWalkCameras(frames, w, h, site) : std::vector<sg::Camera>{};
@@ -146,7 +163,7 @@ int runTiles(const Args& a) {
         refViewer->renderer().setPointShading(viewer.renderer().pointShading());
     }
 
-    if (path == "teleport") return teleport(a, file, n, w, h, viewer, view, pager, ts);
+    if (path == "teleport") return teleport(a, file, n, w, h, viewer, view, pager, ts, &counters);
     if (walk) return flyFactoryWalk(a, TilesFlight{file, to, ts, viewer, view, pager, openMs, rss0}, walkCams, site);
 
     std::ofstream csv;
@@ -239,6 +256,7 @@ int runTiles(const Args& a) {
     j.addInt("cancelled", long(st.cancelled)).add("loads_per_s", double(st.loads) / seconds);
     j.addInt("tiles_read", long(ts.counts().tiles)).addInt("contents", long(ts.counts().contents));
     j.addInt("meshes_shared", long(ts.counts().sharedMeshes)).addInt("meshes_pooled", long(ts.counts().pooledMeshes));
+    addCounters(j, &counters);
     if (reference) {
         j.add("baseline_ms_median", median(base)).add("ratio_median", median(all) / median(base));
         j.add("baseline_ms_p99", percentile(base, 0.99)).add("baseline_ms_max", percentile(base, 1.0));

@@ -63,10 +63,8 @@ double parseMsPerMb(const std::string& tileset, uint64_t bytes, long runs, uint6
 int measureTileLoads(const Args& a, const std::string& file, const sg::TilesetOptions& options) {
     const long loads = a.num("loads", 100), runs = a.num("runs", 3);
     if (loads < 1 || runs < 1) throw std::invalid_argument("sgbench tiles --path loads: --loads and --runs >= 1");
-    sg::ResourceCounters counters;
-    sg::TilesetOptions o = options;
-    o.resource.counters = &counters;
-    const sg::Tileset ts = sg::loadTileset(file, o);
+    const sg::ResourceCounters& counters = *options.resource.counters;
+    const sg::Tileset ts = sg::loadTileset(file, options);
     const sg::PageLoadFunction load = ts.loadFunction();
     std::deque<sg::PageSource> queue;
     findPaged(*ts.root(), queue);
