@@ -4,19 +4,24 @@
 # stdout once it accepts connections, and the path of its access log on stderr (tab-separated: method, URI,
 # status, connection, request on it, protocol, body bytes as sent, seconds). Stops on SIGTERM or SIGINT, or when
 # its stdin, a pipe, closes (the program that started it is gone). Its files stay in the directory it names.
-# With --max-age S every response may be kept S seconds (Cache-Control: max-age and Expires, nginx's `expires`).
-#   bench/serve-nginx.sh DIR [--tls CERT KEY] [--port P] [--max-age S]
+# With --max-age S every response may be kept S seconds (Cache-Control: max-age and Expires, nginx's `expires`);
+# with --gzip-static a FILE.gz beside FILE is sent as FILE's gzip encoding (compressed once, as a CDN holds tiles)
+# rather than FILE compressed for each request.
+#   bench/serve-nginx.sh DIR [--tls CERT KEY] [--port P] [--max-age S] [--gzip-static]
 set -euo pipefail
-usage() { echo "usage: $0 DIR [--tls CERT.pem KEY.pem] [--port P] [--max-age S]" >&2; exit 2; }
+usage() { echo "usage: $0 DIR [--tls CERT.pem KEY.pem] [--port P] [--max-age S] [--gzip-static]" >&2; exit 2; }
 [ $# -ge 1 ] || usage
 [ -d "$1" ] || { echo "$0: '$1' is not a directory" >&2; exit 2; }
 root=$(realpath "$1"); shift
-cert="" key="" port="" expires=""
+cert="" key="" port="" expires="" static=""
 while [ $# -gt 0 ]; do
   case $1 in
     --tls) [ $# -ge 3 ] || usage; cert=$(realpath "$2"); key=$(realpath "$3"); shift 3 ;;
     --port) [ $# -ge 2 ] || usage; port=$2; shift 2 ;;
-    --max-age) [ $# -ge 2 ] && [[ $2 =~ ^[0-9]+$ ]] || usage; expires="expires ${2}s;"; shift 2 ;;
+    --gzip-static) static="gzip_static on;"; shift ;;
+    --max-age)
+      if [ $# -lt 2 ] || ! [[ $2 =~ ^[0-9]+$ ]]; then usage; fi
+      expires="expires ${2}s;"; shift 2 ;;
     *) usage ;;
   esac
 done
@@ -46,7 +51,7 @@ http {
   uwsgi_temp_path "$dir/uwsgi"; scgi_temp_path "$dir/scgi";
   sendfile on; etag on; keepalive_timeout 60s; keepalive_requests 1000;
   gzip on; gzip_types *; gzip_proxied any; gzip_vary on; gzip_min_length 256;
-  server { listen $listen; $tls root "$root"; $expires }
+  server { listen $listen; $tls root "$root"; $expires $static }
 }
 EOF
 

@@ -39,6 +39,14 @@ private:
 };
 
 double rssMb();
+// Resident memory by what holds it (MemoryParts.cpp). otherAnonMb: anonymous memory malloc does not account for
+// (llvmpipe's maps, JIT code); negative when malloc keeps freed memory that is not resident.
+struct MemoryParts {
+    double totalMb = 0.0, heapLiveMb = 0.0, heapFreeMb = 0.0, otherAnonMb = 0.0, filesMb = 0.0, stacksMb = 0.0;
+};
+MemoryParts memoryParts();
+// The parts as "<prefix>_total_mb", "<prefix>_heap_live_mb" and so on.
+void addMemoryParts(Json& j, const std::string& prefix, const MemoryParts& p);
 // The bytes malloc has handed out and not had back (mallinfo2): what is live, apart from what a process keeps freed.
 double heapMb();
 using stats::median;  // testbed/Stats.h: the same definitions as bench/osg_peer's, which compare_osg.sh divides by

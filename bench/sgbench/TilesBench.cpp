@@ -179,6 +179,9 @@ int runTiles(const Args& a) {
     long prefetchRequests = 0, enrouteDiffering = 0;
     double enroutePixels = 0.0;
     bool reachedSettled = false;
+    const MemoryParts openParts = memoryParts();  // the tileset open, no tile loaded
+    MemoryParts peakParts;
+    double peakResidentMb = 0.0;
     t0 = Clock::now();
     for (int f = 0; f < frames; ++f) {
         view.camera = flightCamera(path, n, double(f) / frames, w, h);
@@ -191,7 +194,12 @@ int runTiles(const Args& a) {
         const bool done = !busy && view.cullStats().pagedRequested == 0 && view.cullStats().pagedCoarse == 0;
         all.push_back(ms);
         if (busy) loading.push_back(ms);
-        maxRss = std::max(maxRss, rssMb());
+        const double rss = rssMb();
+        if (rss > maxRss + 8.0 || (f == 0 && rss > maxRss)) {  // a new peak: what holds it (reading smaps costs ~1 ms)
+            peakParts = memoryParts();
+            peakResidentMb = double(st.bytesResident) / (1 << 20);
+        }
+        maxRss = std::max(maxRss, rss);
         long differing = -1;
         if (reference) {
             const sg::Image got = viewer.renderer().readColor();
@@ -251,6 +259,10 @@ int runTiles(const Args& a) {
         .add("slow_excess_ms_draw", excess(&sg::StageTimes::drawMs));
     j.add("loading_ms_median", median(loading)).add("loading_ms_p99", percentile(loading, 0.99));
     j.add("rss_mb_start", rss0).add("rss_mb_max", maxRss);
+    addMemoryParts(j, "mem_open", openParts);
+    addMemoryParts(j, "mem_peak", peakParts);
+    j.add("mem_peak_tiles_resident_mb", peakResidentMb);
+    addMemoryParts(j, "mem_end", memoryParts());
     const sg::PagerStats& st = pager.stats();
     j.addInt("loads", long(st.loads)).addInt("unloads", long(st.unloads)).addInt("failures", long(st.failures));
     j.addInt("cancelled", long(st.cancelled)).add("loads_per_s", double(st.loads) / seconds);

@@ -34,10 +34,10 @@ void findPaged(sg::Node& n, std::deque<sg::PageSource>& out) {
 
 // The tileset's .glb files in name order until `bytes`, each parsed from memory `runs` times: ms per MB (median of
 // the runs' totals).
-double parseMsPerMb(const std::string& tileset, uint64_t bytes, long runs, uint64_t& parsed) {
+double parseMsPerMb(const std::string& dir, uint64_t bytes, long runs, uint64_t& parsed) {
     namespace fs = std::filesystem;
     std::vector<std::string> files;
-    for (const auto& e : fs::recursive_directory_iterator(fs::path(tileset).parent_path()))
+    for (const auto& e : fs::recursive_directory_iterator(dir))
         if (e.is_regular_file() && e.path().extension() == ".glb") files.push_back(e.path().string());
     std::sort(files.begin(), files.end());
     std::vector<std::vector<unsigned char>> held;
@@ -48,7 +48,7 @@ double parseMsPerMb(const std::string& tileset, uint64_t bytes, long runs, uint6
         held.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
         parsed += held.back().size();
     }
-    if (held.empty()) throw std::invalid_argument("sgbench tiles --path loads: no .glb beside " + tileset);
+    if (held.empty()) throw std::invalid_argument("sgbench tiles --path loads: no .glb under " + dir);
     std::vector<double> totals;
     for (long r = 0; r < runs; ++r) {
         const auto t0 = Clock::now();
@@ -82,7 +82,11 @@ int measureTileLoads(const Args& a, const std::string& file, const sg::TilesetOp
     }
     const uint64_t bytes = counters.bytes - bytes0;
     uint64_t parsedBytes = 0;
-    const double parse = parseMsPerMb(file, bytes, runs, parsedBytes);
+    // A tileset read over http(s) names the directory it is served from (--parse-dir) for the parse's files.
+    const std::string dir =
+        a.str("parse-dir", sg::isUrl(file) ? "" : std::filesystem::path(file).parent_path().string());
+    if (dir.empty()) throw std::invalid_argument("sgbench tiles --path loads: a URL needs --parse-dir DIR");
+    const double parse = parseMsPerMb(dir, bytes, runs, parsedBytes);
     const double loadRate = total / (double(bytes) / (1 << 20));
     Json j;
     j.add("command", "tiles").add("tileset", file).add("path", "loads").addInt("loads", long(ms.size()));

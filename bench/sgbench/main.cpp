@@ -133,7 +133,7 @@ static void usage() {
         "                [--width W --height H] [--fps F] [--keep-freed-memory 0|1] [--share-meshes 0|1]\n"
         "                [--loaders K] [--loader-nice V] [--resident-mb M] [--baseline] [--csv FILE] [--json]\n"
         "                [--point-size PX] [--round] [--edl] [--header H] [--ca-file CA.pem] [--cache FILE]\n"
-        "       sgbench tiles --tileset PATH|URL --path loads [--loads K] [--runs R] [--share-meshes 0|1] [--json]\n"
+        "       sgbench tiles --tileset PATH|URL --path loads [--loads K] [--runs R] [--parse-dir DIR] [--json]\n"
         "       sgbench tiles --tileset SCAN_TILES/tileset.json --path factory-walk [--frames F] [--settle-check\n"
         "                [--views K] [--png PREFIX]] [--point-size PX] [--round] [--edl] [--width W --height H] "
         "[--json]\n"
