@@ -22,24 +22,13 @@ using namespace sg;
 namespace fs = std::filesystem;
 using testutil::Nginx;
 using testutil::NginxLogLine;
+using tilestest::errorOf;
 
 namespace {
 
 const std::string kTileset = R"({"asset": {"version": "1.1"}, "geometricError": 10, "root": {
     "boundingVolume": {"box": [0,0,5, 5,0,0, 0,5,0, 0,0,5]}, "geometricError": 0, "refine": "REPLACE",
     "content": {"uri": "box.glb"}}})";
-
-// The LoadError of `f`; a test failure when it throws none.
-template <class F>
-LoadError errorOf(F f) {
-    try {
-        f();
-    } catch (const LoadError& e) {
-        return e;
-    }
-    ADD_FAILURE() << "nothing was refused";
-    return LoadError("", "", "");
-}
 
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 

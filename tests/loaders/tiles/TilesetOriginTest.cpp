@@ -38,18 +38,6 @@ std::string base64(const std::string& bytes) {
     return out;
 }
 
-// The LoadError of `f`; FAIL when it does not throw one.
-template <class F>
-LoadError errorOf(F f) {
-    try {
-        f();
-    } catch (const LoadError& e) {
-        return e;
-    }
-    ADD_FAILURE() << "nothing was refused";
-    return LoadError("", "", "");
-}
-
 bool namesTheRule(const LoadError& e) { return e.reason().find("(origin rule)") != std::string::npos; }
 
 // The one tile content of `ts` that failed (a refused content is a failed tile, the tileset loads); FAIL when there

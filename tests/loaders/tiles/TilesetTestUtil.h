@@ -119,4 +119,16 @@ inline void writeSubtree(const std::string& path, std::string json, std::vector<
     std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(out.data()), long(out.size()));
 }
 
+// The sg::LoadError `f` throws; a test failure when it throws none.
+template <class F>
+sg::LoadError errorOf(F f) {
+    try {
+        f();
+    } catch (const sg::LoadError& e) {
+        return e;
+    }
+    ADD_FAILURE() << "nothing was refused";
+    return sg::LoadError("", "", "");
+}
+
 }  // namespace tilestest
