@@ -49,8 +49,9 @@ std::shared_ptr<sg::HttpCache> openCache(const std::string& path, const Options&
         return nullptr;
     }
     auto cache = std::make_shared<sg::HttpCache>(dir + "/http.sqlite");
+    if (cache->enabled()) return cache;  // its warnings, the opening's and the reads', are taken after the loads
     for (const std::string& w : cache->warnings()) warnings.push_back(w);
-    return cache->enabled() ? cache : nullptr;
+    return nullptr;
 }
 
 LoadedScene loadTilesetFile(const std::string& path, const Options& o) {
@@ -68,10 +69,14 @@ LoadedScene loadTilesetFile(const std::string& path, const Options& o) {
     // which it is given up as a missing one: --refine-all then shows every tile that could be read.
     if (o.refineAll) sg::refineAll(*s.root, s.pageLoad, to.transientAttempts);
     s.warnings = std::move(cacheWarnings);
+    if (to.resource.cache)
+        for (const std::string& w : to.resource.cache->warnings()) s.warnings.push_back(w);
     for (const std::string& w : ts->warnings()) s.warnings.push_back(w);
     s.up = sg::dvec3(0.0, 0.0, 1.0);  // 3D Tiles' +Z up
     s.title = path;
-    s.tilesReport = [ts] {
+    // A cache that failed a lookup or a store while tiles loaded says so with the tiles (a window's run, at exit).
+    const size_t said = to.resource.cache ? to.resource.cache->warnings().size() : 0;
+    s.tilesReport = [ts, cache = to.resource.cache, said] {
         const sg::TilesetCounts c = ts->counts();
         std::string report = "tiles " + std::to_string(c.tiles) + " (" + std::to_string(c.externalTilesets) +
                              " external tilesets), contents loaded " + std::to_string(c.contents) + ", points loaded " +
@@ -79,6 +84,9 @@ LoadedScene loadTilesetFile(const std::string& path, const Options& o) {
         for (const sg::TileFailure& f : ts->failures())
             report += "\n  failed " + f.file + ": " + f.path + ": " + f.uri + ": " + f.reason +
                       (f.final ? "" : " (to be tried again)");
+        if (cache && cache->warnings().size() > said)
+            report += "\n  the HTTP cache: " + cache->warnings().back() + " (" +
+                      std::to_string(cache->warnings().size()) + " warnings in all)";
         return report;
     };
     return s;
