@@ -87,6 +87,19 @@ public:
     int port() const { return port_; }
 
     // The access log so far, in order (a line still being written left out).
+    // The access log once it holds `count` requests at least: nginx writes a request's line just after its response
+    // has gone, so a client that has read the response can be a moment ahead of it. 10 s is a failure guard only
+    // (a request never made never comes).
+    std::vector<NginxLogLine> logAtLeast(size_t count) const {
+        const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+        std::vector<NginxLogLine> lines = log();
+        while (lines.size() < count && std::chrono::steady_clock::now() < guard) {
+            ::poll(nullptr, 0, 5);
+            lines = log();
+        }
+        return lines;
+    }
+
     std::vector<NginxLogLine> log() const {
         std::ifstream in(dir_ + "/access.log", std::ios::binary);
         const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

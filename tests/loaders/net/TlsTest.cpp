@@ -32,17 +32,6 @@ const std::string kTileset = R"({"asset": {"version": "1.1"}, "geometricError": 
 
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
-// The access log once it holds `count` lines: nginx writes a request's line just after its response is sent.
-std::vector<NginxLogLine> logOf(const Nginx& server, size_t count) {
-    const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    std::vector<NginxLogLine> log = server.log();
-    while (log.size() < count && std::chrono::steady_clock::now() < guard) {
-        ::poll(nullptr, 0, 5);
-        log = server.log();
-    }
-    return log;
-}
-
 // The served files (a one-tile tileset) and the certificates, made once for the suite.
 class Tls : public ::testing::Test {
 protected:
@@ -100,7 +89,7 @@ std::string text(const std::vector<unsigned char>& b) { return std::string(b.beg
 TEST_F(Tls, ACertificateOfATrustedAuthorityIsReadOverHttp2) {
     const auto server = serve("good");
     EXPECT_EQ(text(readResource(server->url("/tileset.json"), trusting())), tilesetText());
-    const std::vector<NginxLogLine> log = logOf(*server, 1);
+    const std::vector<NginxLogLine> log = server->logAtLeast(1);
     ASSERT_EQ(log.size(), 1u);
     EXPECT_EQ(log[0].uri, "/tileset.json");
     EXPECT_EQ(log[0].status, 200);
@@ -154,7 +143,7 @@ TEST_F(Tls, ATilesetIsReadOverHttps) {
     const Tileset ts = loadTileset(server->url("/tileset.json"), o);
     EXPECT_EQ(ts.counts().tiles, 1u);
     EXPECT_EQ(ts.counts().contents, 1u);
-    const std::vector<NginxLogLine> log = logOf(*server, 2);
+    const std::vector<NginxLogLine> log = server->logAtLeast(2);
     ASSERT_EQ(log.size(), 2u);
     EXPECT_EQ(log[1].uri, "/box.glb");
     EXPECT_EQ(log[1].status, 200);
