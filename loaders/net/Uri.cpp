@@ -141,9 +141,10 @@ std::string originOf(const std::string& url) {
 // The "name=value" parts of a URL's query ("" when it has none).
 std::vector<std::string> queryParts(const std::string& url) {
     std::vector<std::string> parts;
+    const size_t hash = std::min(url.find('#'), url.size());
     const size_t q = url.find('?');
-    if (q == std::string::npos) return parts;
-    const std::string query = url.substr(q + 1, url.find('#', q) - std::min(url.find('#', q), q + 1));
+    if (q >= hash) return parts;  // none, or a "?" inside the fragment
+    const std::string query = url.substr(q + 1, hash - q - 1);
     for (size_t b = 0; b <= query.size();) {
         const size_t e = std::min(query.find('&', b), query.size());
         if (e > b) parts.push_back(query.substr(b, e - b));

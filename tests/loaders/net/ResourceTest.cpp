@@ -260,6 +260,8 @@ TEST(ResourceUri, AReferenceCarriesTheQueryOfItsReferrer) {
     EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "../b/x.b3dm#f"), "http://h/b/x.b3dm?key=1#f");
     EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "/root/x.b3dm"), "http://h/root/x.b3dm?key=1");
     EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "x.b3dm?"), "http://h/a/x.b3dm?key=1");
+    // A "?" in the fragment is the fragment's, not a query that would set the key.
+    EXPECT_EQ(resolveReference("http://h/a/tileset.json?a=1", "x.b3dm#f?a=2"), "http://h/a/x.b3dm?a=1#f?a=2");
     // Not to another host, nor where the reference is absolute, nor into data.
     EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "//cdn.org/x.b3dm"), "http://cdn.org/x.b3dm");
     EXPECT_EQ(resolveReference("http://h/a/tileset.json?key=1", "http://h/x.b3dm"), "http://h/x.b3dm");
