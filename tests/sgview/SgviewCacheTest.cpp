@@ -17,10 +17,7 @@ TEST(SgviewCache, ASecondRunReadsFreshTilesFromTheCache) {
     const fs::path dir = testDirectory("sgview_");
     fs::create_directories(dir / "www");
     fs::create_directories(dir / "cache");
-    tilestest::writeText((dir / "www/tileset.json").string(), R"({"asset": {"version": "1.1"}, "geometricError": 10,
-      "root": {"boundingVolume": {"box": [0,0,5, 5,0,0, 0,5,0, 0,0,5]}, "geometricError": 0, "refine": "REPLACE",
-        "content": {"uri": "box.glb"}}})");
-    tilestest::writeBoxGlb((dir / "www/box.glb").string(), sg::dvec3(-5, -5, 0), sg::dvec3(5, 5, 10));
+    tilestest::writeBoxTileset((dir / "www").string());
     tilestest::writeText((dir / "cache/http.sqlite").string(), "not a database, not even close to one");
     testutil::NginxConfig config;
     config.root = (dir / "www").string();

@@ -26,10 +26,6 @@ using tilestest::errorOf;
 
 namespace {
 
-const std::string kTileset = R"({"asset": {"version": "1.1"}, "geometricError": 10, "root": {
-    "boundingVolume": {"box": [0,0,5, 5,0,0, 0,5,0, 0,0,5]}, "geometricError": 0, "refine": "REPLACE",
-    "content": {"uri": "box.glb"}}})";
-
 bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // The served files (a one-tile tileset) and the certificates, made once for the suite.
@@ -40,8 +36,7 @@ protected:
         fs::remove_all(*files_);
         fs::create_directories(file("www"));
         fs::create_directories(file("certs"));
-        tilestest::writeText(file("www/tileset.json"), kTileset);
-        tilestest::writeBoxGlb(file("www/box.glb"), dvec3(-5, -5, 0), dvec3(5, 5, 10));
+        tilestest::writeBoxTileset(file("www"));
         try {
             certs_ = new testutil::TestCertificates(file("certs"));
         } catch (const std::exception& e) {
@@ -72,7 +67,6 @@ protected:
         o.caFile = certs_->ca();
         return o;
     }
-    static std::string tilesetText() { return kTileset; }
 
     static std::string* files_;  // the suite's directory
     static testutil::TestCertificates* certs_;
@@ -82,13 +76,11 @@ std::string* Tls::files_ = nullptr;
 testutil::TestCertificates* Tls::certs_ = nullptr;
 std::string* Tls::failure_ = nullptr;
 
-std::string text(const std::vector<unsigned char>& b) { return std::string(b.begin(), b.end()); }
-
 }  // namespace
 
 TEST_F(Tls, ACertificateOfATrustedAuthorityIsReadOverHttp2) {
     const auto server = serve("good");
-    EXPECT_EQ(text(readResource(server->url("/tileset.json"), trusting())), tilesetText());
+    EXPECT_EQ(readResource(server->url("/tileset.json"), trusting()), readResource(file("www/tileset.json")));
     const std::vector<NginxLogLine> log = server->logAtLeast(1);
     ASSERT_EQ(log.size(), 1u);
     EXPECT_EQ(log[0].uri, "/tileset.json");

@@ -119,6 +119,15 @@ inline void writeSubtree(const std::string& path, std::string json, std::vector<
     std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(out.data()), long(out.size()));
 }
 
+// A tileset of one tile, a 10 m box (box.glb) standing on the origin, written into `dir` as tileset.json.
+inline void writeBoxTileset(const std::string& dir) {
+    const std::string text = R"({"asset": {"version": "1.1"}, "geometricError": 10, "root": {
+    "boundingVolume": {"box": [0,0,5, 5,0,0, 0,5,0, 0,0,5]}, "geometricError": 0, "refine": "REPLACE",
+    "content": {"uri": "box.glb"}}})";
+    writeText(dir + "/tileset.json", text);
+    writeBoxGlb(dir + "/box.glb", sg::dvec3(-5, -5, 0), sg::dvec3(5, 5, 10));
+}
+
 // The sg::LoadError `f` throws; a test failure when it throws none.
 template <class F>
 sg::LoadError errorOf(F f) {
